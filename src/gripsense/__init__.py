@@ -1,0 +1,18 @@
+"""gripsense — tyre-road friction, tyre and steering parameters from how a vehicle moves.
+
+The public API is re-exported here; see the README and ``docs/`` for an overview.
+"""
+
+from gripsense.errors import GripsenseError, InputError, NotObservableError
+from gripsense.io import NmeaLog, read_nmea
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "GripsenseError",
+    "InputError",
+    "NmeaLog",
+    "NotObservableError",
+    "__version__",
+    "read_nmea",
+]

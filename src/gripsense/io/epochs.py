@@ -1,0 +1,310 @@
+"""Sentences -> epochs: one row per receiver time instant.
+
+The grouping rule
+-----------------
+A receiver sends a burst of sentences per measurement epoch. Sentences with a UTC time (GGA,
+RMC, ZDA, ``$PSAT,HPR``, ``$PASHR``) say which epoch they belong to; HDT, THS, ROT and VTG (and
+a timed sentence whose time field is empty) do not. Receivers order their bursts differently:
+Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the position), Saab and SkyTraq send
+the heading *after* RMC. gripsense therefore reads the log in order and starts a new epoch when
+
+(a) a sentence carries a time different from the current epoch's time (an epoch with no time yet
+    takes the first time that arrives), or
+(b) a sentence of a type that the current epoch already holds arrives (a burst holds each type
+    once).
+
+Rule (b) puts Hemisphere's HDT into the epoch of the GGA that follows it, and rule (a) keeps
+Saab's HDT with the RMC before it. Sentences between bursts that carry no time at all (no fix:
+empty GGA time) form epochs without time (``time_utc`` NaT, ``t_s`` NaN); nothing is dropped.
+A low-rate untimed sentence among high-rate timed ones (1 Hz HDT among 25 Hz PASHR) joins the
+epoch it follows.
+
+The rule is sequential; :func:`epoch_boundaries` computes it with array operations as the unique
+fixed point of the recurrence (each boundary depends only on earlier ones), with the plain loop
+:func:`epoch_boundaries_loop` as reference and fallback.
+
+Merging an epoch's sentences
+----------------------------
+* position, altitude, fix quality, satellites, HDOP: GGA (if its fix quality is not 0), else RMC
+  (if its status is ``A``);
+* speed and course over ground: RMC (status ``A``), else VTG (mode not ``N``);
+* heading: ``$PSAT,HPR`` > ``$PASHR`` > THS (mode not ``V``) > HDT — ``heading_source`` says which;
+* pitch and roll: ``$PSAT,HPR`` > ``$PASHR`` (degrees, as the receiver sends them);
+* date: RMC or ZDA in the epoch, else carried from the nearest dated epoch, counting midnight
+  roll-overs of the time of day.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from gripsense.io.nmea_schema import SENTENCES
+
+__all__ = ["EPOCH_COLUMNS", "assemble_epochs", "epoch_boundaries", "epoch_boundaries_loop"]
+
+EPOCH_COLUMNS = [
+    "time_utc",
+    "t_s",
+    "lat_deg",
+    "lon_deg",
+    "alt_m",
+    "fix_quality",
+    "n_sats",
+    "hdop",
+    "speed_mps",
+    "course_deg",
+    "heading_deg",
+    "heading_source",
+    "pitch_deg",
+    "roll_deg",
+    "rot_deg_per_min",
+    "yaw_rate_rps",
+    "yaw_rate_source",
+]
+
+ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
+HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "THS", "HDT")
+_SOURCE_NAME = {"PSAT,HPR": "HPR", "PASHR": "PASHR", "THS": "THS", "HDT": "HDT"}
+
+
+def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
+    """Reference: the grouping rule as a plain loop.
+
+    Parameters
+    ----------
+    kind : array of int
+        Sentence type code per sentence, in line order.
+    tod : array of float
+        Time of day [s], NaN for sentences without a time.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where a sentence starts a new epoch.
+    """
+    n = kind.size
+    out = np.zeros(n, dtype=bool)
+    seen: set[int] = set()
+    cur_t = np.nan
+    for i in range(n):
+        k, t = int(kind[i]), tod[i]
+        new = i == 0 or k in seen or (not np.isnan(t) and not np.isnan(cur_t) and t != cur_t)
+        if new:
+            out[i] = True
+            seen = set()
+            cur_t = np.nan
+        seen.add(k)
+        if not np.isnan(t):
+            cur_t = t
+    return out
+
+
+def _prev_same(kind: np.ndarray) -> np.ndarray:
+    """Index of the previous sentence of the same kind, -1 if none."""
+    n = kind.size
+    order = np.argsort(kind, kind="stable")
+    ks = kind[order]
+    prev = np.full(n, -1, dtype=np.int64)
+    same = np.zeros(n, dtype=bool)
+    same[1:] = ks[1:] == ks[:-1]
+    prev[order[1:][same[1:]]] = order[:-1][same[1:]]
+    return prev
+
+
+def epoch_boundaries(kind: np.ndarray, tod: np.ndarray, *, max_iter: int = 100) -> np.ndarray:
+    """The grouping rule with array operations (same result as :func:`epoch_boundaries_loop`).
+
+    Sentence i starts an epoch iff (b) the previous sentence of its type is in the current epoch
+    (no boundary after it up to i-1), or (a) it has a time and the previous timed sentence q is in
+    the current epoch with a different time. Both conditions read only boundaries before i, so the
+    recurrence has exactly one fixed point; it is found by iterating B <- F(B) until B stops
+    changing (a few iterations on receiver logs). The loop is used if that takes too long.
+    """
+    n = kind.size
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    p = _prev_same(kind)
+    timed = ~np.isnan(tod)
+    idx = np.arange(n)
+    last_timed = np.maximum.accumulate(np.where(timed, idx, -1))
+    q = np.full(n, -1, dtype=np.int64)
+    q[1:] = last_timed[:-1]
+    differs = timed & (q >= 0) & (tod[np.maximum(q, 0)] != tod)
+    b = np.ones(n, dtype=bool)
+    for _ in range(max_iter):
+        cs = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(b, out=cs[1:])
+        # boundaries strictly between j and i: positions j+1 .. i-1 -> cs[i] - cs[j+1]
+        free_p = (p >= 0) & (cs[idx] - cs[np.maximum(p, 0) + 1] == 0)
+        free_q = differs & (cs[idx] - cs[np.maximum(q, 0) + 1] == 0)
+        nb = free_p | free_q
+        nb[0] = True
+        if np.array_equal(nb, b):
+            return b
+        b = nb
+    return epoch_boundaries_loop(kind, tod)
+
+
+def _rollovers(tod: np.ndarray) -> np.ndarray:
+    """Cumulative count of midnight roll-overs along the epochs (time of day falling > 12 h)."""
+    valid = ~np.isnan(tod)
+    t = np.where(valid, tod, np.nan)
+    last = pd.Series(t).ffill().to_numpy()
+    prev = np.concatenate(([np.nan], last[:-1]))
+    jump = valid & (t < prev - 43200.0)
+    return np.cumsum(jump)
+
+
+def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
+    """ISO yaw rate [rad/s] from compass heading [deg] by central differences (gaps excluded)."""
+    out = np.full(t.shape, np.nan)
+    ok = ~(np.isnan(t) | np.isnan(hdg))
+    idx = np.flatnonzero(ok)
+    if idx.size < 2:
+        return out
+    tt, hh = t[idx], hdg[idx]
+    dt = np.diff(tt)
+    pos = dt[dt > 0]
+    if pos.size == 0:
+        return out
+    max_gap = 2.5 * float(np.median(pos))
+    dh = (np.diff(hh) + 180.0) % 360.0 - 180.0  # wrapped heading change [deg]
+    good = (dt > 0) & (dt <= max_gap)
+    rate = np.where(good, dh / np.where(good, dt, 1.0), np.nan)  # [deg/s], clockwise
+    back = np.concatenate(([np.nan], rate))
+    fwd = np.concatenate((rate, [np.nan]))
+    dtb = np.concatenate(([np.nan], np.where(good, dt, np.nan)))
+    dtf = np.concatenate((np.where(good, dt, np.nan), [np.nan]))
+    both = ~np.isnan(back) & ~np.isnan(fwd)
+    central = (back * dtb + fwd * dtf) / (dtb + dtf)  # = (h[i+1]-h[i-1])/(t[i+1]-t[i-1])
+    r = np.where(both, central, np.where(np.isnan(back), fwd, back))
+    out[idx] = -np.deg2rad(r)  # compass clockwise -> ISO 8855 counter-clockwise
+    return out
+
+
+def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
+    """Group decoded sentences into epochs.
+
+    Parameters
+    ----------
+    frames : dict
+        Type key -> decoded sentence frame (see :func:`gripsense.io.nmea_decode.decode_all`).
+
+    Returns
+    -------
+    epochs : pandas.DataFrame
+        One row per epoch, columns :data:`EPOCH_COLUMNS`.
+    epoch_of : dict
+        Type key -> epoch index of each of its sentences.
+    notes : dict
+        ``epochs_without_time``, ``has_date``.
+    """
+    keys = list(SENTENCES)
+    parts_line, parts_kind, parts_tod = [], [], []
+    for code, k in enumerate(keys):
+        f = frames[k]
+        parts_line.append(f["line"].to_numpy())
+        parts_kind.append(np.full(len(f), code, dtype=np.int64))
+        parts_tod.append(f["tod_s"].to_numpy() if "tod_s" in f else np.full(len(f), np.nan))
+    line = np.concatenate(parts_line)
+    order = np.argsort(line, kind="stable")
+    line, kind, tod = line[order], np.concatenate(parts_kind)[order], np.concatenate(parts_tod)[order]
+    start = epoch_boundaries(kind, tod)
+    eid = np.cumsum(start) - 1
+    n_ep = int(start.sum())
+
+    epoch_of: dict[str, np.ndarray] = {}
+    for k in keys:
+        pos = np.searchsorted(line, frames[k]["line"].to_numpy())
+        epoch_of[k] = eid[pos] if pos.size else np.empty(0, dtype=np.int64)
+
+    def col(k: str, name: str, use: np.ndarray | None = None) -> np.ndarray:
+        out = np.full(n_ep, np.nan)
+        if len(frames[k]):
+            v = frames[k][name].to_numpy(dtype=float)
+            e = epoch_of[k]
+            if use is not None:
+                v = np.where(use, v, np.nan)
+            out[e] = v
+        return out
+
+    def first_of(*arrays: np.ndarray) -> np.ndarray:
+        out = arrays[0].copy()
+        for a in arrays[1:]:
+            out = np.where(np.isnan(out), a, out)
+        return out
+
+    gga_ok = frames["GGA"]["fix_quality"].to_numpy() != 0 if len(frames["GGA"]) else None
+    rmc_ok = (frames["RMC"]["status"].to_numpy() == "A") if len(frames["RMC"]) else None
+    tod_e = np.full(n_ep, np.nan)
+    tod_e[eid[~np.isnan(tod)]] = tod[~np.isnan(tod)]
+
+    ep: dict[str, object] = {}
+    gga_has = col("GGA", "lat_deg", gga_ok)
+    use_gga = ~np.isnan(gga_has)
+    ep["lat_deg"] = np.where(use_gga, gga_has, col("RMC", "lat_deg", rmc_ok))
+    ep["lon_deg"] = np.where(use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok))
+    ep["alt_m"] = col("GGA", "alt_m", gga_ok)
+    ep["fix_quality"] = col("GGA", "fix_quality")
+    ep["n_sats"] = col("GGA", "n_sats")
+    ep["hdop"] = col("GGA", "hdop")
+    ep["speed_mps"] = first_of(col("RMC", "speed_mps", rmc_ok), col("VTG", "speed_mps"))
+    ep["course_deg"] = first_of(col("RMC", "course_deg", rmc_ok), col("VTG", "course_deg"))
+
+    heading = np.full(n_ep, np.nan)
+    source = np.full(n_ep, None, dtype=object)
+    for k in HEADING_PRIORITY:
+        h = col(k, "heading_deg")
+        take = np.isnan(heading) & ~np.isnan(h)
+        heading[take] = h[take]
+        source[take] = _SOURCE_NAME[k]
+    ep["heading_deg"] = heading
+    ep["heading_source"] = source
+    ep["pitch_deg"] = first_of(col("PSAT,HPR", "pitch_deg"), col("PASHR", "pitch_deg"))
+    ep["roll_deg"] = first_of(col("PSAT,HPR", "roll_deg"), col("PASHR", "roll_deg"))
+    rot = col("ROT", "rot_deg_per_min")
+    ep["rot_deg_per_min"] = rot
+
+    # dates and times
+    day = first_of(col("RMC", "day"), col("ZDA", "day"))
+    timed = ~np.isnan(tod_e)
+    day = np.where(timed, day, np.nan)
+    rc = _rollovers(tod_e).astype(float)
+    has_date = bool((~np.isnan(day)).any())
+    abs_s = np.full(n_ep, np.nan)
+    if has_date:
+        anchor = np.where(~np.isnan(day), np.arange(n_ep), -1)
+        fw = np.maximum.accumulate(anchor)
+        bw_src = np.where(anchor >= 0, anchor, n_ep)
+        bw = np.minimum.accumulate(bw_src[::-1])[::-1]
+        a = np.where(fw >= 0, fw, bw)
+        a_ok = (a >= 0) & (a < n_ep)
+        a_c = np.clip(a, 0, n_ep - 1)
+        d_est = day[a_c] + rc - rc[a_c]
+        abs_s = np.where(timed & a_ok, d_est * 86400.0 + tod_e, np.nan)
+        ns = np.where(np.isnan(abs_s), np.iinfo(np.int64).min, np.round(abs_s * 1e9)).astype(np.int64)
+        time_utc = pd.to_datetime(ns, unit="ns", utc=True)
+        time_utc = time_utc.where(~np.isnan(abs_s))
+    else:
+        abs_s = np.where(timed, rc * 86400.0 + tod_e, np.nan)
+        time_utc = pd.to_datetime(np.full(n_ep, np.iinfo(np.int64).min), unit="ns", utc=True)
+    first = np.flatnonzero(~np.isnan(abs_s))
+    t_s = abs_s - abs_s[first[0]] if first.size else abs_s
+    ep["time_utc"] = time_utc
+    ep["t_s"] = t_s
+
+    yaw = -rot * ROT_TO_RPS
+    ysrc = np.where(np.isnan(rot), None, "ROT").astype(object)
+    dyaw = _yaw_from_heading(t_s, heading)
+    fill = np.isnan(yaw) & ~np.isnan(dyaw)
+    yaw[fill] = dyaw[fill]
+    ysrc[fill] = "heading"
+    ep["yaw_rate_rps"] = yaw
+    ep["yaw_rate_source"] = ysrc
+
+    df = pd.DataFrame({c: ep[c] for c in EPOCH_COLUMNS})
+    for c in ("heading_source", "yaw_rate_source"):
+        df[c] = df[c].astype("string")
+    notes = {"epochs_without_time": int((~timed).sum()), "has_date": has_date}
+    return df, epoch_of, notes

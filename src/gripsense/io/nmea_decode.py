@@ -1,0 +1,168 @@
+"""Raw NMEA field values -> physical values per sentence (shared by both tokenizers).
+
+Conversions done here, once, for every sentence type:
+
+* ``hhmmss.sss`` -> seconds of the UTC day; ``ddmmyy`` / ZDA day, month, year -> days since
+  1970-01-01 (two-digit years: 80-99 -> 19xx, 00-79 -> 20xx);
+* ``ddmm.mmmm`` + N/S, ``dddmm.mmmm`` + E/W -> signed decimal degrees;
+* speed over ground: knots x 1852/3600 -> m/s (VTG falls back to its km/h field);
+* headings are kept in compass degrees (clockwise from true north), wrapped to [0, 360);
+* rate of turn is kept as NMEA sends it: degrees per minute, positive = turning to starboard.
+
+Values that have the right syntax but are out of range (minute 61, latitude 95°, month 13, a
+value without its hemisphere letter) make the line *malformed*; the caller moves it to the
+rejected bucket.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from gripsense.io.nmea_schema import SENTENCES
+
+__all__ = ["KNOT", "decode_all"]
+
+KNOT = 1852.0 / 3600.0  # [m/s] per knot (exact)
+_EPOCH_DAY0 = np.datetime64("1970-01-01", "D")
+
+
+def _tod(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """hhmmss.sss -> seconds of day [s]; also the mask of impossible times."""
+    hh = np.floor(x / 10000.0)
+    mm = np.floor(x / 100.0) - hh * 100.0
+    ss = x - np.floor(x / 100.0) * 100.0
+    bad = (hh >= 24) | (mm >= 60) | (ss >= 61)
+    return hh * 3600.0 + mm * 60.0 + ss, bad & ~np.isnan(x)
+
+
+def _latlon(v: np.ndarray, hemi: np.ndarray, neg: str, pos: str, lim: float):
+    """ddmm.mmmm + hemisphere letter -> signed degrees [deg]; mask of malformed values."""
+    deg = np.floor(v / 100.0)
+    minutes = v - deg * 100.0
+    out = deg + minutes / 60.0
+    has = ~np.isnan(v)
+    letter_ok = (hemi == ord(neg)) | (hemi == ord(pos))
+    bad = has & ((minutes >= 60.0) | (out > lim) | ~letter_ok)
+    out = np.where(hemi == ord(neg), -out, out)
+    return out, bad
+
+
+def _days(day: np.ndarray, month: np.ndarray, year: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Calendar date -> days since 1970-01-01 (float, NaN when missing); mask of invalid dates."""
+    has = ~(np.isnan(day) | np.isnan(month) | np.isnan(year))
+    out = np.full(day.shape, np.nan)
+    bad = np.zeros(day.shape, dtype=bool)
+    if has.any():
+        d, m, y = day[has], month[has], year[has]
+        ok = (m >= 1) & (m <= 12) & (d >= 1) & (y >= 1900) & (y <= 2200)
+        yi = np.where(ok, y, 1970).astype(np.int64)
+        mi = np.where(ok, m, 1).astype(np.int64)
+        first = (yi - 1970) * 12 + (mi - 1)
+        start = np.datetime64("1970-01", "M") + first.astype("timedelta64[M]")
+        ndays = ((start + 1).astype("datetime64[D]") - start.astype("datetime64[D]")).astype(int)
+        ok &= d <= ndays
+        days = (start.astype("datetime64[D]") - _EPOCH_DAY0).astype(np.int64) + d - 1
+        vals = np.where(ok, days, np.nan)
+        out[has] = vals
+        bad[np.flatnonzero(has)[~ok]] = True
+    return out, bad
+
+
+def _ddmmyy(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    day = np.floor(x / 10000.0)
+    month = np.floor(x / 100.0) - day * 100.0
+    yy = x - np.floor(x / 100.0) * 100.0
+    year = np.where(yy >= 80, 1900.0 + yy, 2000.0 + yy)
+    return _days(day, month, year)
+
+
+def _wrap360(h: np.ndarray) -> np.ndarray:
+    return np.mod(h, 360.0)
+
+
+def _char(c: np.ndarray) -> np.ndarray:
+    """uint8 byte values -> object array of one-letter strings (None when empty)."""
+    out = np.empty(c.shape, dtype=object)
+    nz = c != 0
+    out[nz] = [chr(v) for v in c[nz].tolist()]
+    return out
+
+
+def _decode_one(key: str, r: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], np.ndarray, list[str]]:
+    """Decode one raw table. Returns (columns, malformed mask, name of the first bad field)."""
+    n = r["line"].size
+    bad = np.zeros(n, dtype=bool)
+    why = np.array([""] * n, dtype=object)
+
+    def flag(mask: np.ndarray, name: str) -> None:
+        new = mask & ~bad
+        why[new] = name
+        bad[:] |= mask
+
+    c: dict[str, np.ndarray] = {"line": r["line"]}
+    if "time" in r:
+        c["tod_s"], b = _tod(r["time"])
+        flag(b, "time")
+    if key in ("GGA", "RMC"):
+        c["lat_deg"], b = _latlon(r["lat"], r["ns"], "S", "N", 90.0)
+        flag(b, "lat")
+        c["lon_deg"], b = _latlon(r["lon"], r["ew"], "W", "E", 180.0)
+        flag(b, "lon")
+    if key == "GGA":
+        c["fix_quality"] = r["quality"]
+        c["n_sats"] = r["n_sats"]
+        c["hdop"] = r["hdop"]
+        c["alt_m"] = r["alt"]
+    elif key == "RMC":
+        c["status"] = _char(r["status"])
+        c["speed_mps"] = r["sog_kn"] * KNOT
+        c["course_deg"] = _wrap360(r["cog"])
+        c["day"], b = _ddmmyy(r["date"])
+        flag(b, "date")
+    elif key == "VTG":
+        sp = np.where(np.isnan(r["sog_kn"]), r["sog_kmh"] / 3.6, r["sog_kn"] * KNOT)
+        invalid = r["mode"] == ord("N")
+        c["speed_mps"] = np.where(invalid, np.nan, sp)
+        c["course_deg"] = np.where(invalid, np.nan, _wrap360(r["cog"]))
+        c["mode"] = _char(r["mode"])
+    elif key == "HDT":
+        c["heading_deg"] = _wrap360(r["heading"])
+    elif key == "THS":
+        c["heading_deg"] = np.where(r["mode"] == ord("V"), np.nan, _wrap360(r["heading"]))
+        c["mode"] = _char(r["mode"])
+    elif key == "ROT":
+        c["rot_deg_per_min"] = np.where(r["status"] == ord("V"), np.nan, r["rot"])
+    elif key == "ZDA":
+        c["day"], b = _days(r["day"], r["month"], r["year"])
+        flag(b, "date")
+    elif key in ("PSAT,HPR", "PASHR"):
+        c["heading_deg"] = _wrap360(r["heading"])
+        c["pitch_deg"] = r["pitch"]
+        c["roll_deg"] = r["roll"]
+        if key == "PSAT,HPR":
+            c["type"] = _char(r["type"])
+    return c, bad, why.tolist()
+
+
+def decode_all(raw: dict[str, dict[str, np.ndarray]]):
+    """Decode every raw table.
+
+    Returns
+    -------
+    frames : dict
+        Type key -> DataFrame of decoded sentences (column ``line`` = 0-based line index).
+    malformed : list of (line index, detail)
+        Lines whose values are out of range (to be rejected as *malformed field*).
+    """
+    frames: dict[str, pd.DataFrame] = {}
+    malformed: list[tuple[int, str]] = []
+    for key in SENTENCES:
+        cols, bad, why = _decode_one(key, raw[key])
+        if bad.any():
+            for i in np.flatnonzero(bad).tolist():
+                malformed.append((int(cols["line"][i]), f"{key} {why[i]} out of range"))
+            cols = {k: v[~bad] for k, v in cols.items()}
+        frames[key] = pd.DataFrame(cols)
+    malformed.sort()
+    return frames, malformed

@@ -1,0 +1,176 @@
+"""What gripsense reads from NMEA 0183: sentence layouts, field kinds and reject reasons.
+
+Both tokenizers (the per-line reference in :mod:`gripsense.io.nmea_reference` and the vectorised
+production path in :mod:`gripsense.io.nmea_fast`) read this one table, so they cannot disagree about
+which field holds what.
+
+Field numbers count the comma-separated fields after the address field (``$GPGGA`` is field 0,
+the UTC time is field 1). For ``$PSAT,HPR`` the sub-type ``HPR`` is field 1.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "REASONS",
+    "SENTENCES",
+    "FieldSpec",
+    "SentenceSpec",
+]
+
+# Reject reasons, in the words the report uses.
+BAD_CHECKSUM = "bad checksum"
+MISSING_CHECKSUM = "missing checksum"
+MALFORMED = "malformed field"
+TRUNCATED = "truncated"
+NOT_NMEA = "not NMEA"
+REASONS = (BAD_CHECKSUM, MISSING_CHECKSUM, MALFORMED, TRUNCATED, NOT_NMEA)
+
+# Pseudo sentence types for lines that are not sentences but not errors either.
+BLANK = "(blank)"
+COMMENT = "(comment)"
+
+# Field kinds. Numeric kinds are stored as float64 (NaN when empty); "char" as the byte value
+# (uint8, 0 when empty).
+NUM = "num"  # signed decimal: [+-]?(d+.?d*|.d+)
+UNUM = "unum"  # unsigned decimal (ddmm.mmmm lat/lon)
+INT = "int"  # digits only
+TIME = "time"  # hhmmss(.s*) as a number
+DATE = "date"  # ddmmyy as a number
+CHAR = "char"  # one character or empty
+KINDS = (NUM, UNUM, INT, TIME, DATE, CHAR)
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """One field read from a sentence.
+
+    Parameters
+    ----------
+    index : int
+        Field number after the address field (1 = first field) [-].
+    name : str
+        Name of the raw column.
+    kind : str
+        One of ``num``, ``unum``, ``int``, ``time``, ``date``, ``char``.
+    allowed : str
+        For ``char`` fields, the characters allowed (empty string: any printable character).
+    """
+
+    index: int
+    name: str
+    kind: str
+    allowed: str = ""
+
+
+@dataclass(frozen=True)
+class SentenceSpec:
+    """Layout of one sentence type.
+
+    Parameters
+    ----------
+    key : str
+        Type key: the formatter (``GGA``) for standard sentences, whatever the talker; the address
+        for proprietary ones (``PASHR``), or address plus sub-type (``PSAT,HPR``).
+    fields : tuple of FieldSpec
+        Fields read.
+    min_fields : int
+        A sentence with fewer fields than this is *truncated* [-].
+    timed : bool
+        Whether the sentence carries a UTC time of day (field named ``time``).
+    """
+
+    key: str
+    fields: tuple[FieldSpec, ...]
+    min_fields: int
+    timed: bool
+
+
+def _spec(key: str, timed: bool, *fields: FieldSpec, min_fields: int | None = None) -> SentenceSpec:
+    need = max(f.index for f in fields)
+    return SentenceSpec(key, tuple(fields), need if min_fields is None else min_fields, timed)
+
+
+F = FieldSpec
+SENTENCES: dict[str, SentenceSpec] = {
+    s.key: s
+    for s in (
+        # GGA: time, lat, N/S, lon, E/W, quality, satellites, HDOP, altitude (MSL), M, geoid sep...
+        _spec(
+            "GGA",
+            True,
+            F(1, "time", TIME),
+            F(2, "lat", UNUM),
+            F(3, "ns", CHAR, "NS"),
+            F(4, "lon", UNUM),
+            F(5, "ew", CHAR, "EW"),
+            F(6, "quality", INT),
+            F(7, "n_sats", INT),
+            F(8, "hdop", NUM),
+            F(9, "alt", NUM),
+        ),
+        # RMC: time, status A/V, lat, N/S, lon, E/W, SOG [kn], COG [deg true], date ddmmyy, ...
+        _spec(
+            "RMC",
+            True,
+            F(1, "time", TIME),
+            F(2, "status", CHAR, "AV"),
+            F(3, "lat", UNUM),
+            F(4, "ns", CHAR, "NS"),
+            F(5, "lon", UNUM),
+            F(6, "ew", CHAR, "EW"),
+            F(7, "sog_kn", NUM),
+            F(8, "cog", NUM),
+            F(9, "date", DATE),
+        ),
+        # VTG (NMEA 2.x+): COG true, T, COG magnetic, M, SOG kn, N, SOG km/h, K, [mode]
+        _spec(
+            "VTG",
+            False,
+            F(1, "cog", NUM),
+            F(5, "sog_kn", NUM),
+            F(7, "sog_kmh", NUM),
+            F(9, "mode", CHAR),
+            min_fields=8,
+        ),
+        # HDT: heading true [deg], T
+        _spec("HDT", False, F(1, "heading", NUM)),
+        # THS: heading true [deg], mode A/E/M/S/V
+        _spec("THS", False, F(1, "heading", NUM), F(2, "mode", CHAR, "AEMSV")),
+        # ROT: rate of turn [deg/min], negative = bow to port; status A/V
+        _spec("ROT", False, F(1, "rot", NUM), F(2, "status", CHAR, "AV")),
+        # ZDA: time, day, month, year, local zone hours, minutes
+        _spec(
+            "ZDA",
+            True,
+            F(1, "time", TIME),
+            F(2, "day", INT),
+            F(3, "month", INT),
+            F(4, "year", INT),
+        ),
+        # Hemisphere $PSAT,HPR: time, heading, pitch, roll, type (N = GNSS, G = gyro)
+        _spec(
+            "PSAT,HPR",
+            True,
+            F(2, "time", TIME),
+            F(3, "heading", NUM),
+            F(4, "pitch", NUM),
+            F(5, "roll", NUM),
+            F(6, "type", CHAR),
+            min_fields=5,
+        ),
+        # $PASHR (Ashtech / OxTS / Trimble): time, heading, T, roll, pitch, heave, roll acc,
+        # pitch acc, heading acc, GNSS quality, INS status
+        _spec(
+            "PASHR",
+            True,
+            F(1, "time", TIME),
+            F(2, "heading", NUM),
+            F(4, "roll", NUM),
+            F(5, "pitch", NUM),
+            min_fields=5,
+        ),
+    )
+}
+del F

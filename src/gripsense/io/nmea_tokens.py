@@ -1,0 +1,87 @@
+"""The result of tokenizing an NMEA byte buffer: per-line outcome plus raw field tables.
+
+Both tokenizers return a :class:`Tokens`; everything after tokenizing is shared.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["IGNORED", "PARSED", "REJECTED", "Tokens"]
+
+PARSED = 0
+IGNORED = 1
+REJECTED = 2
+
+
+@dataclass
+class Tokens:
+    """Per-line outcome of tokenizing and the raw values of the sentences that were read.
+
+    Attributes
+    ----------
+    outcome : numpy.ndarray of int8
+        Per line: ``PARSED``, ``IGNORED`` or ``REJECTED``.
+    label : numpy.ndarray of object
+        Per line: the sentence type key (parsed, ignored) or the reject reason.
+    junk_prefix : numpy.ndarray of bool
+        Per line: the sentence started after other bytes on the same line (e.g. binary
+        receiver output without a line break before the ``$``).
+    raw : dict
+        Type key -> column name -> array; every table has ``line`` (0-based line index) and one
+        float64 (numeric kinds) or uint8 (``char`` kind) column per field of the type's spec.
+    details : dict
+        0-based line index -> human-readable detail of the reject (at least for the first rejects).
+    """
+
+    outcome: np.ndarray
+    label: np.ndarray
+    junk_prefix: np.ndarray
+    raw: dict[str, dict[str, np.ndarray]]
+    details: dict[int, str] = field(default_factory=dict)
+
+    @property
+    def n_lines(self) -> int:
+        return int(self.outcome.size)
+
+    def reject(self, lines: np.ndarray, reason: str, details: list[str]) -> None:
+        """Move *lines* (0-based indices of parsed lines) to the rejected bucket."""
+        self.outcome[lines] = REJECTED
+        self.label[lines] = reason
+        for i, d in zip(lines.tolist(), details, strict=True):
+            self.details[int(i)] = d
+
+
+def split_lines(data: bytes) -> list[bytes]:
+    """Split a buffer into lines the way every gripsense reader does.
+
+    Lines end at ``\\n``; a final line without a terminator counts; a terminator at the very end
+    does not start another line. ``\\r`` is not a terminator (it is stripped as whitespace).
+    """
+    if not data:
+        return []
+    parts = data.split(b"\n")
+    if parts[-1] == b"":
+        parts.pop()
+    return parts
+
+
+STRIP = b" \t\r"
+
+
+def line_count(data: bytes) -> int:
+    """Number of lines in *data* (see :func:`split_lines`)."""
+    if not data:
+        return 0
+    n = data.count(b"\n")
+    return n if data.endswith(b"\n") else n + 1
+
+
+def empty_raw(spec_fields) -> dict[str, np.ndarray]:
+    """An empty raw table for a sentence spec's fields."""
+    out: dict[str, np.ndarray] = {"line": np.empty(0, dtype=np.int64)}
+    for f in spec_fields:
+        out[f.name] = np.empty(0, dtype=np.uint8 if f.kind == "char" else np.float64)
+    return out

@@ -1,0 +1,97 @@
+"""Line accounting of an ingest: every input line is in exactly one bucket."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from gripsense.io.nmea_schema import REASONS
+
+__all__ = ["IngestReport", "RejectedLine"]
+
+
+@dataclass(frozen=True)
+class RejectedLine:
+    """One rejected input line: 1-based line number, reason and detail."""
+
+    line: int
+    reason: str
+    detail: str
+
+
+@dataclass
+class IngestReport:
+    """Where every line of an NMEA input went.
+
+    Attributes
+    ----------
+    source : str
+        File name (or ``<lines>`` / ``<stream>``).
+    total_lines : int
+        Lines in the input.
+    parsed : dict
+        Sentence type -> number of lines read into the epoch table.
+    ignored : dict
+        Type -> number of valid lines not used (other sentence types, ``(blank)``, ``(comment)``).
+    rejected : dict
+        Reason -> number of lines rejected (all five reasons, zeros included).
+    first_rejects : list of RejectedLine
+        The first rejected lines (up to 20), with line number and detail.
+    junk_prefix_lines : int
+        Parsed or ignored lines whose sentence was recovered after other bytes on the same line.
+    n_epochs, epochs_without_time : int
+        Rows of the epoch table, and those without a UTC time.
+    has_date : bool
+        Whether a date (RMC, ZDA) was found; without one ``time_utc`` is NaT.
+    """
+
+    source: str
+    total_lines: int
+    parsed: dict[str, int]
+    ignored: dict[str, int]
+    rejected: dict[str, int]
+    first_rejects: list[RejectedLine] = field(default_factory=list)
+    junk_prefix_lines: int = 0
+    n_epochs: int = 0
+    epochs_without_time: int = 0
+    has_date: bool = False
+
+    @property
+    def n_parsed(self) -> int:
+        return sum(self.parsed.values())
+
+    @property
+    def n_ignored(self) -> int:
+        return sum(self.ignored.values())
+
+    @property
+    def n_rejected(self) -> int:
+        return sum(self.rejected.values())
+
+    @property
+    def balanced(self) -> bool:
+        """True when parsed + ignored + rejected = total lines."""
+        return self.n_parsed + self.n_ignored + self.n_rejected == self.total_lines
+
+    def to_frame(self) -> pd.DataFrame:
+        """The accounting as a table: bucket, kind (type or reason), lines."""
+        rows = [("parsed", k, v) for k, v in sorted(self.parsed.items())]
+        rows += [("ignored", k, v) for k, v in sorted(self.ignored.items())]
+        rows += [("rejected", k, self.rejected.get(k, 0)) for k in REASONS]
+        return pd.DataFrame(rows, columns=["bucket", "kind", "lines"])
+
+    def to_dict(self) -> dict:
+        """Plain-data form (for JSON)."""
+        return {
+            "source": self.source,
+            "total_lines": self.total_lines,
+            "parsed": dict(self.parsed),
+            "ignored": dict(self.ignored),
+            "rejected": dict(self.rejected),
+            "first_rejects": [r.__dict__ for r in self.first_rejects],
+            "junk_prefix_lines": self.junk_prefix_lines,
+            "n_epochs": self.n_epochs,
+            "epochs_without_time": self.epochs_without_time,
+            "has_date": self.has_date,
+        }

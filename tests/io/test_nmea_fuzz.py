@@ -1,0 +1,93 @@
+"""Property tests: corrupted real lines never break ingest; both tokenizers agree exactly."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from gripsense.io import read_nmea
+from gripsense.io.epochs import epoch_boundaries, epoch_boundaries_loop
+from gripsense.io.nmea_fast import tokenize_fast
+from gripsense.io.nmea_reference import tokenize_reference
+from tests.conftest import GPSD_LOGS
+
+REAL = []
+for p in GPSD_LOGS:
+    for ln in p.read_bytes().split(b"\n"):
+        ln = ln.rstrip(b"\r")
+        if ln.startswith((b"$", b"!")) and len(ln) < 200:
+            REAL.append(ln)
+REAL = sorted(set(REAL))
+
+
+@st.composite
+def corrupted_line(draw):
+    line = bytearray(draw(st.sampled_from(REAL)))
+    op = draw(st.sampled_from(["keep", "flip", "truncate", "checksum", "junk", "empty_field",
+                               "crlf", "insert", "delete"]))
+    if op == "flip" and line:
+        i = draw(st.integers(0, len(line) - 1))
+        line[i] ^= 1 << draw(st.integers(0, 7))
+    elif op == "truncate":
+        line = line[: draw(st.integers(0, len(line)))]
+    elif op == "checksum" and b"*" in line:
+        j = line.rfind(b"*")
+        line[j + 1 :] = draw(st.binary(min_size=0, max_size=3))
+    elif op == "junk":
+        line = bytearray(draw(st.binary(max_size=20))) + line
+    elif op == "empty_field":
+        parts = bytes(line).split(b",")
+        k = draw(st.integers(0, len(parts) - 1))
+        parts[k] = b""
+        line = bytearray(b",".join(parts))
+    elif op == "crlf":
+        i = draw(st.integers(0, len(line)))
+        line[i:i] = draw(st.sampled_from([b"\r", b"\r\n", b"\n", b"\n\r", b"  "]))
+    elif op == "insert":
+        i = draw(st.integers(0, len(line)))
+        line[i:i] = draw(st.binary(min_size=1, max_size=4))
+    elif op == "delete" and line:
+        i = draw(st.integers(0, len(line) - 1))
+        del line[i]
+    return bytes(line)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(corrupted_line(), min_size=1, max_size=40), st.sampled_from([b"\n", b"\r\n"]))
+def test_fuzz_never_raises_and_accounts(lines, eol):
+    data = eol.join(lines)
+    n_lines = data.count(b"\n") + (0 if data.endswith(b"\n") or not data else 1)
+    for engine in ("fast", "reference"):
+        log = read_nmea(data, engine=engine)
+        rep = log.report
+        assert rep.total_lines == n_lines
+        assert rep.balanced
+        assert sum(len(f) for f in log.sentences.values()) == rep.n_parsed
+    a, b = tokenize_fast(data), tokenize_reference(data)
+    np.testing.assert_array_equal(a.outcome, b.outcome)
+    np.testing.assert_array_equal(a.label, b.label)
+    np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
+    for k in a.raw:
+        for c in a.raw[k]:
+            np.testing.assert_array_equal(a.raw[k][c], b.raw[k][c])
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.integers(0, 4), st.one_of(st.none(), st.integers(0, 3).map(float))),
+        max_size=60,
+    )
+)
+def test_epoch_rule_vectorised_equals_loop(seq):
+    kind = np.array([k for k, _ in seq], dtype=np.int64)
+    tod = np.array([np.nan if t is None else t for _, t in seq], dtype=float)
+    np.testing.assert_array_equal(epoch_boundaries(kind, tod), epoch_boundaries_loop(kind, tod))
+
+
+def test_real_logs_fast_equals_reference():
+    for p in GPSD_LOGS:
+        a, b = read_nmea(p, engine="fast"), read_nmea(p, engine="reference")
+        assert a.report == b.report
+        assert a.epochs.equals(b.epochs)
