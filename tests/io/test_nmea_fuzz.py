@@ -66,7 +66,7 @@ def test_fuzz_never_raises_and_accounts(lines, eol):
         assert sum(len(f) for f in log.sentences.values()) == rep.n_parsed
     a, b = tokenize_fast(data), tokenize_reference(data)
     np.testing.assert_array_equal(a.outcome, b.outcome)
-    np.testing.assert_array_equal(a.label, b.label)
+    np.testing.assert_array_equal(a.labels, b.labels)
     np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
     for k in a.raw:
         for c in a.raw[k]:

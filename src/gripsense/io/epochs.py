@@ -65,7 +65,8 @@ EPOCH_COLUMNS = [
 
 ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
 HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "THS", "HDT")
-_SOURCE_NAME = {"PSAT,HPR": "HPR", "PASHR": "PASHR", "THS": "THS", "HDT": "HDT"}
+HEADING_SOURCES = ["HPR", "PASHR", "THS", "HDT"]  # categories of ``heading_source``, by priority
+YAW_RATE_SOURCES = ["ROT", "heading"]  # categories of ``yaw_rate_source``
 
 
 def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
@@ -157,7 +158,13 @@ def _rollovers(tod: np.ndarray) -> np.ndarray:
 
 
 def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
-    """ISO yaw rate [rad/s] from compass heading [deg] by central differences (gaps excluded)."""
+    """ISO yaw rate [rad/s] from compass heading [deg] by central differences.
+
+    Uses (ψ[i+1] − ψ[i−1]) / (t[i+1] − t[i−1]) over the epochs that have a heading, with the
+    heading change wrapped to (−180°, 180°]; one-sided at the ends and next to gaps (intervals
+    longer than 2.5 × the median interval, or not positive). Compass headings turn clockwise,
+    so the ISO 8855 yaw rate is minus their rate.
+    """
     out = np.full(t.shape, np.nan)
     ok = ~(np.isnan(t) | np.isnan(hdg))
     idx = np.flatnonzero(ok)
@@ -169,17 +176,23 @@ def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
     if pos.size == 0:
         return out
     max_gap = 2.5 * float(np.median(pos))
-    dh = (np.diff(hh) + 180.0) % 360.0 - 180.0  # wrapped heading change [deg]
     good = (dt > 0) & (dt <= max_gap)
-    rate = np.where(good, dh / np.where(good, dt, 1.0), np.nan)  # [deg/s], clockwise
-    back = np.concatenate(([np.nan], rate))
-    fwd = np.concatenate((rate, [np.nan]))
-    dtb = np.concatenate(([np.nan], np.where(good, dt, np.nan)))
-    dtf = np.concatenate((np.where(good, dt, np.nan), [np.nan]))
-    both = ~np.isnan(back) & ~np.isnan(fwd)
-    central = (back * dtb + fwd * dtf) / (dtb + dtf)  # = (h[i+1]-h[i-1])/(t[i+1]-t[i-1])
-    r = np.where(both, central, np.where(np.isnan(back), fwd, back))
-    out[idx] = -np.deg2rad(r)  # compass clockwise -> ISO 8855 counter-clockwise
+    dh = np.diff(hh)
+    dh += 180.0
+    np.mod(dh, 360.0, out=dh)
+    dh -= 180.0  # wrapped heading change [deg]
+    dh[~good] = 0.0
+    dtg = np.where(good, dt, 0.0)
+    # sum of the (good) intervals on both sides of each sample
+    num = np.zeros(idx.size)
+    den = np.zeros(idx.size)
+    num[1:] += dh
+    num[:-1] += dh
+    den[1:] += dtg
+    den[:-1] += dtg
+    with np.errstate(invalid="ignore", divide="ignore"):
+        r = num / den  # [deg/s], clockwise; NaN where no good interval
+    out[idx] = np.deg2rad(-r)
     return out
 
 
@@ -253,14 +266,14 @@ def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict
     ep["course_deg"] = first_of(col("RMC", "course_deg", rmc_ok), col("VTG", "course_deg"))
 
     heading = np.full(n_ep, np.nan)
-    source = np.full(n_ep, None, dtype=object)
-    for k in HEADING_PRIORITY:
+    source = np.full(n_ep, -1, dtype=np.int8)
+    for code, k in enumerate(HEADING_PRIORITY):
         h = col(k, "heading_deg")
         take = np.isnan(heading) & ~np.isnan(h)
         heading[take] = h[take]
-        source[take] = _SOURCE_NAME[k]
+        source[take] = code
     ep["heading_deg"] = heading
-    ep["heading_source"] = source
+    ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)
     ep["pitch_deg"] = first_of(col("PSAT,HPR", "pitch_deg"), col("PASHR", "pitch_deg"))
     ep["roll_deg"] = first_of(col("PSAT,HPR", "roll_deg"), col("PASHR", "roll_deg"))
     rot = col("ROT", "rot_deg_per_min")
@@ -295,16 +308,16 @@ def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict
     ep["t_s"] = t_s
 
     yaw = -rot * ROT_TO_RPS
-    ysrc = np.where(np.isnan(rot), None, "ROT").astype(object)
-    dyaw = _yaw_from_heading(t_s, heading)
-    fill = np.isnan(yaw) & ~np.isnan(dyaw)
-    yaw[fill] = dyaw[fill]
-    ysrc[fill] = "heading"
+    has_rot = ~np.isnan(rot)
+    ysrc = np.where(has_rot, 0, -1).astype(np.int8)
+    if not has_rot.all():
+        dyaw = _yaw_from_heading(t_s, heading)
+        fill = ~has_rot & ~np.isnan(dyaw)
+        yaw[fill] = dyaw[fill]
+        ysrc[fill] = 1
     ep["yaw_rate_rps"] = yaw
-    ep["yaw_rate_source"] = ysrc
+    ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 
-    df = pd.DataFrame({c: ep[c] for c in EPOCH_COLUMNS})
-    for c in ("heading_source", "yaw_rate_source"):
-        df[c] = df[c].astype("string")
+    df = pd.DataFrame({c: ep[c] for c in EPOCH_COLUMNS}, copy=False)
     notes = {"epochs_without_time": int((~timed).sum()), "has_date": has_date}
     return df, epoch_of, notes

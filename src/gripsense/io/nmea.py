@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import gzip
 import os
-from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -158,7 +157,7 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         i = int(rej[0])
         detail = tok.details.get(i) or classify_line(split_lines(data)[i])[2]
         raise InputError(
-            f"{name}:{i + 1}: {tok.label[i]}: {detail} (strict mode; drop --strict to count "
+            f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} (strict mode; drop --strict to count "
             "such lines instead)"
         )
     epochs, epoch_of, notes = assemble_epochs(frames)
@@ -170,15 +169,15 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         f["epoch"] = epoch_of[k]
         sentences[k] = f
 
-    parsed = Counter(tok.label[tok.outcome == PARSED].tolist())
-    ignored = Counter(tok.label[tok.outcome == IGNORED].tolist())
-    rejected_c = Counter(tok.label[rej].tolist())
+    parsed = tok.counts(PARSED)
+    ignored = tok.counts(IGNORED)
+    rejected_c = tok.counts(REJECTED)
     first = []
     for i in rej[:N_FIRST_REJECTS].tolist():
         detail = tok.details.get(i)
         if detail is None:
             detail = classify_line(split_lines(data)[i])[2]
-        first.append(RejectedLine(i + 1, str(tok.label[i]), detail))
+        first.append(RejectedLine(i + 1, tok.names[tok.code[i]], detail))
     report = IngestReport(
         source=name,
         total_lines=tok.n_lines,

@@ -10,7 +10,7 @@ Classification of one line (after stripping spaces, tabs and CR at both ends):
 2. The sentence starts at the last ``$`` or ``!`` before the last ``*`` (or before the end when
    there is no ``*``); bytes before it are junk (counted in ``junk_prefix``). None -> *not NMEA*.
 3. The address (up to the first comma) must be 5 characters ``[A-Z0-9]`` not starting with ``P``
-   (standard: talker + formatter) or ``P`` plus 2 to 8 such characters (proprietary);
+   (standard: talker + formatter) or ``P`` plus 2 to 7 such characters (proprietary);
    otherwise *not NMEA*.
 4. Checksum: no ``*`` -> *truncated* if the known sentence has fewer fields than it needs, else
    *missing checksum*; fewer than two characters after ``*`` -> *truncated*; anything but
@@ -18,7 +18,7 @@ Classification of one line (after stripping spaces, tabs and CR at both ends):
    *bad checksum*.
 5. Bytes outside printable ASCII -> *malformed field*.
 6. Unknown type -> ignored (by type); known type with too few fields -> *truncated*; a field
-   that does not match its kind -> *malformed field*.
+   that does not match its kind, or is longer than 64 characters -> *malformed field*.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ _PATTERNS = {
     S.DATE: re.compile(rb"[0-9]{6}"),
 }
 _ADDR = re.compile(rb"[A-Z0-9]+")
-MAX_ADDRESS = 9  # longest address (and $PSAT sub-type) accepted [characters]
+MAX_ADDRESS = 8  # longest address (and $PSAT sub-type) accepted [characters]
 _HEX = re.compile(rb"[0-9A-Fa-f]{2}")
 
 
@@ -132,6 +132,8 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
     values: dict = {}
     for f in spec.fields:
         v = fields[f.index - 1] if f.index - 1 < len(fields) else b""
+        if len(v) > S.MAX_FIELD:
+            return REJECTED, S.MALFORMED, _bad(key, f, v), None, junk
         if f.kind == S.CHAR:
             if len(v) > 1 or (v and f.allowed and chr(v[0]) not in f.allowed):
                 return REJECTED, S.MALFORMED, _bad(key, f, v), None, junk
@@ -164,14 +166,15 @@ def tokenize_reference(data: bytes) -> Tokens:
     lines = split_lines(data)
     n = len(lines)
     outcome = np.zeros(n, dtype=np.int8)
-    label = np.empty(n, dtype=object)
+    names: dict[str, int] = {}
+    code = np.zeros(n, dtype=np.int32)
     junk = np.zeros(n, dtype=bool)
     details: dict[int, str] = {}
     rows: dict[str, list[tuple[int, dict]]] = {k: [] for k in S.SENTENCES}
     for i, line in enumerate(lines):
         o, lab, det, vals, j = classify_line(line)
         outcome[i] = o
-        label[i] = lab
+        code[i] = names.setdefault(lab, len(names))
         junk[i] = j
         if o == REJECTED:
             details[i] = det
@@ -188,4 +191,4 @@ def tokenize_reference(data: bytes) -> Tokens:
             dt = np.uint8 if f.kind == S.CHAR else np.float64
             tab[f.name] = np.array([v[f.name] for _, v in r], dtype=dt)
         raw[key] = tab
-    return Tokens(outcome, label, junk, raw, details)
+    return Tokens(outcome, code, list(names), junk, raw, details)

@@ -31,6 +31,8 @@ REASONS = (BAD_CHECKSUM, MISSING_CHECKSUM, MALFORMED, TRUNCATED, NOT_NMEA)
 BLANK = "(blank)"
 COMMENT = "(comment)"
 
+MAX_FIELD = 64  # a longer field is malformed (an NMEA sentence has at most 82 characters)
+
 # Field kinds. Numeric kinds are stored as float64 (NaN when empty); "char" as the byte value
 # (uint8, 0 when empty).
 NUM = "num"  # signed decimal: [+-]?(d+.?d*|.d+)

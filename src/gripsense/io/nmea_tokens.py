@@ -24,8 +24,11 @@ class Tokens:
     ----------
     outcome : numpy.ndarray of int8
         Per line: ``PARSED``, ``IGNORED`` or ``REJECTED``.
-    label : numpy.ndarray of object
-        Per line: the sentence type key (parsed, ignored) or the reject reason.
+    code : numpy.ndarray of int32
+        Per line: index into :attr:`names` of the line's label — the sentence type key (parsed,
+        ignored) or the reject reason.
+    names : list of str
+        Label names.
     junk_prefix : numpy.ndarray of bool
         Per line: the sentence started after other bytes on the same line (e.g. binary
         receiver output without a line break before the ``$``).
@@ -37,7 +40,8 @@ class Tokens:
     """
 
     outcome: np.ndarray
-    label: np.ndarray
+    code: np.ndarray
+    names: list[str]
     junk_prefix: np.ndarray
     raw: dict[str, dict[str, np.ndarray]]
     details: dict[int, str] = field(default_factory=dict)
@@ -46,10 +50,26 @@ class Tokens:
     def n_lines(self) -> int:
         return int(self.outcome.size)
 
+    @property
+    def labels(self) -> np.ndarray:
+        """Per-line label names (object array; for tests and small inputs)."""
+        return np.array(self.names + [""], dtype=object)[self.code]
+
+    def name_code(self, name: str) -> int:
+        """Code of a label name (added if new)."""
+        if name not in self.names:
+            self.names.append(name)
+        return self.names.index(name)
+
+    def counts(self, outcome: int) -> dict[str, int]:
+        """Label name -> number of lines with this outcome."""
+        c = np.bincount(self.code[self.outcome == outcome], minlength=len(self.names))
+        return {self.names[i]: int(v) for i, v in enumerate(c) if v}
+
     def reject(self, lines: np.ndarray, reason: str, details: list[str]) -> None:
         """Move *lines* (0-based indices of parsed lines) to the rejected bucket."""
         self.outcome[lines] = REJECTED
-        self.label[lines] = reason
+        self.code[lines] = self.name_code(reason)
         for i, d in zip(lines.tolist(), details, strict=True):
             self.details[int(i)] = d
 
