@@ -162,12 +162,10 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         )
     epochs, epoch_of, notes = assemble_epochs(frames)
 
-    sentences = {}
+    sentences = frames
     for k, f in frames.items():
-        f = f.copy()
-        f["line"] = f["line"] + 1
+        f["line"] += 1
         f["epoch"] = epoch_of[k]
-        sentences[k] = f
 
     parsed = tok.counts(PARSED)
     ignored = tok.counts(IGNORED)

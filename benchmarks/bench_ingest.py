@@ -1,0 +1,113 @@
+"""Ingest speed: gripsense.read_nmea against pynmea2 and pynmeagps on the same sentences.
+
+A real log (default: the bundled OxTS RT capture ``rst39.log`` — $PASHR heading/pitch/roll at
+25 Hz with GGA/RMC/HDT/ZDA, the closest public thing to a driving GNSS compass) is replicated to
+at least ``--sentences`` sentences. Each parser handles exactly those sentences in one process:
+
+* gripsense: ``read_nmea(bytes)`` — checksums, validation, decoding to SI/degrees, line
+  accounting and the epoch table (everything a user gets);
+* pynmea2: ``pynmea2.parse(line, check=True)`` for every line — lazy, fields stay strings
+  ("parse only"); and again reading the values gripsense delivers ("values");
+* pynmeagps: ``NMEAReader.parse(line)`` for every line (decodes values eagerly).
+
+The baselines get the lines already split and decoded to ``str`` (their best case).
+gripsense is timed as the best of ``--repeat`` runs, the baselines once each (long runs).
+
+Usage: python benchmarks/bench_ingest.py [--sentences 1000000] [--log PATH] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gripsense.data import sample_path
+from gripsense.io import read_nmea
+
+
+def build(log: Path, n: int) -> tuple[bytes, list[str]]:
+    lines = [ln.rstrip(b"\r") for ln in log.read_bytes().split(b"\n")]
+    sentences = [ln for ln in lines if ln.startswith((b"$", b"!"))]
+    reps = -(-n // len(sentences))
+    all_lines = sentences * reps
+    data = b"\r\n".join(all_lines) + b"\r\n"
+    return data, [s.decode("ascii") for s in all_lines]
+
+
+def pynmea2_values(msg) -> tuple:
+    """Read the values gripsense delivers from a pynmea2 message."""
+    t = type(msg).__name__
+    if t == "GGA":
+        return (msg.timestamp, msg.latitude, msg.longitude, msg.altitude, msg.gps_qual,
+                msg.num_sats, msg.horizontal_dil)
+    if t == "RMC":
+        return (msg.timestamp, msg.latitude, msg.longitude, msg.spd_over_grnd, msg.true_course,
+                msg.datestamp)
+    if t == "VTG":
+        return (msg.true_track, msg.spd_over_grnd_kts)
+    if t in ("HDT", "THS"):
+        return (msg.heading,)
+    if t == "ROT":
+        return (msg.rate_of_turn,)
+    if t == "ZDA":
+        return (msg.timestamp, msg.day, msg.month, msg.year)
+    if t == "ASHRATT":
+        return (msg.timestamp, msg.true_heading, msg.roll, msg.pitch)
+    return tuple(msg.data)
+
+
+def timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sentences", type=int, default=1_000_000)
+    ap.add_argument("--log", type=Path, default=None)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--skip-pynmeagps", action="store_true", help="pynmeagps is slow (~1 min)")
+    args = ap.parse_args()
+    log = args.log or sample_path("rst39.log")
+    data, lines = build(log, args.sentences)
+    n = len(lines)
+    print(f"log: {log.name} replicated to {n} sentences ({len(data) / 1e6:.1f} MB)")
+    print(f"python {platform.python_version()}, numpy {np.__version__}, {platform.machine()}")
+
+    results: dict[str, float] = {}
+    best = float("inf")
+    for _ in range(args.repeat):
+        best = min(best, timed(lambda: read_nmea(data)))
+    out = read_nmea(data)
+    assert out.report.n_parsed == n, out.report
+    results["gripsense read_nmea"] = best
+
+    import pynmea2
+
+    results["pynmea2 parse only"] = timed(lambda: [pynmea2.parse(s, check=True) for s in lines])
+    results["pynmea2 + values"] = timed(
+        lambda: [pynmea2_values(pynmea2.parse(s, check=True)) for s in lines]
+    )
+    if not args.skip_pynmeagps:
+        import pynmeagps
+
+        results["pynmeagps"] = timed(lambda: [pynmeagps.NMEAReader.parse(s) for s in lines])
+
+    g = results["gripsense read_nmea"]
+    print(f"\n{'parser':24s} {'seconds':>9s} {'sentences/s':>13s} {'gripsense is':>14s}")
+    for name, sec in results.items():
+        ratio = "" if name.startswith("gripsense") else f"{sec / g:10.1f}x"
+        print(f"{name:24s} {sec:9.3f} {n / sec:13,.0f} {ratio:>14s}")
+    target = results["pynmea2 parse only"] / g
+    print(f"\nratio vs pynmea2 (parse only): {target:.1f}x  (target >= 20x: "
+          f"{'met' if target >= 20 else 'NOT met'})")
+    print(f"ratio vs pynmea2 (+ values):   {results['pynmea2 + values'] / g:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
