@@ -80,10 +80,25 @@ def test_fuzz_never_raises_and_accounts(lines, eol):
         max_size=60,
     )
 )
-def test_epoch_rule_vectorised_equals_loop(seq):
+def test_epoch_rule_compiled_equals_loop(seq):
     kind = np.array([k for k, _ in seq], dtype=np.int64)
     tod = np.array([np.nan if t is None else t for _, t in seq], dtype=float)
     np.testing.assert_array_equal(epoch_boundaries(kind, tod), epoch_boundaries_loop(kind, tod))
+
+
+def test_chunked_threaded_equals_reference():
+    """Many small chunks on several threads give the same tokens as one pass of the reference."""
+    data = b"".join(p.read_bytes() for p in GPSD_LOGS)
+    a = tokenize_fast(data, chunk_bytes=4096, workers=3)
+    b = tokenize_reference(data)
+    np.testing.assert_array_equal(a.outcome, b.outcome)
+    np.testing.assert_array_equal(a.labels, b.labels)
+    np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
+    for k in a.raw:
+        for c in a.raw[k]:
+            np.testing.assert_array_equal(a.raw[k][c], b.raw[k][c])
+    assert a.details == {i: d for i, d in b.details.items() if i in a.details}
+    assert len(a.details) == min(20, int((b.outcome == 2).sum()))
 
 
 def test_real_logs_fast_equals_reference():

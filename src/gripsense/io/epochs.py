@@ -19,9 +19,8 @@ empty GGA time) form epochs without time (``time_utc`` NaT, ``t_s`` NaN); nothin
 A low-rate untimed sentence among high-rate timed ones (1 Hz HDT among 25 Hz PASHR) joins the
 epoch it follows.
 
-The rule is sequential; :func:`epoch_boundaries` computes it with array operations as the unique
-fixed point of the recurrence (each boundary depends only on earlier ones), with the plain loop
-:func:`epoch_boundaries_loop` as reference and fallback.
+The rule is sequential: :func:`epoch_boundaries` runs it as a compiled loop, and the plain Python
+loop :func:`epoch_boundaries_loop` is its reference in the tests.
 
 Merging an epoch's sentences
 ----------------------------
@@ -38,6 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from numba import njit
 
 from gripsense.io.nmea_schema import SENTENCES
 
@@ -101,74 +101,91 @@ def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
     return out
 
 
-def _prev_same(kind: np.ndarray) -> np.ndarray:
-    """Index of the previous sentence of the same kind, -1 if none."""
-    n = kind.size
-    order = np.argsort(kind, kind="stable")
-    ks = kind[order]
-    prev = np.full(n, -1, dtype=np.int64)
-    same = np.zeros(n, dtype=bool)
-    same[1:] = ks[1:] == ks[:-1]
-    prev[order[1:][same[1:]]] = order[:-1][same[1:]]
-    return prev
+@njit(cache=True, nogil=True)
+def _boundaries_kernel(kind, tod, out):
+    seen = np.uint64(0)
+    cur_t = np.nan
+    for i in range(kind.size):
+        bit = np.uint64(1) << np.uint64(kind[i])
+        t = tod[i]
+        new = i == 0 or (seen & bit) != 0 or (t == t and cur_t == cur_t and t != cur_t)
+        if new:
+            out[i] = True
+            seen = np.uint64(0)
+            cur_t = np.nan
+        seen |= bit
+        if t == t:
+            cur_t = t
 
 
-def epoch_boundaries(kind: np.ndarray, tod: np.ndarray, *, max_iter: int = 100) -> np.ndarray:
-    """The grouping rule with array operations (same result as :func:`epoch_boundaries_loop`).
+def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
+    """The grouping rule, compiled (same result as :func:`epoch_boundaries_loop`).
 
-    Sentence i starts an epoch iff (b) the previous sentence of its type is in the current epoch
-    (no boundary after it up to i-1), or (a) it has a time and the previous timed sentence q is in
-    the current epoch with a different time. Both conditions read only boundaries before i, so the
-    recurrence has exactly one fixed point; it is found by iterating B <- F(B) until B stops
-    changing (a few iterations on receiver logs). The loop is used if that takes too long.
+    Parameters
+    ----------
+    kind : array of int
+        Sentence type code per sentence (0..63), in line order.
+    tod : array of float
+        Time of day [s], NaN for sentences without a time.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        True where a sentence starts a new epoch.
     """
-    n = kind.size
-    if n == 0:
-        return np.zeros(0, dtype=bool)
-    p = _prev_same(kind)
-    timed = ~np.isnan(tod)
-    idx = np.arange(n)
-    last_timed = np.maximum.accumulate(np.where(timed, idx, -1))
-    q = np.full(n, -1, dtype=np.int64)
-    q[1:] = last_timed[:-1]
-    differs = timed & (q >= 0) & (tod[np.maximum(q, 0)] != tod)
-    b = np.ones(n, dtype=bool)
-    for _ in range(max_iter):
-        cs = np.zeros(n + 1, dtype=np.int64)
-        np.cumsum(b, out=cs[1:])
-        # boundaries strictly between j and i: positions j+1 .. i-1 -> cs[i] - cs[j+1]
-        free_p = (p >= 0) & (cs[idx] - cs[np.maximum(p, 0) + 1] == 0)
-        free_q = differs & (cs[idx] - cs[np.maximum(q, 0) + 1] == 0)
-        nb = free_p | free_q
-        nb[0] = True
-        if np.array_equal(nb, b):
-            return b
-        b = nb
-    return epoch_boundaries_loop(kind, tod)
+    kind = np.asarray(kind, dtype=np.int64)
+    if kind.size and (kind.min() < 0 or kind.max() > 63):
+        raise ValueError("epoch_boundaries: type codes must be in 0..63")
+    out = np.zeros(kind.size, dtype=np.bool_)
+    _boundaries_kernel(kind, np.asarray(tod, dtype=np.float64), out)
+    return out
 
 
 def _rollovers(tod: np.ndarray) -> np.ndarray:
     """Cumulative count of midnight roll-overs along the epochs (time of day falling > 12 h)."""
     valid = ~np.isnan(tod)
-    t = np.where(valid, tod, np.nan)
-    last = pd.Series(t).ffill().to_numpy()
-    prev = np.concatenate(([np.nan], last[:-1]))
-    jump = valid & (t < prev - 43200.0)
+    if not valid.any():
+        return np.zeros(tod.size, dtype=np.int64)
+    last_idx = np.maximum.accumulate(np.where(valid, np.arange(tod.size), -1))
+    prev = np.full(tod.size, np.nan)
+    ok = last_idx[:-1] >= 0
+    prev[1:][ok] = tod[last_idx[:-1][ok]]
+    jump = valid & (tod < prev - 43200.0)
     return np.cumsum(jump)
+
+
+@njit(cache=True, nogil=True)
+def _yaw_kernel(tt, hh, max_gap, out):
+    n = tt.size
+    for i in range(n):
+        num = 0.0
+        den = 0.0
+        if i > 0:
+            dt = tt[i] - tt[i - 1]
+            if dt > 0 and dt <= max_gap:
+                dh = (hh[i] - hh[i - 1] + 180.0) % 360.0 - 180.0
+                num += dh
+                den += dt
+        if i < n - 1:
+            dt = tt[i + 1] - tt[i]
+            if dt > 0 and dt <= max_gap:
+                dh = (hh[i + 1] - hh[i] + 180.0) % 360.0 - 180.0
+                num += dh
+                den += dt
+        out[i] = -np.deg2rad(num / den) if den > 0 else np.nan
 
 
 def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
     """ISO yaw rate [rad/s] from compass heading [deg] by central differences.
 
-    Uses (ψ[i+1] − ψ[i−1]) / (t[i+1] − t[i−1]) over the epochs that have a heading, with the
-    heading change wrapped to (−180°, 180°]; one-sided at the ends and next to gaps (intervals
+    Uses (ψ[i+1] − ψ[i−1]) / (t[i+1] − t[i−1]) over the epochs that have a heading, with each
+    heading change wrapped to [−180°, 180°); one-sided at the ends and next to gaps (intervals
     longer than 2.5 × the median interval — taken over at most ~20 000 evenly spaced
-    intervals — or not positive). Compass headings turn clockwise,
-    so the ISO 8855 yaw rate is minus their rate.
+    intervals — or not positive). Compass headings turn clockwise, so the ISO 8855 yaw rate is
+    minus their rate.
     """
     out = np.full(t.shape, np.nan)
-    ok = ~(np.isnan(t) | np.isnan(hdg))
-    idx = np.flatnonzero(ok)
+    idx = np.flatnonzero(~(np.isnan(t) | np.isnan(hdg)))
     if idx.size < 2:
         return out
     tt, hh = t[idx], hdg[idx]
@@ -178,23 +195,9 @@ def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
         return out
     step = max(1, pos.size // 20000)  # the median of a regular subsample is enough here
     max_gap = 2.5 * float(np.median(pos[::step]))
-    good = (dt > 0) & (dt <= max_gap)
-    dh = np.diff(hh)
-    dh += 180.0
-    np.mod(dh, 360.0, out=dh)
-    dh -= 180.0  # wrapped heading change [deg]
-    dh[~good] = 0.0
-    dtg = np.where(good, dt, 0.0)
-    # sum of the (good) intervals on both sides of each sample
-    num = np.zeros(idx.size)
-    den = np.zeros(idx.size)
-    num[1:] += dh
-    num[:-1] += dh
-    den[1:] += dtg
-    den[:-1] += dtg
-    with np.errstate(invalid="ignore", divide="ignore"):
-        r = num / den  # [deg/s], clockwise; NaN where no good interval
-    out[idx] = np.deg2rad(-r)
+    r = np.empty(idx.size)
+    _yaw_kernel(tt, hh, max_gap, r)
+    out[idx] = r
     return out
 
 
