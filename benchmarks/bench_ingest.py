@@ -43,11 +43,24 @@ def pynmea2_values(msg) -> tuple:
     """Read the values gripsense delivers from a pynmea2 message."""
     t = type(msg).__name__
     if t == "GGA":
-        return (msg.timestamp, msg.latitude, msg.longitude, msg.altitude, msg.gps_qual,
-                msg.num_sats, msg.horizontal_dil)
+        return (
+            msg.timestamp,
+            msg.latitude,
+            msg.longitude,
+            msg.altitude,
+            msg.gps_qual,
+            msg.num_sats,
+            msg.horizontal_dil,
+        )
     if t == "RMC":
-        return (msg.timestamp, msg.latitude, msg.longitude, msg.spd_over_grnd, msg.true_course,
-                msg.datestamp)
+        return (
+            msg.timestamp,
+            msg.latitude,
+            msg.longitude,
+            msg.spd_over_grnd,
+            msg.true_course,
+            msg.datestamp,
+        )
     if t == "VTG":
         return (msg.true_track, msg.spd_over_grnd_kts)
     if t in ("HDT", "THS"):
@@ -116,8 +129,10 @@ def main() -> None:
         ratio = "" if name.startswith("gripsense") else f"{sec / g:10.1f}x"
         print(f"{name:24s} {sec:9.3f} {n / sec:13,.0f} {ratio:>14s}")
     target = results["pynmea2 parse only"] / g
-    print(f"\nratio vs pynmea2 (parse only): {target:.1f}x  (target >= 20x: "
-          f"{'met' if target >= 20 else 'NOT met'})")
+    print(
+        f"\nratio vs pynmea2 (parse only): {target:.1f}x  (target >= 20x: "
+        f"{'met' if target >= 20 else 'NOT met'})"
+    )
     print(f"ratio vs pynmea2 (+ values):   {results['pynmea2 + values'] / g:.1f}x")
 
 

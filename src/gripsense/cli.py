@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Annotated
 
 import numpy as np
 import typer
@@ -44,7 +45,9 @@ def print_ingest(log: NmeaLog) -> None:
         f"= {rep.total_lines} lines; balanced: {ok}"
     )
     if rep.junk_prefix_lines:
-        console.print(f"{rep.junk_prefix_lines} sentences recovered after non-NMEA bytes on their line")
+        console.print(
+            f"{rep.junk_prefix_lines} sentences recovered after non-NMEA bytes on their line"
+        )
     for r in rep.first_rejects[:5]:
         console.print(f"  line {r.line}: {r.reason} — {r.detail}")
     ep = log.epochs
@@ -60,8 +63,15 @@ def print_ingest(log: NmeaLog) -> None:
         start = f", from {first.iloc[0]}" if len(first) else " (no date in log)"
         console.print(f"duration {dur:.2f} s{start}, median rate {rate:.1f} Hz")
     present = []
-    for col in ("lat_deg", "speed_mps", "course_deg", "heading_deg", "pitch_deg", "rot_deg_per_min",
-                "yaw_rate_rps"):
+    for col in (
+        "lat_deg",
+        "speed_mps",
+        "course_deg",
+        "heading_deg",
+        "pitch_deg",
+        "rot_deg_per_min",
+        "yaw_rate_rps",
+    ):
         n = int(ep[col].notna().sum())
         if n:
             present.append(f"{col} {n}")
@@ -85,9 +95,13 @@ def write_table(df, out: Path) -> None:
 
 @app.command()
 def ingest(
-    log: Path = typer.Argument(..., help="NMEA log (plain or .gz)"),
-    output: Path | None = typer.Option(None, "-o", "--output", help="write epochs to .parquet or .csv"),
-    strict: bool = typer.Option(False, "--strict", help="stop at the first rejected line"),
+    log: Annotated[Path, typer.Argument(help="NMEA log (plain or .gz)")],
+    output: Annotated[
+        Path | None, typer.Option("-o", "--output", help="write epochs to .parquet or .csv")
+    ] = None,
+    strict: Annotated[
+        bool, typer.Option("--strict", help="stop at the first rejected line")
+    ] = False,
 ) -> None:
     """Read an NMEA log into the epoch table and print its line accounting."""
     try:
@@ -109,8 +123,17 @@ def demo() -> None:
     console.print(f"[bold]gripsense demo[/] — ingest of a bundled real log: {path.name}")
     nlog = read_nmea(path)
     print_ingest(nlog)
-    cols = ["t_s", "lat_deg", "lon_deg", "speed_mps", "course_deg", "heading_deg", "heading_source",
-            "yaw_rate_rps", "yaw_rate_source"]
+    cols = [
+        "t_s",
+        "lat_deg",
+        "lon_deg",
+        "speed_mps",
+        "course_deg",
+        "heading_deg",
+        "heading_source",
+        "yaw_rate_rps",
+        "yaw_rate_source",
+    ]
     console.print(nlog.epochs[cols].head(12).to_string(index=False), soft_wrap=True)
 
 

@@ -17,4 +17,7 @@ class InputError(GripsenseError, ValueError):
 
 
 class NotObservableError(GripsenseError):
-    """The data cannot determine the requested quantity (raised only where returning a flag is wrong)."""
+    """The data cannot determine the requested quantity.
+
+    Raised only where returning a flag is wrong; estimators normally return a flag instead.
+    """

@@ -24,8 +24,21 @@ REAL = sorted(set(REAL))
 @st.composite
 def corrupted_line(draw):
     line = bytearray(draw(st.sampled_from(REAL)))
-    op = draw(st.sampled_from(["keep", "flip", "truncate", "checksum", "junk", "empty_field",
-                               "crlf", "insert", "delete"]))
+    op = draw(
+        st.sampled_from(
+            [
+                "keep",
+                "flip",
+                "truncate",
+                "checksum",
+                "junk",
+                "empty_field",
+                "crlf",
+                "insert",
+                "delete",
+            ]
+        )
+    )
     if op == "flip" and line:
         i = draw(st.integers(0, len(line) - 1))
         line[i] ^= 1 << draw(st.integers(0, 7))

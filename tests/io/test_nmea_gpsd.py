@@ -50,8 +50,15 @@ def test_agrees_with_gpsd(gpsd_log, engine):
     log = read_nmea(gpsd_log, engine=engine)
     idx = _line_index(log)
     ep = log.epochs
-    checked = {"latlon": 0, "epoch_latlon": 0, "speed": 0, "track": 0, "heading": 0, "rot": 0,
-               "time": 0}
+    checked = {
+        "latlon": 0,
+        "epoch_latlon": 0,
+        "speed": 0,
+        "track": 0,
+        "heading": 0,
+        "rot": 0,
+        "time": 0,
+    }
     for no, trig, rep in reports:
         if no not in idx:
             continue
@@ -60,8 +67,11 @@ def test_agrees_with_gpsd(gpsd_log, engine):
             # gpsd's report for time T and our epoch at time T hold the same position
             e_lat = ep["lat_deg"].iloc[row.epoch]
             e_t = ep["time_utc"].iloc[row.epoch]
-            same_t = "time" in rep and e_t is not pd.NaT and rep["time"][11:23] == (
-                e_t.strftime("%H:%M:%S.%f")[:12])
+            same_t = (
+                "time" in rep
+                and e_t is not pd.NaT
+                and rep["time"][11:23] == (e_t.strftime("%H:%M:%S.%f")[:12])
+            )
             if "lat" in rep and same_t and not math.isnan(e_lat):
                 assert e_lat == pytest.approx(rep["lat"], abs=6e-10), (no, trig)
                 assert ep["lon_deg"].iloc[row.epoch] == pytest.approx(rep["lon"], abs=6e-10)
@@ -105,7 +115,7 @@ def test_agrees_with_gpsd(gpsd_log, engine):
 
 
 def test_gpsd_heading_in_epochs():
-    """Epoch heading equals gpsd's ATT heading for the HDT/THS line of that epoch (saab, skytraq)."""
+    """Epoch heading equals the HDT/THS value of that epoch's line (saab, skytraq, hemi)."""
     for name in ("saab-r4", "skytraq-PX1172RH_DS", "hemi"):
         path = next(p for p in GPSD_LOGS if p.stem == name)
         log = read_nmea(path)
@@ -167,7 +177,8 @@ def test_against_pynmeagps(path):
                 assert _eq(row.lat_deg, msg.lat, 1e-9) and _eq(row.lon_deg, msg.lon, 1e-9), text
                 spd = _num(msg.spd) * 1852 / 3600
                 assert (math.isnan(row.speed_mps) and math.isnan(spd)) or abs(
-                    row.speed_mps - spd) < 1e-12, text
+                    row.speed_mps - spd
+                ) < 1e-12, text
                 assert _eq(row.course_deg, msg.cog, 1e-12), text
                 if msg.date not in ("", None):
                     assert row.day == (msg.date - __import__("datetime").date(1970, 1, 1)).days

@@ -70,8 +70,12 @@ def test_left_turn_sign(with_rot):
 
 def test_rot_unit_trap():
     # 0.2778 rad/s is 955 deg/min (PHYSICS.md section 3.2)
-    ep = read_nmea([sentence("GPRMC,120000.00,A,3500.0,N,13500.0,E,1.0,0.0,010120,,,A"),
-                    sentence("GPROT,-955.0,A")]).epochs
+    ep = read_nmea(
+        [
+            sentence("GPRMC,120000.00,A,3500.0,N,13500.0,E,1.0,0.0,010120,,,A"),
+            sentence("GPROT,-955.0,A"),
+        ]
+    ).epochs
     assert ep["yaw_rate_rps"].iloc[0] == pytest.approx(0.2778, abs=1e-4)
 
 
@@ -107,12 +111,21 @@ def test_vtg_kmh_fallback():
         ("$GPHDT,274.07,T*04", "rejected", "bad checksum"),
         ("$GPHDT,274.07,T*0G", "rejected", "bad checksum"),
         (sentence("GPHDT,27x.07,T"), "rejected", "malformed field"),
-        (sentence("GPGGA,126000.00,3500.0,N,13500.0,E,1,08,1.0,1.0,M,,M,,"), "rejected",
-         "malformed field"),
-        (sentence("GPGGA,120000.00,3500.0,,13500.0,E,1,08,1.0,1.0,M,,M,,"), "rejected",
-         "malformed field"),
-        (sentence("GPRMC,120000.00,A,3500.0,N,13500.0,E,1.0,10.0,320120,,,A"), "rejected",
-         "malformed field"),
+        (
+            sentence("GPGGA,126000.00,3500.0,N,13500.0,E,1,08,1.0,1.0,M,,M,,"),
+            "rejected",
+            "malformed field",
+        ),
+        (
+            sentence("GPGGA,120000.00,3500.0,,13500.0,E,1,08,1.0,1.0,M,,M,,"),
+            "rejected",
+            "malformed field",
+        ),
+        (
+            sentence("GPRMC,120000.00,A,3500.0,N,13500.0,E,1.0,10.0,320120,,,A"),
+            "rejected",
+            "malformed field",
+        ),
         (sentence("GPZDA,120000.00,29,02,2021,00,00"), "rejected", "malformed field"),
         (sentence("GPGGA,120000.00,3500.0,N"), "rejected", "truncated"),
         (sentence("GPGSV,1,1,00"), "ignored", "GSV"),

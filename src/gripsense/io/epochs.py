@@ -201,7 +201,9 @@ def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
     return out
 
 
-def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
+def assemble_epochs(
+    frames: dict[str, pd.DataFrame],
+) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
     """Group decoded sentences into epochs.
 
     Parameters
@@ -227,7 +229,11 @@ def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict
         parts_tod.append(f["tod_s"].to_numpy() if "tod_s" in f else np.full(len(f), np.nan))
     line = np.concatenate(parts_line)
     order = np.argsort(line, kind="stable")
-    line, kind, tod = line[order], np.concatenate(parts_kind)[order], np.concatenate(parts_tod)[order]
+    line, kind, tod = (
+        line[order],
+        np.concatenate(parts_kind)[order],
+        np.concatenate(parts_tod)[order],
+    )
     start = epoch_boundaries(kind, tod)
     eid = np.cumsum(start) - 1
     n_ep = int(start.sum())
@@ -271,7 +277,9 @@ def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict
     if gga_lat is not None and rmc_lat is not None:
         use_gga = ~np.isnan(gga_lat)
         ep["lat_deg"] = np.where(use_gga, gga_lat, rmc_lat)
-        ep["lon_deg"] = np.where(use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok))
+        ep["lon_deg"] = np.where(
+            use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok)
+        )
     else:
         ep["lat_deg"] = first_of(gga_lat, rmc_lat)
         ep["lon_deg"] = first_of(col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok))
@@ -315,7 +323,9 @@ def assemble_epochs(frames: dict[str, pd.DataFrame]) -> tuple[pd.DataFrame, dict
         a_c = np.clip(a, 0, n_ep - 1)
         d_est = day[a_c] + rc - rc[a_c]
         abs_s = np.where(timed & a_ok, d_est * 86400.0 + tod_e, np.nan)
-        ns = np.where(np.isnan(abs_s), np.iinfo(np.int64).min, np.round(abs_s * 1e9)).astype(np.int64)
+        ns = np.where(np.isnan(abs_s), np.iinfo(np.int64).min, np.round(abs_s * 1e9)).astype(
+            np.int64
+        )
         time_utc = pd.to_datetime(ns, unit="ns", utc=True)
         time_utc = time_utc.where(~np.isnan(abs_s))
     else:

@@ -91,7 +91,9 @@ def _read_source(source: NmeaSource) -> tuple[bytes, str]:
             try:
                 data = gzip.decompress(data)
             except (OSError, EOFError) as e:
-                raise InputError(f"{path}: looks gzip-compressed but cannot be decompressed ({e})") from None
+                raise InputError(
+                    f"{path}: looks gzip-compressed but cannot be decompressed ({e})"
+                ) from None
         return data, str(path)
     if isinstance(source, bytes | bytearray | memoryview):
         return bytes(source), "<bytes>"
@@ -101,7 +103,9 @@ def _read_source(source: NmeaSource) -> tuple[bytes, str]:
             if isinstance(ln, str):
                 ln = ln.encode("utf-8", "surrogateescape")
             elif not isinstance(ln, bytes | bytearray):
-                raise InputError(f"<lines>: item {i} is {type(ln).__name__}; give str or bytes lines")
+                raise InputError(
+                    f"<lines>: item {i} is {type(ln).__name__}; give str or bytes lines"
+                )
             out.append(bytes(ln).rstrip(b"\r\n"))
         return b"\n".join(out) + (b"\n" if out else b""), "<lines>"
     if hasattr(source, "read"):
@@ -157,8 +161,8 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         i = int(rej[0])
         detail = tok.details.get(i) or classify_line(split_lines(data)[i])[2]
         raise InputError(
-            f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} (strict mode; drop --strict to count "
-            "such lines instead)"
+            f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} "
+            "(strict mode; drop --strict to count such lines instead)"
         )
     epochs, epoch_of, notes = assemble_epochs(frames)
 
@@ -189,5 +193,3 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         has_date=notes["has_date"],
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
-
-

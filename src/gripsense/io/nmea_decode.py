@@ -89,7 +89,9 @@ def _char(c: np.ndarray) -> np.ndarray:
     return out
 
 
-def _decode_one(key: str, r: dict[str, np.ndarray]) -> tuple[dict[str, np.ndarray], np.ndarray, list[str]]:
+def _decode_one(
+    key: str, r: dict[str, np.ndarray]
+) -> tuple[dict[str, np.ndarray], np.ndarray, list[str]]:
     """Decode one raw table. Returns (columns, malformed mask, name of the first bad field)."""
     n = r["line"].size
     bad = np.zeros(n, dtype=bool)

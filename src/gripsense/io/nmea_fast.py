@@ -15,6 +15,7 @@ the reference agree line by line on real logs and on fuzzed input.
 
 from __future__ import annotations
 
+import itertools
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -30,8 +31,9 @@ from gripsense.io.nmea_tokens import IGNORED, PARSED, REJECTED, Tokens, empty_ra
 
 __all__ = ["tokenize_fast"]
 
-_BYTE_MASK = np.array([(1 << (8 * k)) - 1 if k < 8 else (1 << 64) - 1 for k in range(9)],
-                      dtype=np.uint64)
+_BYTE_MASK = np.array(
+    [(1 << (8 * k)) - 1 if k < 8 else (1 << 64) - 1 for k in range(9)], dtype=np.uint64
+)
 _PSAT = int.from_bytes(b"PSAT".ljust(8, b"\0"), "little")
 
 
@@ -54,8 +56,9 @@ def _words(buf: np.ndarray) -> np.ndarray:
     n = (buf.size + 24) // 8 * 8 + 8
     pad = np.zeros(n, dtype=np.uint8)
     pad[: buf.size] = buf
-    return np.lib.stride_tricks.as_strided(pad.view("<u8"), shape=(buf.size + 9,), strides=(1,),
-                                           writeable=False)
+    return np.lib.stride_tricks.as_strided(
+        pad.view("<u8"), shape=(buf.size + 9,), strides=(1,), writeable=False
+    )
 
 
 def _tokenize_array(data) -> Tokens:
@@ -161,14 +164,16 @@ def _tokenize_array(data) -> Tokens:
         fl = np.empty((m, nfld), dtype=np.int64)
         cval = np.zeros((m, nfld), dtype=np.uint8)
         views = np.empty((m, nfld, 16), dtype=np.uint8)
-        K.read_fields(buf, li, dpos, limit, fidx, fkind, allowed, S.MAX_FIELD, ok, fa, fl, cval,
-                      views)
+        K.read_fields(
+            buf, li, dpos, limit, fidx, fkind, allowed, S.MAX_FIELD, ok, fa, fl, cval, views
+        )
         numeric = np.flatnonzero(fkind != K.KIND_CODES[S.CHAR])
         vals = None
         if numeric.size:
             vv = np.ascontiguousarray(views[:, numeric, :]).reshape(-1, 16)
-            arr = pa.Array.from_buffers(pa.string_view(), vv.shape[0],
-                                        [None, pa.py_buffer(vv), pa.py_buffer(buf)])
+            arr = pa.Array.from_buffers(
+                pa.string_view(), vv.shape[0], [None, pa.py_buffer(vv), pa.py_buffer(buf)]
+            )
             vals = pc.cast(arr, pa.float64()).to_numpy(zero_copy_only=False)
             vals = np.array(vals, dtype=np.float64).reshape(m, numeric.size)
             empty = fl[:, numeric] == 0
@@ -229,7 +234,7 @@ def tokenize_fast(
         cuts.append(j + 1)
     cuts.append(nb)
     mv = memoryview(data)
-    pieces = [mv[a:b] for a, b in zip(cuts[:-1], cuts[1:], strict=True)]
+    pieces = [mv[a:b] for a, b in itertools.pairwise(cuts)]
     if len(pieces) == 1:
         parts = [_tokenize_array(data)]
     else:
@@ -260,10 +265,14 @@ def _join(parts: list[Tokens]) -> Tokens:
         junks.append(t.junk_prefix)
     raw: dict[str, dict[str, np.ndarray]] = {}
     for k, spec in S.SENTENCES.items():
-        tab = {"line": np.concatenate([t.raw[k]["line"] + sh for sh, t in zip(shifts, parts,
-                                                                              strict=True)])}
+        tab = {
+            "line": np.concatenate(
+                [t.raw[k]["line"] + sh for sh, t in zip(shifts, parts, strict=True)]
+            )
+        }
         for f in spec.fields:
             tab[f.name] = np.concatenate([t.raw[k][f.name] for t in parts])
         raw[k] = tab
-    return Tokens(np.concatenate(outs), np.concatenate(codes), list(names), np.concatenate(junks),
-                  raw)
+    return Tokens(
+        np.concatenate(outs), np.concatenate(codes), list(names), np.concatenate(junks), raw
+    )

@@ -7,7 +7,6 @@ Arrow. The test suite checks line-by-line equality with the reference on real an
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 from gripsense.io import nmea_schema as S
@@ -50,8 +49,9 @@ def _hex(b):
 
 
 @njit(cache=True, nogil=True)
-def scan_lines(buf, starts, ends, max_address, code, dpos, star, stripped_end, nfields, alen,
-               junk, f1a, f1b):
+def scan_lines(
+    buf, starts, ends, max_address, code, dpos, star, stripped_end, nfields, alen, junk, f1a, f1b
+):
     """Structure of every line: start, checksum, address, field count (see the reference)."""
     for i in range(starts.size):
         a = starts[i]

@@ -28,7 +28,15 @@ import re
 import numpy as np
 
 from gripsense.io import nmea_schema as S
-from gripsense.io.nmea_tokens import IGNORED, PARSED, REJECTED, STRIP, Tokens, empty_raw, split_lines
+from gripsense.io.nmea_tokens import (
+    IGNORED,
+    PARSED,
+    REJECTED,
+    STRIP,
+    Tokens,
+    empty_raw,
+    split_lines,
+)
 
 __all__ = ["classify_line", "tokenize_reference"]
 
@@ -115,7 +123,13 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
     if len(cs) < 2:
         return REJECTED, S.TRUNCATED, "line ends inside the checksum", None, junk
     if len(cs) != 2 or not _HEX.fullmatch(cs):
-        return REJECTED, S.BAD_CHECKSUM, f"checksum field {cs[:8]!r} is not two hex digits", None, junk
+        return (
+            REJECTED,
+            S.BAD_CHECKSUM,
+            f"checksum field {cs[:8]!r} is not two hex digits",
+            None,
+            junk,
+        )
     x = 0
     for b in body:
         x ^= b
@@ -148,7 +162,9 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
 
 
 def _bad(key: str, f: S.FieldSpec, v: bytes) -> str:
-    return f"{key} field {f.index} ({f.name}) = {v[:16].decode('ascii', 'replace')!r} is not {f.kind}"
+    return (
+        f"{key} field {f.index} ({f.name}) = {v[:16].decode('ascii', 'replace')!r} is not {f.kind}"
+    )
 
 
 def tokenize_reference(data: bytes) -> Tokens:

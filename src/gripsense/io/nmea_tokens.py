@@ -53,7 +53,7 @@ class Tokens:
     @property
     def labels(self) -> np.ndarray:
         """Per-line label names (object array; for tests and small inputs)."""
-        return np.array(self.names + [""], dtype=object)[self.code]
+        return np.array([*self.names, ""], dtype=object)[self.code]
 
     def name_code(self, name: str) -> int:
         """Code of a label name (added if new)."""
