@@ -19,17 +19,18 @@ app = typer.Typer(
     help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
 )
 console = Console()
+err_console = Console(stderr=True, soft_wrap=True)
 
 
 def _fail(err: Exception) -> None:
-    console.print(f"[bold red]error:[/] {err}")
+    err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)
     raise typer.Exit(2)
 
 
 def print_ingest(log: NmeaLog) -> None:
     """Print the line accounting and a summary of an ingested log."""
     rep = log.report
-    table = Table(title=f"Line accounting — {rep.source}")
+    table = Table(title=f"Line accounting — {Path(rep.source).name}")
     table.add_column("bucket")
     table.add_column("type / reason")
     table.add_column("lines", justify="right")
@@ -78,6 +79,7 @@ def print_ingest(log: NmeaLog) -> None:
     console.print("present: " + (", ".join(present) if present else "nothing usable"))
     for col in ("heading_source", "yaw_rate_source"):
         vc = ep[col].value_counts()
+        vc = vc[vc > 0]
         if len(vc):
             console.print(f"{col}: " + ", ".join(f"{k} {v}" for k, v in vc.items()))
 
@@ -115,14 +117,24 @@ def ingest(
 
 
 @app.command()
-def demo() -> None:
-    """Run gripsense on the bundled sample data and show what it finds."""
+def demo(
+    outdir: Annotated[
+        Path, typer.Option("-o", "--outdir", help="folder for the demo's output")
+    ] = Path("demo-report"),
+) -> None:
+    """Run gripsense on the bundled sample data, show what it finds and write it to OUTDIR."""
+    import json
+
     from gripsense.data import sample_path
 
     path = sample_path("rst39.log")
     console.print(f"[bold]gripsense demo[/] — ingest of a bundled real log: {path.name}")
     nlog = read_nmea(path)
     print_ingest(nlog)
+    outdir.mkdir(parents=True, exist_ok=True)
+    write_table(nlog.epochs, outdir / "epochs.csv")
+    (outdir / "ingest.json").write_text(json.dumps(nlog.report.to_dict(), indent=2) + "\n")
+    console.print(f"\nwrote {outdir / 'epochs.csv'} and {outdir / 'ingest.json'}")
     cols = [
         "t_s",
         "lat_deg",
