@@ -21,6 +21,16 @@ for p in GPSD_LOGS:
 REAL = sorted(set(REAL))
 
 
+def assert_same_tokens(a, b) -> None:
+    """Line-by-line equality of two tokenizations (outcome, label, junk flag, every value)."""
+    np.testing.assert_array_equal(a.outcome, b.outcome)
+    np.testing.assert_array_equal(a.labels, b.labels)
+    np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
+    for k in a.raw:
+        for c in a.raw[k]:
+            np.testing.assert_array_equal(a.raw[k][c], b.raw[k][c])
+
+
 @st.composite
 def corrupted_line(draw):
     line = bytearray(draw(st.sampled_from(REAL)))
@@ -78,12 +88,7 @@ def test_fuzz_never_raises_and_accounts(lines, eol):
         assert rep.balanced
         assert sum(len(f) for f in log.sentences.values()) == rep.n_parsed
     a, b = tokenize_fast(data), tokenize_reference(data)
-    np.testing.assert_array_equal(a.outcome, b.outcome)
-    np.testing.assert_array_equal(a.labels, b.labels)
-    np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
-    for k in a.raw:
-        for c in a.raw[k]:
-            np.testing.assert_array_equal(a.raw[k][c], b.raw[k][c])
+    assert_same_tokens(a, b)
 
 
 @settings(max_examples=300, deadline=None)
@@ -104,12 +109,7 @@ def test_chunked_threaded_equals_reference():
     data = b"".join(p.read_bytes() for p in GPSD_LOGS)
     a = tokenize_fast(data, chunk_bytes=4096, workers=3)
     b = tokenize_reference(data)
-    np.testing.assert_array_equal(a.outcome, b.outcome)
-    np.testing.assert_array_equal(a.labels, b.labels)
-    np.testing.assert_array_equal(a.junk_prefix, b.junk_prefix)
-    for k in a.raw:
-        for c in a.raw[k]:
-            np.testing.assert_array_equal(a.raw[k][c], b.raw[k][c])
+    assert_same_tokens(a, b)
     assert a.details == {i: d for i, d in b.details.items() if i in a.details}
     assert len(a.details) == min(20, int((b.outcome == 2).sum()))
 
