@@ -1,0 +1,310 @@
+"""Vehicle, tyre and antenna descriptions: TOML in, validated, SI out.
+
+Classes here only hold parameters and fill in arguments of the physics functions; they contain
+no algorithms (the pvlib ``Location``/``PVSystem`` rule).
+
+TOML layout (units are in the key names; see ``gripsense/data/corolla_thesis.toml``)::
+
+    [vehicle]
+    name = "..."
+    mass_kg = 1200.0
+    front_weight_fraction = 0.6        # or cg_to_front_axle_m (needs wheelbase_m)
+    wheelbase_m = 2.6                  # optional; needed to place wheels from [antenna] x_m/y_m
+    cg_height_m = 0.55
+    track_front_m = 1.50
+    track_rear_m = 1.50
+    roll_stiffness_front_fraction = 0.6      # optional (PHYSICS.md §4.2)
+    roll_centre_height_front_m = 0.05        # optional, both or neither
+    roll_centre_height_rear_m = 0.10
+    steering_ratio = 15.0                    # optional: steering-wheel angle / road-wheel angle
+
+    [antenna]
+    x_m = 0.2                 # antenna position relative to the CG, x forward ...
+    y_m = 0.0                 # ... and y left [m]
+    heading_offset_deg = 0.0  # compass baseline vs vehicle x axis
+    [antenna.wheels]          # or: measured wheel positions relative to the antenna [x, y] (m)
+    rear_left = [-0.76, 1.0]
+
+    [tyre.rear]               # and [tyre.front]
+    width_m = 0.185
+    tread_stiffness_N_per_m3 = 5e7          # or cornering_stiffness_N_per_rad
+    contact_length = { a = 0.0104, b = -1.017e-4 }   # l = a sqrt(m) + b m; or { fixed_m = 0.134 }
+    pressure = "parabolic"                  # or "quartic"
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from gripsense.errors import InputError
+from gripsense.physics.contact import contact_length_lm
+
+__all__ = ["WHEELS", "Tyre", "Vehicle"]
+
+WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
+AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
+
+
+@dataclass(frozen=True)
+class Tyre:
+    """Tyre of one axle.
+
+    Attributes
+    ----------
+    width_m : float
+        Contact width w [m].
+    tread_stiffness_N_per_m3 : float or None
+        Tread stiffness G [N/m^3] (brush model).
+    cornering_stiffness_N_per_rad : float or None
+        Cornering stiffness C [N/rad]; used instead of G when given.
+    contact_a, contact_b : float or None
+        l–m model coefficients: l = a √m + b m (seed 000, eq. 6.23) [m/kg^0.5], [m/kg].
+    contact_length_m : float or None
+        Fixed contact length [m], instead of the l–m model.
+    pressure : str
+        ``parabolic`` or ``quartic``.
+    """
+
+    width_m: float
+    tread_stiffness_N_per_m3: float | None = None
+    cornering_stiffness_N_per_rad: float | None = None
+    contact_a: float | None = None
+    contact_b: float | None = None
+    contact_length_m: float | None = None
+    pressure: str = "parabolic"
+
+    def contact_length(self, mass_kg) -> np.ndarray:
+        """Contact length [m] for the mass the wheel carries [kg]."""
+        m = np.asarray(mass_kg, dtype=float)
+        if self.contact_length_m is not None:
+            return np.full(m.shape, self.contact_length_m)
+        return np.asarray(contact_length_lm(m, self.contact_a, self.contact_b), dtype=float)
+
+    def cornering_stiffness(self, length_m) -> np.ndarray:
+        """C [N/rad]: the given value, or G w l²/2 (seed 000 eq. 9.1)."""
+        length = np.asarray(length_m, dtype=float)
+        if self.cornering_stiffness_N_per_rad is not None:
+            return np.full(length.shape, self.cornering_stiffness_N_per_rad)
+        return 0.5 * self.tread_stiffness_N_per_m3 * self.width_m * length**2
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """Vehicle description in SI units (see the module documentation for the TOML layout).
+
+    Attributes
+    ----------
+    mass_kg : float
+    front_weight_fraction : float
+        Static fraction of the mass on the front axle, l_r / L [-].
+    cg_height_m : float
+    track_front_m, track_rear_m : float
+    wheel_offsets : dict
+        Wheel name -> (dx, dy): position relative to the antenna, x forward, y left [m]. Only
+        wheels whose position is known are listed.
+    cg_offset : tuple or None
+        Position of the CG relative to the antenna (dx, dy) [m], when known.
+    heading_offset_rad : float
+        Compass baseline offset from the vehicle x axis [rad].
+    tyres : dict
+        ``front`` / ``rear`` -> :class:`Tyre`.
+    wheelbase_m, roll_stiffness_front_fraction, roll_centre_heights_m, steering_ratio
+        Optional; None when not given.
+    name : str
+    source : str
+        Where the description came from (file path).
+    """
+
+    mass_kg: float
+    front_weight_fraction: float
+    cg_height_m: float
+    track_front_m: float
+    track_rear_m: float
+    wheel_offsets: dict[str, tuple[float, float]]
+    tyres: dict[str, Tyre]
+    cg_offset: tuple[float, float] | None = None
+    heading_offset_rad: float = 0.0
+    wheelbase_m: float | None = None
+    roll_stiffness_front_fraction: float | None = None
+    roll_centre_heights_m: tuple[float, float] | None = None
+    steering_ratio: float | None = None
+    name: str = "vehicle"
+    source: str = ""
+    notes: dict = field(default_factory=dict)
+
+    @property
+    def axle_masses_kg(self) -> tuple[float, float]:
+        """Static (front, rear) axle masses [kg]."""
+        f = self.front_weight_fraction
+        return self.mass_kg * f, self.mass_kg * (1.0 - f)
+
+    def track(self, axle: str) -> float:
+        return self.track_front_m if axle == "front" else self.track_rear_m
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Vehicle:
+        """Read and validate a vehicle description.
+
+        Raises
+        ------
+        InputError
+            Naming the file and key, with the expected unit, when something is missing or wrong.
+        """
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise InputError(f"{path}: no such vehicle file") from None
+        try:
+            doc = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as e:
+            raise InputError(f"{path}: not valid TOML ({e})") from None
+        return cls.from_dict(doc, source=str(path))
+
+    @classmethod
+    def from_dict(cls, doc: dict, *, source: str = "<dict>") -> Vehicle:
+        """Build from a parsed TOML document (see :meth:`from_toml`)."""
+        r = _Reader(doc, source)
+        veh = r.table("vehicle", required=True)
+        mass = r.num(veh, "vehicle", "mass_kg", positive=True, unit="kg")
+        wb = r.num(veh, "vehicle", "wheelbase_m", positive=True, unit="m", required=False)
+        frac = r.num(veh, "vehicle", "front_weight_fraction", unit="-", required=False)
+        lf = r.num(veh, "vehicle", "cg_to_front_axle_m", positive=True, unit="m", required=False)
+        if frac is None and lf is None:
+            r.fail("vehicle", "front_weight_fraction", "missing; give it (0..1) or "
+                   "cg_to_front_axle_m with wheelbase_m")
+        if frac is None:
+            if wb is None:
+                r.fail("vehicle", "wheelbase_m", "needed with cg_to_front_axle_m [m]")
+            frac = (wb - lf) / wb
+        if not 0.0 < frac < 1.0:
+            r.fail("vehicle", "front_weight_fraction", f"= {frac}: must be between 0 and 1")
+        h = r.num(veh, "vehicle", "cg_height_m", positive=True, unit="m")
+        tf = r.num(veh, "vehicle", "track_front_m", positive=True, unit="m")
+        tr = r.num(veh, "vehicle", "track_rear_m", positive=True, unit="m")
+        kf = r.num(veh, "vehicle", "roll_stiffness_front_fraction", unit="-", required=False)
+        if kf is not None and not 0.0 <= kf <= 1.0:
+            r.fail("vehicle", "roll_stiffness_front_fraction", f"= {kf}: must be in 0..1")
+        hf = r.num(veh, "vehicle", "roll_centre_height_front_m", unit="m", required=False)
+        hr = r.num(veh, "vehicle", "roll_centre_height_rear_m", unit="m", required=False)
+        if (hf is None) != (hr is None):
+            r.fail("vehicle", "roll_centre_height_front_m", "give both roll-centre heights or "
+                   "neither (neither: at CG height, the thesis's rigid model)")
+        ratio = r.num(veh, "vehicle", "steering_ratio", positive=True, unit="-", required=False)
+        name = str(veh.get("name", Path(source).stem))
+
+        ant = r.table("antenna", required=True)
+        off_deg = r.num(ant, "antenna", "heading_offset_deg", unit="deg", required=False) or 0.0
+        ax = r.num(ant, "antenna", "x_m", unit="m", required=False)
+        ay = r.num(ant, "antenna", "y_m", unit="m", required=False)
+        explicit = ant.get("wheels", {})
+        if not isinstance(explicit, dict):
+            r.fail("antenna", "wheels", "must be a table of wheel = [x_m, y_m]")
+        offsets: dict[str, tuple[float, float]] = {}
+        cg = None
+        if (ax is None) != (ay is None):
+            r.fail("antenna", "x_m", "give both x_m and y_m (antenna position relative to CG)")
+        if ax is not None:
+            cg = (-ax, -ay)
+            if wb is not None:
+                l_f = wb * (1.0 - frac)
+                l_r = wb * frac
+                for wname, (x, y) in {
+                    "front_left": (l_f, tf / 2), "front_right": (l_f, -tf / 2),
+                    "rear_left": (-l_r, tr / 2), "rear_right": (-l_r, -tr / 2),
+                }.items():
+                    offsets[wname] = (x - ax, y - ay)
+        for wname, xy in explicit.items():
+            if wname not in WHEELS:
+                r.fail("antenna.wheels", wname, f"unknown wheel; use one of {WHEELS}")
+            if (not isinstance(xy, list) or len(xy) != 2
+                    or not all(isinstance(v, int | float) for v in xy)):
+                r.fail("antenna.wheels", wname, "must be [x_m, y_m] relative to the antenna")
+            offsets[wname] = (float(xy[0]), float(xy[1]))
+        if not offsets:
+            r.fail("antenna", "wheels", "no wheel position: give [antenna] x_m, y_m with "
+                   "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...")
+
+        tyres_doc = r.table("tyre", required=True)
+        tyres = {}
+        for axle in ("front", "rear"):
+            if axle not in tyres_doc:
+                if any(AXLE_OF[w] == axle for w in offsets):
+                    r.fail("tyre", axle, f"missing [tyre.{axle}] for the {axle} wheels")
+                continue
+            tyres[axle] = _tyre(r, tyres_doc[axle], f"tyre.{axle}")
+        offsets = {w: o for w, o in offsets.items() if AXLE_OF[w] in tyres}
+        return cls(
+            mass_kg=mass, front_weight_fraction=frac, cg_height_m=h, track_front_m=tf,
+            track_rear_m=tr, wheel_offsets=offsets, tyres=tyres, cg_offset=cg,
+            heading_offset_rad=math.radians(off_deg), wheelbase_m=wb,
+            roll_stiffness_front_fraction=kf,
+            roll_centre_heights_m=(hf, hr) if hf is not None else None,
+            steering_ratio=ratio, name=name, source=source,
+        )
+
+
+def _tyre(r: _Reader, t: dict, where: str) -> Tyre:
+    if not isinstance(t, dict):
+        r.fail("tyre", where, "must be a table")
+    w = r.num(t, where, "width_m", positive=True, unit="m")
+    g = r.num(t, where, "tread_stiffness_N_per_m3", positive=True, unit="N/m^3", required=False)
+    c = r.num(t, where, "cornering_stiffness_N_per_rad", positive=True, unit="N/rad",
+              required=False)
+    if (g is None) == (c is None):
+        r.fail(where, "tread_stiffness_N_per_m3", "give exactly one of tread_stiffness_N_per_m3 "
+               "[N/m^3] and cornering_stiffness_N_per_rad [N/rad]")
+    cl = t.get("contact_length")
+    if not isinstance(cl, dict):
+        r.fail(where, "contact_length", "missing; give { a = ..., b = ... } (l = a sqrt(m) + b m) "
+               "or { fixed_m = ... }")
+    a = r.num(cl, f"{where}.contact_length", "a", unit="m/kg^0.5", required=False)
+    b = r.num(cl, f"{where}.contact_length", "b", unit="m/kg", required=False)
+    fixed = r.num(cl, f"{where}.contact_length", "fixed_m", positive=True, unit="m",
+                  required=False)
+    if fixed is None and (a is None or b is None):
+        r.fail(f"{where}.contact_length", "a", "give both a and b, or fixed_m")
+    pressure = t.get("pressure", "parabolic")
+    if pressure not in ("parabolic", "quartic"):
+        r.fail(where, "pressure", f"= {pressure!r}: use 'parabolic' or 'quartic'")
+    return Tyre(width_m=w, tread_stiffness_N_per_m3=g, cornering_stiffness_N_per_rad=c,
+                contact_a=a, contact_b=b, contact_length_m=fixed, pressure=pressure)
+
+
+class _Reader:
+    """Typed access to a TOML document with errors that name file, table and key."""
+
+    def __init__(self, doc: dict, source: str):
+        self.doc = doc
+        self.source = source
+
+    def fail(self, table: str, key: str, msg: str):
+        raise InputError(f"{self.source}: [{table}] {key}: {msg}")
+
+    def table(self, name: str, required: bool) -> dict:
+        t = self.doc.get(name)
+        if t is None:
+            if required:
+                raise InputError(f"{self.source}: missing table [{name}]")
+            return {}
+        if not isinstance(t, dict):
+            raise InputError(f"{self.source}: [{name}] must be a table")
+        return t
+
+    def num(self, t: dict, table: str, key: str, *, unit: str, positive: bool = False,
+            required: bool = True) -> float | None:
+        if key not in t:
+            if required:
+                self.fail(table, key, f"missing [{unit}]")
+            return None
+        v = t[key]
+        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+            self.fail(table, key, f"= {v!r}: must be a number [{unit}]")
+        if positive and v <= 0:
+            self.fail(table, key, f"= {v}: must be > 0 [{unit}]")
+        return float(v)

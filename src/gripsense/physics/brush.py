@@ -1,0 +1,378 @@
+"""Brush (Fiala) tyre model with parabolic or quartic contact pressure, and its inversion for μ.
+
+Notation (PHYSICS.md §0): load Fz [N], cornering stiffness C = G w l²/2 [N/rad], slip angle β
+[rad], T = C |tan β| (the "linear" force), F the lateral force magnitude the tyre carries,
+r = F/T the force ratio, θ = T/(3 μ Fz) the adhesion parameter, ξ = s/l the normalised slide
+point (adhesion on [0, s), sliding on [s, l]).
+
+Models
+------
+``pressure``: ``"parabolic"`` (P2, thesis ch. 4) or ``"quartic"`` (P4, thesis ch. 10).
+``model``: ``"exact"`` (adhesion integral plus sliding integral — the brush model) or
+``"thesis"`` (the thesis's triangle approximation of the deformed area, eq. 4.14 / ch. 10).
+
+Inversion status codes: ``ok``; ``no_solution`` (r ≥ 1: the model cannot carry that force at
+that slip angle, a measurement or parameter error); ``full_sliding`` (the whole patch slides —
+β carries no information, μ = F/Fz is returned as the value the force proves); ``invalid``
+(NaN, non-positive load or stiffness, zero slip angle).
+
+References
+----------
+Seed 000 (Goda 2018) eqs. (4.8)–(4.16), (9.1), (10.2)–(10.3); PHYSICS.md §1.1–§1.4, §2.1–§2.5.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from gripsense._arrays import as_float_array, restore
+from gripsense.errors import InputError
+
+__all__ = [
+    "STATUS",
+    "adhesion_parameter",
+    "cornering_stiffness",
+    "force_ratio",
+    "invert",
+    "kappa_beta",
+    "lateral_force",
+    "mu_from_force",
+    "slide_point",
+]
+
+STATUS = ("ok", "no_solution", "full_sliding", "invalid")
+OK, NO_SOLUTION, FULL_SLIDING, INVALID = 0, 1, 2, 3
+PRESSURES = ("parabolic", "quartic")
+MODELS = ("exact", "thesis")
+
+
+def _check(pressure: str, model: str) -> None:
+    if pressure not in PRESSURES:
+        raise InputError(f"pressure={pressure!r}; use one of {PRESSURES}")
+    if model not in MODELS:
+        raise InputError(f"model={model!r}; use one of {MODELS}")
+
+
+def cornering_stiffness(tread_stiffness, width, length):
+    """Brush cornering stiffness C = G w l²/2.
+
+    Parameters
+    ----------
+    tread_stiffness : array_like
+        G, tread lateral stiffness per unit area per unit deflection [N/m^3].
+    width, length : array_like
+        Contact width w and length l [m].
+
+    Returns
+    -------
+    array_like
+        [N/rad].
+
+    References
+    ----------
+    Seed 000, eq. (9.1); PHYSICS.md §0, §1.2.
+    """
+    g, w, l = (as_float_array(v, n) for v, n in ((tread_stiffness, "tread_stiffness"),
+                                                (width, "width"), (length, "length")))
+    return restore(0.5 * g * w * l**2, tread_stiffness, length)
+
+
+def adhesion_parameter(mu, load, cornering_stiffness_Nprad, slip_angle):
+    """Fiala adhesion parameter θ = C |tan β| /(3 μ Fz) [-]. PHYSICS.md §0, §1.2."""
+    mu, fz, c, b = (as_float_array(v, n) for v, n in ((mu, "mu"), (load, "load"),
+                                                     (cornering_stiffness_Nprad, "C"),
+                                                     (slip_angle, "slip_angle")))
+    return restore(c * np.abs(np.tan(b)) / (3.0 * mu * fz), mu, slip_angle)
+
+
+def _xi_quartic_cubic(theta: np.ndarray) -> np.ndarray:
+    """Root in [0, 1] of h(ξ) = (1 − ξ)(ξ² − ξ + ½) = 0.3 θ (closed form; 0 beyond θ = 5/3).
+
+    Depressed cubic t³ + t/6 + (0.3θ − 5/54) = 0 with ξ = t + 2/3; one real root (p > 0).
+    PHYSICS.md §2.2.
+    """
+    p = 1.0 / 6.0
+    q = 0.3 * theta - 5.0 / 54.0
+    xi = 2.0 / 3.0 - 2.0 * np.sqrt(p / 3.0) * np.sinh(
+        np.arcsinh((3.0 * q / (2.0 * p)) * np.sqrt(3.0 / p)) / 3.0
+    )
+    return np.where(theta >= 5.0 / 3.0, 0.0, np.clip(xi, 0.0, 1.0))
+
+
+def _phi4(xi):
+    """Φ4(ξ) = ∫₀^ξ φ4 = 5ξ² − 10ξ³ + 10ξ⁴ − 4ξ⁵ (normalised cumulative quartic pressure)."""
+    return 5 * xi**2 - 10 * xi**3 + 10 * xi**4 - 4 * xi**5
+
+
+def slide_point(theta, *, pressure: str = "parabolic", model: str = "exact"):
+    """Normalised slide point ξ = s/l for a given adhesion parameter θ.
+
+    Parameters
+    ----------
+    theta : array_like
+        Adhesion parameter θ = C|tanβ|/(3μFz) [-].
+    pressure : {"parabolic", "quartic"}
+    model : {"exact", "thesis"}
+        Both models share the slide condition G s tanβ = μ P(s); they differ in the force.
+
+    Returns
+    -------
+    xi : array_like
+        [-], 0 when the whole patch slides.
+
+    References
+    ----------
+    Seed 000, eq. (4.12) (with the deflection factor s restored) and (10.3);
+    PHYSICS.md §1.2 (ξ = 1 − θ), §2.2 (cubic closed form).
+    """
+    _check(pressure, model)
+    th = as_float_array(theta, "theta")
+    if pressure == "parabolic":
+        xi = np.clip(1.0 - th, 0.0, 1.0)
+    else:
+        xi = _xi_quartic_cubic(th)
+    return restore(np.where(np.isnan(th), np.nan, xi), theta)
+
+
+def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
+                  model="exact"):
+    """Lateral force magnitude |F| of the brush model [N].
+
+    Parameters
+    ----------
+    mu : array_like
+        Friction coefficient [-].
+    slip_angle : array_like
+        β [rad] (its magnitude is used).
+    load : array_like
+        Fz [N].
+    cornering_stiffness_Nprad : array_like
+        C [N/rad].
+    pressure : {"parabolic", "quartic"}
+    model : {"exact", "thesis"}
+
+    Returns
+    -------
+    force : array_like
+        [N].
+
+    Notes
+    -----
+    exact, parabolic: F = μFz[1 − (1 − θ)³] for θ < 1, μFz beyond (Fiala).
+    thesis, parabolic: F = μFz(3θ − 3θ²) (triangle; peaks at 0.75 μFz for θ = ½, 0 for θ ≥ 1).
+    exact, quartic: F = μFz(3θξ² + 1 − Φ4(ξ)) for θ < 5/3, μFz beyond.
+    thesis, quartic: F = 3μFzθξ (triangle; peaks at 0.625 μFz).
+
+    References
+    ----------
+    Seed 000, eq. (4.14), ch. 10; PHYSICS.md §1.2, §2.3.
+    """
+    _check(pressure, model)
+    mu_a, b, fz, c = (as_float_array(v, n) for v, n in (
+        (mu, "mu"), (slip_angle, "slip_angle"), (load, "load"),
+        (cornering_stiffness_Nprad, "cornering_stiffness_Nprad")))
+    t = c * np.abs(np.tan(b))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        th = t / (3.0 * mu_a * fz)
+    if pressure == "parabolic":
+        if model == "exact":
+            f = mu_a * fz * np.where(th < 1.0, 1.0 - (1.0 - np.minimum(th, 1.0)) ** 3, 1.0)
+        else:
+            f = mu_a * fz * np.where(th <= 1.0, 3.0 * th - 3.0 * th**2, 0.0)
+    else:
+        xi = _xi_quartic_cubic(th)
+        if model == "exact":
+            f = mu_a * fz * np.where(th < 5.0 / 3.0, 3.0 * th * xi**2 + 1.0 - _phi4(xi), 1.0)
+        else:
+            f = 3.0 * mu_a * fz * th * xi
+    return restore(f, mu, slip_angle)
+
+
+def force_ratio(force, slip_angle, cornering_stiffness_Nprad):
+    """r = |F| /(C |tan β|) [-]: 1 − r is the non-linearity deficit. PHYSICS.md §0, §1.3."""
+    f, b, c = (as_float_array(v, n) for v, n in ((force, "force"), (slip_angle, "slip_angle"),
+                                                (cornering_stiffness_Nprad, "C")))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return restore(np.abs(f) / (c * np.abs(np.tan(b))), force, slip_angle)
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _xi_exact_quartic(r):
+    """Root ξ in [0, 1] of r(ξ) = ξ² + (1 − ξ)(4ξ³ − 2ξ² + 2ξ + 1)/(10(ξ² − ξ + ½)) = r.
+
+    r(ξ) rises strictly from 1/5 to 1 (PHYSICS.md §2.3); safeguarded Newton inside a bisection
+    bracket, to machine precision.
+    """
+    out = np.empty(r.size)
+    for i in prange(r.size):
+        target = r[i]
+        lo, hi = 0.0, 1.0
+        x = 0.5
+        for _ in range(100):
+            d = x * x - x + 0.5
+            num = (1.0 - x) * (4 * x**3 - 2 * x**2 + 2 * x + 1.0)
+            f = x * x + num / (10.0 * d) - target
+            if f > 0:
+                hi = x
+            else:
+                lo = x
+            dnum = -(4 * x**3 - 2 * x**2 + 2 * x + 1.0) + (1.0 - x) * (12 * x**2 - 4 * x + 2.0)
+            df = 2 * x + (dnum * d - num * (2 * x - 1.0)) / (10.0 * d * d)
+            xn = x - f / df if df > 0 else 0.5 * (lo + hi)
+            if not (lo < xn < hi):
+                xn = 0.5 * (lo + hi)
+            if abs(xn - x) <= 1e-15 or hi - lo <= 1e-15:
+                x = xn
+                break
+            x = xn
+        out[i] = x
+    return out
+
+
+def invert(force, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
+           model="exact"):
+    """Solve the brush model for μ; also return ξ, r and the condition number κ_β.
+
+    Parameters as :func:`mu_from_force`.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``mu`` [-], ``status`` (int codes, see :data:`STATUS`), ``xi`` (slide point s/l) [-],
+        ``ratio`` (r = F/T) [-], ``kappa_beta`` [-] ((T/μ)∂μ/∂T at fixed F; 0 in full sliding,
+        NaN without a solution).
+
+    Notes
+    -----
+    With r = F/T:
+
+    * exact, parabolic: r > 1 none; r ≤ 1/3 full sliding; else
+      μ = T(1 + q)/(6 Fz (1 − r)), q = √((4r − 1)/3); ξ = 1 − θ;
+      κ_β = −3(1 − θ)²/(θ(3 − 2θ)).  (PHYSICS.md §1.3, §1.4)
+    * thesis, parabolic (eq. 4.15): μ = T²/(3 Fz (T − F)) on its rising branch r > ½ (r ≤ ½ is
+      beyond the triangle's peak: full sliding); ξ = r; κ_β = (1 − 2r)/(1 − r).
+    * thesis, quartic (ch. 10, explicit): μ = T/(10 Fz (1 − r)(r² − r + ½)) for r > ½; ξ = r;
+      κ_β = 1 + r g′(r)/g(r), g = (1 − r)(r² − r + ½).  (PHYSICS.md §2.3a)
+    * exact, quartic: r ≤ 1/5 full sliding; else ξ solves r(ξ) = r and μ = T/(10 Fz h(ξ)),
+      h = (1 − ξ)(ξ² − ξ + ½); κ_β = −3θξ²/(1 − Φ4(ξ)).  (PHYSICS.md §2.3b)
+
+    The force F and slip angle enter as magnitudes; whether their signs agree (ISO: F ≈ −Cβ)
+    is for the caller to check.
+    """
+    _check(pressure, model)
+    f = np.abs(as_float_array(force, "force"))
+    b = as_float_array(slip_angle, "slip_angle")
+    fz = as_float_array(load, "load")
+    c = as_float_array(cornering_stiffness_Nprad, "cornering_stiffness_Nprad")
+    f, b, fz, c = np.broadcast_arrays(f, b, fz, c)
+    t = c * np.abs(np.tan(b))
+    invalid = ~(np.isfinite(f) & np.isfinite(t) & np.isfinite(fz)) | (fz <= 0) | (c <= 0) | (t <= 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(invalid, np.nan, f / np.where(invalid, 1.0, t))
+    status = np.full(r.shape, OK, dtype=np.int8)
+    status[invalid] = INVALID
+    nosol = ~invalid & (r >= 1.0)
+    status[nosol] = NO_SOLUTION
+    if pressure == "parabolic" and model == "exact":
+        r_full = 1.0 / 3.0
+    elif pressure == "quartic" and model == "exact":
+        r_full = 0.2
+    else:
+        r_full = 0.5  # the triangle models' peak
+    full = ~invalid & ~nosol & (r <= r_full)
+    status[full] = FULL_SLIDING
+    good = status == OK
+    mu = np.full(r.shape, np.nan)
+    xi = np.full(r.shape, np.nan)
+    kap = np.full(r.shape, np.nan)
+    rg, tg, fzg = r[good], t[good], fz[good]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if pressure == "parabolic" and model == "exact":
+            q = np.sqrt((4.0 * rg - 1.0) / 3.0)
+            m = tg * (1.0 + q) / (6.0 * fzg * (1.0 - rg))
+            th = 2.0 * (1.0 - rg) / (1.0 + q)  # cancellation-free form of (3/2)(1 − q)
+            x = 1.0 - th
+            k = -3.0 * (1.0 - th) ** 2 / (th * (3.0 - 2.0 * th))
+        elif pressure == "parabolic":
+            m = tg / (3.0 * fzg * (1.0 - rg))
+            x = rg
+            k = (1.0 - 2.0 * rg) / (1.0 - rg)
+        elif model == "thesis":
+            g = (1.0 - rg) * (rg * rg - rg + 0.5)
+            m = tg / (10.0 * fzg * g)
+            x = rg
+            gp = -(rg * rg - rg + 0.5) + (1.0 - rg) * (2.0 * rg - 1.0)
+            k = 1.0 + rg * gp / g
+        else:
+            x = _xi_exact_quartic(np.ascontiguousarray(rg)) if rg.size else rg
+            h = (1.0 - x) * (x * x - x + 0.5)
+            m = tg / (10.0 * fzg * h)
+            th = tg / (3.0 * m * fzg)
+            k = -3.0 * th * x**2 / (1.0 - _phi4(x))
+    mu[good], xi[good], kap[good] = m, x, k
+    mu[full] = f[full] / fz[full]
+    xi[full] = 0.0
+    kap[full] = 0.0
+    return {"mu": mu, "status": status, "xi": xi, "ratio": r, "kappa_beta": kap}
+
+
+def mu_from_force(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
+                  pressure="parabolic", model="exact"):
+    """Friction coefficient from the lateral force a tyre carries at a slip angle.
+
+    Parameters
+    ----------
+    force_N : array_like
+        Lateral force F the tyre carries [N] (magnitude used).
+    slip_angle_rad : array_like
+        Slip angle β [rad] (magnitude used).
+    load_N : array_like
+        Vertical load Fz [N].
+    cornering_stiffness_Nprad : array_like
+        C = G w l²/2 [N/rad].
+    pressure : {"parabolic", "quartic"}
+        Contact pressure shape (thesis ch. 4 / ch. 10).
+    model : {"exact", "thesis"}
+        Exact brush integral, or the thesis's triangle approximation (eq. 4.15 / ch. 10).
+
+    Returns
+    -------
+    mu : array_like
+        [-]; NaN for ``no_solution`` and ``invalid``; F/Fz in ``full_sliding``.
+    status : array_like of str
+        ``ok``, ``no_solution`` (r ≥ 1), ``full_sliding``, ``invalid``.
+
+    Examples
+    --------
+    >>> mu, status = mu_from_force(463.0, np.deg2rad(0.437), 2353.6, 83047.0)
+    >>> round(mu, 2), status
+    (0.3, 'ok')
+
+    References
+    ----------
+    Seed 000, eq. (4.15), ch. 10; PHYSICS.md §1.3, §2.3.
+    """
+    out = invert(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure,
+                 model=model)
+    names = np.array(STATUS)[out["status"]]
+    like = (force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad)
+    mu = restore(out["mu"], *like)
+    st = names.item() if all(np.ndim(v) == 0 for v in like) else restore(names, *like)
+    return mu, st
+
+
+def kappa_beta(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
+               pressure="parabolic", model="exact"):
+    """Relative condition number κ_β = (T/μ) ∂μ/∂T at fixed F [-].
+
+    A 1 % error in tan β, G, w or l² moves μ by κ_β %; κ_F = 1 − κ_β (μ is homogeneous of
+    degree one in (F, T)). |κ_β| ≤ 1 only near the friction limit (F ≳ 0.83 μFz for P2).
+
+    References
+    ----------
+    PHYSICS.md §1.4, §2.3.
+    """
+    out = invert(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure,
+                 model=model)
+    return restore(out["kappa_beta"], force_N, slip_angle_rad)
