@@ -117,6 +117,102 @@ def ingest(
 
 
 @app.command()
+def friction(
+    log: Annotated[Path, typer.Argument(help="NMEA log of the drive (plain or .gz)")],
+    vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
+    method: Annotated[
+        str, typer.Option("--method", help="brush-2 | brush-4 | thesis-2 | thesis-4")
+    ] = "brush-2",
+    steer_csv: Annotated[
+        Path | None,
+        typer.Option("--steer-csv", help="CSV with t_s and road_wheel_deg (enables front wheels)"),
+    ] = None,
+    outdir: Annotated[
+        Path, typer.Option("-o", "--outdir", help="folder for wheels.parquet and summary.json")
+    ] = Path("friction-results"),
+) -> None:
+    """Tyre-road friction per wheel from a GNSS-compass log during cornering."""
+    from gripsense.config import Vehicle
+    from gripsense.io.steer import read_steer_csv, steer_at
+    from gripsense.pipeline import FrictionRun
+
+    try:
+        veh = Vehicle.from_toml(vehicle)
+        nlog = read_nmea(log)
+        steer = None
+        if steer_csv is not None:
+            ch = read_steer_csv(steer_csv, steering_ratio=veh.steering_ratio)
+            steer = steer_at(ch, nlog.epochs["t_s"].to_numpy())
+        result = FrictionRun(veh, method=method).run(nlog.epochs, steer_rad=steer)
+    except GripsenseError as e:
+        _fail(e)
+    print_friction(result)
+    paths = result.to_files(outdir)
+    console.print(f"wrote {paths['wheels']} and {paths['summary']}")
+
+
+def print_friction(result) -> None:
+    """Print the per-wheel summary table and the one-line explanation."""
+    m = result.meta
+    console.print(
+        f"[bold]{m['vehicle']}[/] — method {m['method']}; {m['epochs_used']} of "
+        f"{m['epochs_total']} epochs usable; heading offset {m['heading_offset_deg']:.2f}° "
+        f"({m['heading_offset_source']})"
+    )
+    table = Table(title="Friction per wheel (steady cornering samples)")
+    for col in ("wheel", "μ", "90 % interval", "surface", "valid / total", "μ ≥ (proven)",
+                "main flags"):
+        table.add_column(col)
+    flag_cols = [c for c in result.summary.columns if c.startswith("n_") and c not in (
+        "n_valid", "n_total")]
+    for rec in result.summary.to_dict("records"):
+        mu = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu']:.2f}"
+        iv = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu_low']:.2f} – {rec['mu_high']:.2f}"
+        lb = "—" if not np.isfinite(rec["mu_lower_bound"]) else f"{rec['mu_lower_bound']:.2f}"
+        flags = sorted(((rec[c], c[2:]) for c in flag_cols if rec[c]), reverse=True)[:3]
+        table.add_row(rec["wheel"], mu, iv, rec["surface"], f"{rec['n_valid']} / {rec['n_total']}",
+                      lb, ", ".join(f"{f} {n}" for n, f in flags))
+    console.print(table)
+    console.print(result.explain(), soft_wrap=True)
+
+
+@app.command("fit-contact")
+def fit_contact(
+    table: Annotated[Path, typer.Argument(help="CSV with mass_kg and length_m (or length_cm)")],
+) -> None:
+    """Fit the contact-length model l = a·√m + b·m (thesis eq. 6.23) to measurements."""
+    import pandas as pd
+
+    from gripsense.identify import fit_contact_length
+
+    try:
+        try:
+            df = pd.read_csv(table, comment="#")
+        except FileNotFoundError:
+            raise GripsenseError(f"{table}: no such file") from None
+        if "mass_kg" not in df.columns:
+            raise GripsenseError(f"{table}: no column 'mass_kg' (columns: {list(df.columns)})")
+        if "length_m" in df.columns:
+            length = df["length_m"]
+        elif "length_cm" in df.columns:
+            length = df["length_cm"] / 100.0
+        else:
+            raise GripsenseError(f"{table}: needs a column 'length_m' or 'length_cm'")
+        params, stats = fit_contact_length(df["mass_kg"], length)
+    except GripsenseError as e:
+        _fail(e)
+    console.print(f"l = a·√m + b·m fitted to {stats['n']} rows of {table.name}:")
+    console.print(f"  a = {params['a']:.6g} m/kg^0.5")
+    console.print(f"  b = {params['b']:.6g} m/kg")
+    console.print(f"  R² = {stats['r2']:.4f}, RMSE = {stats['rmse_m'] * 100:.3f} cm "
+                  f"(√(SSE/(n−2)) = {stats['rmse_dof_m'] * 100:.3f} cm)")
+    if np.isfinite(stats["m_peak_kg"]):
+        console.print(f"  the model stops growing at m = {stats['m_peak_kg']:.0f} kg")
+    console.print("  vehicle file: contact_length = { a = %.6g, b = %.6g }"
+                  % (params["a"], params["b"]))
+
+
+@app.command()
 def demo(
     outdir: Annotated[
         Path, typer.Option("-o", "--outdir", help="folder for the demo's output")

@@ -1,0 +1,5 @@
+"""Estimators: combine physics functions over tables; results carry validity flags."""
+
+from gripsense.estimate.friction import FLAGS, METHODS, FrictionOptions, NoiseModel
+
+__all__ = ["FLAGS", "METHODS", "FrictionOptions", "NoiseModel"]

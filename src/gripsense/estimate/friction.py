@@ -1,0 +1,294 @@
+"""Per-wheel friction μ from a GNSS-compass epoch table during cornering (thesis ch. 4, 6, 10).
+
+The chain, per epoch and wheel (PHYSICS.md §11):
+
+1. antenna side-slip β_A = wrap(ψ − ψ₀ − χ) with the heading offset ψ₀ calibrated on straights;
+   antenna velocity (U, V) = v (cos β_A, sin β_A); ISO yaw rate r (§3.1);
+2. each wheel's velocity U_i = U − r dy_i, V_i = V + r dx_i, slip angle α_i = atan2(V_i, U_i) − δ_i,
+   speed and path radius v_i/|r| (§3.1);
+3. lateral acceleration of the reference point a_y = U_ref r; static axle masses and the
+   steady-state load transfer (§4.2; rigid = the thesis model, §4.3) give each wheel's load;
+4. contact length from the l–m model (§5), cornering stiffness C = G w l²/2 (eq. 9.1);
+5. each wheel carries its load's share of the axle force m_i⁰ a_y (equal friction utilisation on
+   both wheels of an axle, the thesis's assumption, §4.4);
+6. μ from the brush model of the chosen method (§1.3, §2.3), with κ_β, slide point and a
+   first-order σ_μ from the noise model (§1.4);
+7. a flag says why μ is not reported: ``low_speed``, ``not_cornering``, ``not_steady``,
+   ``no_solution`` (r ≥ 1, or force and slip angle of inconsistent sign), ``full_sliding``,
+   ``ill_conditioned`` (σ_μ/μ above ``max_rel_sigma``), else ``ok``.
+
+Why most samples are ``ill_conditioned``: at everyday lateral acceleration the whole difference
+between μ = 0.9 and μ = ∞ lies in a few hundredths of a degree of slip angle (§1.4). The
+``utilisation`` column, |F|/Fz, is what the data prove in every case: μ ≥ utilisation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import AXLE_OF, Vehicle
+from gripsense.errors import InputError
+from gripsense.physics import brush
+from gripsense.physics.kinematics import (
+    antenna_sideslip,
+    heading_offset_from_straight,
+    path_radius,
+    point_velocity,
+    slip_angle,
+)
+from gripsense.physics.load_transfer import G0, lateral_load_transfer, wheel_loads
+
+__all__ = ["FLAGS", "METHODS", "FrictionOptions", "NoiseModel", "estimate_friction"]
+
+# method -> (pressure, model); "brush"/"thesis" take the pressure from the tyre description
+METHODS = {
+    "thesis-2": ("parabolic", "thesis"),
+    "thesis-4": ("quartic", "thesis"),
+    "brush-2": ("parabolic", "exact"),
+    "brush-4": ("quartic", "exact"),
+    "brush": (None, "exact"),
+    "thesis": (None, "thesis"),
+}
+FLAGS = ("ok", "low_speed", "not_cornering", "not_steady", "no_solution", "full_sliding",
+         "ill_conditioned")
+WHEEL_COLUMNS = [
+    "t_s", "epoch", "wheel", "speed_mps", "slip_angle_rad", "radius_m", "mass_kg",
+    "contact_length_m", "load_N", "force_N", "slide_point_m", "force_ratio", "mu", "kappa_beta",
+    "mu_sigma", "flag", "lateral_accel_mps2", "utilisation", "steady",
+]
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """Measurement and parameter uncertainty used to propagate σ_μ (1 σ values).
+
+    Attributes
+    ----------
+    heading_deg : float
+        Compass heading [deg]; 0.75 is the thesis's stated receiver accuracy (Table 13).
+    velocity_mps : float
+        Each horizontal velocity component [m/s]; gives the course noise σ_v / v and the speed
+        noise. 0.05 m/s is a typical Doppler velocity accuracy.
+    yaw_rate_dps : float
+        Yaw rate [deg/s].
+    tread_stiffness_rel : float
+        Relative uncertainty of G (or of C when C is given) [-]. The thesis's own estimates of G
+        range from 2.3e7 to 9.6e7 (Table 23); 0.2 is optimistic.
+    contact_length_rel : float
+        Relative uncertainty of the contact length [-] (Table 18 fit: 0.29 cm on ~14 cm).
+    """
+
+    heading_deg: float = 0.75
+    velocity_mps: float = 0.05
+    yaw_rate_dps: float = 0.3
+    tread_stiffness_rel: float = 0.2
+    contact_length_rel: float = 0.02
+
+
+@dataclass(frozen=True)
+class FrictionOptions:
+    """Gates and settings of the friction estimator.
+
+    Attributes
+    ----------
+    min_speed_mps : float
+        Below: ``low_speed`` (course undefined) [m/s].
+    min_lateral_accel_mps2 : float
+        Below: ``not_cornering`` [m/s^2].
+    min_yaw_rate_dps : float
+        Below: ``not_cornering`` [deg/s].
+    steady_window_s : float
+        Centred window over which speed and yaw rate must be steady [s].
+    steady_speed_std_mps, steady_yaw_rate_std_dps : float
+        Largest standard deviation in the window [m/s], [deg/s].
+    max_rel_sigma : float
+        Largest σ_μ/μ reported as a value (PHYSICS.md §11.4: 0.5) [-].
+    calibrate_heading : bool
+        Estimate the heading offset from straight driving; falls back to the vehicle file's
+        offset when the log has too little straight driving.
+    noise : NoiseModel
+    """
+
+    min_speed_mps: float = 3.0
+    min_lateral_accel_mps2: float = 0.5
+    min_yaw_rate_dps: float = 1.0
+    steady_window_s: float = 2.0
+    steady_speed_std_mps: float = 0.3
+    steady_yaw_rate_std_dps: float = 1.5
+    max_rel_sigma: float = 0.5
+    calibrate_heading: bool = True
+    noise: NoiseModel = field(default_factory=NoiseModel)
+
+
+_REQUIRED = ("t_s", "heading_deg", "course_deg", "speed_mps", "yaw_rate_rps")
+
+
+def _steady(t: np.ndarray, speed: np.ndarray, yaw: np.ndarray, o: FrictionOptions) -> np.ndarray:
+    """Samples whose centred window has steady speed and yaw rate."""
+    if t.size == 0:
+        return np.zeros(0, dtype=bool)
+    idx = pd.to_timedelta(t - t[0], unit="s")
+    df = pd.DataFrame({"v": speed, "r": yaw}, index=idx)
+    win = pd.Timedelta(seconds=o.steady_window_s)
+    roll = df.rolling(win, center=True, min_periods=3)
+    sd = roll.std()
+    n = roll.count()["v"].to_numpy()
+    return ((sd["v"].to_numpy() <= o.steady_speed_std_mps)
+            & (sd["r"].to_numpy() <= np.deg2rad(o.steady_yaw_rate_std_dps)) & (n >= 3))
+
+
+def estimate_friction(
+    epochs: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    method: str = "brush-2",
+    options: FrictionOptions | None = None,
+    steer_rad: np.ndarray | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """μ per wheel and epoch (see the module documentation for the chain).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table as :func:`gripsense.io.read_nmea` returns it (needs ``t_s``, ``heading_deg``,
+        ``course_deg``, ``speed_mps``, ``yaw_rate_rps``).
+    vehicle : Vehicle
+    method : str
+        ``brush-2`` (default), ``brush-4``, ``thesis-2`` (eq. 4.15), ``thesis-4`` (ch. 10), or
+        ``brush``/``thesis`` to take the pressure shape from the tyre description.
+    options : FrictionOptions
+    steer_rad : array or None
+        Road-wheel steer angle per epoch row [rad]; front wheels are analysed only with it.
+
+    Returns
+    -------
+    wheels : pandas.DataFrame
+        One row per wheel and usable epoch (columns :data:`WHEEL_COLUMNS`); ``mu`` is NaN unless
+        ``flag == "ok"``.
+    meta : dict
+        Method, heading offset used and how it was found, counts of epochs left out, wheels
+        analysed.
+    """
+    if method not in METHODS:
+        raise InputError(f"method={method!r}; use one of {sorted(METHODS)}")
+    o = options or FrictionOptions()
+    missing = [c for c in _REQUIRED if c not in epochs.columns]
+    if missing:
+        raise InputError(f"epochs: missing columns {missing}; read the log with "
+                         "gripsense.io.read_nmea")
+    have = np.ones(len(epochs), dtype=bool)
+    for c in _REQUIRED:
+        have &= epochs[c].notna().to_numpy()
+    rows = np.flatnonzero(have)
+    ep = epochs.iloc[rows]
+    t = ep["t_s"].to_numpy(float)
+    psi = np.deg2rad(ep["heading_deg"].to_numpy(float))
+    chi = np.deg2rad(ep["course_deg"].to_numpy(float))
+    v = ep["speed_mps"].to_numpy(float)
+    r = ep["yaw_rate_rps"].to_numpy(float)
+    steer = None if steer_rad is None else np.asarray(steer_rad, dtype=float)[rows]
+
+    meta: dict = {"method": method, "vehicle": vehicle.name, "epochs_total": len(epochs),
+                  "epochs_used": int(rows.size),
+                  "epochs_missing_inputs": int(len(epochs) - rows.size)}
+    offset = vehicle.heading_offset_rad
+    meta["heading_offset_source"] = "vehicle file"
+    if o.calibrate_heading:
+        cal, n_straight, spread = heading_offset_from_straight(psi, chi, r, v)
+        meta["straight_samples"] = n_straight
+        if np.isfinite(cal):
+            offset = cal
+            meta["heading_offset_source"] = f"straight driving ({n_straight} samples)"
+            meta["heading_offset_spread_deg"] = float(np.rad2deg(spread))
+    meta["heading_offset_deg"] = float(np.rad2deg(offset))
+
+    beta_a = antenna_sideslip(psi, chi, offset)
+    u_a, v_a = v * np.cos(beta_a), v * np.sin(beta_a)
+    # reference point for a_y: the CG if known, else the middle of the known wheels (lateral)
+    if vehicle.cg_offset is not None:
+        dy_ref = vehicle.cg_offset[1]
+    else:
+        dy_ref = float(np.mean([o_[1] for o_ in vehicle.wheel_offsets.values()]))
+    ay = (u_a - r * dy_ref) * r
+    steady = _steady(t, v, r, o)
+    m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
+    dfz = dict(zip(("front", "rear"), lateral_load_transfer(
+        ay, vehicle.mass_kg, vehicle.cg_height_m, vehicle.axle_masses_kg,
+        (vehicle.track_front_m, vehicle.track_rear_m), vehicle.roll_centre_heights_m,
+        vehicle.roll_stiffness_front_fraction), strict=True))
+
+    nz = o.noise
+    sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
+    sig_r = np.deg2rad(nz.yaw_rate_dps)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sig_f_rel = np.sqrt(sig_v_rel**2 + (sig_r / np.abs(r)) ** 2)
+
+    wheels_done, frames = [], []
+    for wname, (dx, dy) in vehicle.wheel_offsets.items():
+        axle = AXLE_OF[wname]
+        if axle == "front" and steer is None:
+            continue
+        tyre = vehicle.tyres[axle]
+        pressure, model = METHODS[method]
+        pressure = pressure or tyre.pressure
+        delta = steer if axle == "front" else 0.0
+        u_i, v_i = point_velocity(u_a, v_a, r, dx, dy)
+        alpha = slip_angle(u_i, v_i, delta)
+        spd = np.hypot(u_i, v_i)
+        radius = path_radius(spd, r)
+        left, right = wheel_loads(m_axle[axle], dfz[axle])
+        fz = left if wname.endswith("left") else right
+        mass = fz / G0
+        length = tyre.contact_length(mass)
+        c = tyre.cornering_stiffness(length)
+        force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
+        inv = brush.invert(force, alpha, fz, c, pressure=pressure, model=model)
+        mu_raw, status, kap = inv["mu"], inv["status"], inv["kappa_beta"]
+        # first-order uncertainty (PHYSICS.md §1.4): T ∝ C tanβ, κ_F = 1 − κ_β
+        sig_alpha = np.sqrt(np.deg2rad(nz.heading_deg) ** 2 + sig_v_rel**2
+                            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sig_tan_rel = sig_alpha / np.abs(np.sin(alpha) * np.cos(alpha))
+        sig_c_rel = np.hypot(nz.tread_stiffness_rel, 2.0 * nz.contact_length_rel
+                             if tyre.cornering_stiffness_N_per_rad is None else 0.0)
+        with np.errstate(invalid="ignore"):
+            rel = np.sqrt(kap**2 * (sig_tan_rel**2 + sig_c_rel**2)
+                          + (1.0 - kap) ** 2 * sig_f_rel**2)
+            mu_sigma = mu_raw * rel
+
+        flag = np.full(t.size, "ok", dtype=object)
+        sign_bad = force * alpha > 0  # ISO: F ≈ −C α
+        conds = [
+            ("ill_conditioned", ~(rel <= o.max_rel_sigma)),
+            ("full_sliding", status == brush.FULL_SLIDING),
+            ("no_solution", (status == brush.NO_SOLUTION) | (status == brush.INVALID) | sign_bad),
+            ("not_steady", ~steady),
+            ("not_cornering", (np.abs(ay) < o.min_lateral_accel_mps2)
+             | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps))),
+            ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
+        ]
+        for name, m in conds:  # later entries take precedence
+            flag[m] = name
+        ok = flag == "ok"
+        frames.append(pd.DataFrame({
+            "t_s": t, "epoch": rows, "wheel": wname, "speed_mps": spd, "slip_angle_rad": alpha,
+            "radius_m": radius, "mass_kg": mass, "contact_length_m": length, "load_N": fz,
+            "force_N": force, "slide_point_m": inv["xi"] * length, "force_ratio": inv["ratio"],
+            "mu": np.where(ok, mu_raw, np.nan), "kappa_beta": kap,
+            "mu_sigma": np.where(ok, mu_sigma, np.nan), "flag": flag,
+            "lateral_accel_mps2": ay, "utilisation": np.abs(force) / fz, "steady": steady,
+        }))
+        wheels_done.append(wname)
+    meta["wheels"] = wheels_done
+    if not wheels_done:
+        meta["note"] = "no wheel could be analysed (front wheels need a steering channel)"
+    if steer is None and any(AXLE_OF[w] == "front" for w in vehicle.wheel_offsets):
+        meta["front_wheels"] = "skipped: no steering channel (--steer-csv)"
+    wheels = (pd.concat(frames, ignore_index=True) if frames
+              else pd.DataFrame({c: [] for c in WHEEL_COLUMNS}))
+    wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(vehicle.wheel_offsets))
+    wheels["flag"] = pd.Categorical(wheels["flag"], categories=list(FLAGS))
+    return wheels[WHEEL_COLUMNS], meta

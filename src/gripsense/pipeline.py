@@ -1,0 +1,155 @@
+"""Pipelines: a source, a vehicle description and an estimator wired together (like pvlib's
+ModelChain). The command line is a thin layer over these."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import Vehicle
+from gripsense.errors import InputError
+from gripsense.estimate.friction import FLAGS, FrictionOptions, NoiseModel, estimate_friction
+from gripsense.physics.surface import surface_class_interval
+
+__all__ = ["FrictionResult", "FrictionRun"]
+
+Z90 = 1.6448536269514722  # two-sided 90 % normal quantile
+
+
+@dataclass
+class FrictionResult:
+    """Result of :class:`FrictionRun`.
+
+    Attributes
+    ----------
+    wheels : pandas.DataFrame
+        One row per wheel and epoch (see :data:`gripsense.estimate.friction.WHEEL_COLUMNS`).
+    summary : pandas.DataFrame
+        One row per wheel: ``mu`` (median over valid steady samples), ``mu_low``/``mu_high``
+        (90 % interval), ``n_valid``/``n_total``, ``surface``, ``mu_lower_bound`` (what the
+        data prove: the 95th percentile of |F|/Fz over steady cornering samples) and one
+        ``n_<flag>`` column per flag.
+    meta : dict
+        Method, vehicle, heading offset and how it was found, counts.
+    """
+
+    wheels: pd.DataFrame
+    summary: pd.DataFrame
+    meta: dict = field(default_factory=dict)
+
+    def explain(self) -> str:
+        """One line: what was found, or why nothing was observable."""
+        s = self.summary
+        if len(s) == 0:
+            return ("nothing to analyse: " + self.meta.get("note", "no epoch had heading, "
+                    "course, speed and yaw rate together"))
+        if (s["n_valid"] > 0).any():
+            parts = [f"{w}: μ = {m:.2f} [{lo:.2f}, {hi:.2f}] ({surf}, {nv}/{nt} samples)"
+                     for w, m, lo, hi, surf, nv, nt in s[["wheel", "mu", "mu_low", "mu_high",
+                                                          "surface", "n_valid", "n_total"]]
+                     .itertuples(index=False)]
+            return "; ".join(parts)
+        flags = self.wheels["flag"].value_counts()
+        top = flags.index[0] if len(flags) else "none"
+        lb = s["mu_lower_bound"].max()
+        bound = f"; the data prove only μ ≥ {lb:.2f}" if np.isfinite(lb) else ""
+        why = {
+            "ill_conditioned": "lateral utilisation too low for the slip angle to pin μ down",
+            "not_steady": "no steady cornering",
+            "not_cornering": "no cornering",
+            "low_speed": "too slow",
+            "no_solution": "slip angles inconsistent with the forces (heading offset, G?)",
+            "full_sliding": "tyres fully sliding",
+        }.get(str(top), str(top))
+        return (f"μ not observable: most wheel-epochs are {top} ({why}: {int(flags.iloc[0])} of "
+                f"{int(flags.sum())}){bound}")
+
+    def to_files(self, outdir: str | Path) -> dict[str, Path]:
+        """Write ``wheels.parquet`` and ``summary.json`` into *outdir*; return their paths."""
+        outdir = Path(outdir)
+        outdir.mkdir(parents=True, exist_ok=True)
+        wp = outdir / "wheels.parquet"
+        self.wheels.to_parquet(wp, index=False)
+        sp = outdir / "summary.json"
+        recs = json.loads(self.summary.to_json(orient="records"))
+        sp.write_text(json.dumps({"meta": self.meta, "wheels": recs, "explain": self.explain()},
+                                 indent=2, default=str) + "\n")
+        return {"wheels": wp, "summary": sp}
+
+
+def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
+    """Per-wheel summary of a wheel table (see :class:`FrictionResult`).
+
+    The interval is the median of the valid samples' own 90 % intervals (μ ± 1.645 σ_μ), not a
+    standard error of the median: the dominant errors (heading offset, G, pressure shape) are
+    shared by all samples and do not average out.
+    """
+    rows = []
+    for wname, g in wheels.groupby("wheel", observed=True, sort=False):
+        ok = g["flag"] == "ok"
+        mu = g.loc[ok, "mu"]
+        sig = g.loc[ok, "mu_sigma"]
+        cornering = ~g["flag"].isin(["low_speed", "not_cornering", "not_steady"])
+        util = g.loc[cornering, "utilisation"]
+        rec = {"wheel": str(wname), "n_total": int(len(g)), "n_valid": int(ok.sum())}
+        if ok.any():
+            m = float(mu.median())
+            lo = float((mu - Z90 * sig).median())
+            hi = float((mu + Z90 * sig).median())
+            rec.update(mu=m, mu_low=max(lo, 0.0), mu_high=hi,
+                       surface=str(surface_class_interval(max(lo, 0.0), hi)))
+        else:
+            rec.update(mu=np.nan, mu_low=np.nan, mu_high=np.nan, surface="undetermined")
+        rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
+        counts = g["flag"].value_counts()
+        for f in FLAGS:
+            rec[f"n_{f}"] = int(counts.get(f, 0))
+        rows.append(rec)
+    cols = ["wheel", "mu", "mu_low", "mu_high", "surface", "n_valid", "n_total",
+            "mu_lower_bound", *[f"n_{f}" for f in FLAGS]]
+    return pd.DataFrame(rows, columns=cols)
+
+
+class FrictionRun:
+    """Friction from a GNSS-compass epoch table: vehicle + method + options → result.
+
+    Parameters
+    ----------
+    vehicle : Vehicle or path
+        Vehicle description (or the path of its TOML file).
+    method : str
+        ``brush-2`` (default), ``brush-4``, ``thesis-2``, ``thesis-4``, ``brush``, ``thesis``.
+    noise : NoiseModel, optional
+        Uncertainties for σ_μ.
+    **options
+        Fields of :class:`~gripsense.estimate.friction.FrictionOptions`
+        (e.g. ``min_speed_mps=4.0``, ``calibrate_heading=False``).
+
+    Examples
+    --------
+    >>> run = FrictionRun("car.toml", method="brush-2")        # doctest: +SKIP
+    >>> result = run.run(read_nmea("drive.nmea").epochs)     # doctest: +SKIP
+    >>> result.summary                                       # doctest: +SKIP
+    """
+
+    def __init__(self, vehicle: Vehicle | str | Path, method: str = "brush-2", *,
+                 noise: NoiseModel | None = None, **options):
+        self.vehicle = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
+        self.method = method
+        known = {f.name for f in fields(FrictionOptions)}
+        unknown = set(options) - known
+        if unknown:
+            raise InputError(f"FrictionRun: unknown option(s) {sorted(unknown)}; "
+                             f"known: {sorted(known)}")
+        opts = replace(FrictionOptions(), **options)
+        self.options = replace(opts, noise=noise) if noise is not None else opts
+
+    def run(self, epochs: pd.DataFrame, *, steer_rad: np.ndarray | None = None) -> FrictionResult:
+        """Estimate μ per wheel; *steer_rad* (road-wheel angle per epoch row) enables the front."""
+        wheels, meta = estimate_friction(epochs, self.vehicle, method=self.method,
+                                         options=self.options, steer_rad=steer_rad)
+        return FrictionResult(wheels=wheels, summary=summarize(wheels), meta=meta)
