@@ -42,6 +42,7 @@ def surface_class(mu):
 def surface_class_interval(mu_low, mu_high):
     """Surface class of an interval [mu_low, mu_high]: ``undetermined`` if it spans classes."""
     lo, hi = surface_class(mu_low), surface_class(mu_high)
-    lo_a, hi_a = np.asarray(lo, dtype=object), np.asarray(hi, dtype=object)
-    out = np.where(lo_a == hi_a, lo_a, UNDETERMINED)
-    return out.item() if np.ndim(mu_low) == 0 else out
+    if np.ndim(mu_low) == 0 and np.ndim(mu_high) == 0:
+        return lo if lo == hi else UNDETERMINED
+    lo_a, hi_a = np.broadcast_arrays(np.asarray(lo, dtype=object), np.asarray(hi, dtype=object))
+    return np.where(lo_a == hi_a, lo_a, UNDETERMINED)

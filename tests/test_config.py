@@ -1,0 +1,90 @@
+"""Vehicle descriptions: the bundled thesis vehicle and clear errors naming the key."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from gripsense import InputError, Vehicle
+from gripsense.data import sample_path
+
+BASE = """
+[vehicle]
+mass_kg = 1500.0
+front_weight_fraction = 0.58
+wheelbase_m = 2.70
+cg_height_m = 0.55
+track_front_m = 1.55
+track_rear_m = 1.53
+[antenna]
+x_m = 0.30
+y_m = 0.10
+heading_offset_deg = 0.5
+[tyre.front]
+width_m = 0.205
+cornering_stiffness_N_per_rad = 80000.0
+contact_length = { fixed_m = 0.15 }
+[tyre.rear]
+width_m = 0.205
+tread_stiffness_N_per_m3 = 3e7
+contact_length = { a = 0.0104, b = -1.017e-4 }
+pressure = "quartic"
+"""
+
+
+def test_thesis_vehicle():
+    v = Vehicle.from_toml(sample_path("corolla_thesis.toml"))
+    assert v.mass_kg == 1200 and v.axle_masses_kg == pytest.approx((720, 480))
+    assert v.cg_height_m == 0.75 and v.track_rear_m == pytest.approx(2 * 0.55)
+    assert v.wheel_offsets == {"rear_right": (-0.76, -0.205), "rear_left": (-0.76, 1.0)}
+    t = v.tyres["rear"]
+    assert (t.width_m, t.tread_stiffness_N_per_m3, t.contact_a, t.contact_b) == (
+        0.185, 5e7, 0.0104, -1.017e-4)
+
+
+def test_wheels_from_antenna_and_cg(tmp_path):
+    p = tmp_path / "car.toml"
+    p.write_text(BASE)
+    v = Vehicle.from_toml(p)
+    l_f, l_r = 2.70 * 0.42, 2.70 * 0.58
+    assert v.wheel_offsets["front_left"] == pytest.approx((l_f - 0.30, 1.55 / 2 - 0.10))
+    assert v.wheel_offsets["rear_right"] == pytest.approx((-l_r - 0.30, -1.53 / 2 - 0.10))
+    assert v.cg_offset == (-0.30, -0.10)
+    assert v.heading_offset_rad == pytest.approx(math.radians(0.5))
+    assert v.tyres["front"].cornering_stiffness(0.15) == 80000.0
+    assert v.tyres["rear"].pressure == "quartic"
+    assert v.tyres["rear"].cornering_stiffness(0.14) == pytest.approx(0.5 * 3e7 * 0.205 * 0.14**2)
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        (("mass_kg = 1500.0", ""), r"\[vehicle\] mass_kg: missing \[kg\]"),
+        (("mass_kg = 1500.0", "mass_kg = -3"), r"mass_kg: = -3: must be > 0 \[kg\]"),
+        (("mass_kg = 1500.0", 'mass_kg = "heavy"'), r"mass_kg: = 'heavy': must be a number"),
+        (("front_weight_fraction = 0.58", "front_weight_fraction = 1.4"), "between 0 and 1"),
+        (("width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0",
+          "width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0\n"
+          "tread_stiffness_N_per_m3 = 3e7"), r"\[tyre.front\] tread_stiffness_N_per_m3: give exactly one"),
+        (('pressure = "quartic"', 'pressure = "cubic"'), r"\[tyre.rear\] pressure"),
+        (("contact_length = { fixed_m = 0.15 }", "contact_length = { a = 0.01 }"),
+         r"contact_length\] a: give both a and b"),
+        (("x_m = 0.30\n", ""), "give both x_m and y_m"),
+    ],
+)
+def test_errors_name_the_key(tmp_path, edit, match):
+    p = tmp_path / "car.toml"
+    p.write_text(BASE.replace(*edit, 1))
+    with pytest.raises(InputError, match=match) as exc:
+        Vehicle.from_toml(p)
+    assert "car.toml" in str(exc.value)
+
+
+def test_missing_file_and_bad_toml(tmp_path):
+    with pytest.raises(InputError, match="no such vehicle file"):
+        Vehicle.from_toml(tmp_path / "none.toml")
+    p = tmp_path / "bad.toml"
+    p.write_text("[vehicle\nmass_kg = 1")
+    with pytest.raises(InputError, match="not valid TOML"):
+        Vehicle.from_toml(p)
