@@ -36,7 +36,7 @@ def surface_class(mu):
     idx = np.searchsorted(_EDGES, m, side="right")
     idx = np.where(np.isfinite(m) & (m >= 0), idx, len(SURFACE_BANDS))
     out = _NAMES[idx]
-    return out.item() if np.ndim(mu) == 0 else out
+    return str(out) if np.ndim(mu) == 0 else out
 
 
 def surface_class_interval(mu_low, mu_high):
