@@ -12,7 +12,13 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.errors import InputError
-from gripsense.estimate.friction import FLAGS, FrictionOptions, NoiseModel, estimate_friction
+from gripsense.estimate.friction import (
+    FLAGS,
+    METHODS,
+    FrictionOptions,
+    NoiseModel,
+    estimate_friction,
+)
 from gripsense.physics.surface import surface_class_interval
 
 __all__ = ["FrictionResult", "FrictionRun"]
@@ -138,6 +144,8 @@ class FrictionRun:
 
     def __init__(self, vehicle: Vehicle | str | Path, method: str = "brush-2", *,
                  noise: NoiseModel | None = None, **options):
+        if method not in METHODS:
+            raise InputError(f"FrictionRun: method={method!r}; use one of {sorted(METHODS)}")
         self.vehicle = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
         self.method = method
         known = {f.name for f in fields(FrictionOptions)}
