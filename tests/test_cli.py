@@ -62,8 +62,12 @@ def _circle_nmea(path: Path) -> None:
         tod = 12 * 3600 + row.t_s
         hh, mm, ss = int(tod // 3600), int(tod % 3600 // 60), tod % 60
         kn = row.speed_mps * 3600 / 1852
-        lines.append(sentence(f"GPRMC,{hh:02d}{mm:02d}{ss:05.2f},A,3336.0000,N,13333.0000,E,"
-                              f"{kn:.5f},{row.course_deg:.5f},010718,,,A"))
+        lines.append(
+            sentence(
+                f"GPRMC,{hh:02d}{mm:02d}{ss:05.2f},A,3336.0000,N,13333.0000,E,"
+                f"{kn:.5f},{row.course_deg:.5f},010718,,,A"
+            )
+        )
         lines.append(sentence(f"GPHDT,{row.heading_deg:.5f},T"))
         rot = -row.yaw_rate_rps * 180 / 3.141592653589793 * 60
         lines.append(sentence(f"GPROT,{rot:.4f},A"))
@@ -76,8 +80,9 @@ def test_friction_command(tmp_path):
     log = tmp_path / "circle.nmea"
     _circle_nmea(log)
     out = tmp_path / "res"
-    r = run("friction", str(log), "--vehicle", str(sample_path("corolla_thesis.toml")),
-            "-o", str(out))
+    r = run(
+        "friction", str(log), "--vehicle", str(sample_path("corolla_thesis.toml")), "-o", str(out)
+    )
     assert r.returncode == 0, r.stderr
     assert "rear_left" in r.stdout and "wheels.parquet" in r.stdout
     doc = json.loads((out / "summary.json").read_text())

@@ -40,7 +40,11 @@ def test_thesis_vehicle():
     assert v.wheel_offsets == {"rear_right": (-0.76, -0.205), "rear_left": (-0.76, 1.0)}
     t = v.tyres["rear"]
     assert (t.width_m, t.tread_stiffness_N_per_m3, t.contact_a, t.contact_b) == (
-        0.185, 5e7, 0.0104, -1.017e-4)
+        0.185,
+        5e7,
+        0.0104,
+        -1.017e-4,
+    )
 
 
 def test_wheels_from_antenna_and_cg(tmp_path):
@@ -64,12 +68,19 @@ def test_wheels_from_antenna_and_cg(tmp_path):
         (("mass_kg = 1500.0", "mass_kg = -3"), r"mass_kg: = -3: must be > 0 \[kg\]"),
         (("mass_kg = 1500.0", 'mass_kg = "heavy"'), r"mass_kg: = 'heavy': must be a number"),
         (("front_weight_fraction = 0.58", "front_weight_fraction = 1.4"), "between 0 and 1"),
-        (("width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0",
-          "width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0\n"
-          "tread_stiffness_N_per_m3 = 3e7"), r"\[tyre.front\] tread_stiffness_N_per_m3: give exactly one"),
+        (
+            (
+                "width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0",
+                "width_m = 0.205\ncornering_stiffness_N_per_rad = 80000.0\n"
+                "tread_stiffness_N_per_m3 = 3e7",
+            ),
+            r"\[tyre.front\] tread_stiffness_N_per_m3: give exactly one",
+        ),
         (('pressure = "quartic"', 'pressure = "cubic"'), r"\[tyre.rear\] pressure"),
-        (("contact_length = { fixed_m = 0.15 }", "contact_length = { a = 0.01 }"),
-         r"contact_length\] a: give both a and b"),
+        (
+            ("contact_length = { fixed_m = 0.15 }", "contact_length = { a = 0.01 }"),
+            r"contact_length\] a: give both a and b",
+        ),
         (("x_m = 0.30\n", ""), "give both x_m and y_m"),
     ],
 )

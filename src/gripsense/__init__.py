@@ -3,8 +3,8 @@
 The public API is re-exported here; see the README and ``docs/`` for an overview.
 """
 
-from gripsense.errors import GripsenseError, InputError, NotObservableError
 from gripsense.config import Tyre, Vehicle
+from gripsense.errors import GripsenseError, InputError, NotObservableError
 from gripsense.io import NmeaLog, read_nmea
 from gripsense.pipeline import FrictionResult, FrictionRun
 

@@ -14,7 +14,9 @@ def as_float_array(x, name: str) -> np.ndarray:
     except (TypeError, ValueError) as e:
         from gripsense.errors import InputError
 
-        raise InputError(f"{name}: cannot be read as numbers ({e}); give floats in SI units") from None
+        raise InputError(
+            f"{name}: cannot be read as numbers ({e}); give floats in SI units"
+        ) from None
 
 
 def restore(out: np.ndarray, *like):

@@ -160,18 +160,33 @@ def print_friction(result) -> None:
         f"({m['heading_offset_source']})"
     )
     table = Table(title="Friction per wheel (steady cornering samples)")
-    for col in ("wheel", "μ", "90 % interval", "surface", "valid / total", "μ ≥ (proven)",
-                "main flags"):
+    for col in (
+        "wheel",
+        "μ",
+        "90 % interval",
+        "surface",
+        "valid / total",
+        "μ ≥ (proven)",
+        "main flags",
+    ):
         table.add_column(col)
-    flag_cols = [c for c in result.summary.columns if c.startswith("n_") and c not in (
-        "n_valid", "n_total")]
+    flag_cols = [
+        c for c in result.summary.columns if c.startswith("n_") and c not in ("n_valid", "n_total")
+    ]
     for rec in result.summary.to_dict("records"):
         mu = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu']:.2f}"
         iv = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu_low']:.2f} – {rec['mu_high']:.2f}"
         lb = "—" if not np.isfinite(rec["mu_lower_bound"]) else f"{rec['mu_lower_bound']:.2f}"
         flags = sorted(((rec[c], c[2:]) for c in flag_cols if rec[c]), reverse=True)[:3]
-        table.add_row(rec["wheel"], mu, iv, rec["surface"], f"{rec['n_valid']} / {rec['n_total']}",
-                      lb, ", ".join(f"{f} {n}" for n, f in flags))
+        table.add_row(
+            rec["wheel"],
+            mu,
+            iv,
+            rec["surface"],
+            f"{rec['n_valid']} / {rec['n_total']}",
+            lb,
+            ", ".join(f"{f} {n}" for n, f in flags),
+        )
     console.print(table)
     console.print(result.explain(), soft_wrap=True)
 
@@ -204,12 +219,15 @@ def fit_contact(
     console.print(f"l = a·√m + b·m fitted to {stats['n']} rows of {table.name}:")
     console.print(f"  a = {params['a']:.6g} m/kg^0.5")
     console.print(f"  b = {params['b']:.6g} m/kg")
-    console.print(f"  R² = {stats['r2']:.4f}, RMSE = {stats['rmse_m'] * 100:.3f} cm "
-                  f"(√(SSE/(n−2)) = {stats['rmse_dof_m'] * 100:.3f} cm)")
+    console.print(
+        f"  R² = {stats['r2']:.4f}, RMSE = {stats['rmse_m'] * 100:.3f} cm "
+        f"(√(SSE/(n−2)) = {stats['rmse_dof_m'] * 100:.3f} cm)"
+    )
     if np.isfinite(stats["m_peak_kg"]):
         console.print(f"  the model stops growing at m = {stats['m_peak_kg']:.0f} kg")
-    console.print("  vehicle file: contact_length = { a = %.6g, b = %.6g }"
-                  % (params["a"], params["b"]))
+    console.print(
+        f"  vehicle file: contact_length = {{ a = {params['a']:.6g}, b = {params['b']:.6g} }}"
+    )
 
 
 @app.command()

@@ -176,8 +176,11 @@ class Vehicle:
         frac = r.num(veh, "vehicle", "front_weight_fraction", unit="-", required=False)
         lf = r.num(veh, "vehicle", "cg_to_front_axle_m", positive=True, unit="m", required=False)
         if frac is None and lf is None:
-            r.fail("vehicle", "front_weight_fraction", "missing; give it (0..1) or "
-                   "cg_to_front_axle_m with wheelbase_m")
+            r.fail(
+                "vehicle",
+                "front_weight_fraction",
+                "missing; give it (0..1) or cg_to_front_axle_m with wheelbase_m",
+            )
         if frac is None:
             if wb is None:
                 r.fail("vehicle", "wheelbase_m", "needed with cg_to_front_axle_m [m]")
@@ -193,8 +196,12 @@ class Vehicle:
         hf = r.num(veh, "vehicle", "roll_centre_height_front_m", unit="m", required=False)
         hr = r.num(veh, "vehicle", "roll_centre_height_rear_m", unit="m", required=False)
         if (hf is None) != (hr is None):
-            r.fail("vehicle", "roll_centre_height_front_m", "give both roll-centre heights or "
-                   "neither (neither: at CG height, the thesis's rigid model)")
+            r.fail(
+                "vehicle",
+                "roll_centre_height_front_m",
+                "give both roll-centre heights or "
+                "neither (neither: at CG height, the thesis's rigid model)",
+            )
         ratio = r.num(veh, "vehicle", "steering_ratio", positive=True, unit="-", required=False)
         name = str(veh.get("name", Path(source).stem))
 
@@ -215,20 +222,29 @@ class Vehicle:
                 l_f = wb * (1.0 - frac)
                 l_r = wb * frac
                 for wname, (x, y) in {
-                    "front_left": (l_f, tf / 2), "front_right": (l_f, -tf / 2),
-                    "rear_left": (-l_r, tr / 2), "rear_right": (-l_r, -tr / 2),
+                    "front_left": (l_f, tf / 2),
+                    "front_right": (l_f, -tf / 2),
+                    "rear_left": (-l_r, tr / 2),
+                    "rear_right": (-l_r, -tr / 2),
                 }.items():
                     offsets[wname] = (x - ax, y - ay)
         for wname, xy in explicit.items():
             if wname not in WHEELS:
                 r.fail("antenna.wheels", wname, f"unknown wheel; use one of {WHEELS}")
-            if (not isinstance(xy, list) or len(xy) != 2
-                    or not all(isinstance(v, int | float) for v in xy)):
+            if (
+                not isinstance(xy, list)
+                or len(xy) != 2
+                or not all(isinstance(v, int | float) for v in xy)
+            ):
                 r.fail("antenna.wheels", wname, "must be [x_m, y_m] relative to the antenna")
             offsets[wname] = (float(xy[0]), float(xy[1]))
         if not offsets:
-            r.fail("antenna", "wheels", "no wheel position: give [antenna] x_m, y_m with "
-                   "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...")
+            r.fail(
+                "antenna",
+                "wheels",
+                "no wheel position: give [antenna] x_m, y_m with "
+                "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...",
+            )
 
         tyres_doc = r.table("tyre", required=True)
         tyres = {}
@@ -240,12 +256,21 @@ class Vehicle:
             tyres[axle] = _tyre(r, tyres_doc[axle], f"tyre.{axle}")
         offsets = {w: o for w, o in offsets.items() if AXLE_OF[w] in tyres}
         return cls(
-            mass_kg=mass, front_weight_fraction=frac, cg_height_m=h, track_front_m=tf,
-            track_rear_m=tr, wheel_offsets=offsets, tyres=tyres, cg_offset=cg,
-            heading_offset_rad=math.radians(off_deg), wheelbase_m=wb,
+            mass_kg=mass,
+            front_weight_fraction=frac,
+            cg_height_m=h,
+            track_front_m=tf,
+            track_rear_m=tr,
+            wheel_offsets=offsets,
+            tyres=tyres,
+            cg_offset=cg,
+            heading_offset_rad=math.radians(off_deg),
+            wheelbase_m=wb,
             roll_stiffness_front_fraction=kf,
             roll_centre_heights_m=(hf, hr) if hf is not None else None,
-            steering_ratio=ratio, name=name, source=source,
+            steering_ratio=ratio,
+            name=name,
+            source=source,
         )
 
 
@@ -254,26 +279,40 @@ def _tyre(r: _Reader, t: dict, where: str) -> Tyre:
         r.fail("tyre", where, "must be a table")
     w = r.num(t, where, "width_m", positive=True, unit="m")
     g = r.num(t, where, "tread_stiffness_N_per_m3", positive=True, unit="N/m^3", required=False)
-    c = r.num(t, where, "cornering_stiffness_N_per_rad", positive=True, unit="N/rad",
-              required=False)
+    c = r.num(
+        t, where, "cornering_stiffness_N_per_rad", positive=True, unit="N/rad", required=False
+    )
     if (g is None) == (c is None):
-        r.fail(where, "tread_stiffness_N_per_m3", "give exactly one of tread_stiffness_N_per_m3 "
-               "[N/m^3] and cornering_stiffness_N_per_rad [N/rad]")
+        r.fail(
+            where,
+            "tread_stiffness_N_per_m3",
+            "give exactly one of tread_stiffness_N_per_m3 "
+            "[N/m^3] and cornering_stiffness_N_per_rad [N/rad]",
+        )
     cl = t.get("contact_length")
     if not isinstance(cl, dict):
-        r.fail(where, "contact_length", "missing; give { a = ..., b = ... } (l = a sqrt(m) + b m) "
-               "or { fixed_m = ... }")
+        r.fail(
+            where,
+            "contact_length",
+            "missing; give { a = ..., b = ... } (l = a sqrt(m) + b m) or { fixed_m = ... }",
+        )
     a = r.num(cl, f"{where}.contact_length", "a", unit="m/kg^0.5", required=False)
     b = r.num(cl, f"{where}.contact_length", "b", unit="m/kg", required=False)
-    fixed = r.num(cl, f"{where}.contact_length", "fixed_m", positive=True, unit="m",
-                  required=False)
+    fixed = r.num(cl, f"{where}.contact_length", "fixed_m", positive=True, unit="m", required=False)
     if fixed is None and (a is None or b is None):
         r.fail(f"{where}.contact_length", "a", "give both a and b, or fixed_m")
     pressure = t.get("pressure", "parabolic")
     if pressure not in ("parabolic", "quartic"):
         r.fail(where, "pressure", f"= {pressure!r}: use 'parabolic' or 'quartic'")
-    return Tyre(width_m=w, tread_stiffness_N_per_m3=g, cornering_stiffness_N_per_rad=c,
-                contact_a=a, contact_b=b, contact_length_m=fixed, pressure=pressure)
+    return Tyre(
+        width_m=w,
+        tread_stiffness_N_per_m3=g,
+        cornering_stiffness_N_per_rad=c,
+        contact_a=a,
+        contact_b=b,
+        contact_length_m=fixed,
+        pressure=pressure,
+    )
 
 
 class _Reader:
@@ -296,8 +335,16 @@ class _Reader:
             raise InputError(f"{self.source}: [{name}] must be a table")
         return t
 
-    def num(self, t: dict, table: str, key: str, *, unit: str, positive: bool = False,
-            required: bool = True) -> float | None:
+    def num(
+        self,
+        t: dict,
+        table: str,
+        key: str,
+        *,
+        unit: str,
+        positive: bool = False,
+        required: bool = True,
+    ) -> float | None:
         if key not in t:
             if required:
                 self.fail(table, key, f"missing [{unit}]")

@@ -51,13 +51,16 @@ class FrictionResult:
         """One line: what was found, or why nothing was observable."""
         s = self.summary
         if len(s) == 0:
-            return ("nothing to analyse: " + self.meta.get("note", "no epoch had heading, "
-                    "course, speed and yaw rate together"))
+            return "nothing to analyse: " + self.meta.get(
+                "note", "no epoch had heading, course, speed and yaw rate together"
+            )
         if (s["n_valid"] > 0).any():
-            parts = [f"{w}: μ = {m:.2f} [{lo:.2f}, {hi:.2f}] ({surf}, {nv}/{nt} samples)"
-                     for w, m, lo, hi, surf, nv, nt in s[["wheel", "mu", "mu_low", "mu_high",
-                                                          "surface", "n_valid", "n_total"]]
-                     .itertuples(index=False)]
+            parts = [
+                f"{w}: μ = {m:.2f} [{lo:.2f}, {hi:.2f}] ({surf}, {nv}/{nt} samples)"
+                for w, m, lo, hi, surf, nv, nt in s[
+                    ["wheel", "mu", "mu_low", "mu_high", "surface", "n_valid", "n_total"]
+                ].itertuples(index=False)
+            ]
             return "; ".join(parts)
         flags = self.wheels["flag"].value_counts()
         top = flags.index[0] if len(flags) else "none"
@@ -71,8 +74,10 @@ class FrictionResult:
             "no_solution": "slip angles inconsistent with the forces (heading offset, G?)",
             "full_sliding": "tyres fully sliding",
         }.get(str(top), str(top))
-        return (f"μ not observable: most wheel-epochs are {top} ({why}: {int(flags.iloc[0])} of "
-                f"{int(flags.sum())}){bound}")
+        return (
+            f"μ not observable: most wheel-epochs are {top} ({why}: {int(flags.iloc[0])} of "
+            f"{int(flags.sum())}){bound}"
+        )
 
     def to_files(self, outdir: str | Path) -> dict[str, Path]:
         """Write ``wheels.parquet`` and ``summary.json`` into *outdir*; return their paths."""
@@ -82,8 +87,14 @@ class FrictionResult:
         self.wheels.to_parquet(wp, index=False)
         sp = outdir / "summary.json"
         recs = json.loads(self.summary.to_json(orient="records"))
-        sp.write_text(json.dumps({"meta": self.meta, "wheels": recs, "explain": self.explain()},
-                                 indent=2, default=str) + "\n")
+        sp.write_text(
+            json.dumps(
+                {"meta": self.meta, "wheels": recs, "explain": self.explain()},
+                indent=2,
+                default=str,
+            )
+            + "\n"
+        )
         return {"wheels": wp, "summary": sp}
 
 
@@ -101,13 +112,17 @@ def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
         sig = g.loc[ok, "mu_sigma"]
         cornering = ~g["flag"].isin(["low_speed", "not_cornering", "not_steady"])
         util = g.loc[cornering, "utilisation"]
-        rec = {"wheel": str(wname), "n_total": int(len(g)), "n_valid": int(ok.sum())}
+        rec = {"wheel": str(wname), "n_total": len(g), "n_valid": int(ok.sum())}
         if ok.any():
             m = float(mu.median())
             lo = float((mu - Z90 * sig).median())
             hi = float((mu + Z90 * sig).median())
-            rec.update(mu=m, mu_low=max(lo, 0.0), mu_high=hi,
-                       surface=str(surface_class_interval(max(lo, 0.0), hi)))
+            rec.update(
+                mu=m,
+                mu_low=max(lo, 0.0),
+                mu_high=hi,
+                surface=str(surface_class_interval(max(lo, 0.0), hi)),
+            )
         else:
             rec.update(mu=np.nan, mu_low=np.nan, mu_high=np.nan, surface="undetermined")
         rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
@@ -115,8 +130,17 @@ def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
         for f in FLAGS:
             rec[f"n_{f}"] = int(counts.get(f, 0))
         rows.append(rec)
-    cols = ["wheel", "mu", "mu_low", "mu_high", "surface", "n_valid", "n_total",
-            "mu_lower_bound", *[f"n_{f}" for f in FLAGS]]
+    cols = [
+        "wheel",
+        "mu",
+        "mu_low",
+        "mu_high",
+        "surface",
+        "n_valid",
+        "n_total",
+        "mu_lower_bound",
+        *[f"n_{f}" for f in FLAGS],
+    ]
     return pd.DataFrame(rows, columns=cols)
 
 
@@ -142,8 +166,14 @@ class FrictionRun:
     >>> result.summary                                       # doctest: +SKIP
     """
 
-    def __init__(self, vehicle: Vehicle | str | Path, method: str = "brush-2", *,
-                 noise: NoiseModel | None = None, **options):
+    def __init__(
+        self,
+        vehicle: Vehicle | str | Path,
+        method: str = "brush-2",
+        *,
+        noise: NoiseModel | None = None,
+        **options,
+    ):
         if method not in METHODS:
             raise InputError(f"FrictionRun: method={method!r}; use one of {sorted(METHODS)}")
         self.vehicle = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
@@ -151,13 +181,15 @@ class FrictionRun:
         known = {f.name for f in fields(FrictionOptions)}
         unknown = set(options) - known
         if unknown:
-            raise InputError(f"FrictionRun: unknown option(s) {sorted(unknown)}; "
-                             f"known: {sorted(known)}")
+            raise InputError(
+                f"FrictionRun: unknown option(s) {sorted(unknown)}; known: {sorted(known)}"
+            )
         opts = replace(FrictionOptions(), **options)
         self.options = replace(opts, noise=noise) if noise is not None else opts
 
     def run(self, epochs: pd.DataFrame, *, steer_rad: np.ndarray | None = None) -> FrictionResult:
         """Estimate μ per wheel; *steer_rad* (road-wheel angle per epoch row) enables the front."""
-        wheels, meta = estimate_friction(epochs, self.vehicle, method=self.method,
-                                         options=self.options, steer_rad=steer_rad)
+        wheels, meta = estimate_friction(
+            epochs, self.vehicle, method=self.method, options=self.options, steer_rad=steer_rad
+        )
         return FrictionResult(wheels=wheels, summary=summarize(wheels), meta=meta)

@@ -18,8 +18,14 @@ RL, RR = (-0.76, 1.0), (-0.76, -0.205)  # wheel offsets from the antenna (x fwd,
 DY_REF = (RL[1] + RR[1]) / 2
 
 
-def circle(mu: float, utilisation: float, radius: float = 25.0, duration: float = 20.0,
-           rate_hz: float = 10.0, heading_offset_deg: float = 0.0):
+def circle(
+    mu: float,
+    utilisation: float,
+    radius: float = 25.0,
+    duration: float = 20.0,
+    rate_hz: float = 10.0,
+    heading_offset_deg: float = 0.0,
+):
     """Epoch table and the truth (dict) for a steady circle at a_y = utilisation·μ·g."""
     ay = utilisation * mu * G
     u_ref = np.sqrt(ay * radius)
@@ -44,13 +50,23 @@ def circle(mu: float, utilisation: float, radius: float = 25.0, duration: float 
     t = np.arange(0.0, duration, 1.0 / rate_hz)
     psi = 90.0 - np.rad2deg(r) * t  # a left turn: compass heading falls
     chi = psi - np.rad2deg(beta_a)
-    epochs = pd.DataFrame({
-        "t_s": t,
-        "heading_deg": np.mod(psi + heading_offset_deg, 360.0),
-        "course_deg": np.mod(chi, 360.0),
-        "speed_mps": np.full(t.size, np.hypot(u_a, v_a)),
-        "yaw_rate_rps": np.full(t.size, r),
-    })
-    truth = {"alpha_rear_left": alpha_l, "load_rear_left": fz_l, "force_rear_left": f_l,
-             "ay": ay, "r": r, "speed": float(np.hypot(u_a, v_a)), "C": C, "length": length}
+    epochs = pd.DataFrame(
+        {
+            "t_s": t,
+            "heading_deg": np.mod(psi + heading_offset_deg, 360.0),
+            "course_deg": np.mod(chi, 360.0),
+            "speed_mps": np.full(t.size, np.hypot(u_a, v_a)),
+            "yaw_rate_rps": np.full(t.size, r),
+        }
+    )
+    truth = {
+        "alpha_rear_left": alpha_l,
+        "load_rear_left": fz_l,
+        "force_rear_left": f_l,
+        "ay": ay,
+        "r": r,
+        "speed": float(np.hypot(u_a, v_a)),
+        "C": C,
+        "length": length,
+    }
     return epochs, truth

@@ -44,7 +44,7 @@ def test_recovers_mu_near_the_limit():
 
 def test_everyday_cornering_is_not_observable():
     """0.2 g on a μ = 0.9 road: every sample ill-conditioned; only the lower bound is reported."""
-    epochs, truth = circle(mu=0.9, utilisation=0.2 / 0.9)
+    epochs, _ = circle(mu=0.9, utilisation=0.2 / 0.9)
     res = _run(epochs)
     w = res.wheels
     # the truth wheel is ill-conditioned (κ ≈ −11); on the other wheel the rigid-body slip
@@ -99,10 +99,15 @@ def test_wrong_sign_is_no_solution():
 def test_heading_offset_calibrated_on_straights():
     epochs, _ = circle(mu=0.5, utilisation=0.92, heading_offset_deg=1.0)
     n = 100  # straight driving before the circle, same heading offset
-    straight = pd.DataFrame({
-        "t_s": np.arange(n) * 0.1 - n * 0.1, "heading_deg": np.full(n, 91.0),
-        "course_deg": np.full(n, 90.0), "speed_mps": np.full(n, 10.0),
-        "yaw_rate_rps": np.zeros(n)})
+    straight = pd.DataFrame(
+        {
+            "t_s": np.arange(n) * 0.1 - n * 0.1,
+            "heading_deg": np.full(n, 91.0),
+            "course_deg": np.full(n, 90.0),
+            "speed_mps": np.full(n, 10.0),
+            "yaw_rate_rps": np.zeros(n),
+        }
+    )
     both = pd.concat([straight, epochs], ignore_index=True)
     res = FrictionRun(THESIS).run(both)
     assert res.meta["heading_offset_deg"] == pytest.approx(1.0, abs=1e-9)
@@ -116,8 +121,14 @@ def test_heading_offset_calibrated_on_straights():
 
 def test_front_wheels_need_steering(tmp_path):
     toml = tmp_path / "car.toml"
-    toml.write_text(open(THESIS).read().replace(
-        "[antenna.wheels]", "[antenna.wheels]\nfront_left = [1.84, 1.0]\nfront_right = [1.84, -0.205]"))
+    toml.write_text(
+        open(THESIS)
+        .read()
+        .replace(
+            "[antenna.wheels]",
+            "[antenna.wheels]\nfront_left = [1.84, 1.0]\nfront_right = [1.84, -0.205]",
+        )
+    )
     epochs, _ = circle(mu=0.5, utilisation=0.92)
     veh = Vehicle.from_toml(toml)
     res = FrictionRun(veh, calibrate_heading=False).run(epochs)
@@ -131,8 +142,7 @@ def test_front_wheels_need_steering(tmp_path):
     r = epochs["yaw_rate_rps"].to_numpy()
     u = rl["speed_mps"].to_numpy() * np.cos(rl["slip_angle_rad"].to_numpy())
     v = u * np.tan(rl["slip_angle_rad"].to_numpy()) + r * (1.84 + 0.76)
-    np.testing.assert_allclose(fl["slip_angle_rad"], np.arctan2(v, u) - np.deg2rad(3.0),
-                               rtol=1e-9)
+    np.testing.assert_allclose(fl["slip_angle_rad"], np.arctan2(v, u) - np.deg2rad(3.0), rtol=1e-9)
 
 
 def test_outputs(tmp_path):
@@ -141,9 +151,22 @@ def test_outputs(tmp_path):
     paths = res.to_files(tmp_path / "out")
     w = pd.read_parquet(paths["wheels"])
     assert len(w) == len(res.wheels)
-    for col in ("wheel", "speed_mps", "slip_angle_rad", "radius_m", "mass_kg", "contact_length_m",
-                "load_N", "force_N", "slide_point_m", "force_ratio", "mu", "kappa_beta",
-                "mu_sigma", "flag"):
+    for col in (
+        "wheel",
+        "speed_mps",
+        "slip_angle_rad",
+        "radius_m",
+        "mass_kg",
+        "contact_length_m",
+        "load_N",
+        "force_N",
+        "slide_point_m",
+        "force_ratio",
+        "mu",
+        "kappa_beta",
+        "mu_sigma",
+        "flag",
+    ):
         assert col in w.columns
     doc = json.loads(paths["summary"].read_text())
     assert doc["meta"]["method"] == "brush-2" and len(doc["wheels"]) == 2

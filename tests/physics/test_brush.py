@@ -23,6 +23,7 @@ F = M * (25 / 3.6) ** 2 / 25.0
 def _beta_true(mu, C):
     """Slip angle at which the exact parabolic brush model carries F cos β (thesis eq. 4.5),
     written independently (Fiala); returns (β, the force at β)."""
+
     def resid(b):
         th = C * np.tan(b) / (3 * mu * FZ)
         return mu * FZ * (1 - (1 - min(th, 1.0)) ** 3) - F * np.cos(b)
@@ -99,13 +100,16 @@ def test_model_dependence_physics_2_5():
     assert brush.mu_from_force(F, b, FZ, C)[0] == pytest.approx(1.404, abs=2e-3)
     assert brush.mu_from_force(F, b, FZ, C, model="thesis")[0] == pytest.approx(1.428, abs=2e-3)
     assert brush.mu_from_force(F, b, FZ, C, pressure="quartic", model="thesis")[0] == (
-        pytest.approx(0.943, abs=2e-3))
+        pytest.approx(0.943, abs=2e-3)
+    )
     k = brush.kappa_beta(F, b, FZ, C, pressure="quartic")
     assert k == pytest.approx(-17.7, abs=0.1)  # PHYSICS §2.3: worse than P2's −11.4
 
 
-@pytest.mark.parametrize(("pressure", "model"), [("parabolic", "exact"), ("parabolic", "thesis"),
-                                                 ("quartic", "exact"), ("quartic", "thesis")])
+@pytest.mark.parametrize(
+    ("pressure", "model"),
+    [("parabolic", "exact"), ("parabolic", "thesis"), ("quartic", "exact"), ("quartic", "thesis")],
+)
 def test_round_trip(pressure, model):
     rng = np.random.default_rng(7)
     n = 2000
@@ -120,8 +124,12 @@ def test_round_trip(pressure, model):
     np.testing.assert_allclose(out["mu"][ok], mu[ok], rtol=1e-9)
     # the samples not returned are exactly those at or past the model's sliding limit
     th = C * np.tan(b) / (3 * mu * fz)
-    limit = {("parabolic", "exact"): 1.0, ("quartic", "exact"): 5 / 3,
-             ("parabolic", "thesis"): 0.5, ("quartic", "thesis"): 5 / 12}[(pressure, model)]
+    limit = {
+        ("parabolic", "exact"): 1.0,
+        ("quartic", "exact"): 5 / 3,
+        ("parabolic", "thesis"): 0.5,
+        ("quartic", "thesis"): 5 / 12,
+    }[(pressure, model)]
     assert np.all(th[~ok] >= limit * (1 - 1e-6))
 
 
@@ -143,8 +151,7 @@ def test_limits():
     mt = brush.mu_from_force(0.999 * T, b, fz, C, model="thesis")[0]
     assert me / mt == pytest.approx((1 + np.sqrt((4 * 0.999 - 1) / 3)) / 2, rel=1e-12)
     # β -> 0, non-positive load or stiffness, NaN: invalid
-    for args in ((100.0, 0.0, fz, C), (100.0, b, 0.0, C), (100.0, b, fz, -1.0),
-                 (np.nan, b, fz, C)):
+    for args in ((100.0, 0.0, fz, C), (100.0, b, 0.0, C), (100.0, b, fz, -1.0), (np.nan, b, fz, C)):
         assert brush.mu_from_force(*args)[1] == "invalid"
 
 
@@ -162,10 +169,10 @@ def test_input_types_and_nan():
     C, fz = 8e4, 3000.0
     b = [0.005, 0.01, np.nan]
     f = [300.0, 600.0, 600.0]
-    mu_l, st_l = brush.mu_from_force(f, b, fz, C)
+    mu_l, _ = brush.mu_from_force(f, b, fz, C)
     mu_a, st_a = brush.mu_from_force(np.array(f), np.array(b), fz, C)
     s = pd.Series(f, index=[10, 11, 12])
-    mu_s, st_s = brush.mu_from_force(s, pd.Series(b, index=s.index), fz, C)
+    mu_s, _ = brush.mu_from_force(s, pd.Series(b, index=s.index), fz, C)
     np.testing.assert_array_equal(mu_l, mu_a)
     assert isinstance(mu_s, pd.Series) and list(mu_s.index) == [10, 11, 12]
     np.testing.assert_array_equal(mu_s.to_numpy(), mu_a)

@@ -17,14 +17,17 @@ RNG = np.random.default_rng(20181)
 def _p2():
     a = sp.Symbol("a", positive=True)
     P = a * x * (l - x)
-    a_val = sp.solve(sp.Eq(sp.integrate(sp.integrate(P, (x, 0, l)), (sp.Symbol("y"), 0, w)), Fz),
-                     a)[0]
+    a_val = sp.solve(
+        sp.Eq(sp.integrate(sp.integrate(P, (x, 0, l)), (sp.Symbol("y"), 0, w)), Fz), a
+    )[0]
     return P.subs(a, a_val)
 
 
 def _p4():
     a = sp.Symbol("a", positive=True)
-    P = a * (-(x**4) + 2 * l * x**3 - sp.Rational(3, 2) * l**2 * x**2 + sp.Rational(1, 2) * l**3 * x)
+    P = a * (
+        -(x**4) + 2 * l * x**3 - sp.Rational(3, 2) * l**2 * x**2 + sp.Rational(1, 2) * l**3 * x
+    )
     a_val = sp.solve(sp.Eq(sp.integrate(P, (x, 0, l)) * w, Fz), a)[0]
     return P.subs(a, a_val)
 
@@ -37,8 +40,12 @@ def test_pressure_normalisation_and_thesis_constant():
     # eq. (4.8): a = 6 m g /(l^3 w) with Fz = m g
     assert sp.simplify(P2 - 6 * Fz / (l**3 * w) * x * (l - x)) == 0
     # eq. (10.2): 20 m g /(l^5 w) (-x^4 + 2 l x^3 - 1.5 l^2 x^2 + 0.5 l^3 x)
-    expected = 20 * Fz / (l**5 * w) * (-(x**4) + 2 * l * x**3 - sp.Rational(3, 2) * l**2 * x**2
-                                        + sp.Rational(1, 2) * l**3 * x)
+    expected = (
+        20
+        * Fz
+        / (l**5 * w)
+        * (-(x**4) + 2 * l * x**3 - sp.Rational(3, 2) * l**2 * x**2 + sp.Rational(1, 2) * l**3 * x)
+    )
     assert sp.simplify(P4 - expected) == 0
 
 
@@ -76,16 +83,20 @@ def test_exact_force_integral(pressure):
         tanb = theta_target * 3 * mu_v[i] * fz_v[i] / C
         args = (l_v[i], w_v[i], g_v[i], tanb, mu_v[i], fz_v[i])
         # the nonzero root of the slide condition in (0, l]
-        s_v = brentq(lambda s_: slide(s_, *args) / s_, 1e-12 * l_v[i], l_v[i])
+        s_v = brentq(lambda s_, a=args: slide(s_, *a) / s_, 1e-12 * l_v[i], l_v[i])
         f_ref = F(s_v, *args)
-        f_code = brush.lateral_force(mu_v[i], np.arctan(tanb), fz_v[i], C, pressure=pressure,
-                                     model="exact")
+        f_code = brush.lateral_force(
+            mu_v[i], np.arctan(tanb), fz_v[i], C, pressure=pressure, model="exact"
+        )
         assert f_code == pytest.approx(f_ref, rel=1e-9)
 
 
 @pytest.mark.parametrize("pressure", ["parabolic", "quartic"])
 def test_thesis_triangle_inversion(pressure):
-    """Triangle area (eq. 4.14): F = ½ w G l s tanβ; solve F = F_measured for μ (eq. 4.15 / ch. 10)."""
+    """Triangle area (eq. 4.14): F = ½ w G l s tanβ; solve F = F_measured for μ.
+
+    (eq. 4.15 for the parabolic pressure, chapter 10 for the quartic one)
+    """
     P = P2 if pressure == "parabolic" else P4
     # slide point from G s tanβ = μ P(s), as a function of μ, then F_tri(μ) = F
     mu_v, fz_v, l_v, w_v, g_v = _numeric_cases(25)
@@ -113,18 +124,24 @@ def test_thesis_triangle_inversion(pressure):
 
         grid = np.geomspace(1e-3, 1e4, 400)
         vals = [residual(v) for v in grid]
-        roots = [brentq(residual, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-14)
-                 for k in range(len(grid) - 1) if np.sign(vals[k]) != np.sign(vals[k + 1])]
+        roots = [
+            brentq(residual, grid[k], grid[k + 1], xtol=1e-15, rtol=1e-14)
+            for k in range(len(grid) - 1)
+            if np.sign(vals[k]) != np.sign(vals[k + 1])
+        ]
         mu_ref = max(roots)  # the larger μ has the larger slide point (rising branch)
-        mu_code, st = brush.mu_from_force(F_v, np.arctan(tanb), fz_v[i], C, pressure=pressure,
-                                          model="thesis")
+        mu_code, st = brush.mu_from_force(
+            F_v, np.arctan(tanb), fz_v[i], C, pressure=pressure, model="thesis"
+        )
         assert st == "ok"
         assert mu_code == pytest.approx(mu_ref, rel=1e-9)
 
 
 def test_eq_4_15_equals_compact_form():
     R, v, cb = sp.symbols("R v cb", positive=True)  # cb = cos β
-    eq415 = R * w**2 * l**4 * G**2 * tb**2 / (6 * m * g * (R * w * l**2 * G * tb - 2 * m * v**2 * cb))
+    eq415 = (
+        R * w**2 * l**4 * G**2 * tb**2 / (6 * m * g * (R * w * l**2 * G * tb - 2 * m * v**2 * cb))
+    )
     T = sp.Rational(1, 2) * w * l**2 * G * tb
     F = m * v**2 * cb / R
     compact = T**2 / (3 * m * g * (T - F))
@@ -137,7 +154,7 @@ def test_exact_parabolic_inversion_closed_form():
     roots = sp.solve(sp.Eq(1 - th + th**2 / 3, r), th)
     for rv in RNG.uniform(0.34, 0.999, 50):
         cands = [complex(z.subs(r, rv)) for z in roots]
-        theta = [c.real for c in cands if abs(c.imag) < 1e-12 and 0 < c.real < 1][0]
+        theta = next(c.real for c in cands if abs(c.imag) < 1e-12 and 0 < c.real < 1)
         T, fz = 1000.0, 2000.0
         mu_ref = T / (3 * fz * theta)
         out = brush.invert(rv * T, np.arctan(T / 8e4), fz, 8e4, pressure="parabolic", model="exact")
@@ -165,8 +182,10 @@ def test_exact_quartic_inversion_via_slide_point():
         assert out["xi"][()] == pytest.approx(xv, rel=1e-8)
 
 
-@pytest.mark.parametrize(("pressure", "model"), [("parabolic", "exact"), ("parabolic", "thesis"),
-                                                 ("quartic", "exact"), ("quartic", "thesis")])
+@pytest.mark.parametrize(
+    ("pressure", "model"),
+    [("parabolic", "exact"), ("parabolic", "thesis"), ("quartic", "exact"), ("quartic", "thesis")],
+)
 def test_kappa_beta_against_numeric_derivative(pressure, model):
     """κ_β = (T/μ) ∂μ/∂T at fixed F, from a central difference of the (verified) inversion."""
     for _ in range(30):
@@ -178,10 +197,12 @@ def test_kappa_beta_against_numeric_derivative(pressure, model):
         b = np.arctan(T / C)
         k = brush.kappa_beta(F, b, fz, C, pressure=pressure, model=model)
         h = 1e-6
-        mup = brush.mu_from_force(F, np.arctan(T * (1 + h) / C), fz, C, pressure=pressure,
-                                  model=model)[0]
-        mum = brush.mu_from_force(F, np.arctan(T * (1 - h) / C), fz, C, pressure=pressure,
-                                  model=model)[0]
+        mup = brush.mu_from_force(
+            F, np.arctan(T * (1 + h) / C), fz, C, pressure=pressure, model=model
+        )[0]
+        mum = brush.mu_from_force(
+            F, np.arctan(T * (1 - h) / C), fz, C, pressure=pressure, model=model
+        )[0]
         mu0 = brush.mu_from_force(F, b, fz, C, pressure=pressure, model=model)[0]
         assert k == pytest.approx((mup - mum) / (2 * h) / mu0, rel=1e-5, abs=1e-6)
 

@@ -64,7 +64,15 @@ def test_fit_errors():
 def test_surface_classes_table4():
     # Table 4: DRY 1.2–0.7, WET 0.6–0.4, SNOW 0.3–0.2, ICE 0.1–0.0 (gaps split in the middle)
     assert list(surface_class([1.2, 0.7, 0.6, 0.4, 0.3, 0.2, 0.1, 0.0])) == [
-        "DRY", "DRY", "WET", "WET", "SNOW", "SNOW", "ICE", "ICE"]
+        "DRY",
+        "DRY",
+        "WET",
+        "WET",
+        "SNOW",
+        "SNOW",
+        "ICE",
+        "ICE",
+    ]
     assert surface_class(np.nan) == "undetermined"
     assert surface_class_interval(0.45, 0.55) == "WET"
     assert surface_class_interval(0.5, 0.9) == "undetermined"

@@ -35,7 +35,7 @@ def test_left_turn_antenna_ahead_of_rear_axle():
 
 
 def test_thesis_sign_trap_size():
-    """A wrong l_x sign shifts the rear slip angle by 2 l_x / R (3.48° at R = 25 m; PHYSICS §3.2)."""
+    """A wrong l_x sign shifts the rear slip by 2 l_x / R: 3.48° at R = 25 m (PHYSICS §3.2)."""
     R, l_x, v = 25.0, 0.76, 10.0
     r = v / R
     right = K.slip_angle(*K.point_velocity(v, 0.0, r, -l_x, 0.0))
@@ -52,7 +52,8 @@ def test_antenna_sideslip_sign_and_wrap():
     assert K.antenna_sideslip(np.deg2rad(359), np.deg2rad(1)) == pytest.approx(np.deg2rad(-2))
     # the mounting offset is removed from the heading
     assert K.antenna_sideslip(np.deg2rad(10), np.deg2rad(8), np.deg2rad(1.5)) == pytest.approx(
-        np.deg2rad(0.5))
+        np.deg2rad(0.5)
+    )
 
 
 def test_heading_offset_calibration():

@@ -41,8 +41,7 @@ def test_thesis_readings_physics_4_3():
     ay, h, b = 1.929, 0.75, 0.55
     axle = LT.thesis_load_transfer(480 * ay, h, b)
     assert axle == pytest.approx(631, abs=1)  # axle share: = rigid m_r a_y h / t
-    assert axle == pytest.approx(LT.lateral_load_transfer(ay, 1200, h, (720, 480),
-                                                          (1.1, 1.1))[1])
+    assert axle == pytest.approx(LT.lateral_load_transfer(ay, 1200, h, (720, 480), (1.1, 1.1))[1])
     assert LT.thesis_load_transfer(240 * ay, h, b) == pytest.approx(316, abs=1)
     assert LT.thesis_load_transfer(1200 * ay, h, b) == pytest.approx(1578, abs=1)
 

@@ -52,12 +52,35 @@ METHODS = {
     "brush": (None, "exact"),
     "thesis": (None, "thesis"),
 }
-FLAGS = ("ok", "low_speed", "not_cornering", "not_steady", "no_solution", "full_sliding",
-         "ill_conditioned")
+FLAGS = (
+    "ok",
+    "low_speed",
+    "not_cornering",
+    "not_steady",
+    "no_solution",
+    "full_sliding",
+    "ill_conditioned",
+)
 WHEEL_COLUMNS = [
-    "t_s", "epoch", "wheel", "speed_mps", "slip_angle_rad", "radius_m", "mass_kg",
-    "contact_length_m", "load_N", "force_N", "slide_point_m", "force_ratio", "mu", "kappa_beta",
-    "mu_sigma", "flag", "lateral_accel_mps2", "utilisation", "steady",
+    "t_s",
+    "epoch",
+    "wheel",
+    "speed_mps",
+    "slip_angle_rad",
+    "radius_m",
+    "mass_kg",
+    "contact_length_m",
+    "load_N",
+    "force_N",
+    "slide_point_m",
+    "force_ratio",
+    "mu",
+    "kappa_beta",
+    "mu_sigma",
+    "flag",
+    "lateral_accel_mps2",
+    "utilisation",
+    "steady",
 ]
 
 
@@ -136,8 +159,11 @@ def _steady(t: np.ndarray, speed: np.ndarray, yaw: np.ndarray, o: FrictionOption
     roll = df.rolling(win, center=True, min_periods=3)
     sd = roll.std()
     n = roll.count()["v"].to_numpy()
-    return ((sd["v"].to_numpy() <= o.steady_speed_std_mps)
-            & (sd["r"].to_numpy() <= np.deg2rad(o.steady_yaw_rate_std_dps)) & (n >= 3))
+    return (
+        (sd["v"].to_numpy() <= o.steady_speed_std_mps)
+        & (sd["r"].to_numpy() <= np.deg2rad(o.steady_yaw_rate_std_dps))
+        & (n >= 3)
+    )
 
 
 def estimate_friction(
@@ -177,8 +203,9 @@ def estimate_friction(
     o = options or FrictionOptions()
     missing = [c for c in _REQUIRED if c not in epochs.columns]
     if missing:
-        raise InputError(f"epochs: missing columns {missing}; read the log with "
-                         "gripsense.io.read_nmea")
+        raise InputError(
+            f"epochs: missing columns {missing}; read the log with gripsense.io.read_nmea"
+        )
     have = np.ones(len(epochs), dtype=bool)
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
@@ -191,9 +218,13 @@ def estimate_friction(
     r = ep["yaw_rate_rps"].to_numpy(float)
     steer = None if steer_rad is None else np.asarray(steer_rad, dtype=float)[rows]
 
-    meta: dict = {"method": method, "vehicle": vehicle.name, "epochs_total": len(epochs),
-                  "epochs_used": int(rows.size),
-                  "epochs_missing_inputs": int(len(epochs) - rows.size)}
+    meta: dict = {
+        "method": method,
+        "vehicle": vehicle.name,
+        "epochs_total": len(epochs),
+        "epochs_used": int(rows.size),
+        "epochs_missing_inputs": int(len(epochs) - rows.size),
+    }
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"
     if o.calibrate_heading:
@@ -215,10 +246,21 @@ def estimate_friction(
     ay = (u_a - r * dy_ref) * r
     steady = _steady(t, v, r, o)
     m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
-    dfz = dict(zip(("front", "rear"), lateral_load_transfer(
-        ay, vehicle.mass_kg, vehicle.cg_height_m, vehicle.axle_masses_kg,
-        (vehicle.track_front_m, vehicle.track_rear_m), vehicle.roll_centre_heights_m,
-        vehicle.roll_stiffness_front_fraction), strict=True))
+    dfz = dict(
+        zip(
+            ("front", "rear"),
+            lateral_load_transfer(
+                ay,
+                vehicle.mass_kg,
+                vehicle.cg_height_m,
+                vehicle.axle_masses_kg,
+                (vehicle.track_front_m, vehicle.track_rear_m),
+                vehicle.roll_centre_heights_m,
+                vehicle.roll_stiffness_front_fraction,
+            ),
+            strict=True,
+        )
+    )
 
     nz = o.noise
     sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
@@ -248,15 +290,21 @@ def estimate_friction(
         inv = brush.invert(force, alpha, fz, c, pressure=pressure, model=model)
         mu_raw, status, kap = inv["mu"], inv["status"], inv["kappa_beta"]
         # first-order uncertainty (PHYSICS.md §1.4): T ∝ C tanβ, κ_F = 1 − κ_β
-        sig_alpha = np.sqrt(np.deg2rad(nz.heading_deg) ** 2 + sig_v_rel**2
-                            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2)
+        sig_alpha = np.sqrt(
+            np.deg2rad(nz.heading_deg) ** 2
+            + sig_v_rel**2
+            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
+        )
         with np.errstate(divide="ignore", invalid="ignore"):
             sig_tan_rel = sig_alpha / np.abs(np.sin(alpha) * np.cos(alpha))
-        sig_c_rel = np.hypot(nz.tread_stiffness_rel, 2.0 * nz.contact_length_rel
-                             if tyre.cornering_stiffness_N_per_rad is None else 0.0)
+        sig_c_rel = np.hypot(
+            nz.tread_stiffness_rel,
+            2.0 * nz.contact_length_rel if tyre.cornering_stiffness_N_per_rad is None else 0.0,
+        )
         with np.errstate(invalid="ignore"):
-            rel = np.sqrt(kap**2 * (sig_tan_rel**2 + sig_c_rel**2)
-                          + (1.0 - kap) ** 2 * sig_f_rel**2)
+            rel = np.sqrt(
+                kap**2 * (sig_tan_rel**2 + sig_c_rel**2) + (1.0 - kap) ** 2 * sig_f_rel**2
+            )
             mu_sigma = mu_raw * rel
 
         flag = np.full(t.size, "ok", dtype=object)
@@ -266,29 +314,52 @@ def estimate_friction(
             ("full_sliding", status == brush.FULL_SLIDING),
             ("no_solution", (status == brush.NO_SOLUTION) | (status == brush.INVALID) | sign_bad),
             ("not_steady", ~steady),
-            ("not_cornering", (np.abs(ay) < o.min_lateral_accel_mps2)
-             | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps))),
+            (
+                "not_cornering",
+                (np.abs(ay) < o.min_lateral_accel_mps2)
+                | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps)),
+            ),
             ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
         ]
         for name, m in conds:  # later entries take precedence
             flag[m] = name
         ok = flag == "ok"
-        frames.append(pd.DataFrame({
-            "t_s": t, "epoch": rows, "wheel": wname, "speed_mps": spd, "slip_angle_rad": alpha,
-            "radius_m": radius, "mass_kg": mass, "contact_length_m": length, "load_N": fz,
-            "force_N": force, "slide_point_m": inv["xi"] * length, "force_ratio": inv["ratio"],
-            "mu": np.where(ok, mu_raw, np.nan), "kappa_beta": kap,
-            "mu_sigma": np.where(ok, mu_sigma, np.nan), "flag": flag,
-            "lateral_accel_mps2": ay, "utilisation": np.abs(force) / fz, "steady": steady,
-        }))
+        frames.append(
+            pd.DataFrame(
+                {
+                    "t_s": t,
+                    "epoch": rows,
+                    "wheel": wname,
+                    "speed_mps": spd,
+                    "slip_angle_rad": alpha,
+                    "radius_m": radius,
+                    "mass_kg": mass,
+                    "contact_length_m": length,
+                    "load_N": fz,
+                    "force_N": force,
+                    "slide_point_m": inv["xi"] * length,
+                    "force_ratio": inv["ratio"],
+                    "mu": np.where(ok, mu_raw, np.nan),
+                    "kappa_beta": kap,
+                    "mu_sigma": np.where(ok, mu_sigma, np.nan),
+                    "flag": flag,
+                    "lateral_accel_mps2": ay,
+                    "utilisation": np.abs(force) / fz,
+                    "steady": steady,
+                }
+            )
+        )
         wheels_done.append(wname)
     meta["wheels"] = wheels_done
     if not wheels_done:
         meta["note"] = "no wheel could be analysed (front wheels need a steering channel)"
     if steer is None and any(AXLE_OF[w] == "front" for w in vehicle.wheel_offsets):
         meta["front_wheels"] = "skipped: no steering channel (--steer-csv)"
-    wheels = (pd.concat(frames, ignore_index=True) if frames
-              else pd.DataFrame({c: [] for c in WHEEL_COLUMNS}))
+    wheels = (
+        pd.concat(frames, ignore_index=True)
+        if frames
+        else pd.DataFrame({c: [] for c in WHEEL_COLUMNS})
+    )
     wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(vehicle.wheel_offsets))
     wheels["flag"] = pd.Categorical(wheels["flag"], categories=list(FLAGS))
     return wheels[WHEEL_COLUMNS], meta

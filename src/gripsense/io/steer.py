@@ -37,8 +37,10 @@ def read_steer_csv(path: str | Path, *, steering_ratio: float | None = None) -> 
         deg = df["road_wheel_deg"]
     elif "steering_wheel_deg" in df.columns:
         if not steering_ratio:
-            raise InputError(f"{path}: 'steering_wheel_deg' needs [vehicle] steering_ratio in the "
-                             "vehicle file (or give road_wheel_deg)")
+            raise InputError(
+                f"{path}: 'steering_wheel_deg' needs [vehicle] steering_ratio in the "
+                "vehicle file (or give road_wheel_deg)"
+            )
         deg = df["steering_wheel_deg"] / steering_ratio
     else:
         raise InputError(f"{path}: needs a column 'road_wheel_deg' or 'steering_wheel_deg'")

@@ -73,16 +73,24 @@ def cornering_stiffness(tread_stiffness, width, length):
     ----------
     Seed 000, eq. (9.1); PHYSICS.md §0, §1.2.
     """
-    g, w, l = (as_float_array(v, n) for v, n in ((tread_stiffness, "tread_stiffness"),
-                                                (width, "width"), (length, "length")))
+    g, w, l = (
+        as_float_array(v, n)
+        for v, n in ((tread_stiffness, "tread_stiffness"), (width, "width"), (length, "length"))
+    )
     return restore(0.5 * g * w * l**2, tread_stiffness, length)
 
 
 def adhesion_parameter(mu, load, cornering_stiffness_Nprad, slip_angle):
     """Fiala adhesion parameter θ = C |tan β| /(3 μ Fz) [-]. PHYSICS.md §0, §1.2."""
-    mu, fz, c, b = (as_float_array(v, n) for v, n in ((mu, "mu"), (load, "load"),
-                                                     (cornering_stiffness_Nprad, "C"),
-                                                     (slip_angle, "slip_angle")))
+    mu, fz, c, b = (
+        as_float_array(v, n)
+        for v, n in (
+            (mu, "mu"),
+            (load, "load"),
+            (cornering_stiffness_Nprad, "C"),
+            (slip_angle, "slip_angle"),
+        )
+    )
     return restore(c * np.abs(np.tan(b)) / (3.0 * mu * fz), mu, slip_angle)
 
 
@@ -135,8 +143,9 @@ def slide_point(theta, *, pressure: str = "parabolic", model: str = "exact"):
     return restore(np.where(np.isnan(th), np.nan, xi), theta)
 
 
-def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
-                  model="exact"):
+def lateral_force(
+    mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
+):
     """Lateral force magnitude |F| of the brush model [N].
 
     Parameters
@@ -169,9 +178,15 @@ def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="
     Seed 000, eq. (4.14), ch. 10; PHYSICS.md §1.2, §2.3.
     """
     _check(pressure, model)
-    mu_a, b, fz, c = (as_float_array(v, n) for v, n in (
-        (mu, "mu"), (slip_angle, "slip_angle"), (load, "load"),
-        (cornering_stiffness_Nprad, "cornering_stiffness_Nprad")))
+    mu_a, b, fz, c = (
+        as_float_array(v, n)
+        for v, n in (
+            (mu, "mu"),
+            (slip_angle, "slip_angle"),
+            (load, "load"),
+            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
+        )
+    )
     t = c * np.abs(np.tan(b))
     with np.errstate(divide="ignore", invalid="ignore"):
         th = t / (3.0 * mu_a * fz)
@@ -191,47 +206,105 @@ def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="
 
 def force_ratio(force, slip_angle, cornering_stiffness_Nprad):
     """r = |F| /(C |tan β|) [-]: 1 − r is the non-linearity deficit. PHYSICS.md §0, §1.3."""
-    f, b, c = (as_float_array(v, n) for v, n in ((force, "force"), (slip_angle, "slip_angle"),
-                                                (cornering_stiffness_Nprad, "C")))
+    f, b, c = (
+        as_float_array(v, n)
+        for v, n in ((force, "force"), (slip_angle, "slip_angle"), (cornering_stiffness_Nprad, "C"))
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         return restore(np.abs(f) / (c * np.abs(np.tan(b))), force, slip_angle)
 
 
-@njit(cache=True, nogil=True, parallel=True)
-def _xi_exact_quartic(r):
-    """Root ξ in [0, 1] of r(ξ) = ξ² + (1 − ξ)(4ξ³ − 2ξ² + 2ξ + 1)/(10(ξ² − ξ + ½)) = r.
+@njit(cache=True, nogil=True)
+def _xi_exact_quartic(target):
+    """Root ξ in [0, 1] of r(ξ) = ξ² + (1 − ξ)(4ξ³ − 2ξ² + 2ξ + 1)/(10(ξ² − ξ + ½)) = target.
 
     r(ξ) rises strictly from 1/5 to 1 (PHYSICS.md §2.3); safeguarded Newton inside a bisection
     bracket, to machine precision.
     """
-    out = np.empty(r.size)
-    for i in prange(r.size):
-        target = r[i]
-        lo, hi = 0.0, 1.0
-        x = 0.5
-        for _ in range(100):
-            d = x * x - x + 0.5
-            num = (1.0 - x) * (4 * x**3 - 2 * x**2 + 2 * x + 1.0)
-            f = x * x + num / (10.0 * d) - target
-            if f > 0:
-                hi = x
-            else:
-                lo = x
-            dnum = -(4 * x**3 - 2 * x**2 + 2 * x + 1.0) + (1.0 - x) * (12 * x**2 - 4 * x + 2.0)
-            df = 2 * x + (dnum * d - num * (2 * x - 1.0)) / (10.0 * d * d)
-            xn = x - f / df if df > 0 else 0.5 * (lo + hi)
-            if not (lo < xn < hi):
-                xn = 0.5 * (lo + hi)
-            if abs(xn - x) <= 1e-15 or hi - lo <= 1e-15:
-                x = xn
-                break
-            x = xn
-        out[i] = x
-    return out
+    lo, hi = 0.0, 1.0
+    x = 0.5
+    for _ in range(100):
+        d = x * x - x + 0.5
+        poly = 4.0 * x**3 - 2.0 * x**2 + 2.0 * x + 1.0
+        num = (1.0 - x) * poly
+        f = x * x + num / (10.0 * d) - target
+        if f > 0:
+            hi = x
+        else:
+            lo = x
+        dnum = -poly + (1.0 - x) * (12.0 * x**2 - 4.0 * x + 2.0)
+        df = 2.0 * x + (dnum * d - num * (2.0 * x - 1.0)) / (10.0 * d * d)
+        xn = x - f / df if df > 0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        if abs(xn - x) <= 1e-15 or hi - lo <= 1e-15:
+            return xn
+        x = xn
+    return x
 
 
-def invert(force, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
-           model="exact"):
+@njit(cache=True, nogil=True, parallel=True)
+def _invert_kernel(f, b, fz, c, which, mu, status, xi, ratio, kap):
+    """One fused pass per sample; which: 0 exact-P2, 1 thesis-P2, 2 exact-P4, 3 thesis-P4."""
+    nan = np.nan
+    r_full = (1.0 / 3.0, 0.5, 0.2, 0.5)[which]
+    for i in prange(f.size):
+        F = abs(f[i])
+        Z = fz[i]
+        C = c[i]
+        T = C * abs(np.tan(b[i]))
+        if not (np.isfinite(F) and np.isfinite(T) and np.isfinite(Z)) or Z <= 0 or C <= 0 or T <= 0:
+            status[i] = 3
+            mu[i] = nan
+            xi[i] = nan
+            ratio[i] = nan
+            kap[i] = nan
+            continue
+        r = F / T
+        ratio[i] = r
+        if r >= 1.0:
+            status[i] = 1
+            mu[i] = nan
+            xi[i] = nan
+            kap[i] = nan
+            continue
+        if r <= r_full:
+            status[i] = 2
+            mu[i] = F / Z
+            xi[i] = 0.0
+            kap[i] = 0.0
+            continue
+        status[i] = 0
+        if which == 0:
+            q = np.sqrt((4.0 * r - 1.0) / 3.0)
+            th = 2.0 * (1.0 - r) / (1.0 + q)  # cancellation-free form of (3/2)(1 − q)
+            mu[i] = T * (1.0 + q) / (6.0 * Z * (1.0 - r))
+            xi[i] = 1.0 - th
+            kap[i] = -3.0 * (1.0 - th) ** 2 / (th * (3.0 - 2.0 * th))
+        elif which == 1:
+            mu[i] = T / (3.0 * Z * (1.0 - r))
+            xi[i] = r
+            kap[i] = (1.0 - 2.0 * r) / (1.0 - r)
+        elif which == 3:
+            g = (1.0 - r) * (r * r - r + 0.5)
+            mu[i] = T / (10.0 * Z * g)
+            xi[i] = r
+            gp = -(r * r - r + 0.5) + (1.0 - r) * (2.0 * r - 1.0)
+            kap[i] = 1.0 + r * gp / g
+        else:
+            x = _xi_exact_quartic(r)
+            h = (1.0 - x) * (x * x - x + 0.5)
+            m = T / (10.0 * Z * h)
+            th = T / (3.0 * m * Z)
+            phi = 5 * x**2 - 10 * x**3 + 10 * x**4 - 4 * x**5
+            mu[i] = m
+            xi[i] = x
+            kap[i] = -3.0 * th * x * x / (1.0 - phi)
+
+
+def invert(
+    force, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
+):
     """Solve the brush model for μ; also return ξ, r and the condition number κ_β.
 
     Parameters as :func:`mu_from_force`.
@@ -261,64 +334,48 @@ def invert(force, slip_angle, load, cornering_stiffness_Nprad, *, pressure="para
     is for the caller to check.
     """
     _check(pressure, model)
-    f = np.abs(as_float_array(force, "force"))
-    b = as_float_array(slip_angle, "slip_angle")
-    fz = as_float_array(load, "load")
-    c = as_float_array(cornering_stiffness_Nprad, "cornering_stiffness_Nprad")
-    f, b, fz, c = np.broadcast_arrays(f, b, fz, c)
-    t = c * np.abs(np.tan(b))
-    invalid = ~(np.isfinite(f) & np.isfinite(t) & np.isfinite(fz)) | (fz <= 0) | (c <= 0) | (t <= 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(invalid, np.nan, f / np.where(invalid, 1.0, t))
-    status = np.full(r.shape, OK, dtype=np.int8)
-    status[invalid] = INVALID
-    nosol = ~invalid & (r >= 1.0)
-    status[nosol] = NO_SOLUTION
-    if pressure == "parabolic" and model == "exact":
-        r_full = 1.0 / 3.0
-    elif pressure == "quartic" and model == "exact":
-        r_full = 0.2
-    else:
-        r_full = 0.5  # the triangle models' peak
-    full = ~invalid & ~nosol & (r <= r_full)
-    status[full] = FULL_SLIDING
-    good = status == OK
-    mu = np.full(r.shape, np.nan)
-    xi = np.full(r.shape, np.nan)
-    kap = np.full(r.shape, np.nan)
-    rg, tg, fzg = r[good], t[good], fz[good]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        if pressure == "parabolic" and model == "exact":
-            q = np.sqrt((4.0 * rg - 1.0) / 3.0)
-            m = tg * (1.0 + q) / (6.0 * fzg * (1.0 - rg))
-            th = 2.0 * (1.0 - rg) / (1.0 + q)  # cancellation-free form of (3/2)(1 − q)
-            x = 1.0 - th
-            k = -3.0 * (1.0 - th) ** 2 / (th * (3.0 - 2.0 * th))
-        elif pressure == "parabolic":
-            m = tg / (3.0 * fzg * (1.0 - rg))
-            x = rg
-            k = (1.0 - 2.0 * rg) / (1.0 - rg)
-        elif model == "thesis":
-            g = (1.0 - rg) * (rg * rg - rg + 0.5)
-            m = tg / (10.0 * fzg * g)
-            x = rg
-            gp = -(rg * rg - rg + 0.5) + (1.0 - rg) * (2.0 * rg - 1.0)
-            k = 1.0 + rg * gp / g
-        else:
-            x = _xi_exact_quartic(np.ascontiguousarray(rg)) if rg.size else rg
-            h = (1.0 - x) * (x * x - x + 0.5)
-            m = tg / (10.0 * fzg * h)
-            th = tg / (3.0 * m * fzg)
-            k = -3.0 * th * x**2 / (1.0 - _phi4(x))
-    mu[good], xi[good], kap[good] = m, x, k
-    mu[full] = f[full] / fz[full]
-    xi[full] = 0.0
-    kap[full] = 0.0
-    return {"mu": mu, "status": status, "xi": xi, "ratio": r, "kappa_beta": kap}
+    arrs = [
+        as_float_array(v, n)
+        for v, n in (
+            (force, "force"),
+            (slip_angle, "slip_angle"),
+            (load, "load"),
+            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
+        )
+    ]
+    shape = np.broadcast_shapes(*(a.shape for a in arrs))
+    f, b, fz, c = (np.ascontiguousarray(np.broadcast_to(a, shape)).ravel() for a in arrs)
+    which = {
+        ("parabolic", "exact"): 0,
+        ("parabolic", "thesis"): 1,
+        ("quartic", "exact"): 2,
+        ("quartic", "thesis"): 3,
+    }[(pressure, model)]
+    n = f.size
+    mu = np.empty(n)
+    status = np.empty(n, dtype=np.int8)
+    xi = np.empty(n)
+    ratio = np.empty(n)
+    kap = np.empty(n)
+    _invert_kernel(f, b, fz, c, which, mu, status, xi, ratio, kap)
+    return {
+        "mu": mu.reshape(shape),
+        "status": status.reshape(shape),
+        "xi": xi.reshape(shape),
+        "ratio": ratio.reshape(shape),
+        "kappa_beta": kap.reshape(shape),
+    }
 
 
-def mu_from_force(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
-                  pressure="parabolic", model="exact"):
+def mu_from_force(
+    force_N,
+    slip_angle_rad,
+    load_N,
+    cornering_stiffness_Nprad,
+    *,
+    pressure="parabolic",
+    model="exact",
+):
     """Friction coefficient from the lateral force a tyre carries at a slip angle.
 
     Parameters
@@ -353,8 +410,9 @@ def mu_from_force(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
     ----------
     Seed 000, eq. (4.15), ch. 10; PHYSICS.md §1.3, §2.3.
     """
-    out = invert(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure,
-                 model=model)
+    out = invert(
+        force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure, model=model
+    )
     names = np.array(STATUS)[out["status"]]
     like = (force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad)
     mu = restore(out["mu"], *like)
@@ -362,8 +420,15 @@ def mu_from_force(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
     return mu, st
 
 
-def kappa_beta(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
-               pressure="parabolic", model="exact"):
+def kappa_beta(
+    force_N,
+    slip_angle_rad,
+    load_N,
+    cornering_stiffness_Nprad,
+    *,
+    pressure="parabolic",
+    model="exact",
+):
     """Relative condition number κ_β = (T/μ) ∂μ/∂T at fixed F [-].
 
     A 1 % error in tan β, G, w or l² moves μ by κ_β %; κ_F = 1 − κ_β (μ is homogeneous of
@@ -373,6 +438,7 @@ def kappa_beta(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, *,
     ----------
     PHYSICS.md §1.4, §2.3.
     """
-    out = invert(force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure,
-                 model=model)
+    out = invert(
+        force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure, model=model
+    )
     return restore(out["kappa_beta"], force_N, slip_angle_rad)

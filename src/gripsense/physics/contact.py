@@ -38,8 +38,10 @@ def pressure_parabolic(x, length, width, load):
     ----------
     Seed 000, eq. (4.8)–(4.9); PHYSICS.md §1.1.
     """
-    x, l, w, fz = (as_float_array(v, n) for v, n in ((x, "x"), (length, "length"),
-                                                    (width, "width"), (load, "load")))
+    x, l, w, fz = (
+        as_float_array(v, n)
+        for v, n in ((x, "x"), (length, "length"), (width, "width"), (load, "load"))
+    )
     p = 6.0 * fz / (l**3 * w) * x * (l - x)
     return restore(np.where((x >= 0) & (x <= l), p, 0.0), x)
 
@@ -65,8 +67,10 @@ def pressure_quartic(x, length, width, load):
     ----------
     Seed 000, eq. (10.2); PHYSICS.md §2.1.
     """
-    x, l, w, fz = (as_float_array(v, n) for v, n in ((x, "x"), (length, "length"),
-                                                    (width, "width"), (load, "load")))
+    x, l, w, fz = (
+        as_float_array(v, n)
+        for v, n in ((x, "x"), (length, "length"), (width, "width"), (load, "load"))
+    )
     p = 20.0 * fz / (l**5 * w) * x * (l - x) * (x**2 - l * x + 0.5 * l**2)
     return restore(np.where((x >= 0) & (x <= l), p, 0.0), x)
 
@@ -81,8 +85,9 @@ def edge_pressure_gradient(length, width, load, pressure: str = "parabolic"):
     PHYSICS.md §1.4, §2.1.
     """
     k = {"parabolic": 6.0, "quartic": 10.0}[pressure]
-    l, w, fz = (as_float_array(v, n) for v, n in ((length, "length"), (width, "width"),
-                                                 (load, "load")))
+    l, w, fz = (
+        as_float_array(v, n) for v, n in ((length, "length"), (width, "width"), (load, "load"))
+    )
     return restore(k * fz / (l**2 * w), length)
 
 

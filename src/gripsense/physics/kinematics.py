@@ -13,6 +13,8 @@ import numpy as np
 
 from gripsense._arrays import as_float_array, restore
 
+_ONE_DEG = float(np.deg2rad(1.0))  # [rad]
+
 __all__ = [
     "antenna_sideslip",
     "heading_offset_from_straight",
@@ -69,8 +71,9 @@ def point_velocity(u_a, v_a, yaw_rate, dx, dy):
     ----------
     PHYSICS.md §3.1: v_P = v_A + ω × r_AP with ω = (0, 0, r).
     """
-    u, v, r = (as_float_array(x, n) for x, n in ((u_a, "u_a"), (v_a, "v_a"),
-                                                (yaw_rate, "yaw_rate")))
+    u, v, r = (
+        as_float_array(x, n) for x, n in ((u_a, "u_a"), (v_a, "v_a"), (yaw_rate, "yaw_rate"))
+    )
     return restore(u - r * dy, u_a), restore(v + r * dx, u_a)
 
 
@@ -99,7 +102,13 @@ def path_radius(speed, yaw_rate):
 
 
 def heading_offset_from_straight(
-    heading_rad, course_rad, yaw_rate, speed, *, min_speed=5.0, max_yaw_rate=np.deg2rad(1.0),
+    heading_rad,
+    course_rad,
+    yaw_rate,
+    speed,
+    *,
+    min_speed=5.0,
+    max_yaw_rate=_ONE_DEG,
     min_samples: int = 20,
 ):
     """Heading mounting offset from straight driving: the circular mean of wrap(ψ_c − χ_c).
@@ -131,9 +140,15 @@ def heading_offset_from_straight(
     spread : float
         Standard deviation of the straight samples [rad] (NaN when not determined).
     """
-    h, c, r, s = (as_float_array(x, n) for x, n in ((heading_rad, "heading_rad"),
-                                                   (course_rad, "course_rad"),
-                                                   (yaw_rate, "yaw_rate"), (speed, "speed")))
+    h, c, r, s = (
+        as_float_array(x, n)
+        for x, n in (
+            (heading_rad, "heading_rad"),
+            (course_rad, "course_rad"),
+            (yaw_rate, "yaw_rate"),
+            (speed, "speed"),
+        )
+    )
     d = (h - c + np.pi) % (2.0 * np.pi) - np.pi
     ok = np.isfinite(d) & (np.abs(r) <= max_yaw_rate) & (s >= min_speed)
     n = int(ok.sum())

@@ -9,8 +9,6 @@ special case), §4.4 (what the lateral force is).
 
 from __future__ import annotations
 
-import numpy as np
-
 from gripsense._arrays import as_float_array, restore
 
 __all__ = [
@@ -74,8 +72,11 @@ def lateral_load_transfer(
     mf, mr = axle_masses_kg
     tf, tr = tracks_m
     hf, hr = roll_centre_heights_m if roll_centre_heights_m is not None else (cg_height_m,) * 2
-    kf = roll_stiffness_front_fraction if roll_stiffness_front_fraction is not None else (
-        mf / (mf + mr))
+    kf = (
+        roll_stiffness_front_fraction
+        if roll_stiffness_front_fraction is not None
+        else (mf / (mf + mr))
+    )
     h_ra = (mf * hf + mr * hr) / mass_kg
     arm = mass_kg * (cg_height_m - h_ra)
     dfz_f = ay / tf * (mf * hf + kf * arm)

@@ -13,8 +13,12 @@ from gripsense._arrays import as_float_array
 __all__ = ["SURFACE_BANDS", "surface_class", "surface_class_interval"]
 
 # (name, lower bound, upper bound) of μ, in increasing order; Table 4 with its gaps split
-SURFACE_BANDS = (("ICE", 0.0, 0.15), ("SNOW", 0.15, 0.35), ("WET", 0.35, 0.65),
-                 ("DRY", 0.65, np.inf))
+SURFACE_BANDS = (
+    ("ICE", 0.0, 0.15),
+    ("SNOW", 0.15, 0.35),
+    ("WET", 0.35, 0.65),
+    ("DRY", 0.65, np.inf),
+)
 UNDETERMINED = "undetermined"
 _NAMES = np.array([b[0] for b in SURFACE_BANDS] + [UNDETERMINED], dtype=object)
 _EDGES = np.array([b[2] for b in SURFACE_BANDS[:-1]])
