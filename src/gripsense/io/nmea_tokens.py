@@ -91,14 +91,6 @@ def split_lines(data: bytes) -> list[bytes]:
 STRIP = b" \t\r"
 
 
-def line_count(data: bytes) -> int:
-    """Number of lines in *data* (see :func:`split_lines`)."""
-    if not data:
-        return 0
-    n = data.count(b"\n")
-    return n if data.endswith(b"\n") else n + 1
-
-
 def empty_raw(spec_fields) -> dict[str, np.ndarray]:
     """An empty raw table for a sentence spec's fields."""
     out: dict[str, np.ndarray] = {"line": np.empty(0, dtype=np.int64)}

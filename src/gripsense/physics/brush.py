@@ -108,8 +108,12 @@ def _xi_quartic_cubic(theta: np.ndarray) -> np.ndarray:
     return np.where(theta >= 5.0 / 3.0, 0.0, np.clip(xi, 0.0, 1.0))
 
 
+@njit(cache=True, nogil=True)
 def _phi4(xi):
-    """Φ4(ξ) = ∫₀^ξ φ4 = 5ξ² − 10ξ³ + 10ξ⁴ − 4ξ⁵ (normalised cumulative quartic pressure)."""
+    """Φ4(ξ) = ∫₀^ξ φ4 = 5ξ² − 10ξ³ + 10ξ⁴ − 4ξ⁵ (normalised cumulative quartic pressure).
+
+    PHYSICS.md §2.3b; 1 − Φ4 = (1 − ξ)²(4ξ³ − 2ξ² + 2ξ + 1).
+    """
     return 5 * xi**2 - 10 * xi**3 + 10 * xi**4 - 4 * xi**5
 
 
@@ -296,10 +300,9 @@ def _invert_kernel(f, b, fz, c, which, mu, status, xi, ratio, kap):
             h = (1.0 - x) * (x * x - x + 0.5)
             m = T / (10.0 * Z * h)
             th = T / (3.0 * m * Z)
-            phi = 5 * x**2 - 10 * x**3 + 10 * x**4 - 4 * x**5
             mu[i] = m
             xi[i] = x
-            kap[i] = -3.0 * th * x * x / (1.0 - phi)
+            kap[i] = -3.0 * th * x * x / (1.0 - _phi4(x))
 
 
 def invert(

@@ -104,7 +104,19 @@ def thesis_load_transfer(axle_lateral_force_N, cg_height_m: float, half_track_m:
 
 
 def wheel_loads(axle_mass_kg: float, dfz):
-    """(left, right) wheel loads Fz = m_i⁰ g/2 ∓ ΔFz [N] (ΔFz > 0 loads the right wheel)."""
+    """(left, right) wheel loads Fz = m_i⁰ g/2 ∓ ΔFz [N] (ΔFz > 0 loads the right wheel).
+
+    Parameters
+    ----------
+    axle_mass_kg : float
+        Static axle mass m_i⁰ [kg].
+    dfz : array_like
+        Load transfer of the axle, ΔFz [N] (:func:`lateral_load_transfer`).
+
+    References
+    ----------
+    PHYSICS.md §4.2: Fz,outer/inner = m_i⁰ g/2 ± ΔFz_i.
+    """
     d = as_float_array(dfz, "dfz")
     half = 0.5 * axle_mass_kg * G0
     return restore(half - d, dfz), restore(half + d, dfz)
