@@ -31,6 +31,7 @@ from gripsense.errors import InputError
 
 __all__ = [
     "STATUS",
+    "force_scalar",
     "adhesion_parameter",
     "cornering_stiffness",
     "force_ratio",
@@ -147,9 +148,48 @@ def slide_point(theta, *, pressure: str = "parabolic", model: str = "exact"):
     return restore(np.where(np.isnan(th), np.nan, xi), theta)
 
 
-def lateral_force(
-    mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
-):
+@njit(cache=True, nogil=True)
+def force_scalar(mu, tan_slip, load, stiffness, which):
+    """|F| of one tyre [N] (the compiled core of :func:`lateral_force`).
+
+    Parameters
+    ----------
+    mu, tan_slip, load, stiffness : float
+        μ [-], |tan β| [-], Fz [N], C [N/rad].
+    which : int
+        0 exact-P2, 1 thesis-P2, 2 exact-P4, 3 thesis-P4.
+    """
+    if not (mu > 0.0 and load > 0.0):
+        return 0.0 if (mu == 0.0 or load <= 0.0) else np.nan
+    th = stiffness * abs(tan_slip) / (3.0 * mu * load)
+    if which == 0:
+        return mu * load * (1.0 - (1.0 - th) ** 3) if th < 1.0 else mu * load
+    if which == 1:
+        return mu * load * (3.0 * th - 3.0 * th * th) if th <= 1.0 else 0.0
+    if th >= 5.0 / 3.0:
+        return mu * load if which == 2 else 0.0
+    p = 1.0 / 6.0
+    q = 0.3 * th - 5.0 / 54.0
+    xi = 2.0 / 3.0 - 2.0 * np.sqrt(p / 3.0) * np.sinh(
+        np.arcsinh((3.0 * q / (2.0 * p)) * np.sqrt(3.0 / p)) / 3.0)
+    xi = min(max(xi, 0.0), 1.0)
+    if which == 2:
+        return mu * load * (3.0 * th * xi * xi + 1.0 - _phi4(xi))
+    return 3.0 * mu * load * th * xi
+
+
+@njit(cache=True, nogil=True)
+def _force_loop(mu, tb, fz, c, which, out):
+    for i in range(out.size):
+        out[i] = force_scalar(mu[i], tb[i], fz[i], c[i], which)
+
+
+_WHICH = {("parabolic", "exact"): 0, ("parabolic", "thesis"): 1, ("quartic", "exact"): 2,
+          ("quartic", "thesis"): 3}
+
+
+def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
+                  model="exact"):
     """Lateral force magnitude |F| of the brush model [N].
 
     Parameters
@@ -182,30 +222,15 @@ def lateral_force(
     Seed 000, eq. (4.14), ch. 10; PHYSICS.md §1.2, §2.3.
     """
     _check(pressure, model)
-    mu_a, b, fz, c = (
-        as_float_array(v, n)
-        for v, n in (
-            (mu, "mu"),
-            (slip_angle, "slip_angle"),
-            (load, "load"),
-            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
-        )
-    )
-    t = c * np.abs(np.tan(b))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        th = t / (3.0 * mu_a * fz)
-    if pressure == "parabolic":
-        if model == "exact":
-            f = mu_a * fz * np.where(th < 1.0, 1.0 - (1.0 - np.minimum(th, 1.0)) ** 3, 1.0)
-        else:
-            f = mu_a * fz * np.where(th <= 1.0, 3.0 * th - 3.0 * th**2, 0.0)
-    else:
-        xi = _xi_quartic_cubic(th)
-        if model == "exact":
-            f = mu_a * fz * np.where(th < 5.0 / 3.0, 3.0 * th * xi**2 + 1.0 - _phi4(xi), 1.0)
-        else:
-            f = 3.0 * mu_a * fz * th * xi
-    return restore(f, mu, slip_angle)
+    arrs = [as_float_array(v, n) for v, n in ((mu, "mu"), (slip_angle, "slip_angle"),
+                                              (load, "load"),
+                                              (cornering_stiffness_Nprad,
+                                               "cornering_stiffness_Nprad"))]
+    shape = np.broadcast_shapes(*(a.shape for a in arrs))
+    m, b, fz, c = (np.ascontiguousarray(np.broadcast_to(a, shape)).ravel() for a in arrs)
+    out = np.empty(m.size)
+    _force_loop(m, np.tan(b), fz, c, _WHICH[(pressure, model)], out)
+    return restore(out.reshape(shape), mu, slip_angle)
 
 
 def force_ratio(force, slip_angle, cornering_stiffness_Nprad):
