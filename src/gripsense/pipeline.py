@@ -54,14 +54,28 @@ class FrictionResult:
             return "nothing to analyse: " + self.meta.get(
                 "note", "no epoch had heading, course, speed and yaw rate together"
             )
-        if (s["n_valid"] > 0).any():
-            parts = [
-                f"{w}: μ = {m:.2f} [{lo:.2f}, {hi:.2f}] ({surf}, {nv}/{nt} samples)"
-                for w, m, lo, hi, surf, nv, nt in s[
-                    ["wheel", "mu", "mu_low", "mu_high", "surface", "n_valid", "n_total"]
-                ].itertuples(index=False)
-            ]
+        if s["observable"].any():
+            parts = []
+            for rec in s.to_dict("records"):
+                if rec["observable"]:
+                    parts.append(
+                        f"{rec['wheel']}: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "
+                        f"{rec['mu_high']:.2f}] ({rec['surface']}, {rec['n_valid']}/"
+                        f"{rec['n_total']} samples)"
+                    )
+                else:
+                    parts.append(
+                        f"{rec['wheel']}: not observable (μ ≥ {rec['mu_lower_bound']:.2f})"
+                    )
             return "; ".join(parts)
+        if (s["n_valid"] > 0).any():
+            frac = float(s["valid_fraction"].max())
+            lb = s["mu_lower_bound"].max()
+            return (
+                f"μ not observable: at most {frac:.0%} of the steady cornering samples are "
+                "well-conditioned — a noise-selected tail, not a measurement; the data prove "
+                f"only μ ≥ {lb:.2f}"
+            )
         flags = self.wheels["flag"].value_counts()
         top = flags.index[0] if len(flags) else "none"
         lb = s["mu_lower_bound"].max()
@@ -98,12 +112,14 @@ class FrictionResult:
         return {"wheels": wp, "summary": sp}
 
 
-def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
+def summarize(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> pd.DataFrame:
     """Per-wheel summary of a wheel table (see :class:`FrictionResult`).
 
     The interval is the median of the valid samples' own 90 % intervals (μ ± 1.645 σ_μ), not a
     standard error of the median: the dominant errors (heading offset, G, pressure shape) are
-    shared by all samples and do not average out.
+    shared by all samples and do not average out. A μ is given only when at least
+    *min_valid_fraction* of the steady cornering samples are valid (see
+    :class:`~gripsense.estimate.friction.FrictionOptions`); ``observable`` says whether it was.
     """
     rows = []
     for wname, g in wheels.groupby("wheel", observed=True, sort=False):
@@ -113,7 +129,10 @@ def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
         cornering = ~g["flag"].isin(["low_speed", "not_cornering", "not_steady"])
         util = g.loc[cornering, "utilisation"]
         rec = {"wheel": str(wname), "n_total": len(g), "n_valid": int(ok.sum())}
-        if ok.any():
+        n_corner = int(cornering.sum())
+        rec["valid_fraction"] = float(ok.sum() / n_corner) if n_corner else 0.0
+        rec["observable"] = bool(ok.any() and rec["valid_fraction"] >= min_valid_fraction)
+        if rec["observable"]:
             m = float(mu.median())
             lo = float((mu - Z90 * sig).median())
             hi = float((mu + Z90 * sig).median())
@@ -136,8 +155,10 @@ def summarize(wheels: pd.DataFrame) -> pd.DataFrame:
         "mu_low",
         "mu_high",
         "surface",
+        "observable",
         "n_valid",
         "n_total",
+        "valid_fraction",
         "mu_lower_bound",
         *[f"n_{f}" for f in FLAGS],
     ]

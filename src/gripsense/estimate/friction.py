@@ -129,6 +129,11 @@ class FrictionOptions:
         Largest standard deviation in the window [m/s], [deg/s].
     max_rel_sigma : float
         Largest σ_μ/μ reported as a value (PHYSICS.md §11.4: 0.5) [-].
+    min_valid_fraction : float
+        The summary reports a wheel's μ only when at least this fraction of its steady
+        cornering samples is valid [-]. Below it the valid samples are the tail that noise made
+        look well-conditioned (a sample whose slip angle noise pushed up reads as a tyre at its
+        limit), and their median is biased towards the lower bound.
     calibrate_heading : bool
         Estimate the heading offset from straight driving; falls back to the vehicle file's
         offset when the log has too little straight driving.
@@ -142,6 +147,7 @@ class FrictionOptions:
     steady_speed_std_mps: float = 0.3
     steady_yaw_rate_std_dps: float = 1.5
     max_rel_sigma: float = 0.5
+    min_valid_fraction: float = 0.5
     calibrate_heading: bool = True
     noise: NoiseModel = field(default_factory=NoiseModel)
 

@@ -31,10 +31,10 @@ from gripsense.errors import InputError
 
 __all__ = [
     "STATUS",
-    "force_scalar",
     "adhesion_parameter",
     "cornering_stiffness",
     "force_ratio",
+    "force_scalar",
     "invert",
     "kappa_beta",
     "lateral_force",
@@ -171,7 +171,8 @@ def force_scalar(mu, tan_slip, load, stiffness, which):
     p = 1.0 / 6.0
     q = 0.3 * th - 5.0 / 54.0
     xi = 2.0 / 3.0 - 2.0 * np.sqrt(p / 3.0) * np.sinh(
-        np.arcsinh((3.0 * q / (2.0 * p)) * np.sqrt(3.0 / p)) / 3.0)
+        np.arcsinh((3.0 * q / (2.0 * p)) * np.sqrt(3.0 / p)) / 3.0
+    )
     xi = min(max(xi, 0.0), 1.0)
     if which == 2:
         return mu * load * (3.0 * th * xi * xi + 1.0 - _phi4(xi))
@@ -184,12 +185,17 @@ def _force_loop(mu, tb, fz, c, which, out):
         out[i] = force_scalar(mu[i], tb[i], fz[i], c[i], which)
 
 
-_WHICH = {("parabolic", "exact"): 0, ("parabolic", "thesis"): 1, ("quartic", "exact"): 2,
-          ("quartic", "thesis"): 3}
+_WHICH = {
+    ("parabolic", "exact"): 0,
+    ("parabolic", "thesis"): 1,
+    ("quartic", "exact"): 2,
+    ("quartic", "thesis"): 3,
+}
 
 
-def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic",
-                  model="exact"):
+def lateral_force(
+    mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
+):
     """Lateral force magnitude |F| of the brush model [N].
 
     Parameters
@@ -222,10 +228,15 @@ def lateral_force(mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="
     Seed 000, eq. (4.14), ch. 10; PHYSICS.md §1.2, §2.3.
     """
     _check(pressure, model)
-    arrs = [as_float_array(v, n) for v, n in ((mu, "mu"), (slip_angle, "slip_angle"),
-                                              (load, "load"),
-                                              (cornering_stiffness_Nprad,
-                                               "cornering_stiffness_Nprad"))]
+    arrs = [
+        as_float_array(v, n)
+        for v, n in (
+            (mu, "mu"),
+            (slip_angle, "slip_angle"),
+            (load, "load"),
+            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
+        )
+    ]
     shape = np.broadcast_shapes(*(a.shape for a in arrs))
     m, b, fz, c = (np.ascontiguousarray(np.broadcast_to(a, shape)).ravel() for a in arrs)
     out = np.empty(m.size)

@@ -50,81 +50,180 @@ def _ctrl(**kw) -> np.ndarray:
     return c
 
 
-def circle(speed_mps: float, radius_m: float, *, laps: float = 5.0, left: bool = True,
-           settle_s: float = 6.0, params: V.SimParams | None = None) -> Maneuver:
-    """Steady circle at constant speed, following the circle with pure pursuit."""
+def circle(
+    speed_mps: float,
+    radius_m: float,
+    *,
+    laps: float = 5.0,
+    left: bool = True,
+    lead_s: float = 6.0,
+    settle_s: float = 6.0,
+    params: V.SimParams | None = None,
+) -> Maneuver:
+    """Steady circle at constant speed: a straight lead-in of *lead_s* (which also lets the
+    heading offset be calibrated), then the circle, followed with pure pursuit."""
     sgn = 1.0 if left else -1.0
     lap_s = 2 * np.pi * radius_m / speed_mps
     look = float(np.clip(0.6 * speed_mps, 4.0, 0.5 * radius_m))
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_CIRCLE, C_CX=0.0, C_CY=sgn * radius_m, C_R=radius_m,
-                 C_DIR=sgn, C_LOOK=look, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
-    init = {"u_mps": speed_mps, "yaw_rate_rps": sgn * speed_mps / radius_m}
-    if params is not None:  # start on the circle with the rear axle on the path
+    x_in = speed_mps * lead_s  # where the circle starts (tangent to the lead-in line)
+    ctrl = _ctrl(
+        C_STEER_MODE=V.STEER_CIRCLE,
+        C_CX=x_in,
+        C_CY=sgn * radius_m,
+        C_R=radius_m,
+        C_DIR=sgn,
+        C_LOOK=look,
+        C_SPEED_MODE=V.SPEED_HOLD,
+        C_V=speed_mps,
+        C_T_LEAD=lead_s,
+    )
+    init = {"u_mps": speed_mps}
+    if params is not None:  # rear axle on the line
         init["x_m"] = params.l_r
-    return Maneuver(f"circle v={speed_mps * 3.6:.0f}km/h R={radius_m:.0f}m", ctrl,
-                    settle_s + laps * lap_s, init, settle_s=settle_s,
-                    info={"maneuver": "circle", "speed_mps": speed_mps, "radius_m": radius_m,
-                          "laps": laps, "left": left})
+    return Maneuver(
+        f"circle v={speed_mps * 3.6:.0f}km/h R={radius_m:.0f}m",
+        ctrl,
+        lead_s + settle_s + laps * lap_s,
+        init,
+        settle_s=lead_s + settle_s,
+        info={
+            "maneuver": "circle",
+            "speed_mps": speed_mps,
+            "radius_m": radius_m,
+            "laps": laps,
+            "left": left,
+            "lead_s": lead_s,
+        },
+    )
 
 
-def fixed_steer(speed_mps: float, steer_rad: float, *, duration_s: float = 30.0,
-                settle_s: float = 6.0) -> Maneuver:
+def fixed_steer(
+    speed_mps: float, steer_rad: float, *, duration_s: float = 30.0, settle_s: float = 6.0
+) -> Maneuver:
     """Constant road-wheel angle at constant speed (the thesis's 2016 experiments)."""
     ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
     table = (np.array([0.0, 1.0]), np.array([steer_rad, steer_rad]))
-    return Maneuver(f"steer {np.rad2deg(steer_rad):.0f}° v={speed_mps * 3.6:.0f}km/h", ctrl,
-                    settle_s + duration_s, {"u_mps": speed_mps}, table, settle_s,
-                    {"maneuver": "fixed_steer", "speed_mps": speed_mps, "steer_rad": steer_rad})
+    return Maneuver(
+        f"steer {np.rad2deg(steer_rad):.0f}° v={speed_mps * 3.6:.0f}km/h",
+        ctrl,
+        settle_s + duration_s,
+        {"u_mps": speed_mps},
+        table,
+        settle_s,
+        {"maneuver": "fixed_steer", "speed_mps": speed_mps, "steer_rad": steer_rad},
+    )
 
 
-def ramp_steer(speed_mps: float, *, rate_rad_s: float = np.deg2rad(1.0),
-               max_steer_rad: float = np.deg2rad(25.0), hold_s: float = 3.0) -> Maneuver:
+def ramp_steer(
+    speed_mps: float,
+    *,
+    rate_rad_s: float = np.deg2rad(1.0),
+    max_steer_rad: float = np.deg2rad(25.0),
+    hold_s: float = 3.0,
+) -> Maneuver:
     """Straight, then the steering angle ramps up slowly at constant speed: to the limit."""
     t_end = hold_s + max_steer_rad / rate_rad_s
     table = (np.array([0.0, hold_s, t_end]), np.array([0.0, 0.0, max_steer_rad]))
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps,
-                 C_FXMAX=8000.0)
-    return Maneuver(f"ramp steer v={speed_mps * 3.6:.0f}km/h", ctrl, t_end, {"u_mps": speed_mps},
-                    table, hold_s, {"maneuver": "ramp_steer", "speed_mps": speed_mps})
+    ctrl = _ctrl(
+        C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps, C_FXMAX=8000.0
+    )
+    return Maneuver(
+        f"ramp steer v={speed_mps * 3.6:.0f}km/h",
+        ctrl,
+        t_end,
+        {"u_mps": speed_mps},
+        table,
+        hold_s,
+        {"maneuver": "ramp_steer", "speed_mps": speed_mps},
+    )
 
 
-def slalom(speed_mps: float, *, amplitude_rad: float = np.deg2rad(3.0), period_s: float = 3.0,
-           cycles: int = 5) -> Maneuver:
+def slalom(
+    speed_mps: float,
+    *,
+    amplitude_rad: float = np.deg2rad(3.0),
+    period_s: float = 3.0,
+    cycles: int = 5,
+) -> Maneuver:
     """Sinusoidal steering at constant speed."""
     t = np.linspace(0.0, cycles * period_s, 50 * cycles + 1)
     table = (t, amplitude_rad * np.sin(2 * np.pi * t / period_s))
     ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
-    return Maneuver(f"slalom v={speed_mps * 3.6:.0f}km/h", ctrl, cycles * period_s,
-                    {"u_mps": speed_mps}, table, 0.0, {"maneuver": "slalom"})
+    return Maneuver(
+        f"slalom v={speed_mps * 3.6:.0f}km/h",
+        ctrl,
+        cycles * period_s,
+        {"u_mps": speed_mps},
+        table,
+        0.0,
+        {"maneuver": "slalom"},
+    )
 
 
 def braking(speed_mps: float, *, cruise_s: float = 3.0) -> Maneuver:
     """Straight line at speed, then all wheels locked until standstill (thesis ch. 8)."""
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_LINE, C_R=0.0, C_LOOK=8.0,
-                 C_SPEED_MODE=V.SPEED_BRAKE_LOCK, C_V=speed_mps, C_T_BRAKE=cruise_s)
+    ctrl = _ctrl(
+        C_STEER_MODE=V.STEER_LINE,
+        C_R=0.0,
+        C_LOOK=8.0,
+        C_SPEED_MODE=V.SPEED_BRAKE_LOCK,
+        C_V=speed_mps,
+        C_T_BRAKE=cruise_s,
+    )
     dur = cruise_s + speed_mps / (0.1 * 9.81) + 2.0  # enough even for μ = 0.1
-    return Maneuver(f"locked braking from {speed_mps * 3.6:.0f}km/h", ctrl, dur,
-                    {"u_mps": speed_mps}, None, 0.0,
-                    {"maneuver": "braking", "speed_mps": speed_mps, "brake_at_s": cruise_s})
+    return Maneuver(
+        f"locked braking from {speed_mps * 3.6:.0f}km/h",
+        ctrl,
+        dur,
+        {"u_mps": speed_mps},
+        None,
+        0.0,
+        {"maneuver": "braking", "speed_mps": speed_mps, "brake_at_s": cruise_s},
+    )
 
 
-def thesis_grid_2018(params: V.SimParams | None = None, *, speeds_kmh=(20, 30, 40, 50),
-                     radii_m=(20, 25, 30, 35, 40), laps: float = 5.0) -> list[Maneuver]:
+def thesis_grid_2018(
+    params: V.SimParams | None = None,
+    *,
+    speeds_kmh=(20, 30, 40, 50),
+    radii_m=(20, 25, 30, 35, 40),
+    laps: float = 5.0,
+) -> list[Maneuver]:
     """The 2018 experiments: circles at 20–50 km/h × radius 20–40 m, 5 laps each."""
     return [circle(v / 3.6, r, laps=laps, params=params) for v in speeds_kmh for r in radii_m]
 
 
-def thesis_grid_2016(*, speeds_kmh=(20, 30, 40), steer_deg=(5, 10, 15, 20, 25, 30, 35),
-                     duration_s: float = 30.0) -> list[Maneuver]:
+def thesis_grid_2016(
+    *, speeds_kmh=(20, 30, 40), steer_deg=(5, 10, 15, 20, 25, 30, 35), duration_s: float = 30.0
+) -> list[Maneuver]:
     """The 2016 experiments: 20–40 km/h × fixed steering 5–35° (road-wheel angle here)."""
-    return [fixed_steer(v / 3.6, np.deg2rad(d), duration_s=duration_s)
-            for v in speeds_kmh for d in steer_deg]
+    return [
+        fixed_steer(v / 3.6, np.deg2rad(d), duration_s=duration_s)
+        for v in speeds_kmh
+        for d in steer_deg
+    ]
 
 
-def run(params: V.SimParams, m: Maneuver, *, mu: float = 0.9, patches=None, dt: float = 0.002,
-        output_hz: float = 100.0) -> V.SimResult:
+def run(
+    params: V.SimParams,
+    m: Maneuver,
+    *,
+    mu: float = 0.9,
+    patches=None,
+    dt: float = 0.002,
+    output_hz: float = 100.0,
+) -> V.SimResult:
     """Simulate a manoeuvre."""
-    res = V.simulate(params, m.controller, m.duration_s, mu=mu, patches=patches,
-                     initial=m.initial, steer_table=m.steer_table, dt=dt, output_hz=output_hz)
+    res = V.simulate(
+        params,
+        m.controller,
+        m.duration_s,
+        mu=mu,
+        patches=patches,
+        initial=m.initial,
+        steer_table=m.steer_table,
+        dt=dt,
+        output_hz=output_hz,
+    )
     res.meta.update(m.info, name=m.name, settle_s=m.settle_s, mu_road=mu)
     return res

@@ -63,8 +63,14 @@ class SimParams:
     pressure: str = "parabolic"
 
     @classmethod
-    def from_vehicle(cls, v: Vehicle, *, yaw_inertia_kgm2: float | None = None,
-                     relaxation_length_m: float = 0.0, drive: str = "front") -> SimParams:
+    def from_vehicle(
+        cls,
+        v: Vehicle,
+        *,
+        yaw_inertia_kgm2: float | None = None,
+        relaxation_length_m: float = 0.0,
+        drive: str = "front",
+    ) -> SimParams:
         """Simulation parameters from a vehicle description.
 
         The yaw inertia defaults to m·l_f·l_r (a common estimate: radius of gyration² ≈ l_f l_r).
@@ -79,17 +85,28 @@ class SimParams:
         L = v.wheelbase_m
         l_f = L * (1.0 - v.front_weight_fraction)
         l_r = L - l_f
-        kf = (v.roll_stiffness_front_fraction if v.roll_stiffness_front_fraction is not None
-              else v.front_weight_fraction)
+        kf = (
+            v.roll_stiffness_front_fraction
+            if v.roll_stiffness_front_fraction is not None
+            else v.front_weight_fraction
+        )
         rc = v.roll_centre_heights_m or (v.cg_height_m, v.cg_height_m)
         pressures = {t.pressure for t in v.tyres.values()}
-        return cls(mass_kg=v.mass_kg,
-                   yaw_inertia_kgm2=yaw_inertia_kgm2 or v.mass_kg * l_f * l_r,
-                   l_f=l_f, l_r=l_r, cg_height_m=v.cg_height_m, track_front_m=v.track_front_m,
-                   track_rear_m=v.track_rear_m, roll_front_fraction=kf,
-                   roll_centre_heights_m=tuple(rc), tyres=dict(v.tyres),
-                   relaxation_length_m=relaxation_length_m, drive=drive,
-                   pressure="quartic" if pressures == {"quartic"} else "parabolic")
+        return cls(
+            mass_kg=v.mass_kg,
+            yaw_inertia_kgm2=yaw_inertia_kgm2 or v.mass_kg * l_f * l_r,
+            l_f=l_f,
+            l_r=l_r,
+            cg_height_m=v.cg_height_m,
+            track_front_m=v.track_front_m,
+            track_rear_m=v.track_rear_m,
+            roll_front_fraction=kf,
+            roll_centre_heights_m=tuple(rc),
+            tyres=dict(v.tyres),
+            relaxation_length_m=relaxation_length_m,
+            drive=drive,
+            pressure="quartic" if pressures == {"quartic"} else "parabolic",
+        )
 
     @property
     def wheel_positions(self) -> np.ndarray:
@@ -107,14 +124,34 @@ class SimParams:
         for axle in ("front", "rear"):
             t = self.tyres[axle]
             fixed_c = t.cornering_stiffness_N_per_rad if t.cornering_stiffness_N_per_rad else -1.0
-            tyre_cols += [t.width_m, t.tread_stiffness_N_per_m3 or 0.0, fixed_c,
-                          t.contact_a if t.contact_a is not None else 0.0,
-                          t.contact_b if t.contact_b is not None else 0.0,
-                          t.contact_length_m if t.contact_length_m is not None else -1.0]
-        return np.array([m, self.yaw_inertia_kgm2, self.l_f, self.l_r, self.cg_height_m,
-                         self.track_front_m, self.track_rear_m, self.roll_front_fraction, hf, hr,
-                         mf, mr, self.relaxation_length_m, DRIVES[self.drive],
-                         0.0 if self.pressure == "parabolic" else 2.0, *tyre_cols])
+            tyre_cols += [
+                t.width_m,
+                t.tread_stiffness_N_per_m3 or 0.0,
+                fixed_c,
+                t.contact_a if t.contact_a is not None else 0.0,
+                t.contact_b if t.contact_b is not None else 0.0,
+                t.contact_length_m if t.contact_length_m is not None else -1.0,
+            ]
+        return np.array(
+            [
+                m,
+                self.yaw_inertia_kgm2,
+                self.l_f,
+                self.l_r,
+                self.cg_height_m,
+                self.track_front_m,
+                self.track_rear_m,
+                self.roll_front_fraction,
+                hf,
+                hr,
+                mf,
+                mr,
+                self.relaxation_length_m,
+                DRIVES[self.drive],
+                0.0 if self.pressure == "parabolic" else 2.0,
+                *tyre_cols,
+            ]
+        )
 
 
 @dataclass
@@ -152,8 +189,8 @@ class SimResult:
 # ---- compiled core -----------------------------------------------------------------------
 # controller array layout (see maneuvers.py, which fills it)
 C_STEER_MODE, C_CX, C_CY, C_R, C_DIR, C_LOOK = 0, 1, 2, 3, 4, 5
-C_SPEED_MODE, C_V, C_KP, C_FXMAX, C_T_BRAKE, C_RATIO = 6, 7, 8, 9, 10, 11
-N_CTRL = 12
+C_SPEED_MODE, C_V, C_KP, C_FXMAX, C_T_BRAKE, C_RATIO, C_T_LEAD = 6, 7, 8, 9, 10, 11, 12
+N_CTRL = 13
 STEER_TABLE, STEER_CIRCLE, STEER_LINE = 0, 1, 2
 SPEED_HOLD, SPEED_FREE, SPEED_BRAKE_LOCK = 0, 1, 2
 
@@ -170,8 +207,14 @@ def _road_mu(x, y, mu0, patches):
 @njit(cache=True, nogil=True)
 def _tyre_c(p, axle, mass):
     base = 15 + 6 * axle
-    w, g, fixed_c, a, b, fixed_l = p[base], p[base + 1], p[base + 2], p[base + 3], p[base + 4], \
-        p[base + 5]
+    w, g, fixed_c, a, b, fixed_l = (
+        p[base],
+        p[base + 1],
+        p[base + 2],
+        p[base + 3],
+        p[base + 4],
+        p[base + 5],
+    )
     if fixed_c > 0:
         return fixed_c
     if fixed_l > 0:
@@ -288,10 +331,14 @@ def _controls(t, s, ctrl, steer_t, steer_v, lf, lr):
         rx = X - lr * np.cos(psi)
         ry = Y - lr * np.sin(psi)
         look = max(ctrl[C_LOOK], 1.0)
+        if mode == STEER_CIRCLE and t < ctrl[C_T_LEAD]:
+            mode = STEER_LINE  # straight lead-in along +x through the origin
         if mode == STEER_CIRCLE:
             cx, cy, R, sgn = ctrl[C_CX], ctrl[C_CY], ctrl[C_R], ctrl[C_DIR]
             ang = np.arctan2(ry - cy, rx - cx) + sgn * look / R
             tx, ty = cx + R * np.cos(ang), cy + R * np.sin(ang)
+        elif int(ctrl[C_STEER_MODE]) == STEER_CIRCLE:  # lead-in line y = 0
+            tx, ty = rx + look, 0.0
         else:  # straight line through (cx, cy) with direction angle ctrl[C_R]
             dirn = ctrl[C_R]
             along = (rx - ctrl[C_CX]) * np.cos(dirn) + (ry - ctrl[C_CY]) * np.sin(dirn) + look
@@ -313,8 +360,9 @@ def _controls(t, s, ctrl, steer_t, steer_v, lf, lr):
 
 
 @njit(cache=True, nogil=True)
-def _integrate(s0, p, wpos, ctrl, steer_t, steer_v, mu0, patches, dt, n_steps, every,
-               out_body, out_wheel):
+def _integrate(
+    s0, p, wpos, ctrl, steer_t, steer_v, mu0, patches, dt, n_steps, every, out_body, out_wheel
+):
     s = s0.copy()
     n_state = s.size
     ow = np.empty((4, 6))
@@ -398,13 +446,26 @@ def simulate(
     -------
     SimResult
     """
-    every = max(1, int(round(1.0 / (output_hz * dt))))
-    n_steps = int(round(duration_s / dt))
-    init = {"x_m": 0.0, "y_m": 0.0, "yaw_rad": 0.0, "u_mps": 10.0, "v_mps": 0.0,
-            "yaw_rate_rps": 0.0, **(initial or {})}
+    every = max(1, round(1.0 / (output_hz * dt)))
+    n_steps = round(duration_s / dt)
+    init = {
+        "x_m": 0.0,
+        "y_m": 0.0,
+        "yaw_rad": 0.0,
+        "u_mps": 10.0,
+        "v_mps": 0.0,
+        "yaw_rate_rps": 0.0,
+        **(initial or {}),
+    }
     s0 = np.zeros(10)
-    s0[:6] = [init["x_m"], init["y_m"], init["yaw_rad"], init["u_mps"], init["v_mps"],
-              init["yaw_rate_rps"]]
+    s0[:6] = [
+        init["x_m"],
+        init["y_m"],
+        init["yaw_rad"],
+        init["u_mps"],
+        init["v_mps"],
+        init["yaw_rate_rps"],
+    ]
     p = params._packed()
     wpos = params.wheel_positions
     pt = np.zeros((0, 5)) if patches is None else np.asarray(patches, dtype=float).reshape(-1, 5)
@@ -413,20 +474,51 @@ def simulate(
     ob = np.full((n_out, 11), np.nan)
     ow = np.full((n_out, 4, 6), np.nan)
     t0 = time.perf_counter()
-    k = _integrate(s0, p, wpos, np.asarray(controller, dtype=float), np.asarray(st, float),
-                   np.asarray(sv, float), float(mu), pt, dt, n_steps, every, ob, ow)
+    k = _integrate(
+        s0,
+        p,
+        wpos,
+        np.asarray(controller, dtype=float),
+        np.asarray(st, float),
+        np.asarray(sv, float),
+        float(mu),
+        pt,
+        dt,
+        n_steps,
+        every,
+        ob,
+        ow,
+    )
     wall = time.perf_counter() - t0
     ob, ow = ob[:k], ow[:k]
-    body = pd.DataFrame({
-        "t_s": ob[:, 0], "x_m": ob[:, 1], "y_m": ob[:, 2], "yaw_rad": ob[:, 3], "u_mps": ob[:, 4],
-        "v_mps": ob[:, 5], "yaw_rate_rps": ob[:, 6], "ax_mps2": ob[:, 7], "ay_mps2": ob[:, 8],
-        "steer_rad": ob[:, 9], "fx_N": ob[:, 10]})
+    body = pd.DataFrame(
+        {
+            "t_s": ob[:, 0],
+            "x_m": ob[:, 1],
+            "y_m": ob[:, 2],
+            "yaw_rad": ob[:, 3],
+            "u_mps": ob[:, 4],
+            "v_mps": ob[:, 5],
+            "yaw_rate_rps": ob[:, 6],
+            "ax_mps2": ob[:, 7],
+            "ay_mps2": ob[:, 8],
+            "steer_rad": ob[:, 9],
+            "fx_N": ob[:, 10],
+        }
+    )
     n = ob.shape[0]
-    wheels = pd.DataFrame({
-        "t_s": np.repeat(ob[:, 0], 4),
-        "wheel": pd.Categorical(np.tile(np.array(WHEEL_NAMES), n), categories=list(WHEEL_NAMES)),
-        "mu_true": ow[:, :, 3].ravel(), "slip_angle_rad": ow[:, :, 0].ravel(),
-        "load_N": ow[:, :, 1].ravel(), "force_N": ow[:, :, 2].ravel(),
-        "speed_mps": ow[:, :, 4].ravel()})
+    wheels = pd.DataFrame(
+        {
+            "t_s": np.repeat(ob[:, 0], 4),
+            "wheel": pd.Categorical(
+                np.tile(np.array(WHEEL_NAMES), n), categories=list(WHEEL_NAMES)
+            ),
+            "mu_true": ow[:, :, 3].ravel(),
+            "slip_angle_rad": ow[:, :, 0].ravel(),
+            "load_N": ow[:, :, 1].ravel(),
+            "force_N": ow[:, :, 2].ravel(),
+            "speed_mps": ow[:, :, 4].ravel(),
+        }
+    )
     meta = {"diverged": k < n_out, "dt_s": dt, "output_hz": output_hz}
     return SimResult(body=body, wheels=wheels, params=params, wall_s=wall, meta=meta)
