@@ -12,12 +12,14 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.errors import InputError
+from gripsense.estimate.axle_window import WindowOptions, estimate_windows
 from gripsense.estimate.friction import (
     FLAGS,
     METHODS,
     FrictionOptions,
     NoiseModel,
-    estimate_friction,
+    friction_from_motion,
+    motion_from_epochs,
 )
 from gripsense.physics.surface import surface_class_interval
 
@@ -46,10 +48,13 @@ class FrictionResult:
     wheels: pd.DataFrame
     summary: pd.DataFrame
     meta: dict = field(default_factory=dict)
+    windows: pd.DataFrame | None = None
 
     def explain(self) -> str:
         """One line: what was found, or why nothing was observable."""
         s = self.summary
+        if "axle" in s.columns:
+            return _explain_axles(s)
         if len(s) == 0:
             return "nothing to analyse: " + self.meta.get(
                 "note", "no epoch had heading, course, speed and yaw rate together"
@@ -100,16 +105,21 @@ class FrictionResult:
         wp = outdir / "wheels.parquet"
         self.wheels.to_parquet(wp, index=False)
         sp = outdir / "summary.json"
+        paths = {"wheels": wp, "summary": sp}
+        if self.windows is not None:
+            paths["windows"] = outdir / "windows.parquet"
+            self.windows.to_parquet(paths["windows"], index=False)
         recs = json.loads(self.summary.to_json(orient="records"))
+        key = "axles" if "axle" in self.summary.columns else "wheels"
         sp.write_text(
             json.dumps(
-                {"meta": self.meta, "wheels": recs, "explain": self.explain()},
+                {"meta": self.meta, key: recs, "explain": self.explain()},
                 indent=2,
                 default=str,
             )
             + "\n"
         )
-        return {"wheels": wp, "summary": sp}
+        return paths
 
 
 def summarize(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> pd.DataFrame:
@@ -165,6 +175,35 @@ def summarize(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> pd.DataF
     return pd.DataFrame(rows, columns=cols)
 
 
+def _explain_axles(s: pd.DataFrame) -> str:
+    parts = []
+    for rec in s.to_dict("records"):
+        if rec.get("n", 0) == 0:
+            parts.append(f"{rec['axle']} axle: no steady cornering")
+        elif rec["observable"]:
+            parts.append(
+                f"{rec['axle']} axle: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "
+                f"{rec['mu_high']:.2f}] ({rec['surface']})"
+            )
+        else:
+            hi = "" if not np.isfinite(rec["mu_high"]) else f" ≤ {rec['mu_high']:.2f}"
+            parts.append(
+                f"{rec['axle']} axle: μ not observable — the data prove μ ≥ "
+                f"{rec['mu_lower_bound']:.2f}{hi} (utilisation {rec['utilisation']:.2f})"
+            )
+    return "; ".join(parts)
+
+
+def _axle_summary(summary: pd.DataFrame) -> pd.DataFrame:
+    s = summary.copy()
+    if len(s) and "mu_low" in s:
+        s["surface"] = [
+            str(surface_class_interval(lo, hi)) if obs else "undetermined"
+            for lo, hi, obs in zip(s["mu_low"], s["mu_high"], s["observable"], strict=True)
+        ]
+    return s
+
+
 class FrictionRun:
     """Friction from a GNSS-compass epoch table: vehicle + method + options → result.
 
@@ -193,6 +232,7 @@ class FrictionRun:
         method: str = "brush-2",
         *,
         noise: NoiseModel | None = None,
+        window: WindowOptions | None = None,
         **options,
     ):
         if method not in METHODS:
@@ -207,10 +247,32 @@ class FrictionRun:
             )
         opts = replace(FrictionOptions(), **options)
         self.options = replace(opts, noise=noise) if noise is not None else opts
+        self.window = window or WindowOptions()
 
     def run(self, epochs: pd.DataFrame, *, steer_rad: np.ndarray | None = None) -> FrictionResult:
-        """Estimate μ per wheel; *steer_rad* (road-wheel angle per epoch row) enables the front."""
-        wheels, meta = estimate_friction(
-            epochs, self.vehicle, method=self.method, options=self.options, steer_rad=steer_rad
+        """Estimate μ from a GNSS-compass epoch table (:func:`gripsense.io.read_nmea`).
+
+        *steer_rad* (road-wheel angle per epoch row) enables the front wheels.
+        """
+        motion, meta = motion_from_epochs(
+            epochs, self.vehicle, options=self.options, steer_rad=steer_rad
         )
-        return FrictionResult(wheels=wheels, summary=summarize(wheels), meta=meta)
+        return self.run_motion(motion, meta=meta)
+
+    def run_motion(self, motion: pd.DataFrame, *, meta: dict | None = None) -> FrictionResult:
+        """Estimate μ from a motion table of the measurement point (see
+        :func:`gripsense.estimate.friction.friction_from_motion` and
+        :func:`gripsense.io.table.read_motion_table`)."""
+        wheels, meta2 = friction_from_motion(
+            motion, self.vehicle, method=self.method, options=self.options
+        )
+        meta = {**(meta or {}), **meta2}
+        if self.method == "axle-window":
+            windows, axles = estimate_windows(
+                wheels, self.vehicle, noise=self.options.noise, options=self.window
+            )
+            return FrictionResult(
+                wheels=wheels, summary=_axle_summary(axles), meta=meta, windows=windows
+            )
+        summary = summarize(wheels, self.options.min_valid_fraction)
+        return FrictionResult(wheels=wheels, summary=summary, meta=meta)

@@ -41,7 +41,15 @@ from gripsense.physics.kinematics import (
 )
 from gripsense.physics.load_transfer import G0, lateral_load_transfer, wheel_loads
 
-__all__ = ["FLAGS", "METHODS", "FrictionOptions", "NoiseModel", "estimate_friction"]
+__all__ = [
+    "FLAGS",
+    "METHODS",
+    "FrictionOptions",
+    "NoiseModel",
+    "estimate_friction",
+    "friction_from_motion",
+    "motion_from_epochs",
+]
 
 # method -> (pressure, model); "brush"/"thesis" take the pressure from the tyre description
 METHODS = {
@@ -51,6 +59,8 @@ METHODS = {
     "brush-4": ("quartic", "exact"),
     "brush": (None, "exact"),
     "thesis": (None, "thesis"),
+    "axle-window": (None, "exact"),  # per-sample kinematics here; μ per axle and window in
+    # gripsense.estimate.axle_window
 }
 FLAGS = (
     "ok",
@@ -81,6 +91,9 @@ WHEEL_COLUMNS = [
     "lateral_accel_mps2",
     "utilisation",
     "steady",
+    "cornering_stiffness_Nprad",
+    "slip_sigma_rad",
+    "force_sigma_N",
 ]
 
 
@@ -91,7 +104,16 @@ class NoiseModel:
     Attributes
     ----------
     heading_deg : float
-        Compass heading [deg]; 0.75 is the thesis's stated receiver accuracy (Table 13).
+        Compass heading, total [deg]; 0.75 is the thesis's stated receiver accuracy (Table 13).
+        Used by the per-sample methods.
+    heading_white_deg : float
+        The part of the heading error that is independent from sample to sample [deg]
+        (``axle-window``).
+    heading_bias_deg : float
+        The part that stays over a window — residual mounting offset after calibration plus
+        slowly varying (multipath) error [deg]; ``axle-window`` treats it as a nuisance
+        parameter with this prior. After a short straight-line calibration it is the
+        difference of two values of the slow error: √2 × ~0.4° for a V100-class receiver.
     velocity_mps : float
         Each horizontal velocity component [m/s]; gives the course noise σ_v / v and the speed
         noise. 0.05 m/s is a typical Doppler velocity accuracy.
@@ -102,13 +124,19 @@ class NoiseModel:
         range from 2.3e7 to 9.6e7 (Table 23); 0.2 is optimistic.
     contact_length_rel : float
         Relative uncertainty of the contact length [-] (Table 18 fit: 0.29 cm on ~14 cm).
+    load_transfer_rel : float
+        Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
+        (``axle-window``).
     """
 
     heading_deg: float = 0.75
+    heading_white_deg: float = 0.3
+    heading_bias_deg: float = 0.6
     velocity_mps: float = 0.05
     yaw_rate_dps: float = 0.3
     tread_stiffness_rel: float = 0.2
     contact_length_rel: float = 0.02
+    load_transfer_rel: float = 0.1
 
 
 @dataclass(frozen=True)
@@ -172,6 +200,76 @@ def _steady(t: np.ndarray, speed: np.ndarray, yaw: np.ndarray, o: FrictionOption
     )
 
 
+def motion_from_epochs(
+    epochs: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    options: FrictionOptions | None = None,
+    steer_rad: np.ndarray | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """GNSS-compass epochs -> motion table of the antenna point (body axes).
+
+    The heading offset is calibrated on straight driving (or taken from the vehicle file);
+    β_A = wrap(ψ − ψ₀ − χ), (U, V) = v (cos β_A, sin β_A) (PHYSICS.md §3.1).
+
+    Returns
+    -------
+    motion : pandas.DataFrame
+        ``t_s``, ``epoch`` (row of *epochs*), ``u_mps``, ``v_mps``, ``yaw_rate_rps``,
+        ``ay_mps2`` (NaN: computed from U·r downstream), ``steer_rad`` (NaN without a channel).
+    meta : dict
+    """
+    o = options or FrictionOptions()
+    missing = [c for c in _REQUIRED if c not in epochs.columns]
+    if missing:
+        raise InputError(
+            f"epochs: missing columns {missing}; read the log with gripsense.io.read_nmea"
+        )
+    have = np.ones(len(epochs), dtype=bool)
+    for c in _REQUIRED:
+        have &= epochs[c].notna().to_numpy()
+    rows = np.flatnonzero(have)
+    ep = epochs.iloc[rows]
+    psi = np.deg2rad(ep["heading_deg"].to_numpy(float))
+    chi = np.deg2rad(ep["course_deg"].to_numpy(float))
+    v = ep["speed_mps"].to_numpy(float)
+    r = ep["yaw_rate_rps"].to_numpy(float)
+    meta: dict = {
+        "vehicle": vehicle.name,
+        "epochs_total": len(epochs),
+        "epochs_used": int(rows.size),
+        "epochs_missing_inputs": int(len(epochs) - rows.size),
+    }
+    offset = vehicle.heading_offset_rad
+    meta["heading_offset_source"] = "vehicle file"
+    if o.calibrate_heading:
+        cal, n_straight, spread = heading_offset_from_straight(psi, chi, r, v)
+        meta["straight_samples"] = n_straight
+        if np.isfinite(cal):
+            offset = cal
+            meta["heading_offset_source"] = f"straight driving ({n_straight} samples)"
+            meta["heading_offset_spread_deg"] = float(np.rad2deg(spread))
+    meta["heading_offset_deg"] = float(np.rad2deg(offset))
+    beta_a = antenna_sideslip(psi, chi, offset)
+    steer = (
+        np.full(rows.size, np.nan)
+        if steer_rad is None
+        else np.asarray(steer_rad, dtype=float)[rows]
+    )
+    motion = pd.DataFrame(
+        {
+            "t_s": ep["t_s"].to_numpy(float),
+            "epoch": rows,
+            "u_mps": v * np.cos(beta_a),
+            "v_mps": v * np.sin(beta_a),
+            "yaw_rate_rps": r,
+            "ay_mps2": np.full(rows.size, np.nan),
+            "steer_rad": steer,
+        }
+    )
+    return motion, meta
+
+
 def estimate_friction(
     epochs: pd.DataFrame,
     vehicle: Vehicle,
@@ -180,7 +278,7 @@ def estimate_friction(
     options: FrictionOptions | None = None,
     steer_rad: np.ndarray | None = None,
 ) -> tuple[pd.DataFrame, dict]:
-    """μ per wheel and epoch (see the module documentation for the chain).
+    """μ per wheel and epoch of a GNSS-compass epoch table (see the module documentation).
 
     Parameters
     ----------
@@ -206,50 +304,55 @@ def estimate_friction(
     """
     if method not in METHODS:
         raise InputError(f"method={method!r}; use one of {sorted(METHODS)}")
+    motion, meta = motion_from_epochs(epochs, vehicle, options=options, steer_rad=steer_rad)
+    wheels, meta2 = friction_from_motion(motion, vehicle, method=method, options=options)
+    meta.update(meta2)
+    return wheels, meta
+
+
+def friction_from_motion(
+    motion: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    method: str = "brush-2",
+    options: FrictionOptions | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """μ per wheel and sample from a motion table of the measurement point (body axes).
+
+    Parameters
+    ----------
+    motion : pandas.DataFrame
+        ``t_s``, ``epoch``, ``u_mps``, ``v_mps`` (body velocity of the measurement point — the
+        antenna of the vehicle file), ``yaw_rate_rps`` (ISO), ``ay_mps2`` (measured lateral
+        acceleration of the CG, or NaN: then U·r of the reference point), ``steer_rad``
+        (road-wheel angle or NaN).
+    vehicle, method, options
+        As for :func:`estimate_friction`.
+
+    Returns
+    -------
+    wheels : pandas.DataFrame
+    meta : dict
+    """
+    if method not in METHODS:
+        raise InputError(f"method={method!r}; use one of {sorted(METHODS)}")
     o = options or FrictionOptions()
-    missing = [c for c in _REQUIRED if c not in epochs.columns]
-    if missing:
-        raise InputError(
-            f"epochs: missing columns {missing}; read the log with gripsense.io.read_nmea"
-        )
-    have = np.ones(len(epochs), dtype=bool)
-    for c in _REQUIRED:
-        have &= epochs[c].notna().to_numpy()
-    rows = np.flatnonzero(have)
-    ep = epochs.iloc[rows]
-    t = ep["t_s"].to_numpy(float)
-    psi = np.deg2rad(ep["heading_deg"].to_numpy(float))
-    chi = np.deg2rad(ep["course_deg"].to_numpy(float))
-    v = ep["speed_mps"].to_numpy(float)
-    r = ep["yaw_rate_rps"].to_numpy(float)
-    steer = None if steer_rad is None else np.asarray(steer_rad, dtype=float)[rows]
-
-    meta: dict = {
-        "method": method,
-        "vehicle": vehicle.name,
-        "epochs_total": len(epochs),
-        "epochs_used": int(rows.size),
-        "epochs_missing_inputs": int(len(epochs) - rows.size),
-    }
-    offset = vehicle.heading_offset_rad
-    meta["heading_offset_source"] = "vehicle file"
-    if o.calibrate_heading:
-        cal, n_straight, spread = heading_offset_from_straight(psi, chi, r, v)
-        meta["straight_samples"] = n_straight
-        if np.isfinite(cal):
-            offset = cal
-            meta["heading_offset_source"] = f"straight driving ({n_straight} samples)"
-            meta["heading_offset_spread_deg"] = float(np.rad2deg(spread))
-    meta["heading_offset_deg"] = float(np.rad2deg(offset))
-
-    beta_a = antenna_sideslip(psi, chi, offset)
-    u_a, v_a = v * np.cos(beta_a), v * np.sin(beta_a)
+    meta: dict = {"method": method}
+    t = motion["t_s"].to_numpy(float)
+    rows = motion["epoch"].to_numpy()
+    u_a = motion["u_mps"].to_numpy(float)
+    v_a = motion["v_mps"].to_numpy(float)
+    r = motion["yaw_rate_rps"].to_numpy(float)
+    v = np.hypot(u_a, v_a)
+    st = motion["steer_rad"].to_numpy(float)
+    steer = None if np.isnan(st).all() else st
     # reference point for a_y: the CG if known, else the middle of the known wheels (lateral)
     if vehicle.cg_offset is not None:
         dy_ref = vehicle.cg_offset[1]
     else:
         dy_ref = float(np.mean([o_[1] for o_ in vehicle.wheel_offsets.values()]))
-    ay = (u_a - r * dy_ref) * r
+    ay_meas = motion["ay_mps2"].to_numpy(float)
+    ay = np.where(np.isfinite(ay_meas), ay_meas, (u_a - r * dy_ref) * r)
     steady = _steady(t, v, r, o)
     m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
     dfz = dict(
@@ -313,6 +416,11 @@ def estimate_friction(
             )
             mu_sigma = mu_raw * rel
 
+        sig_alpha_white = np.sqrt(
+            np.deg2rad(nz.heading_white_deg) ** 2
+            + sig_v_rel**2
+            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
+        )
         flag = np.full(t.size, "ok", dtype=object)
         sign_bad = force * alpha > 0  # ISO: F ≈ −C α
         conds = [
@@ -352,6 +460,9 @@ def estimate_friction(
                     "lateral_accel_mps2": ay,
                     "utilisation": np.abs(force) / fz,
                     "steady": steady,
+                    "cornering_stiffness_Nprad": c,
+                    "slip_sigma_rad": sig_alpha_white,
+                    "force_sigma_N": np.abs(force) * sig_f_rel,
                 }
             )
         )

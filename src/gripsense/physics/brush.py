@@ -180,6 +180,41 @@ def force_scalar(mu, tan_slip, load, stiffness, which):
 
 
 @njit(cache=True, nogil=True)
+def force_slope_scalar(mu, tan_slip, load, stiffness, quartic):
+    """(|F|, d|F|/d|β|) of the exact brush model for one tyre.
+
+    dF/dθ = 3 μ Fz ξ² for both pressures (PHYSICS.md §1.2, §2.3b: ξ = 1 − θ for P2), and
+    dθ/dβ = C sec²β /(3 μ Fz), so dF/dβ = C sec²β ξ² (0 in full sliding).
+
+    Parameters
+    ----------
+    mu, tan_slip, load, stiffness : float
+        μ [-], |tan β| [-], Fz [N], C [N/rad].
+    quartic : bool
+        Quartic (True) or parabolic pressure.
+    """
+    if not (mu > 0.0 and load > 0.0):
+        return 0.0, 0.0
+    t = abs(tan_slip)
+    th = stiffness * t / (3.0 * mu * load)
+    if not quartic:
+        if th >= 1.0:
+            return mu * load, 0.0
+        xi = 1.0 - th
+        return mu * load * (1.0 - xi * xi * xi), stiffness * (1.0 + t * t) * xi * xi
+    if th >= 5.0 / 3.0:
+        return mu * load, 0.0
+    p = 1.0 / 6.0
+    q = 0.3 * th - 5.0 / 54.0
+    xi = 2.0 / 3.0 - 2.0 * np.sqrt(p / 3.0) * np.sinh(
+        np.arcsinh((3.0 * q / (2.0 * p)) * np.sqrt(3.0 / p)) / 3.0
+    )
+    xi = min(max(xi, 0.0), 1.0)
+    f = mu * load * (3.0 * th * xi * xi + 1.0 - _phi4(xi))
+    return f, stiffness * (1.0 + t * t) * xi * xi
+
+
+@njit(cache=True, nogil=True)
 def _force_loop(mu, tb, fz, c, which, out):
     for i in range(out.size):
         out[i] = force_scalar(mu[i], tb[i], fz[i], c[i], which)
