@@ -118,47 +118,112 @@ def ingest(
 
 @app.command()
 def friction(
-    log: Annotated[Path, typer.Argument(help="NMEA log of the drive (plain or .gz)")],
-    vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
+    log: Annotated[Path | None, typer.Argument(help="NMEA log of the drive (plain or .gz)")] = None,
+    vehicle: Annotated[
+        Path | None, typer.Option("--vehicle", help="vehicle description (TOML)")
+    ] = None,
     method: Annotated[
-        str, typer.Option("--method", help="brush-2 | brush-4 | thesis-2 | thesis-4")
+        str,
+        typer.Option("--method", help="brush-2 | brush-4 | thesis-2 | thesis-4 | axle-window"),
     ] = "brush-2",
     steer_csv: Annotated[
         Path | None,
         typer.Option("--steer-csv", help="CSV with t_s and road_wheel_deg (enables front wheels)"),
     ] = None,
+    table: Annotated[
+        Path | None,
+        typer.Option("--table", help="motion table (CSV/Parquet) instead of an NMEA log"),
+    ] = None,
+    columns: Annotated[
+        str | None,
+        typer.Option(
+            "--columns",
+            help="mapping for --table: t=...,vx=...,vy=...,yaw_rate=..."
+            ",ay=...,steer=... (units after ':', e.g. yaw_rate=YawRate:dps)",
+        ),
+    ] = None,
     outdir: Annotated[
-        Path, typer.Option("-o", "--outdir", help="folder for wheels.parquet and summary.json")
+        Path, typer.Option("-o", "--outdir", help="folder for the result files")
     ] = Path("friction-results"),
 ) -> None:
-    """Tyre-road friction per wheel from a GNSS-compass log during cornering."""
+    """Tyre-road friction per wheel (or per axle with --method axle-window) during cornering."""
     from gripsense.config import Vehicle
     from gripsense.io.steer import read_steer_csv, steer_at
+    from gripsense.io.table import read_motion_table
     from gripsense.pipeline import FrictionRun
 
     try:
+        if vehicle is None:
+            raise GripsenseError("--vehicle car.toml is required")
+        if (log is None) == (table is None):
+            raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
         veh = Vehicle.from_toml(vehicle)
-        nlog = read_nmea(log)
-        steer = None
-        if steer_csv is not None:
-            ch = read_steer_csv(steer_csv, steering_ratio=veh.steering_ratio)
-            steer = steer_at(ch, nlog.epochs["t_s"].to_numpy())
-        result = FrictionRun(veh, method=method).run(nlog.epochs, steer_rad=steer)
+        run = FrictionRun(veh, method=method)
+        if table is not None:
+            if not columns:
+                raise GripsenseError(
+                    "--table needs --columns (e.g. t=Time,vx=Vx,vy=Vy,yaw_rate=YawRate:dps)"
+                )
+            result = run.run_motion(
+                read_motion_table(table, columns), meta={"vehicle": veh.name, "source": str(table)}
+            )
+        else:
+            nlog = read_nmea(log)
+            steer = None
+            if steer_csv is not None:
+                ch = read_steer_csv(steer_csv, steering_ratio=veh.steering_ratio)
+                steer = steer_at(ch, nlog.epochs["t_s"].to_numpy())
+            result = run.run(nlog.epochs, steer_rad=steer)
     except GripsenseError as e:
         _fail(e)
     print_friction(result)
     paths = result.to_files(outdir)
-    console.print(f"wrote {paths['wheels']} and {paths['summary']}")
+    console.print("wrote " + ", ".join(str(p) for p in paths.values()))
 
 
 def print_friction(result) -> None:
     """Print the per-wheel summary table and the one-line explanation."""
     m = result.meta
-    console.print(
-        f"[bold]{m['vehicle']}[/] — method {m['method']}; {m['epochs_used']} of "
-        f"{m['epochs_total']} epochs usable; heading offset {m['heading_offset_deg']:.2f}° "
-        f"({m['heading_offset_source']})"
-    )
+    head = f"[bold]{m.get('vehicle', '')}[/] — method {m['method']}"
+    if "epochs_total" in m:
+        head += (
+            f"; {m['epochs_used']} of {m['epochs_total']} epochs usable; heading offset "
+            f"{m['heading_offset_deg']:.2f}° ({m['heading_offset_source']})"
+        )
+    console.print(head)
+    if "axle" in result.summary.columns:
+        table = Table(title="Friction per axle (axle-window: 90 % profile-likelihood interval)")
+        for col in (
+            "axle",
+            "μ",
+            "90 % interval",
+            "surface",
+            "utilisation",
+            "samples",
+            "windows observable",
+        ):
+            table.add_column(col)
+        win = result.windows
+        for rec in result.summary.to_dict("records"):
+            if not rec.get("n"):
+                table.add_row(rec["axle"], "—", "—", "—", "—", "0", "—")
+                continue
+            mu = f"{rec['mu']:.2f}" if rec["observable"] else "n/o"
+            hi = f"{rec['mu_high']:.2f}" if np.isfinite(rec["mu_high"]) else "∞"
+            nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else []
+            obs = f"{int(nw['observable'].sum())} / {len(nw)}" if len(nw) else "—"
+            table.add_row(
+                rec["axle"],
+                mu,
+                f"{rec['mu_low']:.2f} – {hi}",
+                rec["surface"],
+                f"{rec['utilisation']:.2f}",
+                str(rec["n"]),
+                obs,
+            )
+        console.print(table)
+        console.print(result.explain(), soft_wrap=True)
+        return
     table = Table(title="Friction per wheel (steady cornering samples)")
     for col in (
         "wheel",

@@ -1,0 +1,156 @@
+"""Motion tables from other sources: GNSS/INS exports (OxTS, VBOX), research datasets.
+
+``read_motion_table(path, columns)`` turns a CSV or Parquet table into the motion table the
+friction core uses (:func:`gripsense.estimate.friction.friction_from_motion`): body velocities
+of the measurement point (the antenna position of the vehicle file), ISO yaw rate, optional
+lateral acceleration and road-wheel steer angle, and time.
+
+Column mapping: ``{"t": "Time", "vx": "VelForward", "vy": "VelLateral:kmh", ...}`` or the
+command-line form ``t=Time,vx=VelForward,vy=VelLateral:kmh,yaw_rate=AngRateZ:dps``. Keys:
+
+==========  ============================================================  ==============
+key         meaning                                                       default unit
+==========  ============================================================  ==============
+t           time                                                          s
+vx, vy      body velocity of the measurement point, x forward, y left     m/s
+speed, slip alternative to vx, vy: speed and body slip angle (ISO, left+) m/s, rad
+yaw_rate    yaw rate, ISO (counter-clockwise positive)                    rad/s
+ay          lateral acceleration of the CG, ISO (left positive)           m/s²
+steer       road-wheel steer angle, ISO (left positive)                   rad
+==========  ============================================================  ==============
+
+A unit after a colon converts: ``deg``, ``rad``, ``dps`` (deg/s), ``rps``, ``mps``, ``kmh``,
+``mph``, ``kn``, ``g``, ``mps2``, ``s``, ``ms``. A leading ``-`` flips the sign
+(``yaw_rate=-YawRate:dps`` for a clockwise-positive source).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.physics.load_transfer import G0
+
+__all__ = ["parse_columns", "read_motion_table"]
+
+UNITS = {
+    "deg": np.pi / 180,
+    "rad": 1.0,
+    "dps": np.pi / 180,
+    "rps": 1.0,
+    "mps": 1.0,
+    "kmh": 1 / 3.6,
+    "mph": 0.44704,
+    "kn": 1852 / 3600,
+    "g": G0,
+    "mps2": 1.0,
+    "s": 1.0,
+    "ms": 1e-3,
+}
+KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
+
+
+def parse_columns(spec: str | dict) -> dict[str, tuple[str, float]]:
+    """Column mapping -> {key: (column, factor)} (see the module documentation)."""
+    items = (
+        spec.items()
+        if isinstance(spec, dict)
+        else (part.split("=", 1) for part in spec.split(",") if part.strip())
+    )
+    out = {}
+    for item in items:
+        if len(item) != 2:
+            raise InputError(f"--columns: {item!r} is not key=column")
+        key, col = (x.strip() for x in item)
+        if key not in KEYS:
+            raise InputError(f"--columns: unknown key {key!r}; use {', '.join(KEYS)}")
+        sign = -1.0 if col.startswith("-") else 1.0
+        col = col.lstrip("-")
+        factor = 1.0
+        if ":" in col:
+            col, unit = col.rsplit(":", 1)
+            if unit not in UNITS:
+                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(UNITS)}")
+            factor = UNITS[unit]
+        out[key] = (col, sign * factor)
+    return out
+
+
+def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
+    """Read a CSV/Parquet table into a motion table.
+
+    Parameters
+    ----------
+    path : path
+        ``.csv`` (comment lines ``#``) or ``.parquet``.
+    columns : str or dict
+        Column mapping (see the module documentation). Needs ``t``, ``yaw_rate`` and either
+        ``vx`` + ``vy`` or ``speed`` + ``slip``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``t_s``, ``epoch`` (row), ``u_mps``, ``v_mps``, ``yaw_rate_rps``, ``ay_mps2``,
+        ``steer_rad`` (NaN where not given).
+
+    Raises
+    ------
+    InputError
+        Naming the file, key and column when something is missing or not numeric.
+    """
+    path = Path(path)
+    m = parse_columns(columns)
+    try:
+        df = (
+            pd.read_parquet(path)
+            if path.suffix.lower() == ".parquet"
+            else pd.read_csv(path, comment="#")
+        )
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such table") from None
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: not a readable table ({e})") from None
+    need = ["t", "yaw_rate"] + (["vx", "vy"] if "vx" in m or "vy" in m else ["speed", "slip"])
+    for key in need:
+        if key not in m:
+            raise InputError(f"{path}: --columns needs {key}= (have {sorted(m)})")
+
+    def col(key: str) -> np.ndarray:
+        name, factor = m[key]
+        if name not in df.columns:
+            raise InputError(
+                f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
+            )
+        v = pd.to_numeric(df[name], errors="coerce")
+        bad = v.isna() & df[name].notna()
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise InputError(
+                f"{path}: row {row + 1}, column {name!r}: {df[name].iloc[row]!r} is not a number"
+            )
+        return v.to_numpy(float) * factor
+
+    if "vx" in m:
+        u, v = col("vx"), col("vy")
+    else:
+        sp, sl = col("speed"), col("slip")
+        u, v = sp * np.cos(sl), sp * np.sin(sl)
+    n = len(df)
+    return (
+        pd.DataFrame(
+            {
+                "t_s": col("t"),
+                "epoch": np.arange(n),
+                "u_mps": u,
+                "v_mps": v,
+                "yaw_rate_rps": col("yaw_rate"),
+                "ay_mps2": col("ay") if "ay" in m else np.full(n, np.nan),
+                "steer_rad": col("steer") if "steer" in m else np.full(n, np.nan),
+            }
+        )
+        .dropna(subset=["t_s", "u_mps", "v_mps", "yaw_rate_rps"])
+        .reset_index(drop=True)
+    )
