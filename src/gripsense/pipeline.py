@@ -180,6 +180,12 @@ def _explain_axles(s: pd.DataFrame) -> str:
     for rec in s.to_dict("records"):
         if rec.get("n", 0) == 0:
             parts.append(f"{rec['axle']} axle: no steady cornering")
+        elif rec.get("fit") == "inconsistent":
+            parts.append(
+                f"{rec['axle']} axle: the data contradict the model (heading offset, "
+                f"vehicle or tyre parameters?) — only μ ≥ {rec['mu_lower_bound']:.2f} "
+                "(the utilisation) is certain"
+            )
         elif rec["observable"]:
             parts.append(
                 f"{rec['axle']} axle: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "

@@ -22,7 +22,8 @@ free and win every comparison — a degeneracy this formulation avoids.
   uncertainty) and a heading bias δψ ~ N(0, σ_bias) common to the samples of a window
   (residual mounting offset + slowly varying heading error);
 * window variance (errors in variables, linearised): σ_F² (speed and yaw-rate noise in
-  a_y) + (∂F/∂α)² σ_α² (white heading, course and yaw-rate noise in the slip angles) +
+  a_y, and a systematic axle-force model error) + (∂F/∂α)² σ_α² (white heading, course and
+  yaw-rate noise in the slip angles) +
   (∂F/∂ΔFz · ρ ΔFz)² (load-transfer parameter uncertainty ρ), evaluated at the candidate
   parameters — the effective-variance method of errors-in-variables least squares (Orear,
   Am. J. Phys. 50 (1982) 912; York et al., Am. J. Phys. 72 (2004) 367). A ½ log σ² term (full
@@ -185,11 +186,22 @@ def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int
     return float("inf") if step > 0 else float(x[0])
 
 
-def profile(nll: np.ndarray, o: WindowOptions, noise: NoiseModel) -> dict:
+def profile(
+    nll: np.ndarray,
+    o: WindowOptions,
+    noise: NoiseModel,
+    *,
+    dof: int = 1,
+    utilisation: float = np.nan,
+) -> dict:
     """Profile-likelihood estimate from an NLL grid (μ, s_C, δψ) or (μ, s_C).
 
     Returns ``mu``, ``mu_low``, ``mu_high`` (inf when unbounded), ``observable``,
-    ``mu_lower_bound``, ``stiffness_scale`` and its 90 % interval, ``heading_bias_deg``.
+    ``mu_lower_bound``, ``stiffness_scale`` and its 90 % interval, ``heading_bias_deg``,
+    ``fit`` (``ok``, or ``inconsistent`` when the best fit fails a χ² test with *dof* degrees
+    of freedom at 0.1 %, or lies on the lowest μ of the grid: the data contradict the model —
+    e.g. an uncorrected heading offset — and no value is given; the lower bound then falls
+    back to the *utilisation*, which every tyre model respects).
     """
     mu_g, s_g, d_g, prior = _grids(o, noise)
     sig_s = max(noise.tread_stiffness_rel, 1e-6)
@@ -221,6 +233,9 @@ def profile(nll: np.ndarray, o: WindowOptions, noise: NoiseModel) -> dict:
     lo_p = _crossing(mu_g, dev, level, im, -1)
     hi_p = _crossing(mu_g, dev, level, im, +1)
     observable = bool(np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    fit_ok = bool(2.0 * p_mu.min() <= chi2.ppf(0.999, dof) and im > 0)
+    if not fit_ok:
+        observable = False
     p_s = p_ms.min(axis=0)
     dev_s = 2.0 * (p_s - p_s.min())
     js = int(np.argmin(p_s))
@@ -230,7 +245,8 @@ def profile(nll: np.ndarray, o: WindowOptions, noise: NoiseModel) -> dict:
         "mu_low": float(lo),
         "mu_high": float(hi),
         "observable": observable,
-        "mu_lower_bound": float(lo),
+        "mu_lower_bound": float(lo) if fit_ok else float(utilisation),
+        "fit": "ok" if fit_ok else "inconsistent",
         "mu_best": float(mu_hat),
         "stiffness_scale": float(s_g[js]),
         "stiffness_scale_low": float(inside.min()) if inside.size else np.nan,
@@ -264,7 +280,7 @@ def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
     ]
     L = wheels.loc[wheels["wheel"] == lname, cols].set_index("epoch")
     R = wheels.loc[wheels["wheel"] == rname, cols].set_index("epoch")
-    both = L.join(R, lsuffix="_L", rsuffix="_R", how="inner")
+    both = L.add_suffix("_L").join(R.add_suffix("_R"), how="inner")
     usable = ~both["flag_L"].isin(_USABLE_OUT) & ~both["flag_R"].isin(_USABLE_OUT)
     num = both[[c for c in both.columns if not c.startswith("flag")]]
     usable &= np.isfinite(num.to_numpy(dtype=float)).all(axis=1)
@@ -295,12 +311,14 @@ def _take(x: dict, sel) -> dict:
 _MEAN_KEYS = ("aL", "aR", "fzL", "fzR", "cL", "cR", "F", "dfz")
 
 
-def window_mean(x: dict) -> dict:
-    """One super-sample from a window's samples: means, white variances divided by n."""
+def window_mean(x: dict, axle_force_rel: float = 0.0) -> dict:
+    """One super-sample from a window's samples: means, white variances divided by n, plus
+    the systematic axle-force model error (not divided)."""
     n = x["F"].size
     out = {k: np.array([x[k].mean()]) for k in _MEAN_KEYS}
     out["sa"] = np.array([np.sqrt(np.mean(x["sa"] ** 2) / n)])
-    out["sF"] = np.array([np.sqrt(np.mean(x["sF"] ** 2) / n)])
+    f = out["F"][0]
+    out["sF"] = np.array([np.sqrt(np.mean(x["sF"] ** 2) / n + (axle_force_rel * f) ** 2)])
     return out
 
 
@@ -348,11 +366,18 @@ def estimate_windows(
                 if sel.sum() < o.min_samples:
                     continue
                 w = _take(x, sel)
-                est = profile(grid_nll(window_mean(w), o, noise, quartic), o, noise)
+                mean = window_mean(w, noise.axle_force_rel)
+                est = profile(
+                    grid_nll(mean, o, noise, quartic),
+                    o,
+                    noise,
+                    utilisation=float(np.quantile(w["util"], 0.95)),
+                )
                 rows.append(_row(axle, w, est, t0, t0 + o.window_s))
         # summary: disjoint segments, each with its own heading bias, combined
         total = None
         n_used = 0
+        n_seg = 0
         if t.size:
             _, _, d_g, _ = _grids(o, noise)
             sig_d = max(np.deg2rad(noise.heading_bias_deg), 1e-9)
@@ -362,12 +387,16 @@ def estimate_windows(
                 sel = seg == s_id
                 if sel.sum() < o.min_samples:
                     continue
-                g = grid_nll(window_mean(_take(x, sel)), o, noise, quartic)
+                g = grid_nll(window_mean(_take(x, sel), noise.axle_force_rel), o, noise, quartic)
                 g = (g + d_prior[None, None, :]).min(axis=2)  # this segment's own bias
                 total = g if total is None else total + g
                 n_used += int(sel.sum())
+                n_seg += 1
         if total is not None:
-            est = profile(total, o, noise)  # adds the stiffness prior once
+            # adds the stiffness prior once; dof = number of segments
+            est = profile(
+                total, o, noise, dof=n_seg, utilisation=float(np.quantile(x["util"], 0.95))
+            )
             summ.append(_row(axle, x, est, float(t.min()), float(t.max())) | {"n": n_used})
         else:
             summ.append(
@@ -460,9 +489,15 @@ class OnlineAxleWindow:
                 tot[k] -= v[k]
         w = {k: np.array([tot[k] / n]) for k in _MEAN_KEYS}
         w["sa"] = np.array([np.sqrt(tot["sa2"] / n / n)])
-        w["sF"] = np.array([np.sqrt(tot["sF2"] / n / n)])
-        est = profile(grid_nll(w, self.o, self.noise, self.quartic), self.o, self.noise)
+        f = w["F"][0]
+        w["sF"] = np.array([np.sqrt(tot["sF2"] / n / n + (self.noise.axle_force_rel * f) ** 2)])
         util = np.array([v["util"] for t, v in self._items if t < t_end])
+        est = profile(
+            grid_nll(w, self.o, self.noise, self.quartic),
+            self.o,
+            self.noise,
+            utilisation=float(np.quantile(util, 0.95)),
+        )
         c = 0.5 * (w["cL"][0] + w["cR"][0])
         return {
             "t_start": t_start,

@@ -6,8 +6,9 @@ The chain, per epoch and wheel (PHYSICS.md §11):
    antenna velocity (U, V) = v (cos β_A, sin β_A); ISO yaw rate r (§3.1);
 2. each wheel's velocity U_i = U − r dy_i, V_i = V + r dx_i, slip angle α_i = atan2(V_i, U_i) − δ_i,
    speed and path radius v_i/|r| (§3.1);
-3. lateral acceleration of the reference point a_y = U_ref r; static axle masses and the
-   steady-state load transfer (§4.2; rigid = the thesis model, §4.3) give each wheel's load;
+3. lateral acceleration of the reference point a_y = U_ref r; static axle masses, the
+   steady-state lateral load transfer (§4.2; rigid = the thesis model, §4.3) and, with a
+   wheelbase, the longitudinal transfer m a_x h/L (a_x = U̇ − V r) give each wheel's load;
 4. contact length from the l–m model (§5), cornering stiffness C = G w l²/2 (eq. 9.1);
 5. each wheel carries its load's share of the axle force m_i⁰ a_y (equal friction utilisation on
    both wheels of an axle, the thesis's assumption, §4.4);
@@ -127,6 +128,11 @@ class NoiseModel:
     load_transfer_rel : float
         Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
         (``axle-window``).
+    axle_force_rel : float
+        Relative model error of the steady-state axle force m_i⁰ a_y (PHYSICS.md §4.4) [-]
+        (``axle-window``). The relation neglects the yaw moment of the front wheels' forces at
+        large steering angles, (t/2)(F_y,R − F_y,L) sin δ: a few % at 10° of steer (measured on
+        the simulator). Systematic: it does not average out over a window.
     """
 
     heading_deg: float = 0.75
@@ -137,6 +143,7 @@ class NoiseModel:
     tread_stiffness_rel: float = 0.2
     contact_length_rel: float = 0.02
     load_transfer_rel: float = 0.1
+    axle_force_rel: float = 0.03
 
 
 @dataclass(frozen=True)
@@ -354,6 +361,14 @@ def friction_from_motion(
     ay_meas = motion["ay_mps2"].to_numpy(float)
     ay = np.where(np.isfinite(ay_meas), ay_meas, (u_a - r * dy_ref) * r)
     steady = _steady(t, v, r, o)
+    # quasi-static longitudinal load transfer m a_x h / L (needs the wheelbase): in a steady
+    # turn the body-axis a_x = U̇ − V r is not zero, because the CG moves sideways (V ≠ 0)
+    dfz_x = np.zeros(t.size)
+    if vehicle.wheelbase_m is not None and vehicle.cg_offset is not None and t.size > 1:
+        u_cg = u_a - r * vehicle.cg_offset[1]
+        v_cg = v_a + r * vehicle.cg_offset[0]
+        ax = np.gradient(u_cg, t) - v_cg * r if np.all(np.diff(t) > 0) else -v_cg * r
+        dfz_x = vehicle.mass_kg * ax * vehicle.cg_height_m / vehicle.wheelbase_m / 2.0
     m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
     dfz = dict(
         zip(
@@ -391,7 +406,7 @@ def friction_from_motion(
         spd = np.hypot(u_i, v_i)
         radius = path_radius(spd, r)
         left, right = wheel_loads(m_axle[axle], dfz[axle])
-        fz = left if wname.endswith("left") else right
+        fz = (left if wname.endswith("left") else right) + (dfz_x if axle == "rear" else -dfz_x)
         mass = fz / G0
         length = tyre.contact_length(mass)
         c = tyre.cornering_stiffness(length)
