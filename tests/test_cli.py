@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -154,3 +155,61 @@ def test_fit_contact_command():
     assert r.returncode == 0, r.stderr
     assert "a = 0.0103981" in r.stdout and "b = -0.000101717" in r.stdout
     assert "RMSE = 0.286 cm" in r.stdout
+
+
+def test_friction_axle_window_and_table(tmp_path):
+    """The same drive as NMEA and as a motion table (km/h, deg/s, a clockwise-positive yaw
+    column flipped by '-') gives the same per-wheel kinematics; axle-window writes windows."""
+    from gripsense.data import sample_path
+    from tests.estimate.circle import circle
+
+    veh = str(sample_path("corolla_thesis.toml"))
+    log = tmp_path / "circle.nmea"
+    _circle_nmea(log)
+    out1 = tmp_path / "a"
+    r = run("friction", str(log), "--vehicle", veh, "--method", "axle-window", "-o", str(out1))
+    assert r.returncode == 0, r.stderr
+    assert "Friction per axle" in r.stdout and (out1 / "windows.parquet").exists()
+    doc = json.loads((out1 / "summary.json").read_text())
+    assert doc["axles"][0]["axle"] == "rear"
+    # the same motion as a table: antenna body velocities
+    epochs, _ = circle(mu=0.5, utilisation=0.92)
+    beta = np.deg2rad(epochs["heading_deg"] - epochs["course_deg"])
+    tab = pd.DataFrame(
+        {
+            "Time": epochs["t_s"],
+            "VelX": epochs["speed_mps"] * np.cos(beta) * 3.6,
+            "VelY": epochs["speed_mps"] * np.sin(beta) * 3.6,
+            "YawRateCW": -np.rad2deg(epochs["yaw_rate_rps"]),
+        }
+    )
+    csv = tmp_path / "ins.csv"
+    tab.to_csv(csv, index=False)
+    out2 = tmp_path / "b"
+    r = run(
+        "friction",
+        "--table",
+        str(csv),
+        "--columns",
+        "t=Time,vx=VelX:kmh,vy=VelY:kmh,yaw_rate=-YawRateCW:dps",
+        "--vehicle",
+        veh,
+        "-o",
+        str(out2),
+    )
+    assert r.returncode == 0, r.stderr
+    w = pd.read_parquet(out2 / "wheels.parquet").query("wheel == 'rear_left'")
+    _, truth = circle(mu=0.5, utilisation=0.92)
+    np.testing.assert_allclose(w["slip_angle_rad"], truth["alpha_rear_left"], rtol=1e-9)
+    r = run(
+        "friction",
+        "--table",
+        str(csv),
+        "--columns",
+        "t=Time,vx=VelX,vy=Nope,yaw_rate=Time",
+        "--vehicle",
+        veh,
+    )
+    assert r.returncode == 2 and "column 'Nope' for vy not found" in r.stderr
+    r = run("friction", "--table", str(csv), "--columns", "t=Time,vx=VelX", "--vehicle", veh)
+    assert r.returncode == 2 and "--columns needs yaw_rate=" in r.stderr

@@ -436,6 +436,8 @@ def friction_from_motion(
             + sig_v_rel**2
             + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
         )
+        with np.errstate(invalid="ignore"):
+            force_sigma = np.abs(force) * sig_f_rel
         flag = np.full(t.size, "ok", dtype=object)
         sign_bad = force * alpha > 0  # ISO: F ≈ −C α
         conds = [
@@ -477,7 +479,7 @@ def friction_from_motion(
                     "steady": steady,
                     "cornering_stiffness_Nprad": c,
                     "slip_sigma_rad": sig_alpha_white,
-                    "force_sigma_N": np.abs(force) * sig_f_rel,
+                    "force_sigma_N": force_sigma,
                 }
             )
         )
