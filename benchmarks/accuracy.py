@@ -63,22 +63,7 @@ def one(args) -> list[dict]:
     p = SimParams.from_vehicle(veh)
     ant = (-veh.cg_offset[0], -veh.cg_offset[1])
     if receiver == "rtk":
-        noise = CompassNoise(
-            heading_white_deg=0.05,
-            heading_gm_deg=0.05,
-            position_gm_m=0.02,
-            position_white_m=0.01,
-            velocity_mps=0.02,
-            rot_dps=0.1,
-        )
-        nm = NoiseModel(
-            heading_deg=0.1,
-            heading_white_deg=0.05,
-            heading_bias_deg=0.1,
-            velocity_mps=0.02,
-            yaw_rate_dps=0.1,
-            tread_stiffness_rel=0.05,
-        )
+        noise, nm = CompassNoise.rtk(), NoiseModel.rtk()
     else:
         noise, nm = CompassNoise(), NoiseModel()
     m = M.circle(case["speed_kmh"] / 3.6, case["radius_m"], laps=1.5, params=p)

@@ -23,25 +23,11 @@ from gripsense.sim.gnss import CompassNoise, emulate_compass
 VEH = Vehicle.from_toml(sample_path("corolla_sim.toml"))
 P = SimParams.from_vehicle(VEH)
 ANT = (-VEH.cg_offset[0], -VEH.cg_offset[1])
-# an RTK-class dual-antenna receiver, and the matching estimator noise model
-PRECISE = CompassNoise(
-    heading_white_deg=0.05,
-    heading_gm_deg=0.05,
-    position_gm_m=0.02,
-    position_white_m=0.01,
-    velocity_mps=0.02,
-    rot_dps=0.1,
-    mounting_offset_deg=0.5,
-)
-# ... with a calibrated tyre: G known to 5 % (a single steady operating point cannot separate
-# μ from the tyre stiffness; with the default 20 % prior the near-limit intervals stay wide)
-PRECISE_NM = NoiseModel(
-    heading_white_deg=0.05,
-    heading_bias_deg=0.1,
-    velocity_mps=0.02,
-    yaw_rate_dps=0.1,
-    tread_stiffness_rel=0.05,
-)
+# an RTK-class dual-antenna receiver, and the matching estimator noise model with a calibrated
+# tyre: G known to 5 % (a single steady operating point cannot separate μ from the tyre
+# stiffness; with the default 20 % prior the near-limit intervals stay wide)
+PRECISE = CompassNoise.rtk()
+PRECISE_NM = NoiseModel.rtk()
 
 
 def drive(mu, speed_kmh, radius, *, noise=PRECISE, seed=0, laps=1.5, lead_s=6.0):

@@ -145,6 +145,19 @@ class NoiseModel:
     load_transfer_rel: float = 0.1
     axle_force_rel: float = 0.03
 
+    @classmethod
+    def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:
+        """Noise model for an RTK-class compass (0.05° heading); by default with a calibrated
+        tyre (G known to 5 %)."""
+        return cls(
+            heading_deg=0.1,
+            heading_white_deg=0.05,
+            heading_bias_deg=0.1,
+            velocity_mps=0.02,
+            yaw_rate_dps=0.1,
+            tread_stiffness_rel=tread_stiffness_rel,
+        )
+
 
 @dataclass(frozen=True)
 class FrictionOptions:

@@ -57,6 +57,19 @@ class CompassNoise:
         """No noise (and no mounting offset unless given)."""
         return cls(0.0, 0.0, 20.0, 0.0, 60.0, 0.0, 0.0, 0.0, 0.0, mounting_offset_deg)
 
+    @classmethod
+    def rtk(cls, mounting_offset_deg: float = 0.5) -> CompassNoise:
+        """An RTK-class dual-antenna receiver: heading 0.05° white + 0.05° slow, cm position."""
+        return cls(
+            heading_white_deg=0.05,
+            heading_gm_deg=0.05,
+            position_gm_m=0.02,
+            position_white_m=0.01,
+            velocity_mps=0.02,
+            rot_dps=0.1,
+            mounting_offset_deg=mounting_offset_deg,
+        )
+
     def scaled(self, k: float) -> CompassNoise:
         """All random terms multiplied by *k* (latency and mounting offset kept)."""
         return replace(
