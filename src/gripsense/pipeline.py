@@ -49,6 +49,10 @@ class FrictionResult:
     summary: pd.DataFrame
     meta: dict = field(default_factory=dict)
     windows: pd.DataFrame | None = None
+    epochs: pd.DataFrame | None = None
+    ingest: dict | None = None
+    vehicle: Vehicle | None = None
+    noise: NoiseModel | None = None
 
     def explain(self) -> str:
         """One line: what was found, or why nothing was observable."""
@@ -109,6 +113,17 @@ class FrictionResult:
         if self.windows is not None:
             paths["windows"] = outdir / "windows.parquet"
             self.windows.to_parquet(paths["windows"], index=False)
+        if self.epochs is not None:
+            paths["epochs"] = outdir / "epochs.parquet"
+            self.epochs.to_parquet(paths["epochs"], index=False)
+        if self.ingest is not None:
+            paths["ingest"] = outdir / "ingest.json"
+            paths["ingest"].write_text(json.dumps(self.ingest, indent=2) + "\n")
+        src = Path(self.vehicle.source) if self.vehicle is not None else None
+        if src is not None and src.is_file():
+            paths["vehicle"] = outdir / "vehicle.toml"
+            if src.resolve() != paths["vehicle"].resolve():
+                paths["vehicle"].write_bytes(src.read_bytes())
         recs = json.loads(self.summary.to_json(orient="records"))
         key = "axles" if "axle" in self.summary.columns else "wheels"
         sp.write_text(
@@ -263,7 +278,9 @@ class FrictionRun:
         motion, meta = motion_from_epochs(
             epochs, self.vehicle, options=self.options, steer_rad=steer_rad
         )
-        return self.run_motion(motion, meta=meta)
+        result = self.run_motion(motion, meta=meta)
+        result.epochs = epochs
+        return result
 
     def run_motion(self, motion: pd.DataFrame, *, meta: dict | None = None) -> FrictionResult:
         """Estimate μ from a motion table of the measurement point (see
@@ -274,11 +291,24 @@ class FrictionRun:
         )
         meta = {**(meta or {}), **meta2}
         if self.method == "axle-window":
+            # μ is per axle and window here; the per-sample brush values would contradict it
+            wheels = wheels.assign(mu=np.nan, mu_sigma=np.nan)
             windows, axles = estimate_windows(
                 wheels, self.vehicle, noise=self.options.noise, options=self.window
             )
             return FrictionResult(
-                wheels=wheels, summary=_axle_summary(axles), meta=meta, windows=windows
+                wheels=wheels,
+                summary=_axle_summary(axles),
+                meta=meta,
+                windows=windows,
+                vehicle=self.vehicle,
+                noise=self.options.noise,
             )
         summary = summarize(wheels, self.options.min_valid_fraction)
-        return FrictionResult(wheels=wheels, summary=summary, meta=meta)
+        return FrictionResult(
+            wheels=wheels,
+            summary=summary,
+            meta=meta,
+            vehicle=self.vehicle,
+            noise=self.options.noise,
+        )

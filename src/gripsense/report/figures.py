@@ -1,0 +1,357 @@
+"""Figures of a friction run, like the thesis's figs 71–82 and 112–139.
+
+Computation (:func:`conditions`, :func:`condition_table`) is kept apart from plotting; every
+plot function takes tables and returns a matplotlib Figure. Left wheels are red and right
+wheels blue, as in the thesis. All figures accept missing channels (no yaw rate from ROT, no
+steering angle) and runs without a single valid μ.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+
+from gripsense.physics.load_transfer import G0
+from gripsense.physics.surface import SURFACE_BANDS
+
+__all__ = [
+    "condition_figure",
+    "condition_table",
+    "conditions",
+    "mu_vs_radius",
+    "mu_vs_utilisation",
+    "mu_vs_yaw_rate",
+    "trajectory",
+]
+
+WHEEL_COLOURS = {
+    "rear_left": "tab:red",
+    "front_left": "lightcoral",
+    "rear_right": "tab:blue",
+    "front_right": "lightskyblue",
+}
+BAND_COLOURS = {"ICE": "#dbe9f6", "SNOW": "#eef3f8", "WET": "#fff4d6", "DRY": "#e8f5e0"}
+_OUT = ("low_speed", "not_cornering", "not_steady")
+
+
+def conditions(wheels: pd.DataFrame, *, min_duration_s: float = 3.0) -> list[tuple[float, float]]:
+    """Steady cornering conditions: contiguous runs of steady, cornering samples.
+
+    Returns
+    -------
+    list of (t_start, t_end) [s]
+    """
+    if wheels.empty:
+        return []
+    per_t = wheels.groupby("t_s", sort=True)["flag"].agg(lambda f: not f.isin(_OUT).all())
+    t = per_t.index.to_numpy(float)
+    ok = per_t.to_numpy(bool)
+    if t.size < 2:
+        return []
+    dt = np.median(np.diff(t))
+    out, start = [], None
+    for k in range(t.size):
+        gap = k > 0 and t[k] - t[k - 1] > 2.5 * dt
+        if start is not None and (not ok[k] or gap):
+            if t[k - 1] - start >= min_duration_s:
+                out.append((start, float(t[k - 1])))
+            start = None
+        if ok[k] and start is None:
+            start = float(t[k])
+    if start is not None and t[-1] - start >= min_duration_s:
+        out.append((start, float(t[-1])))
+    return out
+
+
+def condition_table(
+    wheels: pd.DataFrame, conds: list[tuple[float, float]], windows: pd.DataFrame | None = None
+) -> pd.DataFrame:
+    """Per condition and wheel: mean speed, radius, yaw rate, a_y; median valid μ; counts.
+
+    With ``axle-window`` windows, μ is the median of the observable windows of the wheel's
+    axle inside the condition (NaN when none is observable)."""
+    rows = []
+    for i, (t0, t1) in enumerate(conds):
+        seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
+        for w, g in seg.groupby("wheel", observed=True):
+            ok = g["flag"] == "ok"
+            v = g["speed_mps"].mean()
+            r = g["radius_m"].median()
+            rows.append(
+                {
+                    "condition": i + 1,
+                    "t_start": t0,
+                    "t_end": t1,
+                    "wheel": str(w),
+                    "speed_kmh": v * 3.6,
+                    "radius_m": r,
+                    "yaw_rate_dps": np.rad2deg(v / r) if r > 0 else np.nan,
+                    "ay_g": g["lateral_accel_mps2"].abs().mean() / G0,
+                    "mu": g.loc[ok, "mu"].median() if ok.any() else np.nan,
+                    "n_valid": int(ok.sum()),
+                    "n": len(g),
+                    "utilisation": g["utilisation"].median(),
+                }
+            )
+            if windows is not None and len(windows):
+                axle = str(w).split("_")[0]
+                win = windows[
+                    (windows["axle"] == axle)
+                    & (windows["t_start"] >= t0)
+                    & (windows["t_end"] <= t1 + 1e-9)
+                    & windows["observable"]
+                ]
+                rows[-1]["mu"] = float(win["mu"].median()) if len(win) else np.nan
+                rows[-1]["n_valid"] = len(win)
+    return pd.DataFrame(rows)
+
+
+def _bands(ax, ymax: float) -> None:
+    for name, lo, hi in SURFACE_BANDS:
+        ax.axhspan(lo, min(hi, ymax), color=BAND_COLOURS[name], zorder=0)
+        if lo < ymax:
+            ax.text(
+                0.995,
+                min((lo + min(hi, ymax)) / 2, ymax),
+                name,
+                transform=ax.get_yaxis_transform(),
+                ha="right",
+                va="center",
+                fontsize=7,
+                color="0.45",
+            )
+
+
+def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str = "") -> Figure:
+    """Four panels for one steady condition (thesis figs 72–81 / 113–137).
+
+    (a) slip angle and turn radius, (b) load and contact length, (c) lateral force and slide
+    point, (d) μ with its 90 % interval, invalid samples shaded, Table-4 surface bands behind.
+    """
+    seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
+    fig, axs = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
+    specs = [
+        (
+            axs[0, 0],
+            "slip_angle_rad",
+            np.rad2deg,
+            "slip angle [deg]",
+            "radius_m",
+            1.0,
+            "radius [m]",
+            "(a)",
+        ),
+        (
+            axs[0, 1],
+            "load_N",
+            None,
+            "load [N]",
+            "contact_length_m",
+            1000.0,
+            "contact length [mm]",
+            "(b)",
+        ),
+        (
+            axs[1, 0],
+            "force_N",
+            None,
+            "lateral force [N]",
+            "slide_point_m",
+            1000.0,
+            "slide point [mm]",
+            "(c)",
+        ),
+    ]
+    for ax, col, fn, label, col2, k2, label2, tag in specs:
+        ax2 = ax.twinx()
+        for w, g in seg.groupby("wheel", observed=True):
+            c = WHEEL_COLOURS.get(str(w), "k")
+            y = g[col].to_numpy(float)
+            ax.plot(g["t_s"], fn(y) if fn else y, color=c, lw=1.2, label=str(w))
+            ax2.plot(g["t_s"], g[col2].to_numpy(float) * k2, color=c, lw=0.8, ls="--")
+        ax.set_ylabel(label)
+        ax2.set_ylabel(label2 + " (dashed)", color="0.4")
+        ax.set_title(tag, loc="left", fontsize=10)
+    axs[0, 0].legend(fontsize=8, loc="best")
+    ax = axs[1, 1]
+    ymax = 1.3
+    _bands(ax, ymax)
+    any_valid = False
+    for w, g in seg.groupby("wheel", observed=True):
+        c = WHEEL_COLOURS.get(str(w), "k")
+        ok = g["flag"] == "ok"
+        if ok.any():
+            any_valid = True
+            ax.errorbar(
+                g.loc[ok, "t_s"],
+                g.loc[ok, "mu"],
+                yerr=1.645 * g.loc[ok, "mu_sigma"],
+                fmt="o",
+                ms=2.5,
+                color=c,
+                elinewidth=0.6,
+                alpha=0.8,
+                label=str(w),
+            )
+        ax.plot(g["t_s"], g["utilisation"], color=c, lw=0.8, ls=":", alpha=0.8)
+    bad = seg.groupby("t_s")["flag"].agg(lambda f: not (f == "ok").any())
+    tt = bad.index.to_numpy(float)
+    if tt.size > 1:
+        dt = np.median(np.diff(tt))
+        for t, b in zip(tt, bad.to_numpy(bool), strict=True):
+            if b:
+                ax.axvspan(t - dt / 2, t + dt / 2, color="0.85", alpha=0.6, lw=0, zorder=1)
+    if not any_valid:
+        ax.text(
+            0.5,
+            0.55,
+            "μ not observable in this condition\n(dotted: |F|/Fz, what the data prove: μ ≥ it)",
+            transform=ax.transAxes,
+            ha="center",
+            fontsize=9,
+        )
+    ax.set_ylim(0, ymax)
+    ax.set_ylabel("μ (points: valid; dotted: |F|/Fz)")
+    ax.set_title("(d)", loc="left", fontsize=10)
+    for a in axs[1]:
+        a.set_xlabel("time [s]")
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def _speed_groups(ct: pd.DataFrame) -> pd.Series:
+    return (ct["speed_kmh"] / 5).round() * 5
+
+
+def mu_vs_radius(ct: pd.DataFrame) -> Figure:
+    """μ per condition vs turn radius, per speed group, with least-squares lines (figs 82, 138)."""
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    _bands(ax, 1.5)
+    d = ct.dropna(subset=["mu"])
+    if d.empty:
+        ax.text(0.5, 0.5, "no condition with a valid μ", transform=ax.transAxes, ha="center")
+    else:
+        for (spd, g), mk in zip(d.groupby(_speed_groups(d)), "osD^v<>", strict=False):
+            ax.plot(g["radius_m"], g["mu"], mk, label=f"{spd:.0f} km/h")
+            if g["radius_m"].nunique() >= 2:
+                a, b = np.polyfit(g["radius_m"], g["mu"], 1)
+                x = np.linspace(g["radius_m"].min(), g["radius_m"].max(), 10)
+                ax.plot(x, a * x + b, "-", lw=1, color=ax.lines[-1].get_color())
+        ax.legend(fontsize=8)
+    ax.set_xlabel("turn radius [m]")
+    ax.set_ylabel("μ (median of valid samples)")
+    ax.set_ylim(0, 1.5)
+    ax.set_title("μ vs turn radius, per speed (least-squares lines)")
+    fig.tight_layout()
+    return fig
+
+
+def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
+    """μ per condition vs yaw rate (fig 139)."""
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    _bands(ax, 1.5)
+    d = ct.dropna(subset=["mu"])
+    for w, g in d.groupby("wheel"):
+        ax.plot(g["yaw_rate_dps"], g["mu"], "o", color=WHEEL_COLOURS.get(w, "k"), label=w)
+    if d.empty:
+        ax.text(0.5, 0.5, "no condition with a valid μ", transform=ax.transAxes, ha="center")
+    else:
+        ax.legend(fontsize=8)
+    ax.set_xlabel("yaw rate [deg/s]")
+    ax.set_ylabel("μ")
+    ax.set_ylim(0, 1.5)
+    ax.set_title("μ vs yaw rate")
+    fig.tight_layout()
+    return fig
+
+
+def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None) -> Figure:
+    """μ with its 90 % interval vs lateral utilisation |a_y|/g — where μ is observable.
+
+    Values where the method gives one; elsewhere the lower bound the data prove (grey). With
+    ``axle-window`` windows, one point per window.
+    """
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    _bands(ax, 1.5)
+    ax.plot([0, 1.5], [0, 1.5], color="0.5", lw=0.8, ls="--", label="μ = |a_y|/g (bound)")
+    if windows is not None and len(windows):
+        ay = windows["utilisation"]
+        ok = windows["observable"].astype(bool)
+        ax.errorbar(
+            ay[ok],
+            windows.loc[ok, "mu"],
+            yerr=[
+                windows.loc[ok, "mu"] - windows.loc[ok, "mu_low"],
+                windows.loc[ok, "mu_high"] - windows.loc[ok, "mu"],
+            ],
+            fmt="o",
+            ms=3,
+            label="axle-window value, 90 % interval",
+        )
+        ax.plot(
+            ay[~ok],
+            windows.loc[~ok, "mu_lower_bound"],
+            "v",
+            color="0.5",
+            ms=3,
+            label="not observable: lower bound",
+        )
+    else:
+        c = wheels[~wheels["flag"].isin(_OUT)]
+        ok = c["flag"] == "ok"
+        ay = c["lateral_accel_mps2"].abs() / G0
+        ax.errorbar(
+            ay[ok],
+            c.loc[ok, "mu"],
+            yerr=1.645 * c.loc[ok, "mu_sigma"],
+            fmt="o",
+            ms=2,
+            alpha=0.5,
+            elinewidth=0.5,
+            label="valid μ ± 90 %",
+        )
+        ax.plot(
+            ay[~ok],
+            c.loc[~ok, "utilisation"],
+            "v",
+            color="0.5",
+            ms=2,
+            alpha=0.5,
+            label="not valid: |F|/Fz (lower bound)",
+        )
+    ax.set_xlim(0, max(1.0, ax.get_xlim()[1]))
+    ax.set_ylim(0, 1.5)
+    ax.set_xlabel("|a_y| / g")
+    ax.set_ylabel("μ")
+    ax.set_title("μ vs lateral utilisation: μ is observable only near the limit")
+    ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
+def trajectory(epochs: pd.DataFrame, conds: list[tuple[float, float]] | None = None) -> Figure:
+    """Driven path from lat/lon (fig 71/112), steady conditions highlighted."""
+    fig, ax = plt.subplots(figsize=(6, 6))
+    e = epochs.dropna(subset=["lat_deg", "lon_deg"]) if "lat_deg" in epochs else epochs.iloc[:0]
+    if e.empty:
+        ax.text(0.5, 0.5, "no position in the log", transform=ax.transAxes, ha="center")
+    else:
+        lat0 = np.deg2rad(e["lat_deg"].mean())
+        x = np.deg2rad(e["lon_deg"] - e["lon_deg"].iloc[0]) * 6371000.0 * np.cos(lat0)
+        y = np.deg2rad(e["lat_deg"] - e["lat_deg"].iloc[0]) * 6371000.0
+        ax.plot(x, y, color="0.4", lw=1, label="path")
+        for t0, t1 in conds or []:
+            sel = (e["t_s"] >= t0) & (e["t_s"] <= t1)
+            ax.plot(x[sel], y[sel], lw=2.5)
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("east [m]")
+    ax.set_ylabel("north [m]")
+    ax.set_title("trajectory (steady conditions in colour)")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,328 @@
+"""One self-contained HTML report of a friction run: images embedded, no network needed."""
+
+from __future__ import annotations
+
+import base64
+import datetime as dt
+import html
+import io
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+
+from gripsense.report import figures as F
+
+__all__ = ["fig_to_data_uri", "read_result", "write_report"]
+
+CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;
+max-width:1100px;color:#222;line-height:1.45;padding:0 1em}
+h1{font-size:1.6em;margin-bottom:.2em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
+margin-top:1.6em} table{border-collapse:collapse;margin:.6em 0;font-size:.92em}
+th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right} th{background:#f3f3f3}
+td.l,th.l{text-align:left} .note{background:#fff8e1;border-left:4px solid #f0b400;padding:.6em 1em}
+.ok{background:#eaf6ea;border-left:4px solid #3a9a3a;padding:.6em 1em} img{max-width:100%}
+.meta{color:#666;font-size:.9em} code{background:#f5f5f5;padding:0 .2em}
+"""
+
+
+def fig_to_data_uri(fig) -> str:
+    """A matplotlib figure as a PNG data URI (and close the figure)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _img(fig, alt: str) -> str:
+    return f'<p><img alt="{html.escape(alt)}" src="{fig_to_data_uri(fig)}"></p>'
+
+
+def _table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
+    def cell(v):
+        if isinstance(v, float | np.floating):
+            if not np.isfinite(v):
+                return "—" if np.isnan(v) else "∞"
+            return floatfmt.format(v)
+        return html.escape(str(v))
+
+    head = "".join(
+        f'<th class="{"l" if i == 0 else ""}">{html.escape(str(c))}</th>'
+        for i, c in enumerate(df.columns)
+    )
+    rows = "".join(
+        "<tr>"
+        + "".join(f'<td class="{"l" if i == 0 else ""}">{cell(v)}</td>' for i, v in enumerate(r))
+        + "</tr>"
+        for r in df.itertuples(index=False)
+    )
+    return f"<table><tr>{head}</tr>{rows}</table>"
+
+
+def _quality(epochs: pd.DataFrame | None, ingest: dict | None) -> str:
+    parts = []
+    if ingest:
+        rows = [("parsed", k, v) for k, v in ingest.get("parsed", {}).items()]
+        rows += [("ignored", k, v) for k, v in ingest.get("ignored", {}).items()]
+        rows += [("rejected", k, v) for k, v in ingest.get("rejected", {}).items() if v]
+        parts.append(
+            f"<p>{ingest.get('total_lines', 0)} input lines from "
+            f"<code>{html.escape(str(ingest.get('source', '')))}</code>; every line is "
+            "accounted for below.</p>"
+        )
+        parts.append(_table(pd.DataFrame(rows, columns=["bucket", "type / reason", "lines"])))
+    if epochs is not None and len(epochs):
+        t = epochs["t_s"].dropna().to_numpy()
+        dts = np.diff(np.sort(t))
+        dts = dts[dts > 0]
+        med = float(np.median(dts)) if dts.size else float("nan")
+        gaps = int((dts > 2.5 * med).sum()) if dts.size else 0
+        items = [
+            f"{len(epochs)} epochs, {t.max() - t.min():.1f} s" if t.size else "no time",
+            f"median interval {med:.3f} s ({1 / med:.1f} Hz)" if dts.size else "",
+            f"{gaps} gaps longer than 2.5 × the median interval"
+            + (f" (longest {dts.max():.2f} s)" if gaps else ""),
+        ]
+        for col in ("heading_source", "yaw_rate_source"):
+            if col in epochs:
+                vc = epochs[col].value_counts()
+                vc = vc[vc > 0]
+                items.append(f"{col}: " + (", ".join(f"{k} {v}" for k, v in vc.items()) or "none"))
+        parts.append("<ul>" + "".join(f"<li>{html.escape(i)}</li>" for i in items if i) + "</ul>")
+    return "\n".join(parts) or "<p>No ingest information (the run did not start from NMEA).</p>"
+
+
+def _vehicle(vehicle) -> str:
+    if vehicle is None:
+        return ""
+    rows = [
+        ("mass", f"{vehicle.mass_kg:.0f} kg"),
+        ("weight on the front axle", f"{vehicle.front_weight_fraction:.0%}"),
+        ("CG height", f"{vehicle.cg_height_m:.2f} m"),
+        ("track front / rear", f"{vehicle.track_front_m:.2f} / {vehicle.track_rear_m:.2f} m"),
+    ]
+    if vehicle.wheelbase_m:
+        rows.append(("wheelbase", f"{vehicle.wheelbase_m:.2f} m"))
+    rows.append(
+        (
+            "roll model",
+            "rigid (roll centres at CG height: the thesis model)"
+            if vehicle.roll_centre_heights_m is None
+            else f"roll centres {vehicle.roll_centre_heights_m} m, front roll share "
+            f"{vehicle.roll_stiffness_front_fraction}",
+        )
+    )
+    for axle, t in vehicle.tyres.items():
+        stiff = (
+            f"G = {t.tread_stiffness_N_per_m3:.3g} N/m³"
+            if t.tread_stiffness_N_per_m3
+            else f"C = {t.cornering_stiffness_N_per_rad:.3g} N/rad"
+        )
+        length = (
+            f"l = {t.contact_a}·√m + ({t.contact_b})·m"
+            if t.contact_length_m is None
+            else f"l = {t.contact_length_m} m"
+        )
+        rows.append(
+            (
+                f"tyre {axle}",
+                f"w = {t.width_m * 1000:.0f} mm, {stiff}, {length}, {t.pressure} pressure",
+            )
+        )
+    for w, (x, y) in vehicle.wheel_offsets.items():
+        rows.append((f"{w} from antenna", f"x {x:+.3f} m, y {y:+.3f} m"))
+    return _table(pd.DataFrame(rows, columns=["", "value"]))
+
+
+_METHOD = {
+    "axle-window": (
+        "One μ per axle over 3 s windows and the whole drive (profile likelihood). The axle "
+        "carries m_axle·a_y; both wheels' brush forces from their own slip angles must add up "
+        "to it. The tyre stiffness (±{G:.0%}) and a heading bias (±{B:.2f}°) are unknowns with "
+        "priors. A value is given only when the 99 % interval is bounded and narrower than "
+        "0.3; otherwise the lower bound the data prove."
+    ),
+    "default": (
+        "Per wheel and sample: brush tyre model ({method}), each wheel carrying its load's "
+        "share of the axle force m_axle·a_y (equal friction utilisation — the thesis's "
+        "assumption). A value needs σ_μ/μ ≤ 0.5 and steady cornering; the summary reports a "
+        "wheel only when most of its steady samples are valid."
+    ),
+}
+
+
+def write_report(
+    result,
+    path: str | Path,
+    *,
+    epochs: pd.DataFrame | None = None,
+    ingest: dict | None = None,
+    vehicle=None,
+    title: str | None = None,
+    max_conditions: int = 6,
+    intro_html: str = "",
+) -> Path:
+    """Write a self-contained HTML report of a :class:`~gripsense.pipeline.FrictionResult`.
+
+    Parameters
+    ----------
+    result : FrictionResult
+    path : path
+        Output ``.html``.
+    epochs, ingest, vehicle
+        Epoch table, ingest accounting (``IngestReport.to_dict()``) and vehicle, when known:
+        they add the trajectory, data quality and vehicle sections.
+    title : str
+    max_conditions : int
+        Most steady conditions given their own four-panel figure.
+    intro_html : str
+        HTML inserted before the result (used by the demo).
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    epochs = epochs if epochs is not None else getattr(result, "epochs", None)
+    ingest = ingest if ingest is not None else getattr(result, "ingest", None)
+    vehicle = vehicle if vehicle is not None else getattr(result, "vehicle", None)
+    w = result.wheels
+    conds = F.conditions(w)
+    ct = F.condition_table(w, conds, result.windows)
+    m = result.meta
+    method = m.get("method", "")
+    s = result.summary
+    out = [
+        f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
+        f"<title>{html.escape(title or 'gripsense report')}</title><style>{CSS}</style>"
+        "</head><body>",
+        f"<h1>{html.escape(title or 'Tyre-road friction report')}</h1>",
+        f"<p class='meta'>gripsense · {html.escape(str(m.get('vehicle', '')))} · method "
+        f"<code>{html.escape(method)}</code> · written "
+        f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC</p>",
+    ]
+    out.append(intro_html)
+    out.append("<h2>Result</h2>")
+    observable = bool(s["observable"].any()) if "observable" in s and len(s) else False
+    box = "ok" if observable else "note"
+    text = html.escape(result.explain())
+    if not observable:
+        text += (
+            "<br><br>What this means: from how the vehicle moved, the data prove only the "
+            "lower bound — the tyres used at least that much of the friction available. "
+            "The friction coefficient itself shows in the slip angles only near the "
+            "friction limit: at everyday cornering the difference between μ = 0.9 and "
+            "μ = ∞ lies in a few hundredths of a degree of slip angle, far below the "
+            "heading accuracy of a GNSS compass (tenths of a degree). More lateral "
+            "acceleration, a more precise heading or a calibrated tyre stiffness would "
+            "change this."
+        )
+    out.append(f"<p class='{box}'>{text}</p>")
+    if len(s):
+        cols = [
+            c
+            for c in (
+                "axle",
+                "wheel",
+                "mu",
+                "mu_low",
+                "mu_high",
+                "surface",
+                "observable",
+                "n_valid",
+                "n",
+                "n_total",
+                "utilisation",
+                "mu_lower_bound",
+                "stiffness_scale",
+            )
+            if c in s.columns
+        ]
+        out.append(_table(s[cols]))
+    out.append("<h2>Figures</h2>")
+    if epochs is not None:
+        out.append(_img(F.trajectory(epochs, conds), "trajectory"))
+    out.append(_img(F.mu_vs_utilisation(w, result.windows), "mu vs utilisation"))
+    if len(ct):
+        out.append(_img(F.mu_vs_radius(ct), "mu vs radius"))
+        out.append(_img(F.mu_vs_yaw_rate(ct), "mu vs yaw rate"))
+        out.append("<h2>Steady conditions</h2>")
+        out.append(
+            _table(
+                ct[["condition", "wheel", "speed_kmh", "radius_m", "ay_g", "mu", "n_valid", "n"]]
+            )
+        )
+        for i, (t0, t1) in enumerate(conds[:max_conditions]):
+            sub = ct[ct["condition"] == i + 1]
+            ttl = (
+                f"condition {i + 1}: {t0:.1f}–{t1:.1f} s, {sub['speed_kmh'].mean():.0f} km/h, "
+                f"R {sub['radius_m'].mean():.0f} m, |a_y| {sub['ay_g'].mean():.2f} g"
+            )
+            out.append(_img(F.condition_figure(w, t0, t1, title=ttl), ttl))
+        if len(conds) > max_conditions:
+            out.append(
+                f"<p class='meta'>{len(conds) - max_conditions} more conditions are in "
+                "the table above.</p>"
+            )
+    else:
+        out.append("<p>No steady cornering condition of 3 s or more in this drive.</p>")
+    out.append("<h2>Data quality</h2>")
+    out.append(_quality(epochs, ingest))
+    if "heading_offset_deg" in m:
+        out.append(
+            f"<p>Heading offset used: {m['heading_offset_deg']:.2f}° "
+            f"({html.escape(str(m.get('heading_offset_source', '')))}).</p>"
+        )
+    out.append("<h2>Vehicle and method</h2>")
+    out.append(_vehicle(vehicle))
+    if method == "axle-window":
+        nm = getattr(result, "noise", None)
+        g_rel = getattr(nm, "tread_stiffness_rel", 0.2)
+        b = getattr(nm, "heading_bias_deg", 0.6)
+        out.append(f"<p>{_METHOD['axle-window'].format(G=g_rel, B=b)}</p>")
+    else:
+        out.append(f"<p>{_METHOD['default'].format(method=html.escape(method))}</p>")
+    out.append(
+        "<p class='meta'>Assumptions: steady cornering, quasi-static load transfer, "
+        "brush (Fiala) tyre with the stated pressure shape; see the gripsense docs "
+        "(friction.md) for the equations and their sources.</p>"
+    )
+    out.append("</body></html>")
+    path.write_text("\n".join(out), encoding="utf-8")
+    return path
+
+
+def read_result(folder: str | Path):
+    """A :class:`~gripsense.pipeline.FrictionResult` back from the files ``to_files`` wrote."""
+    import json
+
+    from gripsense.config import Vehicle
+    from gripsense.errors import InputError
+    from gripsense.pipeline import FrictionResult
+
+    folder = Path(folder)
+    if not (folder / "summary.json").exists() or not (folder / "wheels.parquet").exists():
+        raise InputError(
+            f"{folder}: not a result folder (needs summary.json and wheels.parquet "
+            "as written by gripsense friction)"
+        )
+    doc = json.loads((folder / "summary.json").read_text())
+    summary = pd.DataFrame(doc.get("axles", doc.get("wheels", [])))
+    for col in ("mu", "mu_low", "mu_high", "mu_lower_bound"):
+        if col in summary:
+            summary[col] = pd.to_numeric(summary[col], errors="coerce").astype(float)
+    res = FrictionResult(
+        wheels=pd.read_parquet(folder / "wheels.parquet"), summary=summary, meta=doc.get("meta", {})
+    )
+    if (folder / "windows.parquet").exists():
+        res.windows = pd.read_parquet(folder / "windows.parquet")
+    if (folder / "epochs.parquet").exists():
+        res.epochs = pd.read_parquet(folder / "epochs.parquet")
+    if (folder / "ingest.json").exists():
+        res.ingest = json.loads((folder / "ingest.json").read_text())
+    if (folder / "vehicle.toml").exists():
+        res.vehicle = Vehicle.from_toml(folder / "vehicle.toml")
+    return res
