@@ -145,6 +145,7 @@ def friction(
     outdir: Annotated[
         Path, typer.Option("-o", "--outdir", help="folder for the result files")
     ] = Path("friction-results"),
+    report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
 ) -> None:
     """Tyre-road friction per wheel (or per axle with --method axle-window) during cornering."""
     from gripsense.config import Vehicle
@@ -174,11 +175,39 @@ def friction(
                 ch = read_steer_csv(steer_csv, steering_ratio=veh.steering_ratio)
                 steer = steer_at(ch, nlog.epochs["t_s"].to_numpy())
             result = run.run(nlog.epochs, steer_rad=steer)
+            result.ingest = nlog.report.to_dict()
     except GripsenseError as e:
         _fail(e)
     print_friction(result)
     paths = result.to_files(outdir)
     console.print("wrote " + ", ".join(str(p) for p in paths.values()))
+    if report:
+        from gripsense.report import write_report
+
+        rp = write_report(result, outdir / "report.html", title=f"Friction — {(log or table).name}")
+        console.print(f"report: {rp}")
+
+
+@app.command("report")
+def report_cmd(
+    result_dir: Annotated[Path, typer.Argument(help="folder written by gripsense friction")],
+    output: Annotated[
+        Path | None,
+        typer.Option("-o", "--output", help="HTML file (default RESULT_DIR/report.html)"),
+    ] = None,
+) -> None:
+    """Write a self-contained HTML report (images embedded) of a friction result folder."""
+    from gripsense.report import write_report
+    from gripsense.report.html import read_result
+
+    try:
+        res = read_result(result_dir)
+    except GripsenseError as e:
+        _fail(e)
+    out = write_report(
+        res, output or result_dir / "report.html", title=f"Friction — {result_dir.name}"
+    )
+    console.print(f"report: {out}")
 
 
 def print_friction(result) -> None:
@@ -384,7 +413,11 @@ def demo(
     )
     outdir.mkdir(parents=True, exist_ok=True)
     df.to_csv(outdir / "demo_results.csv", index=False)
+    from gripsense.demo import write_demo_report
+
+    rp = write_demo_report(df, folder, outdir / "report.html")
     console.print(f"wrote {outdir / 'demo_results.csv'}")
+    console.print(f"report: {rp}")
 
 
 def main() -> None:
