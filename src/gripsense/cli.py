@@ -351,6 +351,67 @@ def simulate(
     )
 
 
+@app.command("brake-mu")
+def brake_mu(
+    accel: Annotated[list[Path], typer.Argument(help="accelerometer CSV file(s)")],
+    t_col: Annotated[str, typer.Option("--t-col", help="time column")] = "t_s",
+    ax_col: Annotated[str, typer.Option("--ax-col", help="forward acceleration column")] = "ax_g",
+    ay_col: Annotated[str, typer.Option("--ay-col")] = "ay_g",
+    az_col: Annotated[str, typer.Option("--az-col", help="'' for none")] = "az_g",
+    units: Annotated[str, typer.Option("--units", help="g | mps2")] = "g",
+    ax_sign: Annotated[float, typer.Option("--ax-sign", help="-1 if x points backwards")] = 1.0,
+    time_scale: Annotated[
+        float, typer.Option("--time-scale", help="seconds per time unit (0.001 for ms)")
+    ] = 1.0,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
+) -> None:
+    """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
+    import pandas as pd
+
+    from gripsense.estimate.braking import estimate_braking, read_accel_csv
+
+    frames = []
+    try:
+        for f in accel:
+            acc = read_accel_csv(
+                f,
+                t_col=t_col,
+                ax_col=ax_col,
+                ay_col=ay_col or None,
+                az_col=az_col or None,
+                units=units,
+                ax_sign=ax_sign,
+                time_scale=time_scale,
+            )
+            res = estimate_braking(acc, source=str(f))
+            frames.append(res.events.assign(file=f.name))
+    except GripsenseError as e:
+        _fail(e)
+    ev = pd.concat(frames, ignore_index=True)
+    table = Table(title="Locked-wheel braking events")
+    for col in ("file", "onset [s]", "plateau [s]", "μ = a/g", "spread", "μ 3-axis", "slope [1/s]"):
+        table.add_column(col)
+    for r in ev.to_dict("records"):
+        table.add_row(
+            r["file"],
+            f"{r['t_onset']:.2f}",
+            f"{r['plateau_s']:.2f}",
+            f"{r['mu']:.3f}",
+            f"{r['mu_spread']:.3f}",
+            "—" if np.isnan(r["mu_3axis"]) else f"{r['mu_3axis']:.3f}",
+            f"{r['slope_per_s']:+.3f}",
+        )
+    console.print(table)
+    sd = f" ± {ev['mu'].std():.3f} (SD)" if len(ev) > 1 else ""
+    console.print(
+        f"μ = {ev['mu'].mean():.3f}{sd} over {len(ev)} events — sliding friction of "
+        "locked wheels (below peak μ; includes ~0.01–0.02 g of drag)"
+    )
+    if output:
+        ev.to_csv(output, index=False)
+        console.print(f"wrote {output}")
+
+
 @app.command()
 def demo(
     outdir: Annotated[
