@@ -351,6 +351,86 @@ def simulate(
     )
 
 
+@app.command()
+def stiffness(
+    logs: Annotated[list[Path], typer.Argument(help="NMEA log(s) of steady cornering")],
+    vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
+    sweep: Annotated[bool, typer.Option("--sweep", help="also the thesis's G sweep")] = False,
+    outdir: Annotated[
+        Path | None, typer.Option("-o", "--outdir", help="folder for the table (and plots)")
+    ] = None,
+) -> None:
+    """Tread stiffness G per steady condition and wheel (thesis ch. 9, like Table 23)."""
+    import pandas as pd
+
+    from gripsense.config import Vehicle
+    from gripsense.estimate.stiffness import g_sweep, tread_stiffness
+    from gripsense.pipeline import FrictionRun
+    from gripsense.report.figures import conditions
+
+    try:
+        veh = Vehicle.from_toml(vehicle)
+        frames, sweeps = [], []
+        for log in logs:
+            res = FrictionRun(veh).run(read_nmea(log).epochs)
+            conds = conditions(res.wheels)
+            t = tread_stiffness(res.wheels, veh, conds=conds)
+            frames.append(t.assign(log=log.name))
+            if sweep:
+                for i, c in enumerate(conds):
+                    sweeps.append((log.name, i + 1, g_sweep(res.wheels, veh, *c)))
+    except GripsenseError as e:
+        _fail(e)
+    tab = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    if tab.empty:
+        console.print("no steady cornering condition of 3 s or more: G cannot be estimated")
+        raise typer.Exit(1)
+    table = Table(title="Tread stiffness G per steady condition (brush linear term)")
+    for col in (
+        "log",
+        "cond.",
+        "wheel",
+        "km/h",
+        "R [m]",
+        "slip [°]",
+        "utilisation",
+        "G [N/m³]",
+        "± (0.1° slip)",
+        "note",
+    ):
+        table.add_column(col)
+    for r in tab.to_dict("records"):
+        table.add_row(
+            r["log"],
+            str(r["condition"]),
+            r["wheel"],
+            f"{r['speed_kmh']:.0f}",
+            f"{r['radius_m']:.1f}",
+            f"{r['slip_deg']:.2f}",
+            f"{r['utilisation']:.2f}",
+            f"{r['G']:.3g}",
+            f"{100 * r['G_rel_sigma']:.0f} %",
+            "near limit: biased low" if r["near_limit"] else "",
+        )
+    console.print(table)
+    lin = tab[~tab["near_limit"]]
+    if len(lin):
+        console.print(
+            f"mean G over the {len(lin)} linear-range rows: {lin['G'].mean():.3g} N/m³ "
+            f"(all rows: {tab['G'].mean():.3g})"
+        )
+    else:
+        console.print("every condition is near the limit: G is biased low there (PHYSICS §6)")
+    for name, i, sw in sweeps:
+        console.print(f"G sweep {name} condition {i}: chosen {sw.chosen:.3g} N/m³ — {sw.reason}")
+    if outdir:
+        outdir.mkdir(parents=True, exist_ok=True)
+        tab.to_csv(outdir / "stiffness.csv", index=False)
+        for name, i, sw in sweeps:
+            sw.plot().savefig(outdir / f"gsweep_{Path(name).stem}_{i}.png", dpi=90)
+        console.print(f"wrote {outdir / 'stiffness.csv'}")
+
+
 @app.command("brake-mu")
 def brake_mu(
     accel: Annotated[list[Path], typer.Argument(help="accelerometer CSV file(s)")],
