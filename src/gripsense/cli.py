@@ -431,6 +431,99 @@ def stiffness(
         console.print(f"wrote {outdir / 'stiffness.csv'}")
 
 
+@app.command("camera-slip")
+def camera_slip(
+    source: Annotated[Path, typer.Argument(help="folder of frames or a video file")],
+    fps: Annotated[float, typer.Option("--fps", help="frame rate [1/s]")],
+    mm_per_px: Annotated[
+        float | None, typer.Option("--mm-per-px", help="ground scale (gives the speed)")
+    ] = None,
+    output: Annotated[
+        Path, typer.Option("-o", "--output", help="CSV (a .png plot next to it)")
+    ] = Path("camera_slip.csv"),
+) -> None:
+    """Slip angle from a downward camera on the wheel (seed 002 §2.1); image top = forward."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gripsense.vision.slip_camera import slip_from_frames
+
+    try:
+        res = slip_from_frames(source, fps=fps, mm_per_px=mm_per_px)
+    except GripsenseError as e:
+        _fail(e)
+    output.parent.mkdir(parents=True, exist_ok=True)
+    res.to_csv(output, index=False)
+    ok = res[res["ok"]]
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.plot(res["t_s"], res["slip_angle_deg"], ".", color="0.6", label="all pairs")
+    ax.plot(ok["t_s"], ok["slip_angle_deg"], "o", ms=3, label="accepted")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("slip angle [deg] (ISO)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(output.with_suffix(".png"), dpi=90)
+    if len(ok):
+        sp = "" if mm_per_px is None else f", ground speed {ok['speed_mps'].median():.2f} m/s"
+        console.print(
+            f"{len(ok)} of {len(res)} frame pairs accepted; median slip angle "
+            f"{ok['slip_angle_deg'].median():.2f}° (ISO){sp}"
+        )
+    else:
+        console.print(f"no frame pair passed the quality checks ({len(res)} pairs)")
+    console.print(f"wrote {output} and {output.with_suffix('.png')}")
+
+
+@app.command()
+def camber(
+    laser: Annotated[Path, typer.Argument(help="CSV with t_s and two laser distances")],
+    spacing_m: Annotated[float, typer.Option("--spacing-m", help="sensor spacing [m]")],
+    outer_col: Annotated[str, typer.Option("--outer-col")] = "d_outer_mm",
+    inner_col: Annotated[str, typer.Option("--inner-col")] = "d_inner_mm",
+    scale_m: Annotated[float, typer.Option("--scale-m", help="metres per unit (1e-3: mm)")] = 1e-3,
+    calibrate_s: Annotated[
+        float,
+        typer.Option(
+            "--calibrate-s",
+            help="first seconds on a flat floor at the reference camber (0: no calibration)",
+        ),
+    ] = 0.0,
+    reference_deg: Annotated[float, typer.Option("--reference-deg")] = 0.0,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="CSV")] = None,
+) -> None:
+    """Camber to the ground from two laser displacement sensors (seed 002 Fig. 3)."""
+    from gripsense.vision.camber_laser import camber_from_lasers, read_laser_csv
+
+    try:
+        d = read_laser_csv(laser, outer_col=outer_col, inner_col=inner_col, scale_m=scale_m)
+        off_o = off_i = 0.0
+        if calibrate_s > 0:
+            cal = d[d["t_s"] < d["t_s"].iloc[0] + calibrate_s]
+            off_o, off_i = float(cal["d_outer_m"].median()), float(cal["d_inner_m"].median())
+        d["camber_deg"] = np.rad2deg(
+            camber_from_lasers(
+                d["d_outer_m"],
+                d["d_inner_m"],
+                spacing_m,
+                offset_outer=off_o,
+                offset_inner=off_i,
+                reference_camber_rad=np.deg2rad(reference_deg),
+            )
+        )
+    except GripsenseError as e:
+        _fail(e)
+    c = d["camber_deg"]
+    console.print(
+        f"camber (top outward positive): median {c.median():.2f}°, "
+        f"range {c.min():.2f}° … {c.max():.2f}° over {len(d)} samples"
+    )
+    if output:
+        d.to_csv(output, index=False)
+        console.print(f"wrote {output}")
+
+
 @app.command("brake-mu")
 def brake_mu(
     accel: Annotated[list[Path], typer.Argument(help="accelerometer CSV file(s)")],

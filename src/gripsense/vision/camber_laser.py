@@ -1,0 +1,93 @@
+"""Camber to the ground from two laser displacement sensors (seed 002 §2.1, Fig. 3).
+
+Two sensors on a bar fixed to the wheel carrier, perpendicular to the wheel plane, measure
+their vertical distance to the road a known lateral distance apart (``spacing``). When the wheel
+leans, the bar tilts with it, and the camber to the ground follows from the tangent of the
+difference: γ = atan(((d_outer − d_outer,0) − (d_inner − d_inner,0)) / spacing) + γ₀, with the
+readings d₀ taken on a flat floor at a known camber γ₀ (calibration).
+
+Sign: ``camber_rad`` is positive when the top of the wheel leans **outward** (away from the
+vehicle's centre) — the usual "positive camber". For the ISO 8855 inclination angle of a left
+wheel (positive rolling to the right about the x axis) use −γ on the left and +γ on the right.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense._arrays import as_float_array, restore
+from gripsense.errors import InputError
+
+__all__ = ["camber_from_lasers", "read_laser_csv"]
+
+
+def camber_from_lasers(
+    d_outer,
+    d_inner,
+    spacing_m: float,
+    *,
+    offset_outer: float = 0.0,
+    offset_inner: float = 0.0,
+    reference_camber_rad: float = 0.0,
+):
+    """Camber angle from two laser distances.
+
+    Parameters
+    ----------
+    d_outer, d_inner : array_like
+        Distances from the outer and inner sensor to the road [m].
+    spacing_m : float
+        Lateral distance between the two sensors along the bar [m].
+    offset_outer, offset_inner : float
+        Readings at the calibration pose [m].
+    reference_camber_rad : float
+        Camber at the calibration pose [rad].
+
+    Returns
+    -------
+    array_like
+        Camber [rad], positive = top of the wheel outward.
+
+    References
+    ----------
+    Seed 002 (Mizuno et al. 1999) §2.1, Fig. 3: "二つのレーザー変位計の正接により計測".
+    """
+    if not spacing_m > 0:
+        raise InputError(f"spacing_m = {spacing_m}: must be > 0 [m]")
+    o = as_float_array(d_outer, "d_outer") - offset_outer
+    i = as_float_array(d_inner, "d_inner") - offset_inner
+    return restore(np.arctan2(o - i, spacing_m) + reference_camber_rad, d_outer)
+
+
+def read_laser_csv(
+    path: str | Path,
+    *,
+    outer_col: str = "d_outer_mm",
+    inner_col: str = "d_inner_mm",
+    scale_m: float = 1e-3,
+    t_col: str = "t_s",
+) -> pd.DataFrame:
+    """Read two laser channels (default in mm) into ``t_s``, ``d_outer_m``, ``d_inner_m``."""
+    path = Path(path)
+    try:
+        df = pd.read_csv(path, comment="#")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such laser file") from None
+    for c in (t_col, outer_col, inner_col):
+        if c not in df.columns:
+            raise InputError(f"{path}: no column {c!r} (columns: {list(df.columns)})")
+    out = pd.DataFrame(
+        {
+            "t_s": pd.to_numeric(df[t_col], errors="coerce"),
+            "d_outer_m": pd.to_numeric(df[outer_col], errors="coerce") * scale_m,
+            "d_inner_m": pd.to_numeric(df[inner_col], errors="coerce") * scale_m,
+        }
+    )
+    bad = out.isna().any(axis=1)
+    if bad.any():
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise InputError(f"{path}: line {row + 2}: a value is not a number")
+    return out
