@@ -21,6 +21,10 @@ app = typer.Typer(
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
 
+from gripsense.cli_tyre import tyre_app  # noqa: E402 - sub-command group
+
+app.add_typer(tyre_app, name="tyre")
+
 
 def _fail(err: Exception) -> None:
     err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)

@@ -53,8 +53,20 @@ UNITS = {
 KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
 
 
-def parse_columns(spec: str | dict) -> dict[str, tuple[str, float]]:
-    """Column mapping -> {key: (column, factor)} (see the module documentation)."""
+def parse_columns(spec: str | dict, keys: tuple[str, ...] = KEYS,
+                  units: dict[str, float] | None = None) -> dict[str, tuple[str, float]]:
+    """Column mapping -> {key: (column, factor)} (see the module documentation).
+
+    Parameters
+    ----------
+    spec : str or dict
+        ``key=column[:unit]`` pairs (a leading ``-`` on the column flips the sign).
+    keys : tuple of str
+        Allowed keys.
+    units : dict, optional
+        Unit name -> factor to SI; default the motion-table units.
+    """
+    units = UNITS if units is None else units
     items = (
         spec.items()
         if isinstance(spec, dict)
@@ -65,16 +77,16 @@ def parse_columns(spec: str | dict) -> dict[str, tuple[str, float]]:
         if len(item) != 2:
             raise InputError(f"--columns: {item!r} is not key=column")
         key, col = (x.strip() for x in item)
-        if key not in KEYS:
-            raise InputError(f"--columns: unknown key {key!r}; use {', '.join(KEYS)}")
+        if key not in keys:
+            raise InputError(f"--columns: unknown key {key!r}; use {', '.join(keys)}")
         sign = -1.0 if col.startswith("-") else 1.0
         col = col.lstrip("-")
         factor = 1.0
         if ":" in col:
             col, unit = col.rsplit(":", 1)
-            if unit not in UNITS:
-                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(UNITS)}")
-            factor = UNITS[unit]
+            if unit not in units:
+                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(units)}")
+            factor = units[unit]
         out[key] = (col, sign * factor)
     return out
 
