@@ -14,14 +14,43 @@ from gripsense.sim.tyre_data import cornering_samples
 from tests.test_cli import run
 
 TIR = Path(__file__).parent / "data" / "tyre" / "tir"
-TRUTH = np.array([1.4, -22.1, -1011.0, -1078.0, 1.82, 0.208, -0.2, -0.354, 0.0, 0.0, 0.02,
-                  0.0, 0.0, -0.5, -2.5, 0.01, -0.01, 0.0])
+TRUTH = np.array(
+    [
+        1.4,
+        -22.1,
+        -1011.0,
+        -1078.0,
+        1.82,
+        0.208,
+        -0.2,
+        -0.354,
+        0.0,
+        0.0,
+        0.02,
+        0.0,
+        0.0,
+        -0.5,
+        -2.5,
+        0.01,
+        -0.01,
+        0.0,
+    ]
+)
 
 
 def test_eval_matches_mfeval_reference_rows(tmp_path):
     out = tmp_path / "ev.csv"
-    r = run("tyre", "eval", str(TIR / "PacejkaBook_Defaults.tir"), "--fz", "4000",
-            "--alpha-deg", "-12:12:0.5", "-o", str(out))
+    r = run(
+        "tyre",
+        "eval",
+        str(TIR / "PacejkaBook_Defaults.tir"),
+        "--fz",
+        "4000",
+        "--alpha-deg",
+        "-12:12:0.5",
+        "-o",
+        str(out),
+    )
     assert r.returncode == 0, r.stderr
     df = pd.read_csv(out, comment="#")
     assert len(df) == 49
@@ -30,8 +59,17 @@ def test_eval_matches_mfeval_reference_rows(tmp_path):
 
 
 def test_eval_grid_and_errors(tmp_path):
-    r = run("tyre", "eval", str(TIR / "HMMWV_Pac89Tire.json"), "--fz", "20000,30000",
-            "--alpha-deg", "5", "--kappa", "0,0.05")
+    r = run(
+        "tyre",
+        "eval",
+        str(TIR / "HMMWV_Pac89Tire.json"),
+        "--fz",
+        "20000,30000",
+        "--alpha-deg",
+        "5",
+        "--kappa",
+        "0,0.05",
+    )
     assert r.returncode == 0, r.stderr
     assert "PAC89" in r.stdout
     r = run("tyre", "eval", str(tmp_path / "missing.tir"), "--fz", "1000")
@@ -43,11 +81,18 @@ def test_eval_grid_and_errors(tmp_path):
 
 @pytest.fixture
 def road_csv(tmp_path):
-    d = cornering_samples(lambda fz, a, g: pac94_lateral(TRUTH, fz, a, g), 1500,
-                          rng=np.random.default_rng(0))
+    d = cornering_samples(
+        lambda fz, a, g: pac94_lateral(TRUTH, fz, a, g), 1500, rng=np.random.default_rng(0)
+    )
     path = tmp_path / "road.csv"
-    out = pd.DataFrame({"alpha_deg": np.rad2deg(d.alpha_rad), "gamma_deg": np.rad2deg(d.gamma_rad),
-                        "fz_N": d.fz_N, "fy_N": d.fy_N})
+    out = pd.DataFrame(
+        {
+            "alpha_deg": np.rad2deg(d.alpha_rad),
+            "gamma_deg": np.rad2deg(d.gamma_rad),
+            "fz_N": d.fz_N,
+            "fy_N": d.fy_N,
+        }
+    )
     out.loc[3, "fy_N"] = np.nan
     out.to_csv(path, index=False)
     return path
@@ -55,13 +100,28 @@ def road_csv(tmp_path):
 
 def test_fit_pac94_json_and_plot(tmp_path, road_csv):
     out, png = tmp_path / "fit.json", tmp_path / "fit.png"
-    r = run("tyre", "fit", str(road_csv), "--model", "pac94", "--constraints", "all", "-o",
-            str(out), "--plot", str(png), "--compare")
+    r = run(
+        "tyre",
+        "fit",
+        str(road_csv),
+        "--model",
+        "pac94",
+        "--constraints",
+        "all",
+        "-o",
+        str(out),
+        "--plot",
+        str(png),
+        "--compare",
+    )
     assert r.returncode == 0, r.stderr
     assert "1499 of 1500 rows used" in r.stdout and "fy_not_a_number 1" in r.stdout
     doc = json.loads(out.read_text())
-    assert doc["physical_checks"] == {"C_in_(1,2)": True, "E_in_range": True,
-                                      "peak_largest_at_zero_camber": True}
+    assert doc["physical_checks"] == {
+        "C_in_(1,2)": True,
+        "E_in_range": True,
+        "peak_largest_at_zero_camber": True,
+    }
     assert png.stat().st_size > 20_000
     # the fit file evaluates like a tyre model
     r = run("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "3")
@@ -74,8 +134,17 @@ def test_fit_mf61_tir_with_column_mapping(tmp_path, road_csv):
     src = tmp_path / "ttc.csv"
     ttc.to_csv(src, index=False)
     out = tmp_path / "fit.tir"
-    r = run("tyre", "fit", str(src), "--model", "mf61", "--columns",
-            "alpha=SA:deg,gamma=IA:deg,fz=-FZ,fy=FY", "-o", str(out))
+    r = run(
+        "tyre",
+        "fit",
+        str(src),
+        "--model",
+        "mf61",
+        "--columns",
+        "alpha=SA:deg,gamma=IA:deg,fz=-FZ,fy=FY",
+        "-o",
+        str(out),
+    )
     assert r.returncode == 0, r.stderr
     r = run("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "-3,3")
     assert r.returncode == 0, r.stderr

@@ -38,8 +38,9 @@ def parse_range(text: str, what: str) -> np.ndarray:
             return start + step * np.arange(n)
         return np.array([float(p) for p in text.split(",")])
     except ValueError:
-        raise InputError(f"--{what}: {text!r} is not a value, a list a,b,c or a range "
-                         "start:stop:step") from None
+        raise InputError(
+            f"--{what}: {text!r} is not a value, a list a,b,c or a range start:stop:step"
+        ) from None
 
 
 def _load_model(path: Path):
@@ -68,52 +69,75 @@ def _load_model(path: Path):
 
             def f(fz, kappa, alpha, gamma, side=None):
                 return np.full(np.broadcast(fz, alpha).shape, np.nan), pac94_lateral(
-                    a, fz, alpha, gamma, variant)
+                    a, fz, alpha, gamma, variant
+                )
 
-            return f, (f"PAC94 fit ({path.name}, {variant} shifts; lateral only; the fitted data's "
-                       "sign convention)")
-        from gripsense.physics.magic_formula.pac89 import (pac89_lateral, pac89_longitudinal,
-                                                           read_pac89_json)
+            return f, (
+                f"PAC94 fit ({path.name}, {variant} shifts; lateral only; the fitted data's "
+                "sign convention)"
+            )
+        from gripsense.physics.magic_formula.pac89 import (
+            pac89_lateral,
+            pac89_longitudinal,
+            read_pac89_json,
+        )
 
         c = read_pac89_json(path)
 
         def f(fz, kappa, alpha, gamma, side=None):
-            fx = (pac89_longitudinal(c["longitudinal"], fz, kappa) if "longitudinal" in c
-                  else np.nan)
+            fx = pac89_longitudinal(c["longitudinal"], fz, kappa) if "longitudinal" in c else np.nan
             return fx, pac89_lateral(c["lateral"], fz, alpha, gamma)
 
         return f, f"PAC89 ({path.name}; the coefficients' own sign convention)"
     if not path.exists():
         raise InputError(f"{path}: no such file")
-    raise InputError(f"{path}: unknown model file type {suffix!r}; give a .tir (MF 5.2/6.1/6.2), "
-                     "a PAC89 .json or a gripsense PAC94 fit .json")
+    raise InputError(
+        f"{path}: unknown model file type {suffix!r}; give a .tir (MF 5.2/6.1/6.2), "
+        "a PAC89 .json or a gripsense PAC94 fit .json"
+    )
 
 
 @tyre_app.command("eval")
 def tyre_eval(
     model: Annotated[Path, typer.Argument(help=".tir (MF 5.2/6.1/6.2), PAC89 .json or fit .json")],
-    fz: Annotated[str, typer.Option("--fz", help="Load(s) [N]: 4000 or 2000,4000 or 2000:6000:1000")],
-    alpha_deg: Annotated[str, typer.Option("--alpha-deg", help="Slip angle(s) [deg], e.g. -12:12:0.5")
-                         ] = "0",
+    fz: Annotated[
+        str, typer.Option("--fz", help="Load(s) [N]: 4000 or 2000,4000 or 2000:6000:1000")
+    ],
+    alpha_deg: Annotated[
+        str, typer.Option("--alpha-deg", help="Slip angle(s) [deg], e.g. -12:12:0.5")
+    ] = "0",
     gamma_deg: Annotated[str, typer.Option("--gamma-deg", help="Camber angle(s) [deg]")] = "0",
     kappa: Annotated[str, typer.Option("--kappa", help="Longitudinal slip ratio(s) [-]")] = "0",
-    side: Annotated[str | None, typer.Option(help="Mounting side left/right (mirrors by TYRESIDE)")
-                    ] = None,
+    side: Annotated[
+        str | None, typer.Option(help="Mounting side left/right (mirrors by TYRESIDE)")
+    ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Write CSV here")] = None,
 ) -> None:
     """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
     try:
         f, desc = _load_model(model)
-        grids = np.meshgrid(parse_range(fz, "fz"), parse_range(kappa, "kappa"),
-                            parse_range(gamma_deg, "gamma-deg"), parse_range(alpha_deg, "alpha-deg"),
-                            indexing="ij")
+        grids = np.meshgrid(
+            parse_range(fz, "fz"),
+            parse_range(kappa, "kappa"),
+            parse_range(gamma_deg, "gamma-deg"),
+            parse_range(alpha_deg, "alpha-deg"),
+            indexing="ij",
+        )
         fzv, kv, gv, av = (x.ravel() for x in grids)
         kwargs = {"side": side} if side else {}
         fx, fy = f(fzv, kv, np.deg2rad(av), np.deg2rad(gv), **kwargs)
     except (GripsenseError, ValueError) as e:
         _fail(e)
-    out = pd.DataFrame({"fz_N": fzv, "kappa": kv, "gamma_deg": gv, "alpha_deg": av,
-                        "fx_N": np.broadcast_to(fx, fzv.shape), "fy_N": fy})
+    out = pd.DataFrame(
+        {
+            "fz_N": fzv,
+            "kappa": kv,
+            "gamma_deg": gv,
+            "alpha_deg": av,
+            "fx_N": np.broadcast_to(fx, fzv.shape),
+            "fy_N": fy,
+        }
+    )
     if output is not None:
         with open(output, "w") as fh:
             fh.write(f"# {desc}\n")
@@ -132,26 +156,34 @@ def tyre_eval(
 
 @tyre_app.command("fit")
 def tyre_fit(
-    data: Annotated[Path, typer.Argument(help="CSV/Parquet with alpha, gamma, fz, fy "
-                                              "(or the friction run's wheels.parquet)")],
+    data: Annotated[
+        Path,
+        typer.Argument(
+            help="CSV/Parquet with alpha, gamma, fz, fy (or the friction run's wheels.parquet)"
+        ),
+    ],
     model: Annotated[str, typer.Option(help="pac94 (seed 002's a0..a17) or mf61")] = "pac94",
-    constraints: Annotated[str, typer.Option(help="none, shape, symmetric, camber or all")
-                           ] = "all",
-    output: Annotated[Path | None, typer.Option("-o", "--output",
-                                                help="fit.json, or fit.tir for mf61")] = None,
+    constraints: Annotated[str, typer.Option(help="none, shape, symmetric, camber or all")] = "all",
+    output: Annotated[
+        Path | None, typer.Option("-o", "--output", help="fit.json, or fit.tir for mf61")
+    ] = None,
     plot: Annotated[Path | None, typer.Option(help="PNG of measured vs identified curves")] = None,
-    columns: Annotated[str | None, typer.Option(help="Column mapping, e.g. "
-                                                     "alpha=SA:deg,gamma=IA:deg,fz=-FZ,fy=FY")
-                       ] = None,
+    columns: Annotated[
+        str | None, typer.Option(help="Column mapping, e.g. alpha=SA:deg,gamma=IA:deg,fz=-FZ,fy=FY")
+    ] = None,
     variant: Annotated[str, typer.Option(help="PAC94 shifts: published or seed")] = "published",
     loss: Annotated[str, typer.Option(help="linear, soft_l1, huber or cauchy")] = "linear",
-    fnomin: Annotated[float | None, typer.Option(help="MF 6.1 nominal load [N] (default median)")
-                      ] = None,
+    fnomin: Annotated[
+        float | None, typer.Option(help="MF 6.1 nominal load [N] (default median)")
+    ] = None,
     wheel: Annotated[str | None, typer.Option(help="Wheel or axle of a wheels table")] = None,
-    template: Annotated[Path | None, typer.Option(help="Existing .tir to take the other "
-                                                       "sections from (mf61 -o .tir)")] = None,
-    compare: Annotated[bool, typer.Option(help="Also fit without constraints and show both")
-                       ] = False,
+    template: Annotated[
+        Path | None,
+        typer.Option(help="Existing .tir to take the other sections from (mf61 -o .tir)"),
+    ] = None,
+    compare: Annotated[
+        bool, typer.Option(help="Also fit without constraints and show both")
+    ] = False,
 ) -> None:
     """Fit Magic Formula lateral coefficients in one step (seed 002), with constraints."""
     from gripsense.identify.tyre_fit import fit_from_wheel_table, fit_mf61_lateral, fit_pac94
@@ -173,14 +205,16 @@ def tyre_fit(
             if info["source"] == "wheels":
                 return fit_from_wheel_table(table, model=model, wheel=wheel, **k)
             fitter = fit_pac94 if model == "pac94" else fit_mf61_lateral
-            return fitter(table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"],
-                          **k)
+            return fitter(table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"], **k)
 
         fit = run(kw)
         free_fit = run({**kw, "constraints": "none"}) if compare else None
         if info["source"] == "wheels":
-            info = {"rows": info["rows"], "rows_used": fit.extra["rows_used"],
-                    "rejected": fit.extra["rows_rejected"]}
+            info = {
+                "rows": info["rows"],
+                "rows_used": fit.extra["rows_used"],
+                "rejected": fit.extra["rows_rejected"],
+            }
         if output is not None:
             if output.suffix.lower() == ".tir":
                 fit.to_tir(output, template=template)
@@ -190,12 +224,22 @@ def tyre_fit(
             from gripsense.report.tyre_figures import fit_figure
 
             if info.get("rows_used") and "alpha_rad" not in table.columns:
-                pts = pd.DataFrame({"alpha_rad": table["slip_angle_rad"], "gamma_rad": 0.0,
-                                    "fz_N": table["load_N"], "fy_N": table["force_N"]}).dropna()
+                pts = pd.DataFrame(
+                    {
+                        "alpha_rad": table["slip_angle_rad"],
+                        "gamma_rad": 0.0,
+                        "fz_N": table["load_N"],
+                        "fy_N": table["force_N"],
+                    }
+                ).dropna()
             else:
                 pts = table
-            fig = fit_figure(fit, pts, title=data.name,
-                             extra_fits={"no constraints": free_fit} if free_fit else None)
+            fig = fit_figure(
+                fit,
+                pts,
+                title=data.name,
+                extra_fits={"no constraints": free_fit} if free_fit else None,
+            )
             fig.savefig(plot, dpi=110)
     except GripsenseError as e:
         _fail(e)
@@ -208,28 +252,39 @@ def tyre_fit(
 
 def _print_fit(fit, info, data, free_fit) -> None:
     rej = ", ".join(f"{k} {v}" for k, v in info.get("rejected", {}).items()) or "none"
-    console.print(f"{data.name}: {info.get('rows_used', fit.n)} of {info['rows']} rows used "
-                  f"(rejected: {rej})")
-    console.print(f"{fit.model} fit, constraints {fit.constraints}: {fit.message}; "
-                  f"rms residual {fit.residual_rms_N:.1f} N, n = {fit.n}, {fit.nfev} evaluations")
+    console.print(
+        f"{data.name}: {info.get('rows_used', fit.n)} of {info['rows']} rows used (rejected: {rej})"
+    )
+    console.print(
+        f"{fit.model} fit, constraints {fit.constraints}: {fit.message}; "
+        f"rms residual {fit.residual_rms_N:.1f} N, n = {fit.n}, {fit.nfev} evaluations"
+    )
     lo, hi = fit.ranges["fz_N"]
     a_lo, a_hi = np.rad2deg(fit.ranges["alpha_rad"])
     g_lo, g_hi = np.rad2deg(fit.ranges["gamma_rad"])
-    console.print(f"valid for Fz {lo:.0f}–{hi:.0f} N, α {a_lo:.1f}–{a_hi:.1f}°, "
-                  f"γ {g_lo:.1f}–{g_hi:.1f}°")
+    console.print(
+        f"valid for Fz {lo:.0f}–{hi:.0f} N, α {a_lo:.1f}–{a_hi:.1f}°, γ {g_lo:.1f}–{g_hi:.1f}°"
+    )
     t = Table()
     for c in ("coefficient", "value", "1σ", "determined"):
         t.add_column(c, justify="right")
     for k, v in fit.coefficients.items():
         se = fit.stderr[k]
         det = fit.determined[k]
-        t.add_row(k, f"{v:.6g}", "" if not np.isfinite(se) else f"{se:.3g}",
-                  "yes" if det else "[yellow]no[/]")
+        t.add_row(
+            k,
+            f"{v:.6g}",
+            "" if not np.isfinite(se) else f"{se:.3g}",
+            "yes" if det else "[yellow]no[/]",
+        )
     console.print(t)
     checks = fit.physical_checks()
-    console.print("physical checks: " + ", ".join(f"{k} {'ok' if v else 'FAILED'}"
-                                                  for k, v in checks.items()))
+    console.print(
+        "physical checks: " + ", ".join(f"{k} {'ok' if v else 'FAILED'}" for k, v in checks.items())
+    )
     if free_fit is not None:
         fc = free_fit.physical_checks()
-        console.print(f"without constraints: rms {free_fit.residual_rms_N:.1f} N; "
-                      + ", ".join(f"{k} {'ok' if v else 'FAILED'}" for k, v in fc.items()))
+        console.print(
+            f"without constraints: rms {free_fit.residual_rms_N:.1f} N; "
+            + ", ".join(f"{k} {'ok' if v else 'FAILED'}" for k, v in fc.items())
+        )

@@ -36,10 +36,18 @@ __all__ = ["TYRE_KEYS", "read_tyre_table"]
 
 TYRE_KEYS = ("alpha", "gamma", "fz", "fy")
 _UNITS = {"deg": np.pi / 180, "rad": 1.0, "N": 1.0, "kN": 1000.0, "lbf": 4.4482216152605}
-_DEFAULTS = {"alpha": ("alpha_rad", "alpha_deg"), "gamma": ("gamma_rad", "gamma_deg"),
-             "fz": ("fz_N", "fz_kN"), "fy": ("fy_N", "fy_kN")}
-_DEFAULT_FACTORS = {"alpha_deg": np.pi / 180, "gamma_deg": np.pi / 180, "fz_kN": 1000.0,
-                    "fy_kN": 1000.0}
+_DEFAULTS = {
+    "alpha": ("alpha_rad", "alpha_deg"),
+    "gamma": ("gamma_rad", "gamma_deg"),
+    "fz": ("fz_N", "fz_kN"),
+    "fy": ("fy_N", "fy_kN"),
+}
+_DEFAULT_FACTORS = {
+    "alpha_deg": np.pi / 180,
+    "gamma_deg": np.pi / 180,
+    "fz_kN": 1000.0,
+    "fy_kN": 1000.0,
+}
 
 
 def _read(path: Path) -> pd.DataFrame:
@@ -53,7 +61,9 @@ def _read(path: Path) -> pd.DataFrame:
         raise InputError(f"{path}: not a readable table ({e})") from None
 
 
-def read_tyre_table(path: str | Path, columns: str | dict | None = None) -> tuple[pd.DataFrame, dict]:
+def read_tyre_table(
+    path: str | Path, columns: str | dict | None = None
+) -> tuple[pd.DataFrame, dict]:
     """Read a tyre measurement table.
 
     Parameters
@@ -87,16 +97,19 @@ def read_tyre_table(path: str | Path, columns: str | dict | None = None) -> tupl
                     break
     for key in ("alpha", "fz", "fy"):
         if key not in m:
-            raise InputError(f"{path}: no column for {key} (expected {' or '.join(_DEFAULTS[key])},"
-                             f" or map one with --columns {key}=NAME[:unit]); columns: "
-                             f"{list(df.columns)[:20]}")
+            raise InputError(
+                f"{path}: no column for {key} (expected {' or '.join(_DEFAULTS[key])},"
+                f" or map one with --columns {key}=NAME[:unit]); columns: "
+                f"{list(df.columns)[:20]}"
+            )
     out = {}
     rejected: dict[str, int] = {}
     ok = np.ones(len(df), bool)
     for key, (name, factor) in m.items():
         if name not in df.columns:
-            raise InputError(f"{path}: column {name!r} for {key} not found; columns: "
-                             f"{list(df.columns)[:20]}")
+            raise InputError(
+                f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
+            )
         v = pd.to_numeric(df[name], errors="coerce")
         bad = v.isna().to_numpy()
         if bad.any():
@@ -110,6 +123,9 @@ def read_tyre_table(path: str | Path, columns: str | dict | None = None) -> tupl
     if nonpos.any():
         rejected["fz_not_positive"] = int(nonpos.sum())
         ok &= ~nonpos
-    return t[ok].reset_index(drop=True), {"rows": len(df), "rows_used": int(ok.sum()),
-                                          "rejected": {k: v for k, v in rejected.items() if v},
-                                          "source": "table"}
+    return t[ok].reset_index(drop=True), {
+        "rows": len(df),
+        "rows_used": int(ok.sum()),
+        "rejected": {k: v for k, v in rejected.items() if v},
+        "source": "table",
+    }

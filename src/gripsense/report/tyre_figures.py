@@ -18,8 +18,9 @@ from matplotlib.figure import Figure
 __all__ = ["fit_figure"]
 
 
-def fit_figure(fit, data: pd.DataFrame, *, title: str = "", extra_fits: dict | None = None
-               ) -> Figure:
+def fit_figure(
+    fit, data: pd.DataFrame, *, title: str = "", extra_fits: dict | None = None
+) -> Figure:
     """Three panels: Fy–α at 3 loads (at the camber of the points near each load), Fy–α at
     3 cambers (median load), residuals.
 
@@ -54,11 +55,22 @@ def fit_figure(fit, data: pd.DataFrame, *, title: str = "", extra_fits: dict | N
         # the curve at the camber those points have, so points and curve are comparable
         g_lvl = float(np.median(g[near])) if near.any() else 0.0
         ax.plot(a_deg[near], fy[near], ".", ms=2, color=col, alpha=0.35)
-        ax.plot(al, fit.predict(lvl, np.deg2rad(al), g_lvl), color=col, lw=2,
-                label=f"Fz = {lvl / 1000:.1f} kN, γ = {np.rad2deg(g_lvl):+.1f}°")
+        ax.plot(
+            al,
+            fit.predict(lvl, np.deg2rad(al), g_lvl),
+            color=col,
+            lw=2,
+            label=f"Fz = {lvl / 1000:.1f} kN, γ = {np.rad2deg(g_lvl):+.1f}°",
+        )
         for i, (lab, other) in enumerate((extra_fits or {}).items()):
-            ax.plot(al, other.predict(lvl, np.deg2rad(al), g_lvl), color=col, lw=1,
-                    ls=("--", ":")[i % 2], label=f"{lab}" if lvl == levels[0] else None)
+            ax.plot(
+                al,
+                other.predict(lvl, np.deg2rad(al), g_lvl),
+                color=col,
+                lw=1,
+                ls=("--", ":")[i % 2],
+                label=f"{lab}" if lvl == levels[0] else None,
+            )
     ax.axvspan(a_deg.min(), a_deg.max(), color="0.93", zorder=-1, label="data range")
     ax.set(xlabel="slip angle α [deg]", ylabel="lateral force Fy [N]", title="several loads")
     ax.legend(fontsize=8)
@@ -71,10 +83,18 @@ def fit_figure(fit, data: pd.DataFrame, *, title: str = "", extra_fits: dict | N
     for lvl, col in zip(gl, ("tab:purple", "tab:gray", "tab:orange"), strict=False):
         near = (np.abs(g - lvl) <= gw) & (np.abs(fz - f0) < width)
         ax.plot(a_deg[near], fy[near], ".", ms=2, color=col, alpha=0.35)
-        ax.plot(al, fit.predict(f0, np.deg2rad(al), lvl), color=col, lw=2,
-                label=f"γ = {np.rad2deg(lvl):+.1f}°")
-    ax.set(xlabel="slip angle α [deg]", ylabel="lateral force Fy [N]",
-           title=f"Fz = {f0 / 1000:.1f} kN, several cambers")
+        ax.plot(
+            al,
+            fit.predict(f0, np.deg2rad(al), lvl),
+            color=col,
+            lw=2,
+            label=f"γ = {np.rad2deg(lvl):+.1f}°",
+        )
+    ax.set(
+        xlabel="slip angle α [deg]",
+        ylabel="lateral force Fy [N]",
+        title=f"Fz = {f0 / 1000:.1f} kN, several cambers",
+    )
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
 
@@ -82,11 +102,17 @@ def fit_figure(fit, data: pd.DataFrame, *, title: str = "", extra_fits: dict | N
     res = fy - fit.predict(fz, data["alpha_rad"].to_numpy(), g)
     ax.plot(a_deg, res, ".", ms=2, color="0.3", alpha=0.5)
     ax.axhline(0, color="k", lw=0.8)
-    ax.set(xlabel="slip angle α [deg]", ylabel="residual [N]",
-           title=f"residuals: rms {fit.residual_rms_N:.0f} N, n = {fit.n}")
+    ax.set(
+        xlabel="slip angle α [deg]",
+        ylabel="residual [N]",
+        title=f"residuals: rms {fit.residual_rms_N:.0f} N, n = {fit.n}",
+    )
     ax.grid(alpha=0.3)
     checks = fit.physical_checks()
     bad = [k for k, v in checks.items() if not v]
-    fig.suptitle((title + " — " if title else "") + f"{fit.model}, constraints {fit.constraints}; "
-                 + ("physically plausible" if not bad else "UNPHYSICAL: " + ", ".join(bad)))
+    fig.suptitle(
+        (title + " — " if title else "")
+        + f"{fit.model}, constraints {fit.constraints}; "
+        + ("physically plausible" if not bad else "UNPHYSICAL: " + ", ".join(bad))
+    )
     return fig
