@@ -21,9 +21,11 @@ app = typer.Typer(
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
 
-from gripsense.cli_tyre import tyre_app  # noqa: E402 - sub-command group
+from gripsense.cli_steering import steering_app  # noqa: E402 - sub-command groups
+from gripsense.cli_tyre import tyre_app  # noqa: E402
 
 app.add_typer(tyre_app, name="tyre")
+app.add_typer(steering_app, name="steering")
 
 
 def _fail(err: Exception) -> None:

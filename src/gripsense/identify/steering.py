@@ -92,6 +92,7 @@ class SteeringIdentification:
     converged: bool = False
     first_pass: dict = field(default_factory=dict)
     car: SteeringCar | None = None
+    cs_rigid: CsResult | None = None  #: the first C_s step (k_s = k_s1, seed Fig. 4.2)
 
     def to_dict(self) -> dict:
         """JSON-ready summary (NaN as None)."""
@@ -420,8 +421,9 @@ def identify_ks(
 
     val = _invert(ks_m, g_m, gain_dps2, model)
     s = 1.96 * gain_sigma_dps2 if np.isfinite(gain_sigma_dps2) else 0.0  # 95 % interval
-    lo = _invert(ks_m, g_m, gain_dps2 - s, model) if s else val
-    hi = _invert(ks_m, g_m, gain_dps2 + s, model) if s else val
+    # a single summary gain has no spread: no interval rather than a zero-width one
+    lo = _invert(ks_m, g_m, gain_dps2 - s, model) if s else float("nan")
+    hi = _invert(ks_m, g_m, gain_dps2 + s, model) if s else float("nan")
     flag = "ok"
     if not np.isfinite(val):
         if gain_dps2 > g_m.max():
@@ -479,9 +481,10 @@ def identify_steering(
     cur = car
     cs_res = identify_cs(cur, settling_times_s, alpha0_rad=alpha0_rad, reference=reference)
     history.append({"step": "C_s", "cs": cs_res.cs, "ks": cur.ks})
+    cs_first = cs_res
     if yaw_gain_dps2 is None:
         return SteeringIdentification(
-            cs_res, None, history, True, {"cs_rigid": cs_res.cs}, cur.with_cs(cs_res.cs)
+            cs_res, None, history, True, {"cs_rigid": cs_res.cs}, cur.with_cs(cs_res.cs), cs_first
         )
     if steer_rate_rad_s is None or stop_rad is None:
         raise InputError("identify_steering: the yaw gain needs steer_rate_rad_s and stop_rad")
@@ -515,4 +518,4 @@ def identify_steering(
             converged = True
             break
     final_car = cur.with_cs(cs_res.cs) if np.isfinite(cs_res.cs) else cur
-    return SteeringIdentification(cs_res, ks_res, history, converged, first, final_car)
+    return SteeringIdentification(cs_res, ks_res, history, converged, first, final_car, cs_first)

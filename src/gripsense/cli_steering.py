@@ -1,0 +1,228 @@
+"""``gripsense steering``: identify C_s and k_s of a steering system (seed 003)."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import pandas as pd
+import typer
+from rich.console import Console
+
+from gripsense.errors import GripsenseError, InputError
+
+steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
+console = Console()
+err_console = Console(stderr=True, soft_wrap=True)
+
+
+def _fail(err: Exception) -> None:
+    err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)
+    raise typer.Exit(2)
+
+
+def _read_csv(path: Path, need: tuple[str, ...]) -> pd.DataFrame:
+    try:
+        df = pd.read_csv(path, comment="#")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: not a readable CSV ({e})") from None
+    for c in need:
+        if c not in df.columns:
+            raise InputError(
+                f"{path}: no column {c!r} (columns: {list(df.columns)}); expected {', '.join(need)}"
+            )
+        v = pd.to_numeric(df[c], errors="coerce")
+        bad = v.isna() & df[c].notna()
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise InputError(f"{path} line {row + 2}: {c} = {df[c].iloc[row]!r} is not a number")
+        df[c] = v
+    return df.dropna(subset=list(need))
+
+
+def _floats(text: str, what: str) -> list[float]:
+    try:
+        return [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(f"--{what}: {text!r} is not a comma-separated list of numbers") from None
+
+
+@steering_app.command("identify")
+def identify(
+    config: Annotated[
+        Path, typer.Argument(help="Car TOML (see gripsense/data/of18_steering.toml)")
+    ],
+    release: Annotated[
+        list[Path] | None,
+        typer.Option(help="Release test CSV (t_s, steer_deg at the steering wheel); repeat"),
+    ] = None,
+    step: Annotated[
+        list[Path] | None,
+        typer.Option(help="Step-steer CSV (t_s, steer_deg, yaw_rate_dps); repeat"),
+    ] = None,
+    settling: Annotated[
+        str | None, typer.Option(help="Measured settling times [s], e.g. 0.80,0.86,0.76,0.84,0.72")
+    ] = None,
+    yaw_gain: Annotated[
+        float | None, typer.Option("--yaw-gain", help="Measured yaw gain [deg/s²] at --steer-rate")
+    ] = None,
+    steer_rate: Annotated[
+        float | None,
+        typer.Option(
+            "--steer-rate", help="Steering-wheel rate of --yaw-gain / reference rate [deg/s]"
+        ),
+    ] = None,
+    gain_law: Annotated[
+        str, typer.Option(help="Yaw gain vs rate: ln (seed eq. 7) or linear")
+    ] = "ln",
+    reference: Annotated[
+        str, typer.Option(help="Settling band: initial (§4.1) or converged")
+    ] = "initial",
+    method: Annotated[
+        str, typer.Option(help="Yaw gain from a trace: rise, slope or peak")
+    ] = "rise",
+    tyre_deflection: Annotated[
+        Path | None, typer.Option(help="CSV force_N, deflection_mm: sets k_y from the slope")
+    ] = None,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="Output folder")] = None,
+) -> None:
+    """Identify kingpin damping C_s and steering stiffness k_s (k_s2) by alternating the
+    settling-time and yaw-gain inversions to a fixed point."""
+    from dataclasses import replace
+
+    from gripsense.identify.steering import (
+        identify_steering,
+        normalise_yaw_gain,
+        release_settling_time,
+        step_metrics,
+        tyre_lateral_stiffness,
+    )
+    from gripsense.sim.steering import SteeringCar, simulate_release
+
+    try:
+        car = SteeringCar.from_toml(config)
+        test = tomllib.loads(config.read_text(encoding="utf-8")).get("test", {})
+        n = car.steering_ratio
+        ref_rate = float(steer_rate or test.get("reference_steer_rate_dps", 70.0))
+        stop = np.deg2rad(float(test.get("step_stop_deg", 90.0))) / n
+        alpha0 = np.deg2rad(float(test.get("release_angle_deg", 30.0))) / n
+        if tyre_deflection is not None:
+            td = _read_csv(tyre_deflection, ("force_N", "deflection_mm"))
+            ky, ky_sig = tyre_lateral_stiffness(td["force_N"], td["deflection_mm"] / 1000.0)
+            car = replace(car, tyre_lateral_stiffness_N_per_m=ky)
+            console.print(
+                f"k_y = {ky / 1000:.1f} ± {ky_sig / 1000:.1f} N/mm from "
+                f"{tyre_deflection.name} ({len(td)} points)"
+            )
+        times = _floats(settling, "settling") if settling else []
+        traces = []
+        for p in release or []:
+            df = _read_csv(p, ("t_s", "steer_deg"))
+            ts = release_settling_time(df["t_s"], df["steer_deg"], reference=reference)
+            times.append(ts)
+            console.print(f"{p.name}: settling time {ts:.3f} s")
+            a = df["steer_deg"].to_numpy()
+            t = df["t_s"].to_numpy()
+            i = int(
+                np.argmax(
+                    np.abs(a - np.median(a[: max(5, a.size // 20)]))
+                    > 0.02 * abs(np.median(a[: max(5, a.size // 20)]))
+                )
+            )
+            traces.append((t[i:] - t[i], a[i:]))
+        if not times:
+            raise InputError("give settling times: --settling t1,t2,... or --release FILE.csv")
+        gain, gain_sig = yaw_gain, float("nan")
+        if step:
+            rates, gains = [], []
+            for p in step:
+                df = _read_csv(p, ("t_s", "steer_deg", "yaw_rate_dps"))
+                m = step_metrics(df["t_s"], df["steer_deg"], df["yaw_rate_dps"], method=method)
+                rates.append(m["steer_rate"])
+                gains.append(m["yaw_gain"])
+                console.print(
+                    f"{p.name}: steering rate {m['steer_rate']:.1f} deg/s, "
+                    f"yaw gain {m['yaw_gain']:.1f} deg/s²"
+                )
+            g = normalise_yaw_gain(rates, gains, ref_rate, law=gain_law)
+            gain, gain_sig = g["gain"], g["sigma"]
+            console.print(
+                f"yaw gain at {ref_rate:.0f} deg/s ({gain_law} law, {g['n']} tests): "
+                f"{gain:.1f} deg/s²" + (f" ± {gain_sig:.1f}" if np.isfinite(gain_sig) else "")
+            )
+        res = identify_steering(
+            car,
+            times,
+            alpha0_rad=alpha0,
+            yaw_gain_dps2=gain,
+            yaw_gain_sigma_dps2=gain_sig,
+            steer_rate_rad_s=np.deg2rad(ref_rate) / n,
+            stop_rad=stop,
+            reference=reference,
+            method=method,
+        )
+    except GripsenseError as e:
+        _fail(e)
+    d = res.to_dict()
+    console.print(
+        f"settling time {res.cs.t_mean_s:.3f} ± {res.cs.t_sd_s:.3f} s "
+        f"({len(times)} tests, band: {reference})"
+    )
+    fp = res.first_pass
+    console.print(
+        f"first pass (seed): C_s = {fp.get('cs_rigid', float('nan')):.1f} with "
+        f"k_s = k_s1 = {car.ks1_Nm_per_rad:.0f}"
+    )
+    if res.cs.flag != "ok":
+        console.print(f"[yellow]C_s: {res.cs.flag}[/]")
+    else:
+        console.print(
+            f"C_s = {res.cs.cs:.1f} N·m·s/rad  [{res.cs.low:.1f}, {res.cs.high:.1f}] "
+            "(mean ± SD of the times)"
+        )
+    if res.ks is not None:
+        if res.ks.flag != "ok":
+            console.print(f"[yellow]k_s: {res.ks.flag}[/]")
+        else:
+            k2 = res.ks.ks2
+            if np.isfinite(res.ks.low) and np.isfinite(res.ks.high):
+                iv = (
+                    f" [{res.ks.low:.0f}, {res.ks.high:.0f}]",
+                    f" [{res.ks.ks2_low:.4g}, {res.ks.ks2_high:.4g}] (gain ± 1.96σ)",
+                )
+            else:
+                iv = ("", " (no interval: a single summary yaw gain has no spread)")
+            console.print(f"k_s = {res.ks.ks:.0f} N·m/rad{iv[0]}, k_s2 = {k2:.4g} N·m/rad{iv[1]}")
+    console.print(
+        f"alternation: {len(res.history)} steps, "
+        + ("converged" if res.converged else "[yellow]not converged[/]")
+    )
+    if output is not None:
+        from gripsense.report.steering_figures import (
+            release_figure,
+            settling_figure,
+            yaw_gain_figure,
+        )
+
+        output.mkdir(parents=True, exist_ok=True)
+        (output / "steering.json").write_text(json.dumps(d, indent=2))
+        model = (
+            simulate_release(res.car, alpha0_rad=alpha0, duration_s=3.0)
+            if np.isfinite(res.cs.cs)
+            else None
+        )
+        release_figure(traces, model).savefig(output / "release.png", dpi=110)
+        curves = [("k_s = k_s1 (first pass)", res.cs_rigid)]
+        if res.ks is not None and np.isfinite(res.ks.ks):
+            curves.append((f"k_s = {res.ks.ks:.0f}", res.cs))
+        settling_figure(curves, res.cs.t_mean_s, res.cs.t_sd_s).savefig(
+            output / "settling.png", dpi=110
+        )
+        if res.ks is not None:
+            yaw_gain_figure(res.ks).savefig(output / "yaw_gain.png", dpi=110)
+        console.print(f"wrote {output}/steering.json and figures")
