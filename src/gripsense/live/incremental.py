@@ -1,0 +1,193 @@
+"""Incremental NMEA ingest: bytes in as they arrive, final epochs out, the batch reader's answer.
+
+:class:`LiveIngest` keeps the partial last line and a bounded tail of recent complete lines.
+Each :meth:`LiveIngest.feed`:
+
+* classifies only the *new* complete lines (the accounting of
+  :func:`gripsense.io.read_nmea` is per line, so the running totals equal the batch report);
+* re-reads the tail with the batch reader and emits the epochs that are *final*: not among the
+  last ``hold`` epochs (a later sentence can still join the newest epoch, and the yaw rate's
+  central difference needs the next one) and not among the first ``hold`` of a trimmed tail
+  (their earlier lines may be gone).
+
+``t_s`` is kept on the batch scale (seconds from the stream's first epoch) through an anchor
+epoch seen in two consecutive reads. :meth:`finish` emits the rest at the end of the stream.
+Memory is bounded by ``max_lines`` whatever the duration.
+
+Known difference to the batch reader: an epoch without a date takes the date of the nearest
+dated epoch *within the tail* (batch: within the whole log); receivers that send RMC or ZDA
+every burst are not affected.
+"""
+
+from __future__ import annotations
+
+from collections import Counter, deque
+
+import numpy as np
+import pandas as pd
+
+from gripsense.io import read_nmea
+from gripsense.io.report import IngestReport
+
+__all__ = ["LiveIngest"]
+
+
+class LiveIngest:
+    """Feed bytes, get final epochs (see the module documentation).
+
+    Parameters
+    ----------
+    max_lines : int
+        Lines kept for re-reading (bounds memory and per-update cost).
+    hold : int
+        Epochs held back at each end of the tail.
+    source : str
+        Name used in the report.
+    """
+
+    def __init__(self, *, max_lines: int = 3000, hold: int = 3, source: str = "<live>"):
+        self.max_lines = int(max_lines)
+        self.hold = int(hold)
+        self.source = source
+        self._partial = b""
+        self._tail: deque[bytes] = deque()
+        self._tail_start = 0  # global index of the tail's first line
+        self._n_lines = 0
+        self._parsed: Counter = Counter()
+        self._ignored: Counter = Counter()
+        self._rejected: Counter = Counter()
+        self._junk = 0
+        self._first_rejects: list = []
+        self._n_epochs = 0
+        self._no_time = 0
+        self._has_date = False
+        self._emitted_last_line = -1  # global first line of the newest emitted epoch
+        self._anchor: tuple[int, float] | None = None  # (first line, global t_s)
+        self._starts: deque[int] = deque(maxlen=64)  # first lines of recently emitted epochs
+        self._aligned = True  # the tail starts where an epoch starts in the batch reading
+        self.last_data_monotonic: float | None = None
+
+    # ------------------------------------------------------------------ input
+    def feed(self, data: bytes) -> pd.DataFrame:
+        """Add received bytes; return the epochs that became final (maybe none)."""
+        if not data:
+            return self._empty()
+        buf = self._partial + data
+        parts = buf.split(b"\n")
+        self._partial = parts.pop()
+        if not parts:
+            return self._empty()
+        lines = [p + b"\n" for p in parts]
+        self._account(lines)
+        self._tail.extend(lines)
+        self._n_lines += len(lines)
+        return self._emit(final=False)
+
+    def finish(self) -> pd.DataFrame:
+        """End of stream: the partial last line counts as a line; emit every remaining epoch."""
+        if self._partial:
+            line = [self._partial]
+            self._partial = b""
+            self._account(line)
+            self._tail.extend(line)
+            self._n_lines += 1
+        return self._emit(final=True)
+
+    # ------------------------------------------------------------------ accounting
+    def _account(self, lines: list[bytes]) -> None:
+        rep = read_nmea(b"".join(lines)).report
+        self._parsed.update(rep.parsed)
+        self._ignored.update(rep.ignored)
+        self._rejected.update(rep.rejected)
+        self._junk += rep.junk_prefix_lines
+        for r in rep.first_rejects:
+            if len(self._first_rejects) < 20:
+                self._first_rejects.append(type(r)(r.line + self._n_lines, r.reason, r.detail))
+
+    @property
+    def report(self) -> IngestReport:
+        """Line accounting so far (equals the batch report once :meth:`finish` was called)."""
+        return IngestReport(
+            source=self.source,
+            total_lines=self._n_lines,
+            parsed=dict(sorted(self._parsed.items())),
+            ignored=dict(sorted(self._ignored.items())),
+            rejected={k: int(v) for k, v in self._rejected.items()},
+            first_rejects=list(self._first_rejects),
+            junk_prefix_lines=self._junk,
+            n_epochs=self._n_epochs,
+            epochs_without_time=self._no_time,
+            has_date=self._has_date,
+        )
+
+    # ------------------------------------------------------------------ epochs
+    def _empty(self) -> pd.DataFrame:
+        return pd.DataFrame()
+
+    def _emit(self, final: bool) -> pd.DataFrame:
+        if not self._tail:
+            return self._empty()
+        log = read_nmea(b"".join(self._tail))
+        ep = log.epochs
+        if ep.empty:
+            self._trim()
+            return self._empty()
+        first_line = np.full(len(ep), np.iinfo(np.int64).max, dtype=np.int64)
+        for f in log.sentences.values():
+            if len(f):
+                e = f["epoch"].to_numpy()
+                ln = f["line"].to_numpy() - 1 + self._tail_start
+                np.minimum.at(first_line, e, ln)
+        n = len(ep)
+        lo = 0 if self._aligned else self.hold
+        hi = n if final else max(n - self.hold, 0)
+        idx = np.arange(n)
+        ok = (idx >= lo) & (idx < hi) & (first_line > self._emitted_last_line)
+        # t_s on the stream's scale through an anchor epoch seen before
+        offset = 0.0
+        if self._anchor is not None:
+            a_line, a_t = self._anchor
+            hit = np.flatnonzero(first_line == a_line)
+            if hit.size and np.isfinite(ep["t_s"].iloc[hit[0]]):
+                offset = a_t - float(ep["t_s"].iloc[hit[0]])
+            elif self._tail_start > 0:
+                ok &= False  # no anchor in the tail: wait (cannot happen with a sane max_lines)
+        ep = ep.assign(t_s=ep["t_s"] + offset)
+        out = ep[ok]
+        if len(out):
+            self._emitted_last_line = int(first_line[ok].max())
+            self._starts.extend(int(x) for x in np.sort(first_line[ok]))
+            # newest emitted epoch with a time becomes the anchor for the next read
+            timed = np.flatnonzero(ok & np.isfinite(ep["t_s"].to_numpy()))
+            if timed.size:
+                j = int(timed[-1])
+                self._anchor = (int(first_line[j]), float(ep["t_s"].iloc[j]))
+            self._n_epochs += len(out)
+            self._no_time += int(out["time_utc"].isna().sum() if "time_utc" in out else 0)
+            self._has_date = self._has_date or bool(log.report.has_date)
+        self._trim()
+        return out.reset_index(drop=True)
+
+    def _trim(self) -> None:
+        """Drop old lines, cutting only where an emitted epoch starts: the epoch grouping is a
+        state machine over the whole stream, and a re-read must start in the state the batch
+        reader is in there (at an epoch start the state is just that epoch)."""
+        end = self._tail_start + len(self._tail)
+        target = end - self.max_lines
+        if target <= self._tail_start:
+            return
+        keep_from = self._starts[-(self.hold + 1)] if len(self._starts) > self.hold else None
+        cut = None
+        if keep_from is not None:
+            limit = min(target, keep_from)
+            cands = [x for x in self._starts if self._tail_start < x <= limit]
+            cut = max(cands) if cands else None
+        if cut is None:
+            if len(self._tail) <= 4 * self.max_lines:
+                return  # wait for an epoch boundary
+            cut, self._aligned = target, False  # no epochs for a long time: bound memory anyway
+        else:
+            self._aligned = True
+        for _ in range(cut - self._tail_start):
+            self._tail.popleft()
+        self._tail_start = cut

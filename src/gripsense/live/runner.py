@@ -1,0 +1,273 @@
+"""The live loop: source → incremental ingest → sliding-window friction → display and recording.
+
+Recording: every update appends one row per wheel (or axle) to a CSV and every received byte to
+``<output>.nmea``; both are flushed (and fsync'ed) every ``flush_s``. CSV rows are whole lines,
+so after a SIGKILL the file is readable up to the last flush. With a ``.parquet`` output the rows
+go to ``<output>.partial.csv`` while running and are converted at a clean stop;
+:func:`recover` converts what a killed run left. SIGINT/SIGTERM stop the loop cleanly (exit 0).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import GripsenseError, InputError
+from gripsense.live.incremental import LiveIngest
+
+__all__ = ["LiveFriction", "LiveStats", "Recorder", "recover", "run_live"]
+
+RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", "unit", "mu", "mu_low", "mu_high",
+                  "surface", "observable", "mu_lower_bound", "n_valid", "stale"]
+
+
+class LiveFriction:
+    """Friction over the last ``window_s`` seconds of epochs, recomputed on demand.
+
+    Uses :class:`gripsense.pipeline.FrictionRun` on the window (per wheel for the per-sample
+    methods, per axle with ``axle-window``), so live results are the batch method's results on
+    the same recent data.
+    """
+
+    def __init__(self, vehicle, method: str = "brush-2", window_s: float = 30.0):
+        from gripsense.pipeline import FrictionRun
+
+        self.run = FrictionRun(vehicle, method=method)
+        self.window_s = float(window_s)
+        self._epochs: deque[pd.DataFrame] = deque()
+        self.last_t: float = float("nan")
+
+    def add(self, epochs: pd.DataFrame) -> None:
+        if epochs is None or epochs.empty:
+            return
+        self._epochs.append(epochs)
+        t = epochs["t_s"].to_numpy(float)
+        if np.isfinite(t).any():
+            self.last_t = float(np.nanmax(t))
+        # keep only the window
+        while self._epochs and len(self._epochs) > 1:
+            first_t = self._epochs[0]["t_s"].to_numpy(float)
+            if np.isfinite(first_t).any() and np.nanmax(first_t) < self.last_t - self.window_s:
+                self._epochs.popleft()
+            else:
+                break
+
+    def estimate(self) -> pd.DataFrame:
+        """Summary over the window (one row per wheel/axle; empty when there is no data)."""
+        if not self._epochs:
+            return pd.DataFrame()
+        ep = pd.concat(list(self._epochs), ignore_index=True)
+        ep = ep[ep["t_s"] >= self.last_t - self.window_s]
+        if len(ep) < 5:
+            return pd.DataFrame()
+        try:
+            res = self.run.run(ep)
+        except GripsenseError:
+            return pd.DataFrame()
+        s = res.summary.copy()
+        unit = "axle" if "axle" in s.columns else "wheel"
+        s = s.rename(columns={unit: "unit"})
+        if "n_valid" not in s.columns:
+            s["n_valid"] = s.get("n", np.nan)
+        return s
+
+
+@dataclass
+class LiveStats:
+    """Counters shown in the display and returned at the end."""
+
+    bytes: int = 0
+    epochs: int = 0
+    updates: int = 0
+    started: float = field(default_factory=time.monotonic)
+    last_data: float | None = None
+    gaps: list = field(default_factory=list)  # (t_s before, seconds missing)
+    last_epoch_t: float | None = None
+    median_dt: float | None = None
+
+
+class Recorder:
+    """Append-only result CSV plus the raw bytes; periodic flush + fsync."""
+
+    def __init__(self, output: str | Path | None, flush_s: float = 1.0):
+        self.output = None if output is None else Path(output)
+        self.flush_s = flush_s
+        self._last_flush = time.monotonic()
+        self._csv = self._raw = None
+        if self.output is None:
+            return
+        suffix = self.output.suffix.lower()
+        if suffix not in (".csv", ".parquet"):
+            raise InputError(f"{self.output}: use a .csv or .parquet output")
+        self.csv_path = (self.output if suffix == ".csv"
+                         else self.output.with_name(self.output.name + ".partial.csv"))
+        self.raw_path = self.output.with_name(self.output.stem + ".nmea")
+        self.csv_path.parent.mkdir(parents=True, exist_ok=True)
+        self._csv = open(self.csv_path, "w", encoding="utf-8", newline="")
+        self._csv.write(",".join(RESULT_COLUMNS) + "\n")
+        self._raw = open(self.raw_path, "wb")
+
+    def raw(self, data: bytes) -> None:
+        if self._raw is not None and data:
+            self._raw.write(data)
+
+    def rows(self, df: pd.DataFrame) -> None:
+        if self._csv is not None and len(df):
+            df.reindex(columns=RESULT_COLUMNS).to_csv(self._csv, header=False, index=False)
+
+    def maybe_flush(self, force: bool = False) -> None:
+        now = time.monotonic()
+        if force or now - self._last_flush >= self.flush_s:
+            for fh in (self._csv, self._raw):
+                if fh is not None:
+                    fh.flush()
+                    os.fsync(fh.fileno())
+            self._last_flush = now
+
+    def close(self) -> None:
+        self.maybe_flush(force=True)
+        for fh in (self._csv, self._raw):
+            if fh is not None:
+                fh.close()
+        if self.output is not None and self.output.suffix.lower() == ".parquet":
+            recover(self.output)
+
+
+def recover(output: str | Path) -> Path:
+    """Convert ``<output>.partial.csv`` (left by a running or killed live session) to
+    ``output`` (.parquet); return the path."""
+    output = Path(output)
+    part = output.with_name(output.name + ".partial.csv")
+    if not part.exists():
+        raise InputError(f"{part}: nothing to recover")
+    df = pd.read_csv(part, on_bad_lines="skip")
+    tmp = output.with_name(output.name + ".tmp")
+    df.to_parquet(tmp, index=False)
+    os.replace(tmp, output)
+    part.unlink()
+    return output
+
+
+def _note_epochs(stats: LiveStats, ep: pd.DataFrame) -> None:
+    t = ep["t_s"].to_numpy(float)
+    t = t[np.isfinite(t)]
+    if not t.size:
+        return
+    if stats.last_epoch_t is not None:
+        t = np.concatenate([[stats.last_epoch_t], t])
+    d = np.diff(t)
+    if d.size:
+        med = float(np.median(d)) if stats.median_dt is None else stats.median_dt
+        stats.median_dt = med if med > 0 else stats.median_dt
+        if stats.median_dt:
+            for i in np.flatnonzero(d > 3 * stats.median_dt):
+                stats.gaps.append((float(t[i]), float(d[i])))
+    stats.last_epoch_t = float(t[-1])
+
+
+def run_live(source, vehicle, *, method: str = "brush-2", output: str | Path | None = None,
+             window_s: float = 30.0, update_s: float = 0.25, flush_s: float = 1.0,
+             stale_s: float = 2.0, duration_s: float | None = None, display=None,
+             on_epochs=None, handle_signals: bool = True) -> dict:
+    """Run until the source ends, ``duration_s`` passes, or SIGINT/SIGTERM.
+
+    Parameters
+    ----------
+    source : ReplaySource | TcpSource | SerialSource
+    vehicle : Vehicle or path
+    method : str
+        Friction method (``gripsense friction --method``).
+    output : path, optional
+        Results file (.csv or .parquet); raw bytes go to ``<stem>.nmea`` next to it.
+    window_s, update_s, flush_s, stale_s : float
+        Estimation window, update interval, flush interval, silence after which the source is
+        shown stale [s].
+    duration_s : float, optional
+        Stop after this wall time.
+    display : callable, optional
+        ``display(summary, stats, ingest, source)`` called every update.
+    on_epochs : callable, optional
+        Receives each batch of final epochs (tests, custom sinks).
+
+    Returns
+    -------
+    dict
+        ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``.
+    """
+    ingest = LiveIngest(source=getattr(source, "name", "<live>"))
+    est = LiveFriction(vehicle, method, window_s)
+    rec = Recorder(output, flush_s)
+    stats = LiveStats()
+    stop = {"why": None}
+
+    def _stop(signum, _frame):
+        stop["why"] = signal.Signals(signum).name
+
+    old = {}
+    if handle_signals:
+        for s in (signal.SIGINT, signal.SIGTERM):
+            old[s] = signal.signal(s, _stop)
+    summary = pd.DataFrame()
+    last_update = time.monotonic()
+    t_end = None if duration_s is None else time.monotonic() + duration_s
+    try:
+        while stop["why"] is None:
+            data = source.read(0.05)
+            now = time.monotonic()
+            if data:
+                stats.bytes += len(data)
+                stats.last_data = now
+                rec.raw(data)
+                ep = ingest.feed(data)
+                if len(ep):
+                    stats.epochs += len(ep)
+                    _note_epochs(stats, ep)
+                    est.add(ep)
+                    if on_epochs is not None:
+                        on_epochs(ep)
+            ended = source.eof and not data
+            if now - last_update >= update_s or ended:
+                summary = _update(est, rec, stats, now, stale_s)
+                last_update = now
+                if display is not None:
+                    display(summary, stats, ingest, source)
+            rec.maybe_flush()
+            if ended:
+                stop["why"] = "end of input"
+            if t_end is not None and now >= t_end:
+                stop["why"] = "duration"
+        ep = ingest.finish()
+        if len(ep):
+            stats.epochs += len(ep)
+            _note_epochs(stats, ep)
+            est.add(ep)
+            if on_epochs is not None:
+                on_epochs(ep)
+        summary = _update(est, rec, stats, time.monotonic(), stale_s)
+        if display is not None:
+            display(summary, stats, ingest, source)
+    finally:
+        rec.close()
+        source.close()
+        for s, h in old.items():
+            signal.signal(s, h)
+    return {"report": ingest.report, "stats": stats, "summary": summary,
+            "stopped_by": stop["why"]}
+
+
+def _update(est: LiveFriction, rec: Recorder, stats: LiveStats, now: float, stale_s: float
+            ) -> pd.DataFrame:
+    s = est.estimate()
+    stats.updates += 1
+    if len(s):
+        stale = stats.last_data is None or now - stats.last_data > stale_s
+        s = s.assign(wall_time_s=time.time(), t_s=est.last_t, time_utc=pd.NaT, stale=stale)
+        rec.rows(s)
+    return s
