@@ -21,16 +21,19 @@ def live(
     tcp: Annotated[str | None, typer.Option(help="HOST:PORT of a receiver streaming NMEA")] = None,
     replay: Annotated[Path | None, typer.Option(help="Replay a log file (plain or .gz)")] = None,
     speed: Annotated[float, typer.Option(help="Replay speed (1 = real time, 0 = max)")] = 1.0,
-    method: Annotated[str, typer.Option(help="Friction method (as gripsense friction)")
-                      ] = "brush-2",
-    output: Annotated[Path | None, typer.Option("-o", "--output",
-                                                help="results.csv or results.parquet")] = None,
+    method: Annotated[
+        str, typer.Option(help="Friction method (as gripsense friction)")
+    ] = "brush-2",
+    output: Annotated[
+        Path | None, typer.Option("-o", "--output", help="results.csv or results.parquet")
+    ] = None,
     window_s: Annotated[float, typer.Option(help="Estimation window [s]")] = 30.0,
-    duration_s: Annotated[float | None, typer.Option(help="Stop after this many seconds")
-                          ] = None,
+    duration_s: Annotated[float | None, typer.Option(help="Stop after this many seconds")] = None,
     quiet: Annotated[bool, typer.Option(help="No live display (headless)")] = False,
-    recover: Annotated[Path | None, typer.Option(
-        help="Convert OUTPUT.parquet.partial.csv left by a killed run, then exit")] = None,
+    recover: Annotated[
+        Path | None,
+        typer.Option(help="Convert OUTPUT.parquet.partial.csv left by a killed run, then exit"),
+    ] = None,
 ) -> None:
     """Read NMEA as it arrives (serial, TCP or replay), update μ continuously, show and record
     it; Ctrl-C (SIGINT) or SIGTERM stops cleanly."""
@@ -44,8 +47,9 @@ def live(
             console.print(f"recovered {p}")
             return
         if sum(x is not None for x in (serial, tcp, replay)) != 1:
-            raise InputError("give exactly one source: --serial DEV, --tcp HOST:PORT or "
-                             "--replay LOG")
+            raise InputError(
+                "give exactly one source: --serial DEV, --tcp HOST:PORT or --replay LOG"
+            )
         if vehicle is None:
             raise InputError("--vehicle car.toml is required")
         if replay is not None:
@@ -58,22 +62,32 @@ def live(
         else:
             src = SerialSource(serial, baud)
         if quiet:
-            res = run_live(src, vehicle, method=method, output=output, window_s=window_s,
-                           duration_s=duration_s)
+            res = run_live(
+                src, vehicle, method=method, output=output, window_s=window_s, duration_s=duration_s
+            )
         else:
             with LiveDisplay(console) as disp:
-                res = run_live(src, vehicle, method=method, output=output, window_s=window_s,
-                               duration_s=duration_s, display=disp)
+                res = run_live(
+                    src,
+                    vehicle,
+                    method=method,
+                    output=output,
+                    window_s=window_s,
+                    duration_s=duration_s,
+                    display=disp,
+                )
     except GripsenseError as e:
         err_console.print(f"[bold red]error:[/] {e}", markup=True, highlight=False)
         raise typer.Exit(2) from None
     rep, st = res["report"], res["stats"]
     if quiet:
         console.print(render(res["summary"], st, _Ing(rep), src))
-    console.print(f"stopped: {res['stopped_by']}; {rep.total_lines} lines "
-                  f"({sum(rep.parsed.values())} parsed, {sum(rep.ignored.values())} ignored, "
-                  f"{sum(rep.rejected.values())} rejected), {rep.n_epochs} epochs, "
-                  f"{getattr(src, 'reconnects', 0)} reconnects")
+    console.print(
+        f"stopped: {res['stopped_by']}; {rep.total_lines} lines "
+        f"({sum(rep.parsed.values())} parsed, {sum(rep.ignored.values())} ignored, "
+        f"{sum(rep.rejected.values())} rejected), {rep.n_epochs} epochs, "
+        f"{getattr(src, 'reconnects', 0)} reconnects"
+    )
     for t0, dt in st.gaps:
         console.print(f"gap: {dt:.1f} s of data missing after t = {t0:.1f} s")
     if output is not None:

@@ -17,8 +17,12 @@ class LiveDisplay:
     """Context manager; call the instance with (summary, stats, ingest, source) to refresh."""
 
     def __init__(self, console=None, refresh_per_second: float = 4.0):
-        self._live = Live(Text("waiting for data…"), console=console,
-                          refresh_per_second=refresh_per_second, transient=False)
+        self._live = Live(
+            Text("waiting for data…"),
+            console=console,
+            refresh_per_second=refresh_per_second,
+            transient=False,
+        )
 
     def __enter__(self):
         self._live.__enter__()
@@ -52,11 +56,18 @@ def render(summary, stats, ingest, source):
         for r in summary.to_dict("records"):
             mu = r.get("mu", np.nan)
             if np.isfinite(mu):
-                cells = (f"{mu:.2f}", f"[{r.get('mu_low', np.nan):.2f}, "
-                         f"{r.get('mu_high', np.nan):.2f}]", str(r.get("surface", "")))
+                cells = (
+                    f"{mu:.2f}",
+                    f"[{r.get('mu_low', np.nan):.2f}, {r.get('mu_high', np.nan):.2f}]",
+                    str(r.get("surface", "")),
+                )
             else:
                 cells = ("not observable", "", str(r.get("surface", "undetermined")))
             lb = r.get("mu_lower_bound", np.nan)
-            t.add_row(str(r.get("unit")), *cells,
-                      f"≥ {lb:.2f}" if np.isfinite(lb) else "", str(r.get("n_valid", "")))
+            t.add_row(
+                str(r.get("unit")),
+                *cells,
+                f"≥ {lb:.2f}" if np.isfinite(lb) else "",
+                str(r.get("n_valid", "")),
+            )
     return Group(head, t)

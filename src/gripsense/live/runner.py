@@ -24,8 +24,20 @@ from gripsense.live.incremental import LiveIngest
 
 __all__ = ["LiveFriction", "LiveStats", "Recorder", "recover", "run_live"]
 
-RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", "unit", "mu", "mu_low", "mu_high",
-                  "surface", "observable", "mu_lower_bound", "n_valid", "stale"]
+RESULT_COLUMNS = [
+    "wall_time_s",
+    "t_s",
+    "time_utc",
+    "unit",
+    "mu",
+    "mu_low",
+    "mu_high",
+    "surface",
+    "observable",
+    "mu_lower_bound",
+    "n_valid",
+    "stale",
+]
 
 
 class LiveFriction:
@@ -106,8 +118,11 @@ class Recorder:
         suffix = self.output.suffix.lower()
         if suffix not in (".csv", ".parquet"):
             raise InputError(f"{self.output}: use a .csv or .parquet output")
-        self.csv_path = (self.output if suffix == ".csv"
-                         else self.output.with_name(self.output.name + ".partial.csv"))
+        self.csv_path = (
+            self.output
+            if suffix == ".csv"
+            else self.output.with_name(self.output.name + ".partial.csv")
+        )
         self.raw_path = self.output.with_name(self.output.stem + ".nmea")
         self.csv_path.parent.mkdir(parents=True, exist_ok=True)
         self._csv = open(self.csv_path, "w", encoding="utf-8", newline="")
@@ -172,10 +187,21 @@ def _note_epochs(stats: LiveStats, ep: pd.DataFrame) -> None:
     stats.last_epoch_t = float(t[-1])
 
 
-def run_live(source, vehicle, *, method: str = "brush-2", output: str | Path | None = None,
-             window_s: float = 30.0, update_s: float = 0.25, flush_s: float = 1.0,
-             stale_s: float = 2.0, duration_s: float | None = None, display=None,
-             on_epochs=None, handle_signals: bool = True) -> dict:
+def run_live(
+    source,
+    vehicle,
+    *,
+    method: str = "brush-2",
+    output: str | Path | None = None,
+    window_s: float = 30.0,
+    update_s: float = 0.25,
+    flush_s: float = 1.0,
+    stale_s: float = 2.0,
+    duration_s: float | None = None,
+    display=None,
+    on_epochs=None,
+    handle_signals: bool = True,
+) -> dict:
     """Run until the source ends, ``duration_s`` passes, or SIGINT/SIGTERM.
 
     Parameters
@@ -258,12 +284,12 @@ def run_live(source, vehicle, *, method: str = "brush-2", output: str | Path | N
         source.close()
         for s, h in old.items():
             signal.signal(s, h)
-    return {"report": ingest.report, "stats": stats, "summary": summary,
-            "stopped_by": stop["why"]}
+    return {"report": ingest.report, "stats": stats, "summary": summary, "stopped_by": stop["why"]}
 
 
-def _update(est: LiveFriction, rec: Recorder, stats: LiveStats, now: float, stale_s: float
-            ) -> pd.DataFrame:
+def _update(
+    est: LiveFriction, rec: Recorder, stats: LiveStats, now: float, stale_s: float
+) -> pd.DataFrame:
     s = est.estimate()
     stats.updates += 1
     if len(s):

@@ -62,7 +62,7 @@ class ReplaySource:
         if self.eof:
             return b""
         if self._speed == 0:
-            out = self._data[self._pos:self._pos + self._chunk]
+            out = self._data[self._pos : self._pos + self._chunk]
             self._pos += len(out)
             return out
         now = time.monotonic()
@@ -114,8 +114,9 @@ class TcpSource:
 
     @property
     def status(self) -> str:
-        return f"{self.name} {self.state}" + (f" ({self.reconnects} reconnects)"
-                                             if self.reconnects else "")
+        return f"{self.name} {self.state}" + (
+            f" ({self.reconnects} reconnects)" if self.reconnects else ""
+        )
 
     def _connect(self) -> None:
         now = time.monotonic()
@@ -182,8 +183,9 @@ class SerialSource:
 
     @property
     def status(self) -> str:
-        return f"{self.name} {self.state}" + (f" ({self.reconnects} reopens)"
-                                             if self.reconnects else "")
+        return f"{self.name} {self.state}" + (
+            f" ({self.reconnects} reopens)" if self.reconnects else ""
+        )
 
     def _open(self) -> None:
         import serial
