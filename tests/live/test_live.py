@@ -227,3 +227,21 @@ def test_bad_arguments():
         timeout=60,
     )
     assert r.returncode == 2 and "HOST:PORT" in r.stderr
+
+
+def test_clock_going_backwards_restarts_the_window_and_batch_says_so(tmp_path):
+    """Two sessions back to back (time jumps back): live restarts its window; the batch
+    friction command names the jump instead of failing inside pandas."""
+    from gripsense.live.runner import LiveFriction
+    from gripsense.pipeline import FrictionRun
+
+    two = _demo_bytes() * 2
+    est = LiveFriction(VEHICLE, window_s=30.0)
+    live = LiveIngest()
+    for i in range(0, len(two), 8192):
+        est.add(live.feed(two[i:i + 8192]))
+    est.add(live.finish())
+    assert est.resets == 1
+    assert len(est.estimate()) > 0
+    with pytest.raises(gripsense.errors.InputError, match="time goes backwards"):
+        FrictionRun(VEHICLE).run(read_nmea(two).epochs)

@@ -250,6 +250,15 @@ def motion_from_epochs(
         have &= epochs[c].notna().to_numpy()
     rows = np.flatnonzero(have)
     ep = epochs.iloc[rows]
+    ts = ep["t_s"].to_numpy(float)
+    ts = ts[np.isfinite(ts)]
+    back = np.flatnonzero(np.diff(ts) < 0)
+    if back.size:
+        raise InputError(
+            f"epochs: time goes backwards after t = {ts[back[0]]:.2f} s (to {ts[back[0] + 1]:.2f} s"
+            f"; {back.size} such jumps): the log holds several sessions or the receiver clock was"
+            " reset; split the log into sessions (gripsense live restarts its window instead)"
+        )
     psi = np.deg2rad(ep["heading_deg"].to_numpy(float))
     chi = np.deg2rad(ep["course_deg"].to_numpy(float))
     v = ep["speed_mps"].to_numpy(float)

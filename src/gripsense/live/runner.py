@@ -55,12 +55,23 @@ class LiveFriction:
         self.window_s = float(window_s)
         self._epochs: deque[pd.DataFrame] = deque()
         self.last_t: float = float("nan")
+        self.resets = 0  #: times the data's clock went backwards (window restarted)
 
     def add(self, epochs: pd.DataFrame) -> None:
         if epochs is None or epochs.empty:
             return
-        self._epochs.append(epochs)
         t = epochs["t_s"].to_numpy(float)
+        # time going backwards (receiver reset, concatenated replays): a new session starts;
+        # the window restarts there instead of mixing the two
+        prev = np.concatenate([[self.last_t], t[:-1]])
+        back = np.flatnonzero(np.isfinite(t) & np.isfinite(prev) & (t < prev - 1e-6))
+        if back.size:
+            self.resets += 1
+            self._epochs.clear()
+            epochs = epochs.iloc[back[-1]:]
+            t = t[back[-1]:]
+            self.last_t = float("nan")
+        self._epochs.append(epochs)
         if np.isfinite(t).any():
             self.last_t = float(np.nanmax(t))
         # keep only the window
@@ -82,7 +93,7 @@ class LiveFriction:
         try:
             res = self.run.run(ep)
         except GripsenseError:
-            return pd.DataFrame()
+            return pd.DataFrame()  # e.g. too little data in the window yet
         s = res.summary.copy()
         unit = "axle" if "axle" in s.columns else "wheel"
         s = s.rename(columns={unit: "unit"})
