@@ -658,9 +658,8 @@ def _run(
     }
     if c_all.size:
         active["nonlinear"] = bool(np.any(c_all < 1e-6 * (1 + np.abs(c_all).max())))
-    for i, v in fixed.items():
+    for i in fixed:
         active[f"{names[i]}=fixed"] = True
-        del v
     r_unw = res.residuals / sw
     msg = res.message + (
         f"; {n_bad} rows without finite values or with Fz <= 0 left out" if n_bad else ""

@@ -56,6 +56,7 @@ class LiveFriction:
         self._epochs: deque[pd.DataFrame] = deque()
         self.last_t: float = float("nan")
         self.resets = 0  #: times the data's clock went backwards (window restarted)
+        self.last_time_utc = pd.NaT
 
     def add(self, epochs: pd.DataFrame) -> None:
         if epochs is None or epochs.empty:
@@ -68,12 +69,15 @@ class LiveFriction:
         if back.size:
             self.resets += 1
             self._epochs.clear()
-            epochs = epochs.iloc[back[-1]:]
-            t = t[back[-1]:]
+            epochs = epochs.iloc[back[-1] :]
+            t = t[back[-1] :]
             self.last_t = float("nan")
         self._epochs.append(epochs)
         if np.isfinite(t).any():
             self.last_t = float(np.nanmax(t))
+            tu = epochs["time_utc"].dropna() if "time_utc" in epochs else []
+            if len(tu):
+                self.last_time_utc = tu.iloc[-1]
         # keep only the window
         while self._epochs and len(self._epochs) > 1:
             first_t = self._epochs[0]["t_s"].to_numpy(float)
@@ -305,6 +309,8 @@ def _update(
     stats.updates += 1
     if len(s):
         stale = stats.last_data is None or now - stats.last_data > stale_s
-        s = s.assign(wall_time_s=time.time(), t_s=est.last_t, time_utc=pd.NaT, stale=stale)
+        s = s.assign(
+            wall_time_s=time.time(), t_s=est.last_t, time_utc=est.last_time_utc, stale=stale
+        )
         rec.rows(s)
     return s
