@@ -21,13 +21,15 @@ app = typer.Typer(
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
 
-from gripsense.cli_live import live as live_cmd  # noqa: E402 - sub-commands
+from gripsense.cli_fleet import fleet as fleet_cmd  # noqa: E402 - sub-commands
+from gripsense.cli_live import live as live_cmd  # noqa: E402
 from gripsense.cli_steering import steering_app  # noqa: E402
 from gripsense.cli_tyre import tyre_app  # noqa: E402
 
 app.add_typer(tyre_app, name="tyre")
 app.add_typer(steering_app, name="steering")
 app.command("live")(live_cmd)
+app.command("fleet")(fleet_cmd)
 
 
 def _fail(err: Exception) -> None:

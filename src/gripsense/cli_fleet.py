@@ -1,0 +1,82 @@
+"""``gripsense fleet``: a friction map from a directory of drives."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import Progress
+
+from gripsense.errors import GripsenseError
+
+console = Console()
+err_console = Console(stderr=True, soft_wrap=True)
+
+
+def fleet(
+    logs: Annotated[
+        list[str], typer.Argument(help='Log files or glob patterns ("LOGS/**/*.nmea")')
+    ],
+    output: Annotated[Path, typer.Option("-o", "--output", help="Output folder")],
+    vehicle: Annotated[Path | None, typer.Option(help="Vehicle TOML for every log")] = None,
+    vehicle_map: Annotated[
+        Path | None, typer.Option(help="CSV pattern,vehicle_toml[,vehicle_id] for mixed fleets")
+    ] = None,
+    method: Annotated[str, typer.Option(help="Friction method")] = "axle-window",
+    receiver: Annotated[
+        str, typer.Option(help="Compass class: v100 or rtk (noise model)")
+    ] = "v100",
+    scheduler: Annotated[
+        str | None, typer.Option(help="Existing Dask scheduler tcp://HOST:8786")
+    ] = None,
+    workers: Annotated[int, typer.Option(help="LocalCluster worker processes")] = 2,
+    h3_res: Annotated[int, typer.Option("--h3-res", help="H3 resolution (11 ≈ 25 m cells)")] = 11,
+    bucket: Annotated[
+        str, typer.Option(help="Time bucket, e.g. '1 hour', '15 minutes'")
+    ] = "1 hour",
+    since: Annotated[
+        str | None, typer.Option(help="Ignore data before this ISO time (UTC)")
+    ] = None,
+    logs_per_task: Annotated[int, typer.Option(help="Logs per Dask task")] = 4,
+) -> None:
+    """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
+    bucket (cells.parquet, cells.geojson) and an offline map page (map.html)."""
+    from gripsense.fleet import run_fleet
+
+    try:
+        with Progress(console=console, transient=True) as prog:
+            task = prog.add_task("tasks", total=None)
+
+            def progress(done, total):
+                prog.update(task, completed=done, total=total)
+
+            res = run_fleet(
+                logs,
+                output,
+                vehicle=vehicle,
+                vehicle_map=vehicle_map,
+                method=method,
+                receiver=receiver,
+                h3_res=h3_res,
+                bucket=bucket,
+                since=since,
+                scheduler=scheduler,
+                workers=workers,
+                logs_per_task=logs_per_task,
+                progress=progress,
+            )
+    except GripsenseError as e:
+        err_console.print(f"[bold red]error:[/] {e}", markup=True, highlight=False)
+        raise typer.Exit(2) from None
+    lg, c = res.logs, res.cells
+    bad = int((lg["problem"] != "").sum())
+    console.print(
+        f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})"
+    )
+    n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
+    console.print(
+        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with a lower bound only"
+    )
+    console.print(f"map: {res.paths['map']}")

@@ -1,0 +1,163 @@
+"""Aggregation per H3 cell and time bucket with DuckDB over the fleet's partitioned Parquet."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.physics.surface import surface_class_interval
+
+__all__ = ["aggregate_cells", "cells_geojson"]
+
+_Z90 = 1.6448536269514722
+
+
+def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFrame:
+    """Combine the estimates in ``outdir/epochs/`` per cell and time bucket.
+
+    Within one pass (log) the overlapping windows share their errors, so they are averaged by
+    inverse variance but keep the pass's median σ; passes are independent and are combined by
+    inverse variance (σ = (Σ 1/σ_p²)^(−½)). The lower bound is the largest bound proven by any
+    estimate (a bound holds whatever the others say). Also counts of estimates, vehicles and
+    passes (logs), and the last update.
+
+    Parameters
+    ----------
+    outdir : path
+        Fleet output folder.
+    bucket : str
+        DuckDB interval of the time buckets (``"1 hour"``, ``"15 minutes"``, ``"1 day"``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, mu_lower_bound, status, surface,
+        n_estimates, n_rows, n_vehicles, n_passes, last_update``.
+    """
+    import duckdb
+
+    pattern = str(Path(outdir) / "epochs" / "**" / "*.parquet")
+    if not list((Path(outdir) / "epochs").glob("**/*.parquet")):
+        return pd.DataFrame(
+            columns=[
+                "cell",
+                "bucket",
+                "mu",
+                "mu_sigma",
+                "mu_low",
+                "mu_high",
+                "mu_lower_bound",
+                "status",
+                "surface",
+                "n_estimates",
+                "n_rows",
+                "n_vehicles",
+                "n_passes",
+                "last_update",
+            ]
+        )
+    con = duckdb.connect()
+    con.execute("SET TimeZone = 'UTC'")
+    # windows of one pass overlap and share their errors (heading bias, tyre stiffness): they are
+    # combined within the pass without shrinking the uncertainty (σ = median σ of the pass);
+    # passes are independent and combined by inverse variance
+    q = f"""
+        WITH r AS (
+            SELECT *, time_bucket(INTERVAL '{bucket}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
+            FROM read_parquet('{pattern}', hive_partitioning = true, union_by_name = true)
+        ), passes AS (
+            SELECT cell, bucket, vehicle, log,
+                   SUM(mu / (mu_sigma * mu_sigma)) FILTER (WHERE observable AND mu_sigma > 0)
+                     / SUM(1 / (mu_sigma * mu_sigma)) FILTER (WHERE observable AND mu_sigma > 0)
+                     AS mu_p,
+                   MEDIAN(mu_sigma) FILTER (WHERE observable AND mu_sigma > 0) AS sigma_p,
+                   MAX(mu_lower_bound) AS bound_p,
+                   COUNT(*) FILTER (WHERE observable) AS n_est,
+                   COUNT(*) AS n_rows,
+                   MAX(time_utc) AS last_t
+            FROM r GROUP BY ALL
+        )
+        SELECT cell, bucket,
+               SUM(mu_p / (sigma_p * sigma_p)) / SUM(1 / (sigma_p * sigma_p)) AS mu,
+               1 / sqrt(SUM(1 / (sigma_p * sigma_p))) AS mu_sigma,
+               MAX(bound_p) AS mu_lower_bound,
+               SUM(n_est) AS n_estimates,
+               SUM(n_rows) AS n_rows,
+               COUNT(DISTINCT vehicle) AS n_vehicles,
+               COUNT(DISTINCT log) AS n_passes,
+               MAX(last_t) AS last_update
+        FROM passes GROUP BY ALL
+        ORDER BY cell, bucket
+    """
+    df = con.execute(q).to_arrow_table().to_pandas()
+    con.close()
+    for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
+        df[c] = df[c].fillna(0).astype("int64")
+    df["mu_low"] = np.maximum(df["mu"] - _Z90 * df["mu_sigma"], 0.0)
+    df["mu_high"] = df["mu"] + _Z90 * df["mu_sigma"]
+    has = df["mu"].notna()
+    df["status"] = np.where(
+        has, "estimate", np.where(df["mu_lower_bound"].notna(), "lower bound only", "no data")
+    )
+    df["surface"] = [
+        surface_class_interval(lo, hi) if h else "undetermined"
+        for lo, hi, h in zip(df["mu_low"], df["mu_high"], has, strict=True)
+    ]
+    df["surface"] = df["surface"].astype(str)
+    cols = [
+        "cell",
+        "bucket",
+        "mu",
+        "mu_sigma",
+        "mu_low",
+        "mu_high",
+        "mu_lower_bound",
+        "status",
+        "surface",
+        "n_estimates",
+        "n_rows",
+        "n_vehicles",
+        "n_passes",
+        "last_update",
+    ]
+    return df[cols]
+
+
+def cells_geojson(cells: pd.DataFrame) -> dict:
+    """GeoJSON FeatureCollection of the latest bucket per cell (hexagon polygons)."""
+    import h3
+
+    latest = cells.sort_values("bucket").groupby("cell", sort=False).tail(1)
+    feats = []
+    for r in latest.to_dict("records"):
+        ring = [[lon, lat] for lat, lon in h3.cell_to_boundary(r["cell"])]
+        ring.append(ring[0])
+        props = {}
+        for k, v in r.items():
+            if isinstance(v, float) and not np.isfinite(v):
+                v = None
+            elif isinstance(v, pd.Timestamp):
+                v = None if pd.isna(v) else v.isoformat()
+            elif isinstance(v, np.integer):
+                v = int(v)
+            elif isinstance(v, np.floating):
+                v = float(v)
+            props[k] = v
+        feats.append(
+            {
+                "type": "Feature",
+                "geometry": {"type": "Polygon", "coordinates": [ring]},
+                "properties": props,
+            }
+        )
+    return {"type": "FeatureCollection", "features": feats}
+
+
+def write_geojson(cells: pd.DataFrame, path: str | Path) -> Path:
+    """Write :func:`cells_geojson` to *path*."""
+    path = Path(path)
+    path.write_text(json.dumps(cells_geojson(cells)))
+    return path

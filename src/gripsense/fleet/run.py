@@ -1,0 +1,197 @@
+"""Fleet run: many logs → Dask tasks → partitioned Parquet → cells → map page.
+
+Each task processes a batch of logs (small tasks drown in Dask's per-task overhead, so logs are
+grouped to about ``batch_s`` seconds of work). The scheduler is a ``LocalCluster`` with
+``workers`` processes, or an existing one (``scheduler="tcp://host:8786"``; the workers must
+see the same file system, they write ``OUTDIR/epochs/`` themselves). Every log ends up in the
+row counts or in ``OUTDIR/problems.csv`` with its reason.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.fleet.aggregate import aggregate_cells, write_geojson
+from gripsense.fleet.mapping import write_map
+from gripsense.fleet.tasks import process_batch
+
+__all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet"]
+
+
+@dataclass
+class FleetResult:
+    """What :func:`run_fleet` produced."""
+
+    cells: pd.DataFrame
+    logs: pd.DataFrame  # one row per log: rows written or the problem
+    paths: dict[str, Path]
+
+
+def expand_logs(patterns: list[str]) -> list[str]:
+    """Glob patterns (``**`` allowed) → sorted unique file paths."""
+    out: set[str] = set()
+    for p in patterns:
+        hits = glob.glob(p, recursive=True)
+        if not hits and Path(p).is_file():
+            hits = [p]
+        out.update(h for h in hits if Path(h).is_file())
+    return sorted(out)
+
+
+def read_vehicle_map(path: str | Path) -> list[tuple[str, str, str]]:
+    """CSV ``pattern,vehicle_toml[,vehicle_id]``: logs matching a glob pattern (relative to the
+    current folder) use that vehicle; the first matching row wins."""
+    path = Path(path)
+    try:
+        rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    out = []
+    for i, r in enumerate(rows, start=1):
+        if not r or r[0].startswith("#") or r[0] == "pattern":
+            continue
+        if len(r) < 2:
+            raise InputError(f"{path} line {i}: expected pattern,vehicle_toml[,vehicle_id]")
+        out.append((r[0].strip(), r[1].strip(), (r[2].strip() if len(r) > 2 else "")))
+    return out
+
+
+def _assign(
+    logs: list[str], vehicle: str | None, vmap: list[tuple[str, str, str]]
+) -> list[tuple[str, str, str]]:
+    from fnmatch import fnmatch
+
+    items = []
+    for lg in logs:
+        vfile, vid = vehicle, ""
+        for pat, vf, vi in vmap:
+            if fnmatch(lg, pat) or fnmatch(Path(lg).name, pat):
+                vfile, vid = vf, vi
+                break
+        if vfile is None:
+            raise InputError(f"{lg}: no vehicle (give --vehicle or a --vehicle-map row)")
+        # one log = one pass; the vehicle id defaults to the log's folder (one folder per car)
+        items.append((lg, vfile, vid or Path(lg).resolve().parent.name))
+    return items
+
+
+def run_fleet(
+    patterns: list[str],
+    outdir: str | Path,
+    *,
+    vehicle: str | Path | None = None,
+    vehicle_map: str | Path | None = None,
+    method: str = "axle-window",
+    receiver: str = "v100",
+    h3_res: int = 11,
+    bucket: str = "1 hour",
+    since: str | None = None,
+    scheduler: str | None = None,
+    workers: int = 2,
+    logs_per_task: int = 4,
+    progress=None,
+    map_title: str = "gripsense friction map",
+) -> FleetResult:
+    """Process every log matching *patterns* and build the cell table and the map.
+
+    Parameters
+    ----------
+    patterns : list of str
+        Glob patterns of NMEA logs (``LOGS/**/*.nmea``).
+    outdir : path
+        Output folder: ``epochs/`` (partitioned Parquet), ``cells.parquet``, ``cells.geojson``,
+        ``map.html``, ``logs.csv``, ``problems.csv``.
+    vehicle, vehicle_map : path, optional
+        One vehicle TOML for all logs, and/or a CSV mapping log patterns to vehicles.
+    method : str
+        Friction method (default ``axle-window``: calibrated intervals and bounds).
+    receiver : {"v100", "rtk"}
+        Noise model of the fleet's compasses (:class:`gripsense.estimate.friction.NoiseModel`
+        default or ``.rtk()``).
+    h3_res : int
+        H3 resolution (11: ~25 m cells).
+    bucket : str
+        Time bucket of the aggregation (DuckDB interval).
+    since : str, optional
+        ISO time; epochs before it are ignored.
+    scheduler : str, optional
+        Address of an existing Dask scheduler; default a LocalCluster.
+    workers : int
+        LocalCluster worker processes (1 thread each).
+    logs_per_task : int
+        Logs per Dask task.
+    progress : callable, optional
+        ``progress(done, total)`` after each finished task.
+    """
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    if receiver not in ("v100", "rtk"):
+        raise InputError(f"receiver={receiver!r}; use v100 or rtk")
+    outdir = Path(outdir)
+    logs = expand_logs(list(patterns))
+    if not logs:
+        raise InputError(f"no log matches {patterns}")
+    vmap = read_vehicle_map(vehicle_map) if vehicle_map else []
+    items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
+    if (outdir / "epochs").exists():
+        import shutil
+
+        shutil.rmtree(outdir / "epochs")  # a rerun replaces, never mixes with, old results
+    outdir.mkdir(parents=True, exist_ok=True)
+    batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
+    cluster = None
+    if scheduler is None:
+        cluster = LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            host="127.0.0.1",
+        )
+        client = Client(cluster)
+    else:
+        client = Client(scheduler)
+    records: list[dict] = []
+    try:
+        futs = [
+            client.submit(
+                process_batch,
+                b,
+                str(outdir.resolve()),
+                method=method,
+                h3_res=h3_res,
+                since=since,
+                receiver=receiver,
+                pure=False,
+            )
+            for b in batches
+        ]
+        for done, f in enumerate(as_completed(futs), start=1):
+            records.extend(f.result())
+            if progress is not None:
+                progress(done, len(futs))
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
+    logs_df.to_csv(outdir / "logs.csv", index=False)
+    problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
+    problems.to_csv(outdir / "problems.csv", index=False)
+    cells = aggregate_cells(outdir, bucket=bucket)
+    cells.to_parquet(outdir / "cells.parquet", index=False)
+    paths = {
+        "cells": outdir / "cells.parquet",
+        "geojson": write_geojson(cells, outdir / "cells.geojson"),
+        "map": write_map(cells, outdir / "map.html", title=map_title),
+        "problems": outdir / "problems.csv",
+        "logs": outdir / "logs.csv",
+        "epochs": outdir / "epochs",
+    }
+    return FleetResult(cells=cells, logs=logs_df, paths=paths)

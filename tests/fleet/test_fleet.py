@@ -1,0 +1,153 @@
+"""Fleet map on a real Dask LocalCluster: a synthetic road network with known surfaces."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h3
+import numpy as np
+import pandas as pd
+import pytest
+
+import gripsense
+from gripsense.fleet import run_fleet
+from gripsense.sim.fleet_data import Site, write_fleet
+from tests.report.test_report import _open
+
+VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
+SITES = [
+    Site("dry", 33.620, 133.7195, 30.0, 0.9),
+    Site("wet", 33.625, 133.7195, 30.0, 0.5),
+    Site("snow", 33.630, 133.7195, 30.0, 0.25),
+]
+
+
+def _truth(cell: str) -> float:
+    lat = h3.cell_to_latlng(cell)[0]
+    return min(SITES, key=lambda s: abs(s.lat_deg - lat)).mu
+
+
+@pytest.fixture(scope="module")
+def fleet_logs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("fleet")
+    write_fleet(d / "logs", VEHICLE, SITES, n_vehicles=2)
+    (d / "logs" / "car01" / "broken.nmea").write_text("garbage\n$GPGGA,bad*00\n")
+    (d / "logs" / "car02" / "empty.nmea").write_bytes(b"")
+    return d
+
+
+@pytest.fixture(scope="module")
+def fleet_run(fleet_logs):
+    return run_fleet(
+        [str(fleet_logs / "logs" / "**" / "*.nmea*")],
+        fleet_logs / "out2",
+        vehicle=VEHICLE,
+        receiver="rtk",
+        workers=2,
+    )
+
+
+def test_cells_recover_the_road_surfaces(fleet_run):
+    c = fleet_run.cells
+    assert len(c) >= 9
+    truth = np.array([_truth(x) for x in c["cell"]])
+    est = c["status"] == "estimate"
+    assert est.mean() > 0.8
+    assert np.all(np.abs(c.loc[est, "mu"] - truth[est]) < 0.03)
+    covered = (c.loc[est, "mu_low"] <= truth[est]) & (truth[est] <= c.loc[est, "mu_high"])
+    assert covered.mean() >= 0.9
+    assert np.all(c["mu_lower_bound"] <= truth + 0.02)  # bounds never above the truth
+    assert set(c.loc[est, "surface"]) <= {"DRY", "WET", "SNOW"}
+    assert c["n_vehicles"].max() == 2
+
+
+def test_bad_logs_are_listed_not_fatal(fleet_run):
+    p = pd.read_csv(fleet_run.paths["problems"])
+    assert sorted(Path(x).name for x in p["log"]) == ["broken.nmea", "empty.nmea"]
+    assert all(p["problem"].str.len() > 0)
+    assert (fleet_run.logs["problem"].fillna("") == "").sum() == 6
+    gj = json.loads(fleet_run.paths["geojson"].read_text())
+    assert len(gj["features"]) == fleet_run.cells["cell"].nunique()
+
+
+def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_run):
+    from dask.distributed import LocalCluster
+
+    pattern = [str(fleet_logs / "logs" / "**" / "*.nmea*")]
+    one = run_fleet(pattern, fleet_logs / "out1", vehicle=VEHICLE, receiver="rtk", workers=1)
+    with LocalCluster(
+        n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None
+    ) as cl:
+        assert cl.scheduler_address.startswith("tcp://127.0.0.1:")
+        sch = run_fleet(
+            pattern,
+            fleet_logs / "out3",
+            vehicle=VEHICLE,
+            receiver="rtk",
+            scheduler=cl.scheduler_address,
+        )
+    cols = ["mu", "mu_sigma", "mu_lower_bound", "n_estimates", "n_passes"]
+    ref = fleet_run.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
+    for other in (one, sch):
+        o = other.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
+        assert list(o["cell"]) == list(ref["cell"])
+        np.testing.assert_allclose(
+            o[cols].to_numpy(float), ref[cols].to_numpy(float), rtol=1e-12, equal_nan=True
+        )
+
+
+def test_map_page_in_headless_chromium(fleet_run, tmp_path):
+    page = fleet_run.paths["map"]
+    text = page.read_text(encoding="utf-8")
+    assert "https://unpkg" not in text and "cdn" not in text.lower().split("attribution")[0]
+    drv = _open(page)
+    try:
+        n_paths = drv.execute_script(
+            "return document.querySelectorAll('path.leaflet-interactive').length"
+        )
+        assert n_paths == fleet_run.cells["cell"].nunique()
+        severe = [e for e in drv.get_log("browser") if e["level"] == "SEVERE"]
+        assert not severe, severe
+        drv.execute_script(
+            "document.querySelector('path.leaflet-interactive')"
+            ".dispatchEvent(new MouseEvent('click', {bubbles: true}))"
+        )
+        popup = drv.execute_script(
+            "const p = document.querySelector('.leaflet-popup-content');"
+            " return p ? p.textContent : ''"
+        )
+        assert "cell" in popup and "passes" in popup
+        shot = tmp_path / "map.png"
+        drv.save_screenshot(str(shot))
+    finally:
+        drv.quit()
+    from matplotlib.image import imread
+
+    img = imread(shot)
+    assert img[..., :3].std() > 0.05
+
+
+def test_cli(fleet_logs):
+    from tests.test_cli import run
+
+    out = fleet_logs / "cli"
+    r = run(
+        "fleet",
+        str(fleet_logs / "logs" / "car02" / "*.nmea*"),
+        "--vehicle",
+        str(VEHICLE),
+        "--receiver",
+        "rtk",
+        "--workers",
+        "1",
+        "-o",
+        str(out),
+    )
+    assert r.returncode == 0, r.stderr
+    assert "4 logs: 3 used, 1 with problems" in r.stdout
+    assert (out / "map.html").exists() and (out / "cells.parquet").exists()
+    r = run(
+        "fleet", str(fleet_logs / "nothing" / "*.nmea"), "--vehicle", str(VEHICLE), "-o", str(out)
+    )
+    assert r.returncode == 2 and "no log matches" in r.stderr
