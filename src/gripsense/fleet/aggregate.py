@@ -92,7 +92,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
         FROM passes GROUP BY ALL
         ORDER BY cell, bucket
     """
-    df = con.execute(q).to_arrow_table().to_pandas()
+    df = con.sql(q).to_arrow_table().to_pandas()
     con.close()
     for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
         df[c] = df[c].fillna(0).astype("int64")
