@@ -1,0 +1,95 @@
+"""Fleet throughput: vehicle-hours of 10 Hz logs processed per minute, 1 and 2 workers.
+
+Logs: road-like drives from the simulator — 50 s of straight driving, then one lap of a curve
+(R 30–60 m, near the grip limit on dry, wet or snowy road) — so curves are ~15 % of the time, as
+on real roads; 8 distinct drives, copied ``--copies`` times into per-vehicle folders (the work per
+log is the same, copies only make the batch long enough to measure). Each run is a full
+``run_fleet`` (a new LocalCluster — about 3 s of start-up included —, tasks of
+``--logs-per-task`` logs, per-estimate Parquet, DuckDB aggregation, map page).
+
+Usage: python benchmarks/bench_fleet.py [--copies 40] [--method axle-window|brush-2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import gripsense
+from gripsense.config import Vehicle
+from gripsense.fleet import run_fleet
+from gripsense.io import read_nmea
+from gripsense.sim import maneuvers as M
+from gripsense.sim.gnss import CompassNoise, emulate_compass
+from gripsense.sim.vehicle import SimParams
+
+VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
+
+
+def make_drives(d: Path) -> list[Path]:
+    veh = Vehicle.from_toml(VEHICLE)
+    params = SimParams.from_vehicle(veh, drive="front")
+    ant = (-veh.cg_offset[0], -veh.cg_offset[1])
+    out = []
+    for k, (mu, radius) in enumerate(
+        [(0.9, 40), (0.5, 30), (0.25, 30), (0.9, 60), (0.5, 60), (0.9, 30), (0.25, 50), (0.5, 40)]
+    ):
+        speed = (0.93 * mu * 9.81 * radius) ** 0.5
+        m = M.circle(speed, radius, laps=1.0, lead_s=50.0, left=bool(k % 2), params=params)
+        res = M.run(params, m, mu=mu)
+        log = emulate_compass(
+            res, ant, noise=CompassNoise.rtk(), seed=k, origin=(33.62 + 0.002 * k, 133.72, 10.0)
+        )
+        p = d / f"drive{k}.nmea.gz"
+        log.write(p)
+        out.append(p)
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--copies", type=int, default=40)
+    ap.add_argument("--method", default="axle-window")
+    ap.add_argument("--logs-per-task", type=int, default=8)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        drives = make_drives(tmp)
+        hours = sum(read_nmea(p).epochs["t_s"].max() for p in drives) / 3600
+        logs = tmp / "logs"
+        for c in range(args.copies):
+            vd = logs / f"car{c:03d}"
+            vd.mkdir(parents=True)
+            for p in drives:
+                shutil.copy(p, vd / p.name)
+        total_h = hours * args.copies
+        print(
+            f"{len(drives) * args.copies} logs, {total_h:.2f} vehicle-hours at 10 Hz, "
+            f"method {args.method}"
+        )
+        rates = {}
+        for w in (1, 2):
+            t0 = time.perf_counter()
+            res = run_fleet(
+                [str(logs / "**" / "*.nmea.gz")],
+                tmp / f"out{w}",
+                vehicle=VEHICLE,
+                method=args.method,
+                receiver="rtk",
+                workers=w,
+                logs_per_task=args.logs_per_task,
+            )
+            dt = time.perf_counter() - t0
+            rates[w] = total_h / (dt / 60)
+            print(
+                f"{w} worker(s): {dt:.1f} s total ({total_h / (dt / 60):,.1f} vehicle-hours/min); "
+                f"{len(res.cells)} cell-buckets, {int((res.logs['problem'] != '').sum())} problems"
+            )
+        print(f"speed-up 1 → 2 workers: {rates[2] / rates[1]:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
