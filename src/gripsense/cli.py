@@ -10,6 +10,10 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from gripsense.cli_fleet import fleet as fleet_cmd
+from gripsense.cli_live import live as live_cmd
+from gripsense.cli_steering import steering_app
+from gripsense.cli_tyre import tyre_app
 from gripsense.errors import GripsenseError
 from gripsense.io import NmeaLog, read_nmea
 
@@ -21,15 +25,6 @@ app = typer.Typer(
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
 
-from gripsense.cli_fleet import fleet as fleet_cmd  # noqa: E402 - sub-commands
-from gripsense.cli_live import live as live_cmd  # noqa: E402
-from gripsense.cli_steering import steering_app  # noqa: E402
-from gripsense.cli_tyre import tyre_app  # noqa: E402
-
-app.add_typer(tyre_app, name="tyre")
-app.add_typer(steering_app, name="steering")
-app.command("live")(live_cmd)
-app.command("fleet")(fleet_cmd)
 
 
 def _fail(err: Exception) -> None:
@@ -662,6 +657,13 @@ def demo(
     rp = write_demo_report(df, folder, outdir / "report.html")
     console.print(f"wrote {outdir / 'demo_results.csv'}")
     console.print(f"report: {rp}")
+
+
+# commands that live in their own modules, listed after the ones above
+app.command("live")(live_cmd)
+app.command("fleet")(fleet_cmd)
+app.add_typer(tyre_app, name="tyre")
+app.add_typer(steering_app, name="steering")
 
 
 def main() -> None:
