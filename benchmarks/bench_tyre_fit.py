@@ -31,30 +31,9 @@ from scipy.optimize import minimize
 
 from gripsense.identify.tyre_fit import _constraint_flags, _pac94_setup, fit_pac94
 from gripsense.physics.magic_formula.pac94 import pac94_lateral, pac94_lateral_native
-from gripsense.sim.tyre_data import cornering_samples
+from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
 
-TRUTH = np.array(
-    [
-        1.4,
-        -22.1,
-        -1011.0,
-        -1078.0,
-        1.82,
-        0.208,
-        -0.2,
-        -0.354,
-        0.0,
-        0.0,
-        0.02,
-        0.0,
-        0.0,
-        -0.5,
-        -2.5,
-        0.01,
-        -0.01,
-        0.0,
-    ]
-)
+TRUTH = PAC94_EXAMPLE
 
 
 def slsqp_baseline(d, constraints):

@@ -10,32 +10,11 @@ import pandas as pd
 import pytest
 
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
-from gripsense.sim.tyre_data import cornering_samples
+from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
 from tests.test_cli import run
 
 TIR = Path(__file__).parent / "data" / "tyre" / "tir"
-TRUTH = np.array(
-    [
-        1.4,
-        -22.1,
-        -1011.0,
-        -1078.0,
-        1.82,
-        0.208,
-        -0.2,
-        -0.354,
-        0.0,
-        0.0,
-        0.02,
-        0.0,
-        0.0,
-        -0.5,
-        -2.5,
-        0.01,
-        -0.01,
-        0.0,
-    ]
-)
+TRUTH = PAC94_EXAMPLE
 
 
 def test_eval_matches_mfeval_reference_rows(tmp_path):

@@ -7,9 +7,9 @@ from typing import Annotated
 
 import numpy as np
 import typer
-from rich.console import Console
 from rich.table import Table
 
+from gripsense.cli_common import console, fail
 from gripsense.cli_fleet import fleet as fleet_cmd
 from gripsense.cli_live import live as live_cmd
 from gripsense.cli_steering import steering_app
@@ -22,14 +22,8 @@ app = typer.Typer(
     no_args_is_help=True,
     help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
 )
-console = Console()
-err_console = Console(stderr=True, soft_wrap=True)
 
 
-
-def _fail(err: Exception) -> None:
-    err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)
-    raise typer.Exit(2)
 
 
 def print_ingest(log: NmeaLog) -> None:
@@ -118,7 +112,7 @@ def ingest(
             write_table(nlog.epochs, output)
             console.print(f"wrote {len(nlog.epochs)} epochs to {output}")
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
 
 
 @app.command()
@@ -182,7 +176,7 @@ def friction(
             result = run.run(nlog.epochs, steer_rad=steer)
             result.ingest = nlog.report.to_dict()
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     print_friction(result)
     paths = result.to_files(outdir)
     console.print("wrote " + ", ".join(str(p) for p in paths.values()))
@@ -208,7 +202,7 @@ def report_cmd(
     try:
         res = read_result(result_dir)
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     out = write_report(
         res, output or result_dir / "report.html", title=f"Friction — {result_dir.name}"
     )
@@ -314,7 +308,7 @@ def fit_contact(
             raise GripsenseError(f"{table}: needs a column 'length_m' or 'length_cm'")
         params, stats = fit_contact_length(df["mass_kg"], length)
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     console.print(f"l = a·√m + b·m fitted to {stats['n']} rows of {table.name}:")
     console.print(f"  a = {params['a']:.6g} m/kg^0.5")
     console.print(f"  b = {params['b']:.6g} m/kg")
@@ -348,7 +342,7 @@ def simulate(
 
             cases = run_scenario(scenario, outdir, progress=tick)
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     console.print(
         f"simulated {len(cases)} cases into {outdir}/ "
         f"(median {cases['realtime_factor'].median():.0f}× real time); index: "
@@ -385,7 +379,7 @@ def stiffness(
                 for i, c in enumerate(conds):
                     sweeps.append((log.name, i + 1, g_sweep(res.wheels, veh, *c)))
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     tab = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
     if tab.empty:
         console.print("no steady cornering condition of 3 s or more: G cannot be estimated")
@@ -458,7 +452,7 @@ def camera_slip(
     try:
         res = slip_from_frames(source, fps=fps, mm_per_px=mm_per_px)
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     output.parent.mkdir(parents=True, exist_ok=True)
     res.to_csv(output, index=False)
     ok = res[res["ok"]]
@@ -518,7 +512,7 @@ def camber(
             )
         )
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     c = d["camber_deg"]
     console.print(
         f"camber (top outward positive): median {c.median():.2f}°, "
@@ -564,7 +558,7 @@ def brake_mu(
             res = estimate_braking(acc, source=str(f))
             frames.append(res.events.assign(file=f.name))
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     ev = pd.concat(frames, ignore_index=True)
     table = Table(title="Locked-wheel braking events")
     for col in ("file", "onset [s]", "plateau [s]", "μ = a/g", "spread", "μ 3-axis", "slope [1/s]"):

@@ -6,13 +6,10 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 from rich.progress import Progress
 
+from gripsense.cli_common import console, fail
 from gripsense.errors import GripsenseError
-
-console = Console()
-err_console = Console(stderr=True, soft_wrap=True)
 
 
 def fleet(
@@ -68,8 +65,7 @@ def fleet(
                 progress=progress,
             )
     except GripsenseError as e:
-        err_console.print(f"[bold red]error:[/] {e}", markup=True, highlight=False)
-        raise typer.Exit(2) from None
+        fail(e)
     lg, c = res.logs, res.cells
     bad = int((lg["problem"] != "").sum())
     console.print(

@@ -6,12 +6,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 
+from gripsense.cli_common import console, fail
 from gripsense.errors import GripsenseError, InputError
-
-console = Console()
-err_console = Console(stderr=True, soft_wrap=True)
 
 
 def live(
@@ -77,8 +74,7 @@ def live(
                     display=disp,
                 )
     except GripsenseError as e:
-        err_console.print(f"[bold red]error:[/] {e}", markup=True, highlight=False)
-        raise typer.Exit(2) from None
+        fail(e)
     rep, st = res["report"], res["stats"]
     if quiet:
         console.print(render(res["summary"], st, _Ing(rep), src))

@@ -10,38 +10,24 @@ from typing import Annotated
 import numpy as np
 import pandas as pd
 import typer
-from rich.console import Console
 
+from gripsense.cli_common import console, fail
 from gripsense.errors import GripsenseError, InputError
 
 steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
-console = Console()
-err_console = Console(stderr=True, soft_wrap=True)
 
-
-def _fail(err: Exception) -> None:
-    err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)
-    raise typer.Exit(2)
 
 
 def _read_csv(path: Path, need: tuple[str, ...]) -> pd.DataFrame:
-    try:
-        df = pd.read_csv(path, comment="#")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as e:
-        raise InputError(f"{path}: not a readable CSV ({e})") from None
+    from gripsense.io.table import numeric_column, read_table
+
+    df = read_table(path)
     for c in need:
         if c not in df.columns:
             raise InputError(
                 f"{path}: no column {c!r} (columns: {list(df.columns)}); expected {', '.join(need)}"
             )
-        v = pd.to_numeric(df[c], errors="coerce")
-        bad = v.isna() & df[c].notna()
-        if bad.any():
-            row = int(np.flatnonzero(bad.to_numpy())[0])
-            raise InputError(f"{path} line {row + 2}: {c} = {df[c].iloc[row]!r} is not a number")
-        df[c] = v
+        df[c] = numeric_column(df, c, path)
     return df.dropna(subset=list(need))
 
 
@@ -167,7 +153,7 @@ def identify(
             method=method,
         )
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     d = res.to_dict()
     console.print(
         f"settling time {res.cs.t_mean_s:.3f} ± {res.cs.t_sd_s:.3f} s "

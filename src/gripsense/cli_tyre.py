@@ -9,19 +9,13 @@ from typing import Annotated
 import numpy as np
 import pandas as pd
 import typer
-from rich.console import Console
 from rich.table import Table
 
+from gripsense.cli_common import console, fail
 from gripsense.errors import GripsenseError, InputError
 
 tyre_app = typer.Typer(no_args_is_help=True, help="Magic Formula tyre models: evaluate and fit.")
-console = Console()
-err_console = Console(stderr=True, soft_wrap=True)
 
-
-def _fail(err: Exception) -> None:
-    err_console.print(f"[bold red]error:[/] {err}", markup=True, highlight=False)
-    raise typer.Exit(2)
 
 
 def parse_range(text: str, what: str) -> np.ndarray:
@@ -127,7 +121,7 @@ def tyre_eval(
         kwargs = {"side": side} if side else {}
         fx, fy = f(fzv, kv, np.deg2rad(av), np.deg2rad(gv), **kwargs)
     except (GripsenseError, ValueError) as e:
-        _fail(e)
+        fail(e)
     out = pd.DataFrame(
         {
             "fz_N": fzv,
@@ -242,7 +236,7 @@ def tyre_fit(
             )
             fig.savefig(plot, dpi=110)
     except GripsenseError as e:
-        _fail(e)
+        fail(e)
     _print_fit(fit, info, data, free_fit)
     if output is not None:
         console.print(f"wrote {output}")

@@ -13,32 +13,10 @@ from gripsense.identify.tyre_fit import fit_from_wheel_table, fit_mf61_lateral, 
 from gripsense.physics.magic_formula import MFTyre
 from gripsense.physics.magic_formula.pac89 import pac89_lateral, read_pac89_json
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
-from gripsense.sim.tyre_data import cornering_samples, rig_samples
+from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples, rig_samples
 
 DATA = Path(__file__).parents[1] / "data" / "tyre" / "tir"
-# a physical PAC94 set (ISO sign: D, BCD < 0) that satisfies every seed-002 constraint
-TRUTH = np.array(
-    [
-        1.4,
-        -22.1,
-        -1011.0,
-        -1078.0,
-        1.82,
-        0.208,
-        -0.2,
-        -0.354,
-        0.0,
-        0.0,
-        0.02,
-        0.0,
-        0.0,
-        -0.5,
-        -2.5,
-        0.01,
-        -0.01,
-        0.0,
-    ]
-)
+TRUTH = PAC94_EXAMPLE
 
 
 def _pac94(fz, a, g):

@@ -9,10 +9,27 @@ import numpy as np
 import pandas as pd
 
 from gripsense.physics.surface import surface_class_interval
+from gripsense.pipeline import Z90
 
-__all__ = ["aggregate_cells", "cells_geojson"]
+__all__ = ["CELL_COLUMNS", "aggregate_cells", "cells_geojson", "write_geojson"]
 
-_Z90 = 1.6448536269514722
+CELL_COLUMNS = [
+    "cell",
+    "bucket",
+    "mu",
+    "mu_sigma",
+    "mu_low",
+    "mu_high",
+    "mu_lower_bound",
+    "status",
+    "surface",
+    "n_estimates",
+    "n_rows",
+    "n_vehicles",
+    "n_passes",
+    "last_update",
+]
+
 
 
 def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFrame:
@@ -41,24 +58,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
 
     pattern = str(Path(outdir) / "epochs" / "**" / "*.parquet")
     if not list((Path(outdir) / "epochs").glob("**/*.parquet")):
-        return pd.DataFrame(
-            columns=[
-                "cell",
-                "bucket",
-                "mu",
-                "mu_sigma",
-                "mu_low",
-                "mu_high",
-                "mu_lower_bound",
-                "status",
-                "surface",
-                "n_estimates",
-                "n_rows",
-                "n_vehicles",
-                "n_passes",
-                "last_update",
-            ]
-        )
+        return pd.DataFrame(columns=CELL_COLUMNS)
     con = duckdb.connect()
     con.execute("SET TimeZone = 'UTC'")
     # windows of one pass overlap and share their errors (heading bias, tyre stiffness): they are
@@ -96,8 +96,8 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     con.close()
     for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
         df[c] = df[c].fillna(0).astype("int64")
-    df["mu_low"] = np.maximum(df["mu"] - _Z90 * df["mu_sigma"], 0.0)
-    df["mu_high"] = df["mu"] + _Z90 * df["mu_sigma"]
+    df["mu_low"] = np.maximum(df["mu"] - Z90 * df["mu_sigma"], 0.0)
+    df["mu_high"] = df["mu"] + Z90 * df["mu_sigma"]
     has = df["mu"].notna()
     df["status"] = np.where(
         has, "estimate", np.where(df["mu_lower_bound"].notna(), "lower bound only", "no data")
@@ -107,23 +107,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
         for lo, hi, h in zip(df["mu_low"], df["mu_high"], has, strict=True)
     ]
     df["surface"] = df["surface"].astype(str)
-    cols = [
-        "cell",
-        "bucket",
-        "mu",
-        "mu_sigma",
-        "mu_low",
-        "mu_high",
-        "mu_lower_bound",
-        "status",
-        "surface",
-        "n_estimates",
-        "n_rows",
-        "n_vehicles",
-        "n_passes",
-        "last_update",
-    ]
-    return df[cols]
+    return df[CELL_COLUMNS]
 
 
 def cells_geojson(cells: pd.DataFrame) -> dict:

@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import GripsenseError
+from gripsense.pipeline import Z90
 
 __all__ = ["ROW_COLUMNS", "process_batch", "process_log"]
 
@@ -41,7 +42,6 @@ ROW_COLUMNS = [
     "mu_lower_bound",
     "utilisation",
 ]
-_Z90 = 1.6448536269514722
 
 
 def _cells(lat: np.ndarray, lon: np.ndarray, res: int) -> list[str]:
@@ -93,7 +93,7 @@ def process_log(
         mid = 0.5 * (w["t_start"].to_numpy(float) + w["t_end"].to_numpy(float))
         idx = np.clip(np.searchsorted(t, mid), 0, len(t) - 1)
         obs = w["observable"].to_numpy(bool)
-        sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * _Z90)
+        sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * Z90)
         rows = pd.DataFrame(
             {
                 "time_utc": ep["time_utc"].to_numpy()[idx],

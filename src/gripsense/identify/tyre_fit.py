@@ -542,44 +542,15 @@ def fit_pac94(
     if fz.size < N_COEF + 2:
         raise InputError(f"fit_pac94: {fz.size} usable points; need at least {N_COEF + 2}")
     x, lb, ub, fixed, cons, model = _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0)
-    nfev0 = 0
-    if x0 is None:
-        # continuation: the core curve (C, D(Fz), BCD(Fz), E) first, then every coefficient
-        core = {i: x[i] for i in range(N_COEF) if i not in (0, 1, 2, 3, 4, 6, 7)}
-        stage = _run(
-            model,
-            cons,
-            x,
-            lb,
-            ub,
-            {**core, **fixed},
-            fy,
-            w,
-            loss,
-            f_scale,
-            50,
-            PAC94_NAMES,
-            "pac94",
-            constraints,
-            variant,
-            {},
-            {},
-            0,
-        )
-        x = np.array([stage.coefficients[n] for n in PAC94_NAMES])
-        nfev0 = stage.nfev
-    fit = _run(
+    prob = _Problem(
         model,
         cons,
-        x,
         lb,
         ub,
-        fixed,
         fy,
         w,
         loss,
         f_scale,
-        max_iter,
         PAC94_NAMES,
         "pac94",
         constraints,
@@ -588,30 +559,42 @@ def fit_pac94(
         {},
         n_bad,
     )
+    nfev0 = 0
+    if x0 is None:
+        # continuation: the core curve (C, D(Fz), BCD(Fz), E) first, then every coefficient
+        core = {i: x[i] for i in range(N_COEF) if i not in (0, 1, 2, 3, 4, 6, 7)}
+        stage = _run(prob, x, {**core, **fixed}, 50)
+        x = np.array([stage.coefficients[n] for n in PAC94_NAMES])
+        nfev0 = stage.nfev
+    fit = _run(prob, x, fixed, max_iter)
     fit.nfev += nfev0
     return fit
 
 
-def _run(
-    model,
-    cons,
-    x,
-    lb,
-    ub,
-    fixed,
-    fy,
-    w,
-    loss,
-    f_scale,
-    max_iter,
-    names,
-    mname,
-    constraints,
-    variant,
-    ranges,
-    extra,
-    n_bad,
-):
+@dataclass
+class _Problem:
+    """Everything a fit needs besides the start and the fixed coefficients."""
+
+    model: object  # x -> (prediction, Jacobian)
+    cons: object  # x -> (c, A), c >= 0
+    lb: np.ndarray
+    ub: np.ndarray
+    fy: np.ndarray
+    w: np.ndarray
+    loss: str
+    f_scale: float | None
+    names: tuple[str, ...]
+    mname: str
+    constraints: str
+    variant: str
+    ranges: dict
+    extra: dict
+    n_bad: int
+
+
+def _run(prob: _Problem, x: np.ndarray, fixed: dict, max_iter: int) -> TyreFit:
+    model, cons, lb, ub, fy, w = prob.model, prob.cons, prob.lb, prob.ub, prob.fy, prob.w
+    loss, f_scale, names, n_bad = prob.loss, prob.f_scale, prob.names, prob.n_bad
     p = x.size
     # coefficients the data cannot move at all (e.g. camber terms without camber variation)
     probe = x + 0.01 * (1.0 + np.abs(x)) * np.where(np.arange(p) % 2, 1.0, -1.0)
@@ -665,13 +648,13 @@ def _run(
         f"; {n_bad} rows without finite values or with Fz <= 0 left out" if n_bad else ""
     )
     return TyreFit(
-        model=mname,
+        model=prob.mname,
         coefficients={names[i]: float(xf[i]) for i in range(p)},
         stderr=stderr,
         determined=determined,
         covariance=cov,
         free=[names[i] for i in free_idx],
-        constraints=constraints,
+        constraints=prob.constraints,
         active=active,
         residual_rms_N=float(np.sqrt(np.mean(r_unw**2))),
         n=n,
@@ -680,9 +663,9 @@ def _run(
         success=res.success,
         message=msg,
         nfev=res.nfev,
-        ranges=ranges,
-        variant=variant,
-        extra=extra,
+        ranges=prob.ranges,
+        variant=prob.variant,
+        extra=prob.extra,
     )
 
 
@@ -824,18 +807,15 @@ def fit_mf61_lateral(
             jac[:, i] = (fp - fm) / (2 * h)
         return f0, jac
 
-    return _run(
+    prob = _Problem(
         model,
         cons,
-        x,
         lb,
         ub,
-        fixed,
         fy,
         w,
         loss,
         f_scale,
-        max_iter,
         tuple(names),
         "mf61",
         constraints,
@@ -844,6 +824,7 @@ def fit_mf61_lateral(
         extra,
         n_bad,
     )
+    return _run(prob, x, fixed, max_iter)
 
 
 # ---------------------------------------------------------------------- road data

@@ -34,7 +34,7 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.physics.load_transfer import G0
 
-__all__ = ["parse_columns", "read_motion_table"]
+__all__ = ["numeric_column", "parse_columns", "read_motion_table", "read_table"]
 
 UNITS = {
     "deg": np.pi / 180,
@@ -51,6 +51,32 @@ UNITS = {
     "ms": 1e-3,
 }
 KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
+
+
+def read_table(path: str | Path) -> pd.DataFrame:
+    """Read a ``.parquet`` or CSV (``#`` comment lines) table; errors name the file."""
+    path = Path(path)
+    try:
+        if path.suffix.lower() == ".parquet":
+            return pd.read_parquet(path)
+        return pd.read_csv(path, comment="#")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such table") from None
+    except (ValueError, pd.errors.ParserError, UnicodeDecodeError, OSError) as e:
+        raise InputError(f"{path}: not a readable table ({e})") from None
+
+
+def numeric_column(df: pd.DataFrame, name: str, path: str | Path) -> np.ndarray:
+    """Column *name* as floats (empty cells NaN); an error naming the file, data row (1 =
+    first row after the header) and column at the first value that is not a number."""
+    v = pd.to_numeric(df[name], errors="coerce")
+    bad = v.isna() & df[name].notna()
+    if bad.any():
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise InputError(
+            f"{path}: row {row + 1}, column {name!r}: {df[name].iloc[row]!r} is not a number"
+        )
+    return v.to_numpy(float)
 
 
 def parse_columns(spec: str | dict, keys: tuple[str, ...] = KEYS,
@@ -115,16 +141,7 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
     """
     path = Path(path)
     m = parse_columns(columns)
-    try:
-        df = (
-            pd.read_parquet(path)
-            if path.suffix.lower() == ".parquet"
-            else pd.read_csv(path, comment="#")
-        )
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such table") from None
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError) as e:
-        raise InputError(f"{path}: not a readable table ({e})") from None
+    df = read_table(path)
     need = ["t", "yaw_rate"] + (["vx", "vy"] if "vx" in m or "vy" in m else ["speed", "slip"])
     for key in need:
         if key not in m:
@@ -136,14 +153,7 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
             raise InputError(
                 f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
             )
-        v = pd.to_numeric(df[name], errors="coerce")
-        bad = v.isna() & df[name].notna()
-        if bad.any():
-            row = int(np.flatnonzero(bad.to_numpy())[0])
-            raise InputError(
-                f"{path}: row {row + 1}, column {name!r}: {df[name].iloc[row]!r} is not a number"
-            )
-        return v.to_numpy(float) * factor
+        return numeric_column(df, name, path) * factor
 
     if "vx" in m:
         u, v = col("vx"), col("vy")

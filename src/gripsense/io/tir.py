@@ -126,10 +126,13 @@ class TirFile:
         self.name = name
         self._final_newline = final_newline
         self.encoding = "utf-8"
+        self._reindex()
+
+    def _reindex(self) -> None:
+        # first occurrence wins for lookups, as in MFeval/TNO readers; duplicates are kept
         self._index: dict[str, int] = {}
-        for i, ln in enumerate(lines):
+        for i, ln in enumerate(self._lines):
             if ln.kind == "entry":
-                # first occurrence wins for lookups, as in MFeval/TNO readers; duplicates are kept
                 self._index.setdefault(ln.key.upper(), i)
 
     # ------------------------------------------------------------------ construction
@@ -264,10 +267,7 @@ class TirFile:
             self._lines.append(_Line("section", f"[{sec}]", section=sec))
             last = len(self._lines) - 1
         self._lines.insert(last + 1, new)
-        self._index = {}
-        for j, ln in enumerate(self._lines):
-            if ln.kind == "entry":
-                self._index.setdefault(ln.key.upper(), j)
+        self._reindex()
 
     # ------------------------------------------------------------------ units
     def units(self) -> dict[str, str]:

@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import parse_columns
+from gripsense.io.table import parse_columns, read_table
 
 __all__ = ["TYRE_KEYS", "read_tyre_table"]
 
@@ -48,17 +48,6 @@ _DEFAULT_FACTORS = {
     "fz_kN": 1000.0,
     "fy_kN": 1000.0,
 }
-
-
-def _read(path: Path) -> pd.DataFrame:
-    try:
-        if path.suffix.lower() == ".parquet":
-            return pd.read_parquet(path)
-        return pd.read_csv(path, comment="#")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such table") from None
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError, OSError) as e:
-        raise InputError(f"{path}: not a readable table ({e})") from None
 
 
 def read_tyre_table(
@@ -83,7 +72,7 @@ def read_tyre_table(
         ``wheels``: the friction pipeline's wheel table).
     """
     path = Path(path)
-    df = _read(path)
+    df = read_table(path)
     if columns is None and {"slip_angle_rad", "load_N", "force_N"} <= set(df.columns):
         return df, {"rows": len(df), "source": "wheels"}
     if columns is not None:

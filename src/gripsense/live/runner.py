@@ -255,6 +255,15 @@ def run_live(
     if handle_signals:
         for s in (signal.SIGINT, signal.SIGTERM):
             old[s] = signal.signal(s, _stop)
+
+    def take(ep: pd.DataFrame) -> None:
+        if len(ep):
+            stats.epochs += len(ep)
+            _note_epochs(stats, ep)
+            est.add(ep)
+            if on_epochs is not None:
+                on_epochs(ep)
+
     summary = pd.DataFrame()
     last_update = time.monotonic()
     t_end = None if duration_s is None else time.monotonic() + duration_s
@@ -266,13 +275,7 @@ def run_live(
                 stats.bytes += len(data)
                 stats.last_data = now
                 rec.raw(data)
-                ep = ingest.feed(data)
-                if len(ep):
-                    stats.epochs += len(ep)
-                    _note_epochs(stats, ep)
-                    est.add(ep)
-                    if on_epochs is not None:
-                        on_epochs(ep)
+                take(ingest.feed(data))
             ended = source.eof and not data
             if now - last_update >= update_s or ended:
                 summary = _update(est, rec, stats, now, stale_s)
@@ -284,13 +287,7 @@ def run_live(
                 stop["why"] = "end of input"
             if t_end is not None and now >= t_end:
                 stop["why"] = "duration"
-        ep = ingest.finish()
-        if len(ep):
-            stats.epochs += len(ep)
-            _note_epochs(stats, ep)
-            est.add(ep)
-            if on_epochs is not None:
-                on_epochs(ep)
+        take(ingest.finish())
         summary = _update(est, rec, stats, time.monotonic(), stale_s)
         if display is not None:
             display(summary, stats, ingest, source)
