@@ -100,6 +100,23 @@ def _format_number(value: float | int) -> str:
     return repr(float(value))
 
 
+def _new_entry(section: str, key: str, value, comment: str | None) -> _Line:
+    """A ``KEY = value  $comment`` line in the layout TNO and MFeval files use."""
+    raw = _format_value(value)
+    pre = f"{key:<25}= "
+    suf = "" if comment is None else " " * max(1, 16 - len(raw)) + f"${comment}"
+    return _Line(
+        "entry",
+        pre + raw + suf,
+        section=section,
+        key=key,
+        value=value,
+        prefix=pre,
+        raw_value=raw,
+        suffix=suf,
+    )
+
+
 def _format_value(value: float | int | str | None) -> str:
     if value is None:
         return ""
@@ -169,22 +186,7 @@ class TirFile:
             lines.append(_Line("section", f"[{sec_u}]", section=sec_u))
             for key, value in entries.items():
                 key_u = key.upper()
-                raw = _format_value(value)
-                pre = f"{key_u:<25}= "
-                com = comments.get(key_u)
-                suf = "" if com is None else " " * max(1, 16 - len(raw)) + f"${com}"
-                lines.append(
-                    _Line(
-                        "entry",
-                        pre + raw + suf,
-                        section=sec_u,
-                        key=key_u,
-                        value=value,
-                        prefix=pre,
-                        raw_value=raw,
-                        suffix=suf,
-                    )
-                )
+                lines.append(_new_entry(sec_u, key_u, value, comments.get(key_u)))
         return cls(lines, "\n", name)
 
     # ------------------------------------------------------------------ access
@@ -247,18 +249,7 @@ class TirFile:
         if section is None:
             raise TirError(f"{self.name}: new key {key_u} needs a section")
         sec = section.upper()
-        pre = f"{key_u:<25}= "
-        suf = "" if comment is None else " " * max(1, 16 - len(raw)) + f"${comment}"
-        new = _Line(
-            "entry",
-            pre + raw + suf,
-            section=sec,
-            key=key_u,
-            value=value,
-            prefix=pre,
-            raw_value=raw,
-            suffix=suf,
-        )
+        new = _new_entry(sec, key_u, value, comment)
         last = None
         for j, ln in enumerate(self._lines):
             if ln.section == sec and ln.kind in ("entry", "section", "other"):

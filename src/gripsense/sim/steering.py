@@ -19,7 +19,7 @@ Test (i) *step steer*: α ramps at a constant rate to a stopper at constant spee
 [β, r, δ, δ̇, Y_f1, Y_f2, Y_r1, Y_r2]. Test (ii) *hands-off release* from a steady turn: T_h = 0,
 states [β, r, δ, δ̇, α, α̇, Y_f1, Y_f2, Y_r1, Y_r2]. M ẋ = A x + B u is regular
 (det M = m I I_s I_h Π K_i / (V³ k_y⁴) ≠ 0, PHYSICS §9.2). Inputs are piecewise linear, so the
-response is computed exactly on the sample grid with the matrix exponential (first-order hold).
+response is computed exactly on the sample grid (scipy ``lsim``, first-order hold).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.linalg import expm
+from scipy.signal import lsim
 
 from gripsense.errors import InputError
 
@@ -289,20 +289,12 @@ def _state_space(car: SteeringCar, case: str) -> tuple[np.ndarray, np.ndarray]:
 def _foh_response(
     a: np.ndarray, b: np.ndarray, x0: np.ndarray, u: np.ndarray, dt: float
 ) -> np.ndarray:
-    """Exact response of ẋ = A x + B u for u linear between samples (first-order hold)."""
+    """Exact response of ẋ = A x + B u for u linear between samples (scipy's ``lsim`` with
+    first-order hold); returns the states per sample."""
     n = a.shape[0]
-    big = np.zeros((n + 2, n + 2))
-    big[:n, :n] = a * dt
-    big[:n, n] = b[:, 0] * dt
-    big[n, n + 1] = 1.0
-    e = expm(big)
-    phi, g0, g1 = e[:n, :n], e[:n, n], e[:n, n + 1]
-    # x_{k+1} = Φ x_k + Γ0 u_k + Γ1 (u_{k+1} − u_k)
-    x = np.empty((u.size, n))
-    x[0] = x0
-    for k in range(u.size - 1):
-        x[k + 1] = phi @ x[k] + g0 * u[k] + g1 * (u[k + 1] - u[k])
-    return x
+    t = dt * np.arange(u.size)
+    _, _, x = lsim((a, b, np.eye(n), np.zeros((n, 1))), u, t, X0=x0, interp=True)
+    return np.asarray(x).reshape(u.size, n)
 
 
 def simulate_step(
