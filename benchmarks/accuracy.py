@@ -53,7 +53,7 @@ def one(args) -> list[dict]:
     from gripsense import FrictionRun
     from gripsense.config import Vehicle
     from gripsense.data import sample_path
-    from gripsense.estimate.friction import NoiseModel
+    from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
     from gripsense.sim import SimParams
     from gripsense.sim import maneuvers as M

@@ -35,15 +35,26 @@ def main() -> None:
         src_path.write_bytes(blob)
         warm = Path(d) / "warm.nmea"
         warm.write_bytes(gzip.decompress(logs[0].read_bytes()))
-        run_live(ReplaySource(warm, speed=0), DATA / "corolla_sim.toml", method=args.method,
-                 handle_signals=False)
+        run_live(
+            ReplaySource(warm, speed=0),
+            DATA / "corolla_sim.toml",
+            method=args.method,
+            handle_signals=False,
+        )
         t0 = time.perf_counter()
-        res = run_live(ReplaySource(src_path, speed=0), DATA / "corolla_sim.toml",
-                       method=args.method, output=Path(d) / "res.csv", handle_signals=False)
+        res = run_live(
+            ReplaySource(src_path, speed=0),
+            DATA / "corolla_sim.toml",
+            method=args.method,
+            output=Path(d) / "res.csv",
+            handle_signals=False,
+        )
         dt = time.perf_counter() - t0
     rep = res["report"]
-    print(f"{rep.total_lines} lines, {rep.n_epochs} epochs in {dt:.2f} s "
-          f"({res['stats'].updates} friction updates, method {args.method})")
+    print(
+        f"{rep.total_lines} lines, {rep.n_epochs} epochs in {dt:.2f} s "
+        f"({res['stats'].updates} friction updates, method {args.method})"
+    )
     print(f"throughput: {rep.total_lines / dt:,.0f} lines/s, {rep.n_epochs / dt:,.0f} epochs/s")
     print(f"ratio to a 120 lines/s receiver: {rep.total_lines / dt / 120:,.0f}x")
 

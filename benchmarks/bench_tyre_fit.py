@@ -29,7 +29,9 @@ import time
 import numpy as np
 from scipy.optimize import minimize
 
-from gripsense.identify.tyre_fit import _constraint_flags, _pac94_setup, fit_pac94
+from gripsense.identify.tyre_fit import fit_pac94
+from gripsense.identify.tyre_fit._solve import _constraint_flags
+from gripsense.identify.tyre_fit.pac94 import _pac94_setup
 from gripsense.physics.magic_formula.pac94 import pac94_lateral, pac94_lateral_native
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
 

@@ -9,7 +9,8 @@ import numpy as np
 import pandas as pd
 
 import gripsense
-from gripsense.sim.steering import SteeringCar, simulate_release, simulate_step
+from gripsense.config import SteeringCar
+from gripsense.sim.steering import simulate_release, simulate_step
 from tests.test_cli import run
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"

@@ -8,7 +8,6 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
-from gripsense.io import read_nmea
 from gripsense.pipeline import FrictionRun
 
 __all__ = ["DEMO_WHEELS", "run_demo"]
@@ -51,8 +50,7 @@ def run_demo(folder: Path | None = None, *, method: str = "brush-2", progress=No
     for i, c in enumerate(cases.to_dict("records")):
         if progress:
             progress(i, len(cases), c["case"])
-        log = read_nmea(folder / c["nmea"])
-        res = run.run(log.epochs)
+        res = run.run_log(folder / c["nmea"])
         truth = pd.read_parquet(folder / c["truth"])
         after = truth[truth["t_s"] >= c["settle_s"]]
         summ = res.summary.set_index("wheel")
@@ -94,7 +92,7 @@ def write_demo_report(
     import matplotlib.pyplot as plt
 
     from gripsense.report import write_report
-    from gripsense.report.html import _table, fig_to_data_uri
+    from gripsense.report.html import fig_to_data_uri, html_table
 
     folder = Path(folder) if folder is not None else demo_dir()
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -147,12 +145,9 @@ def write_demo_report(
         "<code>brush-2</code> per wheel. A value is reported only where the data can carry "
         "it; elsewhere the lower bound the data prove.</p>"
         f'<p><img alt="estimate vs truth" src="{fig_to_data_uri(fig)}"></p>'
-        + _table(show)
+        + html_table(show)
         + f"<h2>One drive in detail: {html.escape(case)}</h2>"
     )
     c = pd.read_csv(folder / "cases.csv").set_index("case").loc[case]
-    vehicle = Vehicle.from_toml(folder / "vehicle.toml")
-    log = read_nmea(folder / c["nmea"])
-    res = FrictionRun(vehicle).run(log.epochs)
-    res.ingest = log.report.to_dict()
+    res = FrictionRun(folder / "vehicle.toml").run_log(folder / c["nmea"])
     return write_report(res, path, title="gripsense demo report", intro_html=intro)

@@ -11,11 +11,11 @@ import pytest
 
 from gripsense import FrictionRun
 from gripsense.config import Vehicle
+from gripsense.constants import G0
 from gripsense.data import sample_path
 from gripsense.estimate.axle_window import OnlineAxleWindow, axle_samples
-from gripsense.estimate.friction import NoiseModel
+from gripsense.estimate.noise import NoiseModel
 from gripsense.io import read_nmea
-from gripsense.physics.load_transfer import G0
 from gripsense.sim import SimParams
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass

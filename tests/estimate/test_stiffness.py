@@ -7,9 +7,10 @@ import numpy as np
 from gripsense import FrictionRun
 from gripsense.config import Vehicle
 from gripsense.data import sample_path
+from gripsense.estimate.conditions import conditions
 from gripsense.estimate.stiffness import g_sweep, tread_stiffness
 from gripsense.io import read_nmea
-from gripsense.report.figures import conditions
+from gripsense.report.figures import g_sweep_figure
 from gripsense.sim import SimParams
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
@@ -50,7 +51,7 @@ def test_g_sweep_thesis_criteria(tmp_path):
     k = int(np.argmin(np.abs(sw.G - sw.chosen)))
     mus = [mu[k] for mu in sw.mu.values()]
     assert all(0 < m <= 1.2 for m in mus)
-    sw.plot().savefig(tmp_path / "sweep.png")
+    g_sweep_figure(sw).savefig(tmp_path / "sweep.png")
     # an impossible condition: no G keeps μ ≤ 0.05 on both wheels
     bad = g_sweep(w, VEH, *c, mu_max=0.05)
     assert not np.isfinite(bad.chosen) and "no G" in bad.reason

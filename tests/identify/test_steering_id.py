@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 import gripsense
+from gripsense.config import SteeringCar
 from gripsense.identify.steering import (
     identify_steering,
     normalise_yaw_gain,
-    release_settling_time,
-    step_metrics,
     tyre_lateral_stiffness,
 )
-from gripsense.sim.steering import SteeringCar, simulate_release, simulate_step
+from gripsense.identify.steering_metrics import release_settling_time, step_metrics
+from gripsense.sim.steering import simulate_release, simulate_step
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 N = 5.0  # steering ratio in the TOML

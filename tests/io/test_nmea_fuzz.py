@@ -7,9 +7,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.io import read_nmea
-from gripsense.io.epochs import epoch_boundaries, epoch_boundaries_loop
-from gripsense.io.nmea_fast import tokenize_fast
-from gripsense.io.nmea_reference import tokenize_reference
+from gripsense.io.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
+from gripsense.io.nmea.fast import tokenize_fast
+from gripsense.io.nmea.reference import tokenize_reference
 from tests.conftest import GPSD_LOGS
 
 REAL = []

@@ -239,7 +239,7 @@ def test_clock_going_backwards_restarts_the_window_and_batch_says_so(tmp_path):
     est = LiveFriction(VEHICLE, window_s=30.0)
     live = LiveIngest()
     for i in range(0, len(two), 8192):
-        est.add(live.feed(two[i:i + 8192]))
+        est.add(live.feed(two[i : i + 8192]))
     est.add(live.finish())
     assert est.resets == 1
     assert len(est.estimate()) > 0

@@ -48,7 +48,7 @@ def test_thesis_readings_physics_4_3():
 
 def test_wheel_loads_and_axle_force():
     left, right = LT.wheel_loads(480.0, 631.0)
-    assert left + right == pytest.approx(480 * LT.G0)
+    assert left + right == pytest.approx(480 * 9.80665)
     assert right - left == pytest.approx(2 * 631.0)
     assert LT.axle_lateral_force(480.0, 1.929) == pytest.approx(925.92)
     # steady state: rear-axle force = m a_y l_f / L (PHYSICS §4.4)

@@ -8,9 +8,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from gripsense.io.tir import TirError, read_tir
-from gripsense.physics.magic_formula import MFTyre
-from gripsense.physics.magic_formula.pac89 import pac89_lateral, pac89_longitudinal, read_pac89_json
+from gripsense.errors import InputError
+from gripsense.io.pac89 import read_pac89_json
+from gripsense.io.tir import read_tir
+from gripsense.physics.magic_formula.pac89 import pac89_lateral, pac89_longitudinal
+from gripsense.tyre_models import load_mf_tyre
 
 DATA = Path(__file__).parents[1] / "data" / "tyre"
 REF_FILES = ["PacejkaBook_Defaults", "MagicFormula61_Paramerters", "MagicFormula62_Paramerters"]
@@ -21,7 +23,7 @@ def test_fx_fy_match_mfeval_to_1e6(name):
     """MFeval 4.0.0 useMode 111 outputs (README in tests/data/tyre/mfeval_ref): 243 points each,
     combined slip, camber and pressure; Fx, Fy, mux, muy, Kya, Kxk to 1e-6 relative."""
     ref = pd.read_csv(DATA / "mfeval_ref" / f"{name}.csv")
-    tyre = MFTyre.from_tir(DATA / "tir" / f"{name}.tir")
+    tyre = load_mf_tyre(DATA / "tir" / f"{name}.tir")
     r = tyre.forces(
         ref.Fz_N, ref.kappa, ref.alpha_rad, ref.gamma_rad, vx=ref.Vx_mps, pressure=ref.P_Pa
     )
@@ -39,7 +41,7 @@ def test_fx_fy_match_mfeval_to_1e6(name):
 
 def test_pacejka_book_sanity_table():
     """The README's hand check: Fz = FNOMIN = 4000 N, κ = γ = 0."""
-    tyre = MFTyre.from_tir(DATA / "tir" / "PacejkaBook_Defaults.tir")
+    tyre = load_mf_tyre(DATA / "tir" / "PacejkaBook_Defaults.tir")
     alpha = np.deg2rad([-12, -4, -1, 0, 1, 4, 12])
     fy = tyre.forces(4000.0, 0.0, alpha).fy
     np.testing.assert_allclose(
@@ -53,7 +55,7 @@ def test_closed_form_slope_and_peak(name):
     and the pure-slip peak |Fy| = |PDY1 + PDY2 dfz| Fz (C > 1, E < 1)."""
     tir = read_tir(DATA / "tir" / f"{name}.tir")
     p = tir.parameters()
-    tyre = MFTyre.from_tir(tir)
+    tyre = load_mf_tyre(tir)
     fz = 0.8 * p["FNOMIN"]
     fz0 = p["FNOMIN"]
     kya_hand = p["PKY1"] * fz0 * np.sin(p["PKY4"] * np.arctan(fz / (p["PKY2"] * fz0)))
@@ -72,7 +74,7 @@ def test_mf52_file_runs_with_its_own_camber_terms():
     """MF 5.2 (FITTYP 6): SHy = PHY1 + PHY2 dfz + PHY3 γ; at the horizontal shift, Fy = SVy."""
     tir = read_tir(DATA / "tir" / "MagicFormula52_Paramerters.tir")
     p = tir.parameters()
-    tyre = MFTyre.from_tir(tir)
+    tyre = load_mf_tyre(tir)
     assert tyre.version == "5.2"
     fz, g = p["FNOMIN"], 0.02
     shy = p["PHY1"] + p["PHY3"] * g * p["LGAY"]
@@ -85,7 +87,7 @@ def test_mf52_file_runs_with_its_own_camber_terms():
     "name", ["HMMWV_Pac02Tire", "Sedan_Pac02Tire", "mf_185_80R14", "335_65R22_5_G275MSA_40psi"]
 )
 def test_chrono_files_evaluate(name):
-    tyre = MFTyre.from_tir(DATA / "tir" / f"{name}.tir")
+    tyre = load_mf_tyre(DATA / "tir" / f"{name}.tir")
     r = tyre.forces(tyre.params["FNOMIN"], np.linspace(-0.2, 0.2, 5), np.deg2rad(5.0))
     assert np.all(np.isfinite(r.fx)) and np.all(np.isfinite(r.fy))
     assert np.all(np.abs(r.fy) < 1.5 * tyre.params["FNOMIN"])
@@ -96,16 +98,16 @@ def test_negative_pdy1_gives_the_same_curve():
     pure lateral force unchanged because Dy and By change sign together."""
     tir = read_tir(DATA / "tir" / "MagicFormula61_Paramerters.tir")
     a = np.deg2rad(np.linspace(-12, 12, 25))
-    base = MFTyre.from_tir(tir).forces(5000.0, 0.0, a, 0.03, combined=False).fy
+    base = load_mf_tyre(tir).forces(5000.0, 0.0, a, 0.03, combined=False).fy
     tir.set("PDY1", -tir["PDY1"])
     tir.set("PDY2", -tir["PDY2"])
-    flipped = MFTyre.from_tir(tir).forces(5000.0, 0.0, a, 0.03, combined=False).fy
+    flipped = load_mf_tyre(tir).forces(5000.0, 0.0, a, 0.03, combined=False).fy
     np.testing.assert_allclose(flipped, base, rtol=1e-12, atol=1e-9)
 
 
 def test_mirroring_for_the_other_side():
     """A RIGHT tyre used on the LEFT: Fy_left(α, γ) = −Fy_right(−α, −γ); ply-steer flips sign."""
-    tyre = MFTyre.from_tir(DATA / "tir" / "MagicFormula61_Paramerters.tir")  # TYRESIDE RIGHT
+    tyre = load_mf_tyre(DATA / "tir" / "MagicFormula61_Paramerters.tir")  # TYRESIDE RIGHT
     a = np.deg2rad(np.linspace(-8, 8, 9))
     right = tyre.forces(5000.0, 0.05, -a, -0.02)
     left = tyre.forces(5000.0, 0.05, a, 0.02, side="left")
@@ -119,7 +121,7 @@ def test_mirroring_for_the_other_side():
 
 
 def test_limit_checks_clip_inputs():
-    tyre = MFTyre.from_tir(DATA / "tir" / "MagicFormula61_Paramerters.tir")
+    tyre = load_mf_tyre(DATA / "tir" / "MagicFormula61_Paramerters.tir")
     amax = tyre.params["ALPMAX"]
     clipped = tyre.forces(5000.0, 0.0, [amax, 1.5 * amax]).fy
     assert clipped[0] == clipped[1]
@@ -128,7 +130,7 @@ def test_limit_checks_clip_inputs():
 
 
 def test_low_speed_reduces_slip_forces_smoothly():
-    tyre = MFTyre.from_tir(DATA / "tir" / "PacejkaBook_Defaults.tir")
+    tyre = load_mf_tyre(DATA / "tir" / "PacejkaBook_Defaults.tir")
     vx = np.array([0.0, 0.25, 0.5, 0.999, 2.0])
     fx = tyre.forces(4000.0, 0.1, 0.0, vx=vx).fx
     assert fx[0] == 0.0 and np.all(np.diff(fx) > 0)
@@ -137,16 +139,16 @@ def test_low_speed_reduces_slip_forces_smoothly():
 def test_missing_mandatory_key_is_named(tmp_path):
     text = (DATA / "tir" / "PacejkaBook_Defaults.tir").read_text().replace("FNOMIN", "XNOMIN")
     (tmp_path / "x.tir").write_text(text)
-    with pytest.raises(TirError, match="FNOMIN"):
-        MFTyre.from_tir(tmp_path / "x.tir")
+    with pytest.raises(InputError, match="FNOMIN"):
+        load_mf_tyre(tmp_path / "x.tir")
     text = (DATA / "tir" / "PacejkaBook_Defaults.tir").read_text().replace("PKY1 ", "XKY1 ")
     (tmp_path / "y.tir").write_text(text)
-    with pytest.raises(TirError, match="PKY1"):
-        MFTyre.from_tir(tmp_path / "y.tir").forces(4000.0)
+    with pytest.raises(InputError, match="PKY1"):
+        load_mf_tyre(tmp_path / "y.tir").forces(4000.0)
     text = (DATA / "tir" / "PacejkaBook_Defaults.tir").read_text().replace("=    61", "=    99")
     (tmp_path / "z.tir").write_text(text)
-    with pytest.raises(TirError, match="FITTYP"):
-        MFTyre.from_tir(tmp_path / "z.tir")
+    with pytest.raises(InputError, match="FITTYP"):
+        load_mf_tyre(tmp_path / "z.tir")
 
 
 def test_pac89_hmmwv_closed_forms():

@@ -12,6 +12,7 @@ import pytest
 
 from gripsense import FrictionRun
 from gripsense.data import sample_path
+from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.report import figures as F
 from gripsense.report import write_report
 from tests.estimate.circle import circle
@@ -124,7 +125,7 @@ def test_report_command_round_trip(tmp_path):
     text = (tmp_path / "again.html").read_text()
     assert "axle-window" in text and "lines" in text  # ingest accounting section
     r = run("report", str(tmp_path))
-    assert r.returncode == 2 and "not a result folder" in r.stderr
+    assert r.returncode == 2 and "not a result folder" in r.stderr  # no manifest
 
 
 def test_figures_with_missing_channels_and_no_valid_mu(tmp_path):
@@ -132,8 +133,8 @@ def test_figures_with_missing_channels_and_no_valid_mu(tmp_path):
     res, epochs = _result(method="axle-window", mu=0.9, util=0.2)
     assert res.wheels["mu"].isna().all()
     bare = epochs.drop(columns=["lat_deg", "lon_deg"])
-    conds = F.conditions(res.wheels)
-    ct = F.condition_table(res.wheels, conds, res.windows)
+    conds = conditions(res.wheels)
+    ct = condition_table(res.wheels, conds, res.windows)
     figs = [
         F.trajectory(bare, conds),
         F.mu_vs_utilisation(res.wheels, res.windows),
@@ -145,7 +146,7 @@ def test_figures_with_missing_channels_and_no_valid_mu(tmp_path):
     p = write_report(res, tmp_path / "r.html", epochs=bare)
     assert "not observable" in p.read_text()
     empty = res.wheels.iloc[:0]
-    assert F.conditions(empty) == []
+    assert conditions(empty) == []
     F.mu_vs_utilisation(empty)
 
 
@@ -167,7 +168,7 @@ def _compare(fig, name: str, tmp_path: Path, tol: float = 8.0) -> None:
 
 def test_condition_figure_image(tmp_path):
     res, _ = _result()
-    t0, t1 = F.conditions(res.wheels)[0]
+    t0, t1 = conditions(res.wheels)[0]
     _compare(F.condition_figure(res.wheels, t0, t1, title="condition 1"), "condition.png", tmp_path)
 
 
@@ -178,9 +179,9 @@ def test_mu_vs_utilisation_image(tmp_path):
 
 def test_condition_table_values():
     res, epochs = _result()
-    conds = F.conditions(res.wheels)
+    conds = conditions(res.wheels)
     assert len(conds) == 1  # one steady circle
-    ct = F.condition_table(res.wheels, conds)
+    ct = condition_table(res.wheels, conds)
     rl = ct.set_index("wheel").loc["rear_left"]
     _, truth = circle(mu=0.5, utilisation=0.92, duration=30.0)
     from tests.estimate.circle import RL

@@ -10,15 +10,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import gripsense
-from gripsense.sim.steering import (
-    SteeringCar,
-    descriptor,
-    settling_time,
-    simulate_release,
-    simulate_step,
-    steady_turn,
-    yaw_gain,
-)
+from gripsense.config import SteeringCar
+from gripsense.identify.steering_metrics import settling_time, yaw_gain
+from gripsense.sim.steering import descriptor, simulate_release, simulate_step, steady_turn
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 

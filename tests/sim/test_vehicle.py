@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from gripsense.config import Tyre, Vehicle
+from gripsense.constants import G0
 from gripsense.data import sample_path
-from gripsense.physics.load_transfer import G0
 from gripsense.sim import SimParams
 from gripsense.sim import maneuvers as M
 

@@ -54,13 +54,12 @@ import pandas as pd
 from numba import njit, prange
 
 from gripsense.config import Vehicle
-from gripsense.estimate.friction import NoiseModel
+from gripsense.constants import CHI2_1_90
+from gripsense.estimate.friction import NOT_STEADY_CORNERING
+from gripsense.estimate.noise import NoiseModel
 from gripsense.physics.brush import force_slope_scalar
 
 __all__ = ["OnlineAxleWindow", "WindowOptions", "axle_samples", "estimate_windows", "profile"]
-
-CHI2_90 = 2.705543454095404  # χ²₁ 0.90 quantile
-CHI2_99 = 6.6348966010212145  # χ²₁ 0.99 quantile
 
 
 @dataclass(frozen=True)
@@ -225,8 +224,8 @@ def profile(
         b = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
         if a > 0:
             mu_hat = float(np.exp(np.clip(-b / (2 * a), x0, x2)))
-    lo = _crossing(mu_g, dev, CHI2_90, im, -1)
-    hi = _crossing(mu_g, dev, CHI2_90, im, +1)
+    lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
+    hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
     from scipy.stats import chi2
 
     level = float(chi2.ppf(o.point_level, 1))
@@ -239,7 +238,7 @@ def profile(
     p_s = p_ms.min(axis=0)
     dev_s = 2.0 * (p_s - p_s.min())
     js = int(np.argmin(p_s))
-    inside = s_g[dev_s <= CHI2_90]
+    inside = s_g[dev_s <= CHI2_1_90]
     out = {
         "mu": float(mu_hat) if observable else np.nan,
         "mu_low": float(lo),
@@ -258,11 +257,9 @@ def profile(
     return out
 
 
-_USABLE_OUT = ("low_speed", "not_cornering", "not_steady")
-
-
 def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
-    """Per-sample inputs of one axle from a wheel table (see estimate_friction).
+    """Per-sample inputs of one axle from a wheel table
+    (:func:`gripsense.estimate.friction.friction_from_motion`).
 
     Samples with both wheels present, steady cornering above the speed gate and finite inputs.
     """
@@ -281,7 +278,7 @@ def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
     L = wheels.loc[wheels["wheel"] == lname, cols].set_index("epoch")
     R = wheels.loc[wheels["wheel"] == rname, cols].set_index("epoch")
     both = L.add_suffix("_L").join(R.add_suffix("_R"), how="inner")
-    usable = ~both["flag_L"].isin(_USABLE_OUT) & ~both["flag_R"].isin(_USABLE_OUT)
+    usable = ~both["flag_L"].isin(NOT_STEADY_CORNERING) & ~both["flag_R"].isin(NOT_STEADY_CORNERING)
     num = both[[c for c in both.columns if not c.startswith("flag")]]
     usable &= np.isfinite(num.to_numpy(dtype=float)).all(axis=1)
     b = both[usable]
@@ -334,7 +331,7 @@ def estimate_windows(
     Parameters
     ----------
     wheels : pandas.DataFrame
-        Wheel table of :func:`gripsense.estimate.friction.estimate_friction`.
+        Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
     vehicle : Vehicle
     noise : NoiseModel
     options : WindowOptions

@@ -31,7 +31,9 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import AXLE_OF, Vehicle
+from gripsense.constants import G0
 from gripsense.errors import InputError
+from gripsense.estimate.noise import NoiseModel
 from gripsense.physics import brush
 from gripsense.physics.kinematics import (
     antenna_sideslip,
@@ -40,14 +42,13 @@ from gripsense.physics.kinematics import (
     point_velocity,
     slip_angle,
 )
-from gripsense.physics.load_transfer import G0, lateral_load_transfer, wheel_loads
+from gripsense.physics.load_transfer import lateral_load_transfer, wheel_loads
 
 __all__ = [
     "FLAGS",
     "METHODS",
+    "NOT_STEADY_CORNERING",
     "FrictionOptions",
-    "NoiseModel",
-    "estimate_friction",
     "friction_from_motion",
     "motion_from_epochs",
 ]
@@ -63,6 +64,8 @@ METHODS = {
     "axle-window": (None, "exact"),  # per-sample kinematics here; μ per axle and window in
     # gripsense.estimate.axle_window
 }
+NOT_STEADY_CORNERING = ("low_speed", "not_cornering", "not_steady")
+"""Flags of samples that are not steady cornering: they carry no information on μ and no bound."""
 FLAGS = (
     "ok",
     "low_speed",
@@ -96,67 +99,6 @@ WHEEL_COLUMNS = [
     "slip_sigma_rad",
     "force_sigma_N",
 ]
-
-
-@dataclass(frozen=True)
-class NoiseModel:
-    """Measurement and parameter uncertainty used to propagate σ_μ (1 σ values).
-
-    Attributes
-    ----------
-    heading_deg : float
-        Compass heading, total [deg]; 0.75 is the thesis's stated receiver accuracy (Table 13).
-        Used by the per-sample methods.
-    heading_white_deg : float
-        The part of the heading error that is independent from sample to sample [deg]
-        (``axle-window``).
-    heading_bias_deg : float
-        The part that stays over a window — residual mounting offset after calibration plus
-        slowly varying (multipath) error [deg]; ``axle-window`` treats it as a nuisance
-        parameter with this prior. After a short straight-line calibration it is the
-        difference of two values of the slow error: √2 × ~0.4° for a V100-class receiver.
-    velocity_mps : float
-        Each horizontal velocity component [m/s]; gives the course noise σ_v / v and the speed
-        noise. 0.05 m/s is a typical Doppler velocity accuracy.
-    yaw_rate_dps : float
-        Yaw rate [deg/s].
-    tread_stiffness_rel : float
-        Relative uncertainty of G (or of C when C is given) [-]. The thesis's own estimates of G
-        range from 2.3e7 to 9.6e7 (Table 23); 0.2 is optimistic.
-    contact_length_rel : float
-        Relative uncertainty of the contact length [-] (Table 18 fit: 0.29 cm on ~14 cm).
-    load_transfer_rel : float
-        Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
-        (``axle-window``).
-    axle_force_rel : float
-        Relative model error of the steady-state axle force m_i⁰ a_y (PHYSICS.md §4.4) [-]
-        (``axle-window``). The relation neglects the yaw moment of the front wheels' forces at
-        large steering angles, (t/2)(F_y,R − F_y,L) sin δ: a few % at 10° of steer (measured on
-        the simulator). Systematic: it does not average out over a window.
-    """
-
-    heading_deg: float = 0.75
-    heading_white_deg: float = 0.3
-    heading_bias_deg: float = 0.6
-    velocity_mps: float = 0.05
-    yaw_rate_dps: float = 0.3
-    tread_stiffness_rel: float = 0.2
-    contact_length_rel: float = 0.02
-    load_transfer_rel: float = 0.1
-    axle_force_rel: float = 0.03
-
-    @classmethod
-    def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:
-        """Noise model for an RTK-class compass (0.05° heading); by default with a calibrated
-        tyre (G known to 5 %)."""
-        return cls(
-            heading_deg=0.1,
-            heading_white_deg=0.05,
-            heading_bias_deg=0.1,
-            velocity_mps=0.02,
-            yaw_rate_dps=0.1,
-            tread_stiffness_rel=tread_stiffness_rel,
-        )
 
 
 @dataclass(frozen=True)
@@ -299,46 +241,6 @@ def motion_from_epochs(
     return motion, meta
 
 
-def estimate_friction(
-    epochs: pd.DataFrame,
-    vehicle: Vehicle,
-    *,
-    method: str = "brush-2",
-    options: FrictionOptions | None = None,
-    steer_rad: np.ndarray | None = None,
-) -> tuple[pd.DataFrame, dict]:
-    """μ per wheel and epoch of a GNSS-compass epoch table (see the module documentation).
-
-    Parameters
-    ----------
-    epochs : pandas.DataFrame
-        Epoch table as :func:`gripsense.io.read_nmea` returns it (needs ``t_s``, ``heading_deg``,
-        ``course_deg``, ``speed_mps``, ``yaw_rate_rps``).
-    vehicle : Vehicle
-    method : str
-        ``brush-2`` (default), ``brush-4``, ``thesis-2`` (eq. 4.15), ``thesis-4`` (ch. 10), or
-        ``brush``/``thesis`` to take the pressure shape from the tyre description.
-    options : FrictionOptions
-    steer_rad : array or None
-        Road-wheel steer angle per epoch row [rad]; front wheels are analysed only with it.
-
-    Returns
-    -------
-    wheels : pandas.DataFrame
-        One row per wheel and usable epoch (columns :data:`WHEEL_COLUMNS`); ``mu`` is NaN unless
-        ``flag == "ok"``.
-    meta : dict
-        Method, heading offset used and how it was found, counts of epochs left out, wheels
-        analysed.
-    """
-    if method not in METHODS:
-        raise InputError(f"method={method!r}; use one of {sorted(METHODS)}")
-    motion, meta = motion_from_epochs(epochs, vehicle, options=options, steer_rad=steer_rad)
-    wheels, meta2 = friction_from_motion(motion, vehicle, method=method, options=options)
-    meta.update(meta2)
-    return wheels, meta
-
-
 def friction_from_motion(
     motion: pd.DataFrame,
     vehicle: Vehicle,
@@ -355,13 +257,22 @@ def friction_from_motion(
         antenna of the vehicle file), ``yaw_rate_rps`` (ISO), ``ay_mps2`` (measured lateral
         acceleration of the CG, or NaN: then U·r of the reference point), ``steer_rad``
         (road-wheel angle or NaN).
-    vehicle, method, options
-        As for :func:`estimate_friction`.
+    vehicle : Vehicle
+        Vehicle description.
+    method : str
+        A key of :data:`METHODS`: ``brush-2`` (default), ``brush-4``, ``thesis-2``
+        (eq. 4.15), ``thesis-4`` (ch. 10), ``brush``/``thesis`` (pressure shape from the tyre
+        description) or ``axle-window`` (per-sample kinematics for the window estimator).
+    options : FrictionOptions
+        Gates and the noise model.
 
     Returns
     -------
     wheels : pandas.DataFrame
+        One row per wheel and usable sample (columns :data:`WHEEL_COLUMNS`); ``mu`` is NaN
+        unless ``flag == "ok"``.
     meta : dict
+        Method, wheels analysed, and notes on wheels left out.
     """
     if method not in METHODS:
         raise InputError(f"method={method!r}; use one of {sorted(METHODS)}")

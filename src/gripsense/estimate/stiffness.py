@@ -19,15 +19,11 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
+from gripsense.estimate.conditions import conditions
+from gripsense.estimate.friction import METHODS
 from gripsense.physics import brush
 
 __all__ = ["GSweep", "g_sweep", "tread_stiffness"]
-
-
-def _conditions(wheels: pd.DataFrame, min_duration_s: float = 3.0):
-    from gripsense.report.figures import conditions
-
-    return conditions(wheels, min_duration_s=min_duration_s)
 
 
 def tread_stiffness(
@@ -57,7 +53,7 @@ def tread_stiffness(
         ``G`` and ``G_thesis`` [N/m^3], ``G_rel_sigma`` [-], ``near_limit`` (utilisation > 0.5:
         G biased low).
     """
-    conds = _conditions(wheels) if conds is None else conds
+    conds = conditions(wheels) if conds is None else conds
     rows = []
     for i, (t0, t1) in enumerate(conds):
         seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
@@ -95,39 +91,28 @@ def tread_stiffness(
 
 @dataclass
 class GSweep:
-    """Result of a G sweep for one steady condition (the thesis's Fig. 93)."""
+    """Result of a G sweep for one steady condition (the thesis's Fig. 93; plot it with
+    :func:`gripsense.report.figures.g_sweep_figure`).
+
+    Attributes
+    ----------
+    G : numpy.ndarray
+        Tread stiffness grid [N/m^3].
+    mu : dict
+        Wheel → μ(G) [-] (NaN where the inversion has no solution).
+    chosen : float
+        The G the thesis's criteria pick [N/m^3] (NaN when none).
+    unique : bool
+        Whether the choice is unique (see :func:`g_sweep`).
+    reason : str
+        Why the choice is (not) unique.
+    """
 
     G: np.ndarray
     mu: dict  # wheel -> μ(G)
     chosen: float
     unique: bool
     reason: str
-
-    def plot(self):
-        """μ per wheel vs G (log axis), the admissible band and the chosen G."""
-        import matplotlib.pyplot as plt
-
-        from gripsense.report.figures import WHEEL_COLOURS
-
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        for w, mu in self.mu.items():
-            ax.semilogx(self.G, mu, color=WHEEL_COLOURS.get(w, "k"), label=w)
-        ax.axhspan(0, 1.2, color="0.93", zorder=0, label="0 < μ ≤ 1.2")
-        if np.isfinite(self.chosen):
-            ax.axvline(
-                self.chosen,
-                color="k",
-                ls="--",
-                lw=1,
-                label=f"chosen G = {self.chosen:.3g}" + ("" if self.unique else " (not unique)"),
-            )
-        ax.set_ylim(0, 3)
-        ax.set_xlabel("G [N/m³]")
-        ax.set_ylabel("μ")
-        ax.set_title("G sweep (thesis §9.2)")
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        return fig
 
 
 def g_sweep(
@@ -150,8 +135,6 @@ def g_sweep(
     is *not unique* when G values with a left/right difference within *rel_tol* of the best
     span more than a factor 1.5, and undefined when no G keeps both μ in (0, mu_max].
     """
-    from gripsense.estimate.friction import METHODS
-
     pressure, model = METHODS[method]
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
     G = np.geomspace(g_min, g_max, n)

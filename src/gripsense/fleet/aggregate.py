@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from gripsense.constants import Z90
 from gripsense.physics.surface import surface_class_interval
-from gripsense.pipeline import Z90
 
 __all__ = ["CELL_COLUMNS", "aggregate_cells", "cells_geojson", "write_geojson"]
 
@@ -29,7 +29,6 @@ CELL_COLUMNS = [
     "n_passes",
     "last_update",
 ]
-
 
 
 def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFrame:

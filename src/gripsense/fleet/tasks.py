@@ -23,7 +23,6 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import GripsenseError
-from gripsense.pipeline import Z90
 
 __all__ = ["ROW_COLUMNS", "process_batch", "process_log"]
 
@@ -63,95 +62,73 @@ def process_log(
     since: pd.Timestamp | None = None,
     receiver: str = "v100",
 ) -> pd.DataFrame:
-    """Rows of one log (raises GripsenseError with the reason when it cannot be used)."""
-    from gripsense.io import read_nmea
+    """Rows of one log (schema :data:`ROW_COLUMNS`).
+
+    Parameters
+    ----------
+    path : str or Path
+        NMEA log.
+    vehicle : Vehicle
+        Vehicle description.
+    vehicle_id : str
+        Vehicle id written into the rows.
+    method : str
+        Friction method.
+    h3_res : int
+        H3 resolution of the cells.
+    since : pandas.Timestamp, optional
+        Epochs before it are ignored.
+    receiver : str
+        Receiver class (:data:`gripsense.estimate.noise.RECEIVERS`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per estimate placed at the epoch nearest its middle, plus, for estimates that
+        carry no bound of their own (per-sample methods), one bound row per cell: the 95th
+        percentile of the friction used there.
+
+    Raises
+    ------
+    GripsenseError
+        With the reason when the log cannot be used.
+    """
     from gripsense.pipeline import FrictionRun
 
-    log = read_nmea(path)
-    ep = log.epochs
+    res = FrictionRun(vehicle, method=method, noise=receiver).run_log(path, since=since)
+    ep = res.epochs
     if ep.empty:
-        raise GripsenseError(
-            f"no epochs ({log.report.total_lines} lines, "
-            f"{sum(log.report.rejected.values())} rejected)"
-        )
-    if since is not None:
-        ep = ep[ep["time_utc"] >= since].reset_index(drop=True)
-        if ep.empty:
-            return pd.DataFrame(columns=ROW_COLUMNS)
+        return pd.DataFrame(columns=ROW_COLUMNS)
     if not np.isfinite(ep["lat_deg"].to_numpy(float)).any():
         raise GripsenseError("no position fix in the log (GGA/RMC)")
-    from gripsense.estimate.friction import NoiseModel
-
-    noise = NoiseModel.rtk() if receiver == "rtk" else NoiseModel()
-    res = FrictionRun(vehicle, method=method, noise=noise).run(ep)
-    t = ep["t_s"].to_numpy(float)
-    name = Path(path).name
-    if method == "axle-window":
-        w = res.windows
-        if w is None or w.empty:
-            return pd.DataFrame(columns=ROW_COLUMNS)
-        mid = 0.5 * (w["t_start"].to_numpy(float) + w["t_end"].to_numpy(float))
-        idx = np.clip(np.searchsorted(t, mid), 0, len(t) - 1)
-        obs = w["observable"].to_numpy(bool)
-        sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * Z90)
-        rows = pd.DataFrame(
-            {
-                "time_utc": ep["time_utc"].to_numpy()[idx],
-                "t_s": t[idx],
-                "lat_deg": ep["lat_deg"].to_numpy(float)[idx],
-                "lon_deg": ep["lon_deg"].to_numpy(float)[idx],
-                "unit": w["axle"].astype(str),
-                "observable": obs,
-                "mu": np.where(obs, w["mu"].to_numpy(float), np.nan),
-                "mu_sigma": np.where(obs, sig, np.nan),
-                "mu_lower_bound": w["mu_lower_bound"].to_numpy(float),
-                "utilisation": w["utilisation"].to_numpy(float),
-            }
-        )
-    else:
-        wh = res.wheels
-        e = wh["epoch"].to_numpy(int)
-        ok = (wh["flag"] == "ok").to_numpy()
-        steady_corner = ~wh["flag"].isin(["low_speed", "not_cornering", "not_steady"]).to_numpy()
-        base = pd.DataFrame(
-            {
-                "time_utc": ep["time_utc"].to_numpy()[e],
-                "t_s": t[e],
-                "lat_deg": ep["lat_deg"].to_numpy(float)[e],
-                "lon_deg": ep["lon_deg"].to_numpy(float)[e],
-                "unit": wh["wheel"].astype(str).to_numpy(),
-                "observable": ok,
-                "mu": np.where(ok, wh["mu"].to_numpy(float), np.nan),
-                "mu_sigma": np.where(ok, wh["mu_sigma"].to_numpy(float), np.nan),
-                "mu_lower_bound": np.nan,
-                "utilisation": wh["utilisation"].to_numpy(float),
-            }
-        )
-        rows = base[ok]
-        corner = base[steady_corner].copy()
-        if len(corner):
-            corner["cell"] = _cells(
-                corner["lat_deg"].to_numpy(), corner["lon_deg"].to_numpy(), h3_res
-            )
-            b = (
-                corner.groupby("cell")
-                .agg(
-                    time_utc=("time_utc", "max"),
-                    t_s=("t_s", "max"),
-                    lat_deg=("lat_deg", "mean"),
-                    lon_deg=("lon_deg", "mean"),
-                    utilisation=("utilisation", "median"),
-                    mu_lower_bound=("utilisation", lambda u: float(np.quantile(u, 0.95))),
-                )
-                .reset_index(drop=True)
-            )
-            b = b.assign(unit="all", observable=False, mu=np.nan, mu_sigma=np.nan)
-            rows = pd.concat([rows, b], ignore_index=True)
-    rows = rows.assign(
-        vehicle=vehicle_id,
-        log=name,
-        cell=_cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), h3_res),
+    est = res.estimates()
+    e = est["epoch"].to_numpy(int)
+    rows = est.drop(columns=["epoch", "t_start", "t_end"]).assign(
+        time_utc=ep["time_utc"].to_numpy()[e],
+        t_s=ep["t_s"].to_numpy(float)[e],
+        lat_deg=ep["lat_deg"].to_numpy(float)[e],
+        lon_deg=ep["lon_deg"].to_numpy(float)[e],
     )
+    rows["cell"] = _cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), h3_res)
+    own = rows["observable"].to_numpy(bool) | np.isfinite(rows["mu_lower_bound"].to_numpy(float))
+    unbound = rows[~np.isfinite(rows["mu_lower_bound"].to_numpy(float))]
+    parts = [rows[own]]
+    if len(unbound) and unbound["cell"].notna().any():
+        b = (
+            unbound.groupby("cell")
+            .agg(
+                time_utc=("time_utc", "max"),
+                t_s=("t_s", "max"),
+                lat_deg=("lat_deg", "mean"),
+                lon_deg=("lon_deg", "mean"),
+                utilisation=("utilisation", "median"),
+                mu_lower_bound=("utilisation", lambda u: float(np.quantile(u, 0.95))),
+            )
+            .reset_index()
+        )
+        parts.append(b.assign(unit="all", observable=False, mu=np.nan, mu_sigma=np.nan))
+    rows = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+    rows = rows.assign(vehicle=vehicle_id, log=Path(path).name)
     rows = rows[rows["cell"].notna()]
     return rows[ROW_COLUMNS].reset_index(drop=True)
 

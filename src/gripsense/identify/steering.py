@@ -26,14 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gripsense.config import SteeringCar
 from gripsense.errors import InputError
-from gripsense.sim.steering import (
-    SteeringCar,
-    settling_time,
-    simulate_release,
-    simulate_step,
-    yaw_gain,
-)
+from gripsense.identify.steering_metrics import settling_time, yaw_gain
+from gripsense.sim.steering import simulate_release, simulate_step
 
 __all__ = [
     "CsResult",
@@ -43,9 +39,7 @@ __all__ = [
     "identify_ks",
     "identify_steering",
     "normalise_yaw_gain",
-    "release_settling_time",
     "settling_curve",
-    "step_metrics",
     "tyre_lateral_stiffness",
     "yaw_gain_curve",
 ]
@@ -207,60 +201,6 @@ def normalise_yaw_gain(
         sxx = ((lx - lx.mean()) ** 2).sum()
         out["sigma"] = float(np.sqrt(s2 * (1 / x.size + (x0 - lx.mean()) ** 2 / sxx)))
     return out
-
-
-def release_settling_time(
-    t, angle, *, reference: str = "initial", band: float = 0.05, release_s: float | None = None
-) -> float:
-    """Settling time of a measured release trace; the release is detected (when not given) as
-    the last sample before the angle first leaves ±2 % of its held value."""
-    t = np.asarray(t, float)
-    y = np.asarray(angle, float)
-    if release_s is None:
-        head = y[: max(5, y.size // 20)]
-        hold = float(np.median(head))
-        noise = 1.4826 * float(np.median(np.abs(np.diff(head) - np.median(np.diff(head))))) / 1.4142
-        thr = max(0.02 * abs(hold), 5.0 * noise)
-        away = np.abs(y - hold) > thr
-        # the release is where the angle leaves the hold for good (10 samples in a row), not a
-        # noise spike
-        run = np.convolve(away.astype(int), np.ones(10, int), "valid") == 10
-        if not run.any():
-            raise InputError("release trace: the steering angle never leaves its held value")
-        i = max(int(np.flatnonzero(run)[0]) - 1, 0)
-        release_s = float(t[i])
-    # sensor noise near the band edge delays "the last time outside": smooth over ~50 ms first
-    dt = float(np.median(np.diff(t)))
-    n = round(0.05 / dt) | 1
-    if n >= 5 and y.size > 2 * n:
-        from scipy.signal import savgol_filter
-
-        y = savgol_filter(y, n, 2)
-    return settling_time(t, y, reference=reference, band=band, release_s=release_s)
-
-
-def step_metrics(t, steer_angle, yaw_rate, *, method: str = "rise") -> dict[str, float]:
-    """Steering rate (mean over the ramp, 10–90 % of the stopper angle) and yaw gain of a
-    measured step-steer trace (any consistent angle units, e.g. deg and deg/s)."""
-    t = np.asarray(t, float)
-    a = np.asarray(steer_angle, float)
-    r = np.asarray(yaw_rate, float)
-    a0 = float(np.median(a[: max(3, a.size // 20)]))
-    span = float(np.max(np.abs(a - a0)))
-    if span <= 0:
-        raise InputError("step trace: the steering angle does not move")
-    rel = np.abs(a - a0) / span
-    i10 = int(np.argmax(rel >= 0.1))
-    i90 = int(np.argmax(rel >= 0.9))
-    if i90 <= i10:
-        raise InputError("step trace: cannot find the steering ramp")
-    rate = abs(a[i90] - a[i10]) / (t[i90] - t[i10])
-    onset = float(t[i10] - 0.1 * span / rate)
-    return {
-        "steer_rate": float(rate),
-        "onset_s": onset,
-        "yaw_gain": abs(yaw_gain(t, r, onset_s=onset, method=method)),
-    }
 
 
 # ---------------------------------------------------------------------- curves

@@ -1,6 +1,9 @@
-"""Readers: everything that turns the outside world into gripsense tables."""
+"""Readers and writers: everything that turns the outside world into gripsense tables and back.
 
-from gripsense.io.nmea import NmeaLog, read_nmea
-from gripsense.io.report import IngestReport, RejectedLine
+Nothing here imports the physics: io sits at the bottom of the one-way flow
+(io → tables → physics → estimators → outputs; ``docs/architecture.md``).
+"""
+
+from gripsense.io.nmea import IngestReport, NmeaLog, RejectedLine, read_nmea
 
 __all__ = ["IngestReport", "NmeaLog", "RejectedLine", "read_nmea"]

@@ -26,15 +26,17 @@ A unit after a colon converts: ``deg``, ``rad``, ``dps`` (deg/s), ``rps``, ``mps
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.physics.load_transfer import G0
+from gripsense.io.text import read_bytes, read_text
 
-__all__ = ["numeric_column", "parse_columns", "read_motion_table", "read_table"]
+__all__ = ["TABLE_READERS", "numeric_column", "parse_columns", "read_motion_table", "read_table"]
 
 UNITS = {
     "deg": np.pi / 180,
@@ -53,34 +55,92 @@ UNITS = {
 KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
 
 
+def _read_csv(path: Path) -> pd.DataFrame:
+    text = read_text(path, "file")
+    df = pd.read_csv(io.StringIO(text), comment="#")
+    # file line of each data row: the header is the first line that is neither blank nor a
+    # comment, data rows are the following such lines
+    lines = [
+        i
+        for i, ln in enumerate(text.splitlines(), start=1)
+        if ln.strip() and not ln.lstrip().startswith("#")
+    ]
+    if len(lines) == len(df) + 1:
+        df.attrs["line"] = np.asarray(lines[1:])
+    return df
+
+
+TABLE_READERS = {".parquet": pd.read_parquet, ".csv": _read_csv, ".txt": _read_csv}
+"""File suffix → reader; other suffixes are read as CSV."""
+
+
 def read_table(path: str | Path) -> pd.DataFrame:
-    """Read a ``.parquet`` or CSV (``#`` comment lines) table; errors name the file."""
+    """Read a table: ``.parquet``, or CSV (``#`` comment lines); errors name the file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The table file.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The table; for CSV, ``attrs["line"]`` holds each row's line number in the file.
+    """
     path = Path(path)
+    reader = TABLE_READERS.get(path.suffix.lower(), _read_csv)
     try:
-        if path.suffix.lower() == ".parquet":
-            return pd.read_parquet(path)
-        return pd.read_csv(path, comment="#")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such table") from None
-    except (ValueError, pd.errors.ParserError, UnicodeDecodeError, OSError) as e:
+        if reader is not _read_csv:
+            read_bytes(path, "file")  # the same clear errors for a missing or unreadable file
+        df = reader(path)
+    except InputError:
+        raise
+    except pd.errors.EmptyDataError:
+        raise InputError(
+            f"{path}: empty table (no header line); give a CSV with a header"
+        ) from None
+    except (ValueError, pd.errors.ParserError, OSError) as e:
         raise InputError(f"{path}: not a readable table ({e})") from None
+    if df.columns.size == 0:
+        raise InputError(f"{path}: empty table (no columns)")
+    return df
 
 
 def numeric_column(df: pd.DataFrame, name: str, path: str | Path) -> np.ndarray:
-    """Column *name* as floats (empty cells NaN); an error naming the file, data row (1 =
-    first row after the header) and column at the first value that is not a number."""
+    """Column *name* as floats (empty cells NaN).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        Table from :func:`read_table`.
+    name : str
+        Column name.
+    path : str or Path
+        The file, for the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values; an :class:`~gripsense.errors.InputError` naming the file, line (or row) and
+        column at the first value that is not a number.
+    """
+    if name not in df.columns:
+        raise InputError(f"{path}: no column {name!r} (columns: {list(df.columns)[:20]})")
     v = pd.to_numeric(df[name], errors="coerce")
     bad = v.isna() & df[name].notna()
     if bad.any():
         row = int(np.flatnonzero(bad.to_numpy())[0])
+        lines = df.attrs.get("line")
+        where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
         raise InputError(
-            f"{path}: row {row + 1}, column {name!r}: {df[name].iloc[row]!r} is not a number"
+            f"{path}: {where}, column {name!r}: {df[name].iloc[row]!r} is not a number"
         )
     return v.to_numpy(float)
 
 
-def parse_columns(spec: str | dict, keys: tuple[str, ...] = KEYS,
-                  units: dict[str, float] | None = None) -> dict[str, tuple[str, float]]:
+def parse_columns(
+    spec: str | dict, keys: tuple[str, ...] = KEYS, units: dict[str, float] | None = None
+) -> dict[str, tuple[str, float]]:
     """Column mapping -> {key: (column, factor)} (see the module documentation).
 
     Parameters

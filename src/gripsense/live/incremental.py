@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.io import read_nmea
-from gripsense.io.report import IngestReport
+from gripsense.io.nmea.accounting import IngestReport
 
 __all__ = ["LiveIngest"]
 

@@ -98,12 +98,7 @@ class LiveFriction:
             res = self.run.run(ep)
         except GripsenseError:
             return pd.DataFrame()  # e.g. too little data in the window yet
-        s = res.summary.copy()
-        unit = "axle" if "axle" in s.columns else "wheel"
-        s = s.rename(columns={unit: "unit"})
-        if "n_valid" not in s.columns:
-            s["n_valid"] = s.get("n", np.nan)
-        return s
+        return res.unit_table()
 
 
 @dataclass

@@ -12,7 +12,6 @@ from __future__ import annotations
 from gripsense._arrays import as_float_array, restore
 
 __all__ = [
-    "G0",
     "axle_lateral_force",
     "lateral_load_transfer",
     "static_axle_masses",
@@ -20,7 +19,7 @@ __all__ = [
     "wheel_loads",
 ]
 
-G0 = 9.80665  # standard gravity [m/s^2] (the thesis states no value; PHYSICS.md §0)
+from gripsense.constants import G0
 
 
 def static_axle_masses(mass_kg: float, front_fraction: float) -> tuple[float, float]:

@@ -16,13 +16,13 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from gripsense.physics.load_transfer import G0
+from gripsense.constants import G0, Z90
+from gripsense.estimate.friction import NOT_STEADY_CORNERING
 from gripsense.physics.surface import SURFACE_BANDS
 
 __all__ = [
     "condition_figure",
-    "condition_table",
-    "conditions",
+    "g_sweep_figure",
     "mu_vs_radius",
     "mu_vs_utilisation",
     "mu_vs_yaw_rate",
@@ -36,79 +36,6 @@ WHEEL_COLOURS = {
     "front_right": "lightskyblue",
 }
 BAND_COLOURS = {"ICE": "#dbe9f6", "SNOW": "#eef3f8", "WET": "#fff4d6", "DRY": "#e8f5e0"}
-_OUT = ("low_speed", "not_cornering", "not_steady")
-
-
-def conditions(wheels: pd.DataFrame, *, min_duration_s: float = 3.0) -> list[tuple[float, float]]:
-    """Steady cornering conditions: contiguous runs of steady, cornering samples.
-
-    Returns
-    -------
-    list of (t_start, t_end) [s]
-    """
-    if wheels.empty:
-        return []
-    per_t = wheels.groupby("t_s", sort=True)["flag"].agg(lambda f: not f.isin(_OUT).all())
-    t = per_t.index.to_numpy(float)
-    ok = per_t.to_numpy(bool)
-    if t.size < 2:
-        return []
-    dt = np.median(np.diff(t))
-    out, start = [], None
-    for k in range(t.size):
-        gap = k > 0 and t[k] - t[k - 1] > 2.5 * dt
-        if start is not None and (not ok[k] or gap):
-            if t[k - 1] - start >= min_duration_s:
-                out.append((start, float(t[k - 1])))
-            start = None
-        if ok[k] and start is None:
-            start = float(t[k])
-    if start is not None and t[-1] - start >= min_duration_s:
-        out.append((start, float(t[-1])))
-    return out
-
-
-def condition_table(
-    wheels: pd.DataFrame, conds: list[tuple[float, float]], windows: pd.DataFrame | None = None
-) -> pd.DataFrame:
-    """Per condition and wheel: mean speed, radius, yaw rate, a_y; median valid μ; counts.
-
-    With ``axle-window`` windows, μ is the median of the observable windows of the wheel's
-    axle inside the condition (NaN when none is observable)."""
-    rows = []
-    for i, (t0, t1) in enumerate(conds):
-        seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
-        for w, g in seg.groupby("wheel", observed=True):
-            ok = g["flag"] == "ok"
-            v = g["speed_mps"].mean()
-            r = g["radius_m"].median()
-            rows.append(
-                {
-                    "condition": i + 1,
-                    "t_start": t0,
-                    "t_end": t1,
-                    "wheel": str(w),
-                    "speed_kmh": v * 3.6,
-                    "radius_m": r,
-                    "yaw_rate_dps": np.rad2deg(v / r) if r > 0 else np.nan,
-                    "ay_g": g["lateral_accel_mps2"].abs().mean() / G0,
-                    "mu": g.loc[ok, "mu"].median() if ok.any() else np.nan,
-                    "n_valid": int(ok.sum()),
-                    "n": len(g),
-                    "utilisation": g["utilisation"].median(),
-                }
-            )
-            if windows is not None and len(windows):
-                axle = str(w).split("_")[0]
-                win = windows[
-                    (windows["axle"] == axle)
-                    & (windows["t_start"] >= t0)
-                    & (windows["t_end"] <= t1 + 1e-9)
-                    & windows["observable"]
-                ]
-                rows[-1]["mu"] = float(win["mu"].median()) if len(win) else np.nan
-                rows[-1]["n_valid"] = len(win)
-    return pd.DataFrame(rows)
 
 
 def _bands(ax, ymax: float) -> None:
@@ -190,7 +117,7 @@ def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str =
             ax.errorbar(
                 g.loc[ok, "t_s"],
                 g.loc[ok, "mu"],
-                yerr=1.645 * g.loc[ok, "mu_sigma"],
+                yerr=Z90 * g.loc[ok, "mu_sigma"],
                 fmt="o",
                 ms=2.5,
                 color=c,
@@ -303,13 +230,13 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
             label="not observable: lower bound",
         )
     else:
-        c = wheels[~wheels["flag"].isin(_OUT)]
+        c = wheels[~wheels["flag"].isin(NOT_STEADY_CORNERING)]
         ok = c["flag"] == "ok"
         ay = c["lateral_accel_mps2"].abs() / G0
         ax.errorbar(
             ay[ok],
             c.loc[ok, "mu"],
-            yerr=1.645 * c.loc[ok, "mu_sigma"],
+            yerr=Z90 * c.loc[ok, "mu_sigma"],
             fmt="o",
             ms=2,
             alpha=0.5,
@@ -353,5 +280,39 @@ def trajectory(epochs: pd.DataFrame, conds: list[tuple[float, float]] | None = N
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
     ax.set_title("trajectory (steady conditions in colour)")
+    fig.tight_layout()
+    return fig
+
+
+def g_sweep_figure(sweep) -> Figure:
+    """μ per wheel against the tread stiffness G of a G sweep (thesis Fig. 93).
+
+    Parameters
+    ----------
+    sweep : gripsense.estimate.stiffness.GSweep
+        Result of :func:`gripsense.estimate.stiffness.g_sweep`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Log G axis, the admissible band 0 < μ ≤ 1.2 and the chosen G.
+    """
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for w, mu in sweep.mu.items():
+        ax.semilogx(sweep.G, mu, color=WHEEL_COLOURS.get(w, "k"), label=w)
+    ax.axhspan(0, 1.2, color="0.93", zorder=0, label="0 < μ ≤ 1.2")
+    if np.isfinite(sweep.chosen):
+        ax.axvline(
+            sweep.chosen,
+            color="k",
+            ls="--",
+            lw=1,
+            label=f"chosen G = {sweep.chosen:.3g}" + ("" if sweep.unique else " (not unique)"),
+        )
+    ax.set_ylim(0, 3)
+    ax.set_xlabel("G [N/m³]")
+    ax.set_ylabel("μ")
+    ax.set_title("G sweep (thesis §9.2)")
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -12,9 +12,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
+from gripsense.estimate.conditions import condition_table, conditions
+from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
 from gripsense.report import figures as F
 
-__all__ = ["fig_to_data_uri", "read_result", "write_report"]
+__all__ = ["fig_to_data_uri", "html_table", "write_report"]
 
 CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;
@@ -40,7 +42,7 @@ def _img(fig, alt: str) -> str:
     return f'<p><img alt="{html.escape(alt)}" src="{fig_to_data_uri(fig)}"></p>'
 
 
-def _table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
+def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
     def cell(v):
         if isinstance(v, float | np.floating):
             if not np.isfinite(v):
@@ -72,7 +74,7 @@ def _quality(epochs: pd.DataFrame | None, ingest: dict | None) -> str:
             f"<code>{html.escape(str(ingest.get('source', '')))}</code>; every line is "
             "accounted for below.</p>"
         )
-        parts.append(_table(pd.DataFrame(rows, columns=["bucket", "type / reason", "lines"])))
+        parts.append(html_table(pd.DataFrame(rows, columns=["bucket", "type / reason", "lines"])))
     if epochs is not None and len(epochs):
         t = epochs["t_s"].dropna().to_numpy()
         dts = np.diff(np.sort(t))
@@ -133,18 +135,18 @@ def _vehicle(vehicle) -> str:
         )
     for w, (x, y) in vehicle.wheel_offsets.items():
         rows.append((f"{w} from antenna", f"x {x:+.3f} m, y {y:+.3f} m"))
-    return _table(pd.DataFrame(rows, columns=["", "value"]))
+    return html_table(pd.DataFrame(rows, columns=["", "value"]))
 
 
 _METHOD = {
-    "axle-window": (
+    AxleFriction: (
         "One μ per axle over 3 s windows and the whole drive (profile likelihood). The axle "
         "carries m_axle·a_y; both wheels' brush forces from their own slip angles must add up "
         "to it. The tyre stiffness (±{G:.0%}) and a heading bias (±{B:.2f}°) are unknowns with "
         "priors. A value is given only when the 99 % interval is bounded and narrower than "
         "0.3; otherwise the lower bound the data prove."
     ),
-    "default": (
+    WheelFriction: (
         "Per wheel and sample: brush tyre model ({method}), each wheel carrying its load's "
         "share of the axle force m_axle·a_y (equal friction utilisation — the thesis's "
         "assumption). A value needs σ_μ/μ ≤ 0.5 and steady cornering; the summary reports a "
@@ -154,7 +156,7 @@ _METHOD = {
 
 
 def write_report(
-    result,
+    result: FrictionResult,
     path: str | Path,
     *,
     epochs: pd.DataFrame | None = None,
@@ -164,7 +166,7 @@ def write_report(
     max_conditions: int = 6,
     intro_html: str = "",
 ) -> Path:
-    """Write a self-contained HTML report of a :class:`~gripsense.pipeline.FrictionResult`.
+    """Write a self-contained HTML report of a :class:`~gripsense.estimate.results.FrictionResult`.
 
     Parameters
     ----------
@@ -186,12 +188,13 @@ def write_report(
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    epochs = epochs if epochs is not None else getattr(result, "epochs", None)
-    ingest = ingest if ingest is not None else getattr(result, "ingest", None)
-    vehicle = vehicle if vehicle is not None else getattr(result, "vehicle", None)
+    epochs = epochs if epochs is not None else result.epochs
+    ingest = ingest if ingest is not None else result.ingest
+    vehicle = vehicle if vehicle is not None else result.vehicle
     w = result.wheels
-    conds = F.conditions(w)
-    ct = F.condition_table(w, conds, result.windows)
+    windows = getattr(result, "windows", None)
+    conds = conditions(w)
+    ct = condition_table(w, conds, windows)
     m = result.meta
     method = m.get("method", "")
     s = result.summary
@@ -206,7 +209,7 @@ def write_report(
     ]
     out.append(intro_html)
     out.append("<h2>Result</h2>")
-    observable = bool(s["observable"].any()) if "observable" in s and len(s) else False
+    observable = result.observable
     box = "ok" if observable else "note"
     text = html.escape(result.explain())
     if not observable:
@@ -225,8 +228,7 @@ def write_report(
         cols = [
             c
             for c in (
-                "axle",
-                "wheel",
+                result.unit,
                 "mu",
                 "mu_low",
                 "mu_high",
@@ -241,17 +243,17 @@ def write_report(
             )
             if c in s.columns
         ]
-        out.append(_table(s[cols]))
+        out.append(html_table(s[cols]))
     out.append("<h2>Figures</h2>")
     if epochs is not None:
         out.append(_img(F.trajectory(epochs, conds), "trajectory"))
-    out.append(_img(F.mu_vs_utilisation(w, result.windows), "mu vs utilisation"))
+    out.append(_img(F.mu_vs_utilisation(w, windows), "mu vs utilisation"))
     if len(ct):
         out.append(_img(F.mu_vs_radius(ct), "mu vs radius"))
         out.append(_img(F.mu_vs_yaw_rate(ct), "mu vs yaw rate"))
         out.append("<h2>Steady conditions</h2>")
         out.append(
-            _table(
+            html_table(
                 ct[["condition", "wheel", "speed_kmh", "radius_m", "ay_g", "mu", "n_valid", "n"]]
             )
         )
@@ -278,13 +280,13 @@ def write_report(
         )
     out.append("<h2>Vehicle and method</h2>")
     out.append(_vehicle(vehicle))
-    if method == "axle-window":
-        nm = getattr(result, "noise", None)
-        g_rel = getattr(nm, "tread_stiffness_rel", 0.2)
-        b = getattr(nm, "heading_bias_deg", 0.6)
-        out.append(f"<p>{_METHOD['axle-window'].format(G=g_rel, B=b)}</p>")
-    else:
-        out.append(f"<p>{_METHOD['default'].format(method=html.escape(method))}</p>")
+    nm = result.noise
+    text = _METHOD[type(result)].format(
+        G=getattr(nm, "tread_stiffness_rel", 0.2),
+        B=getattr(nm, "heading_bias_deg", 0.6),
+        method=html.escape(method),
+    )
+    out.append(f"<p>{text}</p>")
     out.append(
         "<p class='meta'>Assumptions: steady cornering, quasi-static load transfer, "
         "brush (Fiala) tyre with the stated pressure shape; see the gripsense docs "
@@ -293,36 +295,3 @@ def write_report(
     out.append("</body></html>")
     path.write_text("\n".join(out), encoding="utf-8")
     return path
-
-
-def read_result(folder: str | Path):
-    """A :class:`~gripsense.pipeline.FrictionResult` back from the files ``to_files`` wrote."""
-    import json
-
-    from gripsense.config import Vehicle
-    from gripsense.errors import InputError
-    from gripsense.pipeline import FrictionResult
-
-    folder = Path(folder)
-    if not (folder / "summary.json").exists() or not (folder / "wheels.parquet").exists():
-        raise InputError(
-            f"{folder}: not a result folder (needs summary.json and wheels.parquet "
-            "as written by gripsense friction)"
-        )
-    doc = json.loads((folder / "summary.json").read_text())
-    summary = pd.DataFrame(doc.get("axles", doc.get("wheels", [])))
-    for col in ("mu", "mu_low", "mu_high", "mu_lower_bound"):
-        if col in summary:
-            summary[col] = pd.to_numeric(summary[col], errors="coerce").astype(float)
-    res = FrictionResult(
-        wheels=pd.read_parquet(folder / "wheels.parquet"), summary=summary, meta=doc.get("meta", {})
-    )
-    if (folder / "windows.parquet").exists():
-        res.windows = pd.read_parquet(folder / "windows.parquet")
-    if (folder / "epochs.parquet").exists():
-        res.epochs = pd.read_parquet(folder / "epochs.parquet")
-    if (folder / "ingest.json").exists():
-        res.ingest = json.loads((folder / "ingest.json").read_text())
-    if (folder / "vehicle.toml").exists():
-        res.vehicle = Vehicle.from_toml(folder / "vehicle.toml")
-    return res

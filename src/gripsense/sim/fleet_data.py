@@ -16,13 +16,12 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
+from gripsense.constants import G0
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
 from gripsense.sim.vehicle import SimParams
 
 __all__ = ["Site", "write_fleet"]
-
-G0 = 9.80665
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gripsense.physics.load_transfer import G0
+from gripsense.constants import G0
 from gripsense.sim.vehicle import SimResult
 
 __all__ = ["emulate_accelerometer"]

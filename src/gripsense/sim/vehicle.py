@@ -30,9 +30,9 @@ import pandas as pd
 from numba import njit
 
 from gripsense.config import Vehicle
+from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.physics.brush import force_scalar
-from gripsense.physics.load_transfer import G0
 
 __all__ = ["SimParams", "SimResult", "simulate"]
 

@@ -13,15 +13,13 @@ wheel (positive rolling to the right about the x axis) use −γ on the left and
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 
 from gripsense._arrays import as_float_array, restore
 from gripsense.errors import InputError
 
-__all__ = ["camber_from_lasers", "read_laser_csv"]
+__all__ = ["calibration_offsets", "camber_from_lasers"]
 
 
 def camber_from_lasers(
@@ -62,32 +60,23 @@ def camber_from_lasers(
     return restore(np.arctan2(o - i, spacing_m) + reference_camber_rad, d_outer)
 
 
-def read_laser_csv(
-    path: str | Path,
-    *,
-    outer_col: str = "d_outer_mm",
-    inner_col: str = "d_inner_mm",
-    scale_m: float = 1e-3,
-    t_col: str = "t_s",
-) -> pd.DataFrame:
-    """Read two laser channels (default in mm) into ``t_s``, ``d_outer_m``, ``d_inner_m``."""
-    path = Path(path)
-    try:
-        df = pd.read_csv(path, comment="#")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such laser file") from None
-    for c in (t_col, outer_col, inner_col):
-        if c not in df.columns:
-            raise InputError(f"{path}: no column {c!r} (columns: {list(df.columns)})")
-    out = pd.DataFrame(
-        {
-            "t_s": pd.to_numeric(df[t_col], errors="coerce"),
-            "d_outer_m": pd.to_numeric(df[outer_col], errors="coerce") * scale_m,
-            "d_inner_m": pd.to_numeric(df[inner_col], errors="coerce") * scale_m,
-        }
-    )
-    bad = out.isna().any(axis=1)
-    if bad.any():
-        row = int(np.flatnonzero(bad.to_numpy())[0])
-        raise InputError(f"{path}: line {row + 2}: a value is not a number")
-    return out
+def calibration_offsets(lasers: pd.DataFrame, seconds: float) -> tuple[float, float]:
+    """Zero readings of the two lasers from the first *seconds* of a recording made on a flat
+    floor at the reference camber (the calibration of seed 002 Fig. 3).
+
+    Parameters
+    ----------
+    lasers : pandas.DataFrame
+        ``t_s``, ``d_outer_m``, ``d_inner_m`` (:func:`gripsense.io.laser.read_laser_csv`).
+    seconds : float
+        Length of the calibration stretch at the start [s].
+
+    Returns
+    -------
+    tuple of float
+        Median outer and inner reading over the stretch [m].
+    """
+    cal = lasers[lasers["t_s"] < lasers["t_s"].iloc[0] + seconds]
+    if cal.empty:
+        raise InputError(f"camber calibration: no samples in the first {seconds} s")
+    return float(cal["d_outer_m"].median()), float(cal["d_inner_m"].median())

@@ -23,11 +23,10 @@ Fy(α, γ) → −Fy(−α, −γ), Fx(κ, α, γ) → Fx(κ, −α, −γ).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from gripsense.io.tir import TirError, TirFile, read_tir
+from gripsense.errors import InputError
 
 __all__ = ["MFForces", "MFTyre"]
 
@@ -83,7 +82,8 @@ class MFTyre:
     Parameters
     ----------
     params : dict
-        ``{KEY: value}`` in SI (as from :meth:`gripsense.io.tir.TirFile.parameters`).
+        ``{KEY: value}`` in SI (as from :meth:`gripsense.io.tir.TirFile.parameters`; build
+        one from a file with :func:`gripsense.tyre_models.load_mf_tyre`).
     name : str
         Used in messages.
     """
@@ -96,7 +96,7 @@ class MFTyre:
         p = {k.upper(): v for k, v in self.params.items()}
         missing = [k for k in _MANDATORY if not isinstance(p.get(k), (int, float))]
         if missing:
-            raise TirError(
+            raise InputError(
                 f"{self.name}: missing mandatory key {missing[0]} "
                 "([VERTICAL] FNOMIN, [DIMENSION] UNLOADED_RADIUS); add it to the file"
             )
@@ -107,7 +107,7 @@ class MFTyre:
         elif fittyp in (5, 6, 21) or (fittyp is None and fmt in ("PAC2002", "MF_05", "MF_52")):
             version = "5.2"
         else:
-            raise TirError(
+            raise InputError(
                 f"{self.name}: FITTYP = {fittyp!r} (PROPERTY_FILE_FORMAT {fmt!r}) is not "
                 "a Magic Formula 5.2/6.1/6.2 file; set [MODEL] FITTYP to 6, 61 or 62"
             )
@@ -127,19 +127,13 @@ class MFTyre:
         object.__setattr__(self, "version", version)
         object.__setattr__(self, "_side", str(p.get("TYRESIDE") or "").upper())
 
-    @classmethod
-    def from_tir(cls, source: TirFile | str | Path) -> MFTyre:
-        """Load from a ``.tir`` file (path or :class:`~gripsense.io.tir.TirFile`)."""
-        tir = source if isinstance(source, TirFile) else read_tir(source)
-        return cls(tir.parameters(), name=tir.name)
-
     def _p(self, key: str) -> float:
         return self.params.get(key, 0.0)
 
     def _require(self, keys: tuple[str, ...]) -> None:
         for k in keys:
             if k not in self.params:
-                raise TirError(
+                raise InputError(
                     f"{self.name}: missing mandatory key {k}; the force cannot be "
                     "evaluated without it"
                 )

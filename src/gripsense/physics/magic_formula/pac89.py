@@ -16,16 +16,12 @@ The public functions take SI (N, rad, slip ratio) and convert at the edge.
 
 from __future__ import annotations
 
-import json
-import re
-from pathlib import Path
-
 import numpy as np
 
 from gripsense._arrays import as_float_array, restore
 from gripsense.errors import InputError
 
-__all__ = ["magic_formula", "pac89_lateral", "pac89_longitudinal", "read_pac89_json"]
+__all__ = ["magic_formula", "pac89_lateral", "pac89_longitudinal"]
 
 _RAD2DEG = 180.0 / np.pi
 
@@ -120,44 +116,3 @@ def pac89_longitudinal(coeffs: dict, fz, kappa):
     sh = bb[9] * fz_kn + bb[10]
     out = magic_formula(k + sh, b, c, d, e)
     return restore(out, fz, kappa)
-
-
-def _strip_json_comments(text: str) -> str:
-    out = []
-    for line in text.splitlines():
-        # drop // comments that are not inside a string
-        in_str = False
-        for i, ch in enumerate(line):
-            if ch == '"' and (i == 0 or line[i - 1] != "\\"):
-                in_str = not in_str
-            elif ch == "/" and not in_str and line[i : i + 2] == "//":
-                line = line[:i]
-                break
-        out.append(line)
-    return re.sub(r",(\s*[}\]])", r"\1", "\n".join(out))
-
-
-def read_pac89_json(path: str | Path) -> dict[str, dict[str, float]]:
-    """Read a Chrono-style PAC89 JSON file (``//`` comments allowed).
-
-    Returns
-    -------
-    dict
-        ``{"lateral": {"a0": ...}, "longitudinal": {"b0": ...}, "aligning": {...}}``.
-    """
-    path = Path(path)
-    try:
-        doc = json.loads(_strip_json_comments(path.read_text(encoding="utf-8")))
-    except json.JSONDecodeError as e:
-        raise InputError(f"{path} line {e.lineno}: not valid JSON ({e.msg})") from None
-    out = {}
-    for key, name in (
-        ("Lateral Coefficients", "lateral"),
-        ("Longitudinal Coefficients", "longitudinal"),
-        ("Aligning Coefficients", "aligning"),
-    ):
-        if key in doc:
-            out[name] = {k.lower(): float(v) for k, v in doc[key].items()}
-    if "lateral" not in out:
-        raise InputError(f"{path}: no 'Lateral Coefficients' object; is this a PAC89 file?")
-    return out

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gripsense.io.nmea_schema import SENTENCES
+from gripsense.io.nmea.schema import SENTENCES
 
 __all__ = ["KNOT", "decode_all"]
 

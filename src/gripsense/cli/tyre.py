@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
@@ -10,12 +9,12 @@ import numpy as np
 import pandas as pd
 import typer
 from rich.table import Table
+from rich.text import Text
 
-from gripsense.cli_common import console, fail
+from gripsense.cli._common import console, fail, say
 from gripsense.errors import GripsenseError, InputError
 
 tyre_app = typer.Typer(no_args_is_help=True, help="Magic Formula tyre models: evaluate and fit.")
-
 
 
 def parse_range(text: str, what: str) -> np.ndarray:
@@ -37,60 +36,6 @@ def parse_range(text: str, what: str) -> np.ndarray:
         ) from None
 
 
-def _load_model(path: Path):
-    """A callable (fz [N], kappa, alpha [rad], gamma [rad]) -> (fx, fy) and a description."""
-    from gripsense.physics.magic_formula import MFTyre
-
-    suffix = path.suffix.lower()
-    if suffix in (".tir", ".gz"):
-        tyre = MFTyre.from_tir(path)
-
-        def f(fz, kappa, alpha, gamma, side=None):
-            r = tyre.forces(fz, kappa, alpha, gamma, side=side)
-            return r.fx, r.fy
-
-        return f, f"MF {tyre.version} ({path.name}; ISO-W axes)"
-    if suffix == ".json":
-        try:
-            doc = json.loads(path.read_text())
-        except json.JSONDecodeError:
-            doc = None
-        if isinstance(doc, dict) and doc.get("model") == "pac94":
-            from gripsense.physics.magic_formula.pac94 import pac94_lateral
-
-            a = np.array([doc["coefficients"][f"a{i}"] for i in range(18)])
-            variant = doc.get("variant", "published")
-
-            def f(fz, kappa, alpha, gamma, side=None):
-                return np.full(np.broadcast(fz, alpha).shape, np.nan), pac94_lateral(
-                    a, fz, alpha, gamma, variant
-                )
-
-            return f, (
-                f"PAC94 fit ({path.name}, {variant} shifts; lateral only; the fitted data's "
-                "sign convention)"
-            )
-        from gripsense.physics.magic_formula.pac89 import (
-            pac89_lateral,
-            pac89_longitudinal,
-            read_pac89_json,
-        )
-
-        c = read_pac89_json(path)
-
-        def f(fz, kappa, alpha, gamma, side=None):
-            fx = pac89_longitudinal(c["longitudinal"], fz, kappa) if "longitudinal" in c else np.nan
-            return fx, pac89_lateral(c["lateral"], fz, alpha, gamma)
-
-        return f, f"PAC89 ({path.name}; the coefficients' own sign convention)"
-    if not path.exists():
-        raise InputError(f"{path}: no such file")
-    raise InputError(
-        f"{path}: unknown model file type {suffix!r}; give a .tir (MF 5.2/6.1/6.2), "
-        "a PAC89 .json or a gripsense PAC94 fit .json"
-    )
-
-
 @tyre_app.command("eval")
 def tyre_eval(
     model: Annotated[Path, typer.Argument(help=".tir (MF 5.2/6.1/6.2), PAC89 .json or fit .json")],
@@ -108,8 +53,11 @@ def tyre_eval(
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Write CSV here")] = None,
 ) -> None:
     """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
+    from gripsense.tyre_models import load_tyre_model
+
     try:
-        f, desc = _load_model(model)
+        tm = load_tyre_model(model)
+        f, desc = tm.forces, tm.description
         grids = np.meshgrid(
             parse_range(fz, "fz"),
             parse_range(kappa, "kappa"),
@@ -133,12 +81,15 @@ def tyre_eval(
         }
     )
     if output is not None:
-        with open(output, "w") as fh:
-            fh.write(f"# {desc}\n")
-            out.to_csv(fh, index=False)
-        console.print(f"{desc}: {len(out)} points written to {output}")
+        try:
+            with open(output, "x" if not output.exists() else "w") as fh:
+                fh.write(f"# {desc}\n")
+                out.to_csv(fh, index=False)
+        except OSError as e:
+            fail(f"{output}: cannot write ({e.strerror or e})")
+        say(f"{desc}: {len(out)} points written to {output}")
         return
-    table = Table(title=desc)
+    table = Table(title=Text(desc))
     for c in out.columns:
         table.add_column(c, justify="right")
     for row in out.head(200).itertuples(index=False):
@@ -180,11 +131,11 @@ def tyre_fit(
     ] = False,
 ) -> None:
     """Fit Magic Formula lateral coefficients in one step (seed 002), with constraints."""
-    from gripsense.identify.tyre_fit import fit_from_wheel_table, fit_mf61_lateral, fit_pac94
+    from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
     from gripsense.io.tyre_table import read_tyre_table
 
     try:
-        if model not in ("pac94", "mf61"):
+        if model not in FITTERS:
             raise InputError(f"--model {model!r}: use pac94 or mf61")
         if output is not None and output.suffix.lower() == ".tir" and model != "mf61":
             raise InputError("-o .tir needs --model mf61; PAC94 coefficients are written as .json")
@@ -198,8 +149,9 @@ def tyre_fit(
         def run(k):
             if info["source"] == "wheels":
                 return fit_from_wheel_table(table, model=model, wheel=wheel, **k)
-            fitter = fit_pac94 if model == "pac94" else fit_mf61_lateral
-            return fitter(table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"], **k)
+            return FITTERS[model](
+                table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"], **k
+            )
 
         fit = run(kw)
         free_fit = run({**kw, "constraints": "none"}) if compare else None
@@ -239,14 +191,14 @@ def tyre_fit(
         fail(e)
     _print_fit(fit, info, data, free_fit)
     if output is not None:
-        console.print(f"wrote {output}")
+        say(f"wrote {output}")
     if plot is not None:
-        console.print(f"wrote {plot}")
+        say(f"wrote {plot}")
 
 
 def _print_fit(fit, info, data, free_fit) -> None:
     rej = ", ".join(f"{k} {v}" for k, v in info.get("rejected", {}).items()) or "none"
-    console.print(
+    say(
         f"{data.name}: {info.get('rows_used', fit.n)} of {info['rows']} rows used (rejected: {rej})"
     )
     console.print(
@@ -282,3 +234,37 @@ def _print_fit(fit, info, data, free_fit) -> None:
             f"without constraints: rms {free_fit.residual_rms_N:.1f} N; "
             + ", ".join(f"{k} {'ok' if v else 'FAILED'}" for k, v in fc.items())
         )
+
+
+def fit_contact(
+    table: Annotated[Path, typer.Argument(help="CSV with mass_kg and length_m (or length_cm)")],
+) -> None:
+    """Fit the contact-length model l = a·√m + b·m (thesis eq. 6.23) to measurements."""
+    from gripsense.identify import fit_contact_length
+    from gripsense.io.table import numeric_column, read_table
+
+    try:
+        df = read_table(table)
+        if "mass_kg" not in df.columns:
+            raise GripsenseError(f"{table}: no column 'mass_kg' (columns: {list(df.columns)})")
+        if "length_m" in df.columns:
+            length = numeric_column(df, "length_m", table)
+        elif "length_cm" in df.columns:
+            length = numeric_column(df, "length_cm", table) / 100.0
+        else:
+            raise GripsenseError(f"{table}: needs a column 'length_m' or 'length_cm'")
+        params, stats = fit_contact_length(numeric_column(df, "mass_kg", table), length)
+    except GripsenseError as e:
+        fail(e)
+    say(f"l = a·√m + b·m fitted to {stats['n']} rows of {table.name}:")
+    console.print(f"  a = {params['a']:.6g} m/kg^0.5")
+    console.print(f"  b = {params['b']:.6g} m/kg")
+    console.print(
+        f"  R² = {stats['r2']:.4f}, RMSE = {stats['rmse_m'] * 100:.3f} cm "
+        f"(√(SSE/(n−2)) = {stats['rmse_dof_m'] * 100:.3f} cm)"
+    )
+    if np.isfinite(stats["m_peak_kg"]):
+        console.print(f"  the model stops growing at m = {stats['m_peak_kg']:.0f} kg")
+    console.print(
+        f"  vehicle file: contact_length = {{ a = {params['a']:.6g}, b = {params['b']:.6g} }}"
+    )

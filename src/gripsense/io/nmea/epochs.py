@@ -39,7 +39,7 @@ import numpy as np
 import pandas as pd
 from numba import njit
 
-from gripsense.io.nmea_schema import SENTENCES
+from gripsense.io.nmea.schema import SENTENCES
 
 __all__ = ["EPOCH_COLUMNS", "assemble_epochs", "epoch_boundaries", "epoch_boundaries_loop"]
 
@@ -209,7 +209,7 @@ def assemble_epochs(
     Parameters
     ----------
     frames : dict
-        Type key -> decoded sentence frame (see :func:`gripsense.io.nmea_decode.decode_all`).
+        Type key -> decoded sentence frame (see :func:`gripsense.io.nmea.decode.decode_all`).
 
     Returns
     -------

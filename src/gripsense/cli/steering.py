@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import tomllib
 from pathlib import Path
 from typing import Annotated
 
@@ -11,11 +10,10 @@ import numpy as np
 import pandas as pd
 import typer
 
-from gripsense.cli_common import console, fail
+from gripsense.cli._common import console, fail, say
 from gripsense.errors import GripsenseError, InputError
 
 steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
-
 
 
 def _read_csv(path: Path, need: tuple[str, ...]) -> pd.DataFrame:
@@ -81,22 +79,25 @@ def identify(
     settling-time and yaw-gain inversions to a fixed point."""
     from dataclasses import replace
 
+    from gripsense.config import SteeringCar
     from gripsense.identify.steering import (
         identify_steering,
         normalise_yaw_gain,
-        release_settling_time,
-        step_metrics,
         tyre_lateral_stiffness,
     )
-    from gripsense.sim.steering import SteeringCar, simulate_release
+    from gripsense.identify.steering_metrics import (
+        release_onset,
+        release_settling_time,
+        step_metrics,
+    )
+    from gripsense.sim.steering import simulate_release
 
     try:
         car = SteeringCar.from_toml(config)
-        test = tomllib.loads(config.read_text(encoding="utf-8")).get("test", {})
         n = car.steering_ratio
-        ref_rate = float(steer_rate or test.get("reference_steer_rate_dps", 70.0))
-        stop = np.deg2rad(float(test.get("step_stop_deg", 90.0))) / n
-        alpha0 = np.deg2rad(float(test.get("release_angle_deg", 30.0))) / n
+        ref_rate = float(steer_rate or car.reference_steer_rate_dps)
+        stop = np.deg2rad(car.step_stop_deg) / n
+        alpha0 = np.deg2rad(car.release_angle_deg) / n
         if tyre_deflection is not None:
             td = _read_csv(tyre_deflection, ("force_N", "deflection_mm"))
             ky, ky_sig = tyre_lateral_stiffness(td["force_N"], td["deflection_mm"] / 1000.0)
@@ -111,16 +112,11 @@ def identify(
             df = _read_csv(p, ("t_s", "steer_deg"))
             ts = release_settling_time(df["t_s"], df["steer_deg"], reference=reference)
             times.append(ts)
-            console.print(f"{p.name}: settling time {ts:.3f} s")
+            say(f"{p.name}: settling time {ts:.3f} s")
             a = df["steer_deg"].to_numpy()
             t = df["t_s"].to_numpy()
-            i = int(
-                np.argmax(
-                    np.abs(a - np.median(a[: max(5, a.size // 20)]))
-                    > 0.02 * abs(np.median(a[: max(5, a.size // 20)]))
-                )
-            )
-            traces.append((t[i:] - t[i], a[i:]))
+            on = t >= release_onset(t, a)
+            traces.append((t[on] - t[on][0], a[on]))
         if not times:
             raise InputError("give settling times: --settling t1,t2,... or --release FILE.csv")
         gain, gain_sig = yaw_gain, float("nan")

@@ -1,8 +1,8 @@
 """Production NMEA 0183 tokenizer (the default path of :func:`gripsense.io.read_nmea`).
 
-It implements exactly the rules of :mod:`gripsense.io.nmea_reference`:
+It implements exactly the rules of :mod:`gripsense.io.nmea.reference`:
 
-* compiled loops (:mod:`gripsense.io.nmea_kernels`, numba) find each line's sentence start,
+* compiled loops (:mod:`gripsense.io.nmea.kernels`, numba) find each line's sentence start,
   checksum, address, fields and check every field's pattern;
 * sentence types are named from the packed address bytes with one hash factorisation;
 * numbers are converted by Arrow's string-to-float cast (correctly rounded, like Python's
@@ -24,10 +24,10 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.compute as pc
 
-from gripsense.io import nmea_kernels as K
-from gripsense.io import nmea_schema as S
-from gripsense.io.nmea_reference import MAX_ADDRESS, _type_key, classify_line
-from gripsense.io.nmea_tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, split_lines
+from gripsense.io.nmea import kernels as K
+from gripsense.io.nmea import schema as S
+from gripsense.io.nmea.reference import MAX_ADDRESS, _type_key, classify_line
+from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, split_lines
 
 __all__ = ["tokenize_fast"]
 
@@ -203,7 +203,7 @@ def _tokenize_array(data) -> Tokens:
 def tokenize_fast(
     data: bytes, *, n_details: int = 20, chunk_bytes: int = 8 << 20, workers: int | None = None
 ) -> Tokens:
-    """Tokenize a buffer (same results as :func:`~gripsense.io.nmea_reference.tokenize_reference`).
+    """Tokenize a buffer (same results as :func:`~gripsense.io.nmea.reference.tokenize_reference`).
 
     The buffer is cut at line ends into chunks of about *chunk_bytes*, which are tokenized
     independently on up to *workers* threads and joined. Memory for intermediate arrays is

@@ -1,7 +1,7 @@
 """Compiled (numba) loops of the production NMEA tokenizer.
 
-They implement, byte for byte, the rules of :mod:`gripsense.io.nmea_reference` for a whole
-buffer at once; :mod:`gripsense.io.nmea_fast` wires them together and converts the numbers with
+They implement, byte for byte, the rules of :mod:`gripsense.io.nmea.reference` for a whole
+buffer at once; :mod:`gripsense.io.nmea.fast` wires them together and converts the numbers with
 Arrow. The test suite checks line-by-line equality with the reference on real and fuzzed logs.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from gripsense.io import nmea_schema as S
+from gripsense.io.nmea import schema as S
 
 __all__ = ["KIND_CODES", "read_fields", "scan_lines"]
 

@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 from rich.progress import Progress
 
-from gripsense.cli_common import console, fail
+from gripsense.cli._common import console, fail
 from gripsense.errors import GripsenseError
 
 

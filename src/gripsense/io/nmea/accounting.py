@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from gripsense.io.nmea_schema import REASONS
+from gripsense.io.nmea.schema import REASONS
 
 __all__ = ["IngestReport", "RejectedLine"]
 

@@ -1,7 +1,7 @@
 """Batch ingest of GNSS-compass NMEA logs: :func:`read_nmea` -> :class:`NmeaLog`.
 
 Conventions of the epoch table (one row per receiver time instant; see
-:mod:`gripsense.io.epochs` for the grouping rule):
+:mod:`gripsense.io.nmea.epochs` for the grouping rule):
 
 =================  ==========================================================================
 column             meaning
@@ -40,13 +40,13 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io import nmea_schema as S
-from gripsense.io.epochs import assemble_epochs
-from gripsense.io.nmea_decode import decode_all
-from gripsense.io.nmea_fast import tokenize_fast
-from gripsense.io.nmea_reference import classify_line, tokenize_reference
-from gripsense.io.nmea_tokens import IGNORED, PARSED, REJECTED, split_lines
-from gripsense.io.report import IngestReport, RejectedLine
+from gripsense.io.nmea import schema as S
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.decode import decode_all
+from gripsense.io.nmea.epochs import assemble_epochs
+from gripsense.io.nmea.fast import tokenize_fast
+from gripsense.io.nmea.reference import classify_line, tokenize_reference
+from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, split_lines
 
 __all__ = ["NmeaLog", "read_nmea"]
 
@@ -139,7 +139,8 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
     Returns
     -------
     NmeaLog
-        ``.epochs`` (DataFrame), ``.report`` (:class:`~gripsense.io.report.IngestReport`) and
+        ``.epochs`` (DataFrame), ``.report``
+        (:class:`~gripsense.io.nmea.accounting.IngestReport`) and
         ``.sentences`` (decoded sentences per type).
 
     Examples

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from gripsense.cli_common import console, fail
+from gripsense.cli._common import console, fail
 from gripsense.errors import GripsenseError, InputError
 
 

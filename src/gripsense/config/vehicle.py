@@ -35,13 +35,13 @@ TOML layout (units are in the key names; see ``gripsense/data/corolla_thesis.tom
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from gripsense.errors import InputError
+from gripsense.config.toml_reader import TomlReader
+from gripsense.io.text import read_toml
 from gripsense.physics.contact import contact_length_lm
 
 __all__ = ["WHEELS", "Tyre", "Vehicle"]
@@ -155,21 +155,12 @@ class Vehicle:
         InputError
             Naming the file and key, with the expected unit, when something is missing or wrong.
         """
-        path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InputError(f"{path}: no such vehicle file") from None
-        try:
-            doc = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as e:
-            raise InputError(f"{path}: not valid TOML ({e})") from None
-        return cls.from_dict(doc, source=str(path))
+        return cls.from_dict(read_toml(path, "vehicle file"), source=str(path))
 
     @classmethod
     def from_dict(cls, doc: dict, *, source: str = "<dict>") -> Vehicle:
         """Build from a parsed TOML document (see :meth:`from_toml`)."""
-        r = _Reader(doc, source)
+        r = TomlReader(doc, source)
         veh = r.table("vehicle", required=True)
         mass = r.num(veh, "vehicle", "mass_kg", positive=True, unit="kg")
         wb = r.num(veh, "vehicle", "wheelbase_m", positive=True, unit="m", required=False)
@@ -274,7 +265,7 @@ class Vehicle:
         )
 
 
-def _tyre(r: _Reader, t: dict, where: str) -> Tyre:
+def _tyre(r: TomlReader, t: dict, where: str) -> Tyre:
     if not isinstance(t, dict):
         r.fail("tyre", where, "must be a table")
     w = r.num(t, where, "width_m", positive=True, unit="m")
@@ -313,45 +304,3 @@ def _tyre(r: _Reader, t: dict, where: str) -> Tyre:
         contact_length_m=fixed,
         pressure=pressure,
     )
-
-
-class _Reader:
-    """Typed access to a TOML document with errors that name file, table and key."""
-
-    def __init__(self, doc: dict, source: str):
-        self.doc = doc
-        self.source = source
-
-    def fail(self, table: str, key: str, msg: str):
-        raise InputError(f"{self.source}: [{table}] {key}: {msg}")
-
-    def table(self, name: str, required: bool) -> dict:
-        t = self.doc.get(name)
-        if t is None:
-            if required:
-                raise InputError(f"{self.source}: missing table [{name}]")
-            return {}
-        if not isinstance(t, dict):
-            raise InputError(f"{self.source}: [{name}] must be a table")
-        return t
-
-    def num(
-        self,
-        t: dict,
-        table: str,
-        key: str,
-        *,
-        unit: str,
-        positive: bool = False,
-        required: bool = True,
-    ) -> float | None:
-        if key not in t:
-            if required:
-                self.fail(table, key, f"missing [{unit}]")
-            return None
-        v = t[key]
-        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-            self.fail(table, key, f"= {v!r}: must be a number [{unit}]")
-        if positive and v <= 0:
-            self.fail(table, key, f"= {v}: must be > 0 [{unit}]")
-        return float(v)

@@ -1,0 +1,281 @@
+"""``gripsense friction``, ``report`` and ``stiffness``: friction and tread stiffness of drives."""
+
+from __future__ import annotations
+
+from functools import singledispatch
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+from rich.text import Text
+
+from gripsense.cli._common import console, fail, say
+from gripsense.errors import GripsenseError
+from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
+
+__all__ = ["friction", "print_friction", "report_cmd", "stiffness"]
+
+
+def friction(
+    log: Annotated[Path | None, typer.Argument(help="NMEA log of the drive (plain or .gz)")] = None,
+    vehicle: Annotated[
+        Path | None, typer.Option("--vehicle", help="vehicle description (TOML)")
+    ] = None,
+    method: Annotated[
+        str,
+        typer.Option("--method", help="brush-2 | brush-4 | thesis-2 | thesis-4 | axle-window"),
+    ] = "brush-2",
+    steer_csv: Annotated[
+        Path | None,
+        typer.Option("--steer-csv", help="CSV with t_s and road_wheel_deg (enables front wheels)"),
+    ] = None,
+    table: Annotated[
+        Path | None,
+        typer.Option("--table", help="motion table (CSV/Parquet) instead of an NMEA log"),
+    ] = None,
+    columns: Annotated[
+        str | None,
+        typer.Option(
+            "--columns",
+            help="mapping for --table: t=...,vx=...,vy=...,yaw_rate=..."
+            ",ay=...,steer=... (units after ':', e.g. yaw_rate=YawRate:dps)",
+        ),
+    ] = None,
+    outdir: Annotated[
+        Path, typer.Option("-o", "--outdir", help="folder for the result files")
+    ] = Path("friction-results"),
+    report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
+) -> None:
+    """Tyre-road friction per wheel (or per axle with --method axle-window) during cornering."""
+    from gripsense.io.table import read_motion_table
+    from gripsense.pipeline import FrictionRun
+
+    try:
+        if vehicle is None:
+            raise GripsenseError("--vehicle car.toml is required")
+        if (log is None) == (table is None):
+            raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
+        run = FrictionRun(vehicle, method=method)
+        veh = run.vehicle
+        if table is not None:
+            if not columns:
+                raise GripsenseError(
+                    "--table needs --columns (e.g. t=Time,vx=Vx,vy=Vy,yaw_rate=YawRate:dps)"
+                )
+            result = run.run_motion(
+                read_motion_table(table, columns), meta={"vehicle": veh.name, "source": str(table)}
+            )
+        else:
+            result = run.run_log(log, steer_csv=steer_csv)
+    except GripsenseError as e:
+        fail(e)
+    print_friction(result)
+    try:
+        paths = result.to_files(outdir)
+        say("wrote " + ", ".join(str(p) for p in paths.values()))
+        if report:
+            from gripsense.report import write_report
+
+            rp = write_report(
+                result, outdir / "report.html", title=f"Friction — {(log or table).name}"
+            )
+            say(f"report: {rp}")
+    except GripsenseError as e:
+        fail(e)
+
+
+def report_cmd(
+    result_dir: Annotated[Path, typer.Argument(help="folder written by gripsense friction")],
+    output: Annotated[
+        Path | None,
+        typer.Option("-o", "--output", help="HTML file (default RESULT_DIR/report.html)"),
+    ] = None,
+) -> None:
+    """Write a self-contained HTML report (images embedded) of a friction result folder."""
+    from gripsense.report import write_report
+
+    try:
+        res = FrictionResult.from_files(result_dir)
+        out = write_report(
+            res, output or result_dir / "report.html", title=f"Friction — {result_dir.name}"
+        )
+    except GripsenseError as e:
+        fail(e)
+    say(f"report: {out}")
+
+
+def _print_head(result: FrictionResult) -> None:
+    m = result.meta
+    head = Text.assemble((str(m.get("vehicle", "")), "bold"), f" — method {m['method']}")
+    if "epochs_total" in m:
+        head.append(
+            f"; {m['epochs_used']} of {m['epochs_total']} epochs usable; heading offset "
+            f"{m['heading_offset_deg']:.2f}° ({m['heading_offset_source']})"
+        )
+    console.print(head)
+
+
+@singledispatch
+def print_friction(result: FrictionResult) -> None:
+    """Print a friction result's summary table and its one-line explanation.
+
+    Parameters
+    ----------
+    result : FrictionResult
+        The result (one printer per result type).
+    """
+    _print_head(result)
+    say(result.explain())
+
+
+@print_friction.register
+def _(result: AxleFriction) -> None:
+    _print_head(result)
+    table = Table(title="Friction per axle (axle-window: 90 % profile-likelihood interval)")
+    for col in (
+        "axle",
+        "μ",
+        "90 % interval",
+        "surface",
+        "utilisation",
+        "samples",
+        "windows observable",
+    ):
+        table.add_column(col)
+    win = result.windows
+    for rec in result.summary.to_dict("records"):
+        if not rec.get("n"):
+            table.add_row(rec["axle"], "—", "—", "—", "—", "0", "—")
+            continue
+        mu = f"{rec['mu']:.2f}" if rec["observable"] else "n/o"
+        hi = f"{rec['mu_high']:.2f}" if np.isfinite(rec["mu_high"]) else "∞"
+        nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else []
+        obs = f"{int(nw['observable'].sum())} / {len(nw)}" if len(nw) else "—"
+        table.add_row(
+            rec["axle"],
+            mu,
+            f"{rec['mu_low']:.2f} – {hi}",
+            rec["surface"],
+            f"{rec['utilisation']:.2f}",
+            str(rec["n"]),
+            obs,
+        )
+    console.print(table)
+    say(result.explain())
+
+
+@print_friction.register
+def _(result: WheelFriction) -> None:
+    _print_head(result)
+    table = Table(title="Friction per wheel (steady cornering samples)")
+    for col in (
+        "wheel",
+        "μ",
+        "90 % interval",
+        "surface",
+        "valid / total",
+        "μ ≥ (proven)",
+        "main flags",
+    ):
+        table.add_column(col)
+    flag_cols = [
+        c for c in result.summary.columns if c.startswith("n_") and c not in ("n_valid", "n_total")
+    ]
+    for rec in result.summary.to_dict("records"):
+        mu = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu']:.2f}"
+        iv = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu_low']:.2f} – {rec['mu_high']:.2f}"
+        lb = "—" if not np.isfinite(rec["mu_lower_bound"]) else f"{rec['mu_lower_bound']:.2f}"
+        flags = sorted(((rec[c], c[2:]) for c in flag_cols if rec[c]), reverse=True)[:3]
+        table.add_row(
+            rec["wheel"],
+            mu,
+            iv,
+            rec["surface"],
+            f"{rec['n_valid']} / {rec['n_total']}",
+            lb,
+            ", ".join(f"{f} {n}" for n, f in flags),
+        )
+    console.print(table)
+    say(result.explain())
+
+
+def stiffness(
+    logs: Annotated[list[Path], typer.Argument(help="NMEA log(s) of steady cornering")],
+    vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
+    sweep: Annotated[bool, typer.Option("--sweep", help="also the thesis's G sweep")] = False,
+    outdir: Annotated[
+        Path | None, typer.Option("-o", "--outdir", help="folder for the table (and plots)")
+    ] = None,
+) -> None:
+    """Tread stiffness G per steady condition and wheel (thesis ch. 9, like Table 23)."""
+    import pandas as pd
+
+    from gripsense.estimate.conditions import conditions
+    from gripsense.estimate.stiffness import g_sweep, tread_stiffness
+    from gripsense.pipeline import FrictionRun
+    from gripsense.report.figures import g_sweep_figure
+
+    try:
+        run = FrictionRun(vehicle)
+        veh = run.vehicle
+        frames, sweeps = [], []
+        for log in logs:
+            res = run.run_log(log)
+            conds = conditions(res.wheels)
+            t = tread_stiffness(res.wheels, veh, conds=conds)
+            frames.append(t.assign(log=log.name))
+            if sweep:
+                for i, c in enumerate(conds):
+                    sweeps.append((log.name, i + 1, g_sweep(res.wheels, veh, *c)))
+    except GripsenseError as e:
+        fail(e)
+    tab = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    if tab.empty:
+        console.print("no steady cornering condition of 3 s or more: G cannot be estimated")
+        raise typer.Exit(1)
+    table = Table(title="Tread stiffness G per steady condition (brush linear term)")
+    for col in (
+        "log",
+        "cond.",
+        "wheel",
+        "km/h",
+        "R [m]",
+        "slip [°]",
+        "utilisation",
+        "G [N/m³]",
+        "± (0.1° slip)",
+        "note",
+    ):
+        table.add_column(col)
+    for r in tab.to_dict("records"):
+        table.add_row(
+            r["log"],
+            str(r["condition"]),
+            r["wheel"],
+            f"{r['speed_kmh']:.0f}",
+            f"{r['radius_m']:.1f}",
+            f"{r['slip_deg']:.2f}",
+            f"{r['utilisation']:.2f}",
+            f"{r['G']:.3g}",
+            f"{100 * r['G_rel_sigma']:.0f} %",
+            "near limit: biased low" if r["near_limit"] else "",
+        )
+    console.print(table)
+    lin = tab[~tab["near_limit"]]
+    if len(lin):
+        console.print(
+            f"mean G over the {len(lin)} linear-range rows: {lin['G'].mean():.3g} N/m³ "
+            f"(all rows: {tab['G'].mean():.3g})"
+        )
+    else:
+        console.print("every condition is near the limit: G is biased low there (PHYSICS §6)")
+    for name, i, sw in sweeps:
+        console.print(f"G sweep {name} condition {i}: chosen {sw.chosen:.3g} N/m³ — {sw.reason}")
+    if outdir:
+        outdir.mkdir(parents=True, exist_ok=True)
+        tab.to_csv(outdir / "stiffness.csv", index=False)
+        for name, i, sw in sweeps:
+            g_sweep_figure(sw).savefig(outdir / f"gsweep_{Path(name).stem}_{i}.png", dpi=90)
+        console.print(f"wrote {outdir / 'stiffness.csv'}")

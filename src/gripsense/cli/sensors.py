@@ -1,0 +1,155 @@
+"""Sensor commands: ``brake-mu`` (accelerometer), ``camber`` (lasers), ``camera-slip`` (camera)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+from rich.table import Table
+from rich.text import Text
+
+from gripsense.cli._common import console, fail, say
+from gripsense.errors import GripsenseError
+
+__all__ = ["brake_mu", "camber", "camera_slip"]
+
+
+def brake_mu(
+    accel: Annotated[list[Path], typer.Argument(help="accelerometer CSV file(s)")],
+    t_col: Annotated[str, typer.Option("--t-col", help="time column")] = "t_s",
+    ax_col: Annotated[str, typer.Option("--ax-col", help="forward acceleration column")] = "ax_g",
+    ay_col: Annotated[str, typer.Option("--ay-col")] = "ay_g",
+    az_col: Annotated[str, typer.Option("--az-col", help="'' for none")] = "az_g",
+    units: Annotated[str, typer.Option("--units", help="g | mps2")] = "g",
+    ax_sign: Annotated[float, typer.Option("--ax-sign", help="-1 if x points backwards")] = 1.0,
+    time_scale: Annotated[
+        float, typer.Option("--time-scale", help="seconds per time unit (0.001 for ms)")
+    ] = 1.0,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
+) -> None:
+    """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
+    import pandas as pd
+
+    from gripsense.estimate.braking import estimate_braking
+    from gripsense.io.accel import read_accel_csv
+
+    frames = []
+    try:
+        for f in accel:
+            acc = read_accel_csv(
+                f,
+                t_col=t_col,
+                ax_col=ax_col,
+                ay_col=ay_col or None,
+                az_col=az_col or None,
+                units=units,
+                ax_sign=ax_sign,
+                time_scale=time_scale,
+            )
+            res = estimate_braking(acc, source=str(f))
+            frames.append(res.events.assign(file=f.name))
+    except GripsenseError as e:
+        fail(e)
+    ev = pd.concat(frames, ignore_index=True)
+    table = Table(title="Locked-wheel braking events")
+    for col in ("file", "onset [s]", "plateau [s]", "μ = a/g", "spread", "μ 3-axis", "slope [1/s]"):
+        table.add_column(col)
+    for r in ev.to_dict("records"):
+        table.add_row(
+            Text(r["file"]),
+            f"{r['t_onset']:.2f}",
+            f"{r['plateau_s']:.2f}",
+            f"{r['mu']:.3f}",
+            f"{r['mu_spread']:.3f}",
+            "—" if np.isnan(r["mu_3axis"]) else f"{r['mu_3axis']:.3f}",
+            f"{r['slope_per_s']:+.3f}",
+        )
+    console.print(table)
+    sd = f" ± {ev['mu'].std():.3f} (SD)" if len(ev) > 1 else ""
+    console.print(
+        f"μ = {ev['mu'].mean():.3f}{sd} over {len(ev)} events — sliding friction of "
+        "locked wheels (below peak μ; includes ~0.01–0.02 g of drag)"
+    )
+    if output:
+        ev.to_csv(output, index=False)
+        say(f"wrote {output}")
+
+
+def camber(
+    laser: Annotated[Path, typer.Argument(help="CSV with t_s and two laser distances")],
+    spacing_m: Annotated[float, typer.Option("--spacing-m", help="sensor spacing [m]")],
+    outer_col: Annotated[str, typer.Option("--outer-col")] = "d_outer_mm",
+    inner_col: Annotated[str, typer.Option("--inner-col")] = "d_inner_mm",
+    scale_m: Annotated[float, typer.Option("--scale-m", help="metres per unit (1e-3: mm)")] = 1e-3,
+    calibrate_s: Annotated[
+        float,
+        typer.Option(
+            "--calibrate-s",
+            help="first seconds on a flat floor at the reference camber (0: no calibration)",
+        ),
+    ] = 0.0,
+    reference_deg: Annotated[float, typer.Option("--reference-deg")] = 0.0,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="CSV")] = None,
+) -> None:
+    """Camber to the ground from two laser displacement sensors (seed 002 Fig. 3)."""
+    from gripsense.io.laser import read_laser_csv
+    from gripsense.vision.camber_laser import calibration_offsets, camber_from_lasers
+
+    try:
+        d = read_laser_csv(laser, outer_col=outer_col, inner_col=inner_col, scale_m=scale_m)
+        off_o, off_i = calibration_offsets(d, calibrate_s) if calibrate_s > 0 else (0.0, 0.0)
+        d["camber_deg"] = np.rad2deg(
+            camber_from_lasers(
+                d["d_outer_m"],
+                d["d_inner_m"],
+                spacing_m,
+                offset_outer=off_o,
+                offset_inner=off_i,
+                reference_camber_rad=np.deg2rad(reference_deg),
+            )
+        )
+    except GripsenseError as e:
+        fail(e)
+    c = d["camber_deg"]
+    console.print(
+        f"camber (top outward positive): median {c.median():.2f}°, "
+        f"range {c.min():.2f}° … {c.max():.2f}° over {len(d)} samples"
+    )
+    if output:
+        d.to_csv(output, index=False)
+        say(f"wrote {output}")
+
+
+def camera_slip(
+    source: Annotated[Path, typer.Argument(help="folder of frames or a video file")],
+    fps: Annotated[float, typer.Option("--fps", help="frame rate [1/s]")],
+    mm_per_px: Annotated[
+        float | None, typer.Option("--mm-per-px", help="ground scale (gives the speed)")
+    ] = None,
+    output: Annotated[
+        Path, typer.Option("-o", "--output", help="CSV (a .png plot next to it)")
+    ] = Path("camera_slip.csv"),
+) -> None:
+    """Slip angle from a downward camera on the wheel (seed 002 §2.1); image top = forward."""
+    from gripsense.report.sensor_figures import camera_slip_figure
+    from gripsense.vision.slip_camera import slip_from_frames
+
+    try:
+        res = slip_from_frames(source, fps=fps, mm_per_px=mm_per_px)
+        output.parent.mkdir(parents=True, exist_ok=True)
+        res.to_csv(output, index=False)
+        camera_slip_figure(res).savefig(output.with_suffix(".png"), dpi=90)
+    except (GripsenseError, OSError) as e:
+        fail(e)
+    ok = res[res["ok"]]
+    if len(ok):
+        sp = "" if mm_per_px is None else f", ground speed {ok['speed_mps'].median():.2f} m/s"
+        console.print(
+            f"{len(ok)} of {len(res)} frame pairs accepted; median slip angle "
+            f"{ok['slip_angle_deg'].median():.2f}° (ISO){sp}"
+        )
+    else:
+        console.print(f"no frame pair passed the quality checks ({len(res)} pairs)")
+    say(f"wrote {output} and {output.with_suffix('.png')}")

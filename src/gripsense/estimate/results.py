@@ -1,0 +1,548 @@
+"""Typed, immutable results of the friction estimators: one class per kind of answer.
+
+* :class:`WheelFriction` — the per-sample methods (``brush-2``, ``thesis-2`` …): μ per wheel
+  and sample, summarised per wheel;
+* :class:`AxleFriction` — ``axle-window``: μ per axle and window with profile-likelihood
+  intervals, summarised per axle.
+
+Both share :class:`FrictionResult`'s interface — ``unit`` (``"wheel"`` or ``"axle"``),
+``summary``, :meth:`~FrictionResult.explain`, :meth:`~FrictionResult.estimates` (one row per
+estimate, the same columns for every method: what live mode and the fleet consume),
+:meth:`~FrictionResult.to_files` and :meth:`FrictionResult.from_files` — so no consumer needs to
+know which method ran.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import Vehicle
+from gripsense.constants import Z90
+from gripsense.errors import InputError
+from gripsense.estimate.friction import FLAGS, NOT_STEADY_CORNERING
+from gripsense.estimate.noise import NoiseModel
+from gripsense.io.results import read_manifest, read_result_folder, write_result_folder
+from gripsense.physics.surface import surface_class_interval
+
+__all__ = [
+    "ESTIMATE_COLUMNS",
+    "UNIT_COLUMNS",
+    "AxleFriction",
+    "FrictionResult",
+    "WheelFriction",
+    "read_result",
+    "summarize_axles",
+    "summarize_wheels",
+]
+
+ESTIMATE_COLUMNS = [
+    "unit",
+    "t_start",
+    "t_end",
+    "epoch",
+    "observable",
+    "mu",
+    "mu_sigma",
+    "mu_lower_bound",
+    "utilisation",
+]
+"""Columns of :meth:`FrictionResult.estimates` (same for every method)."""
+
+UNIT_COLUMNS = [
+    "unit",
+    "mu",
+    "mu_low",
+    "mu_high",
+    "surface",
+    "observable",
+    "mu_lower_bound",
+    "n_valid",
+]
+"""Columns of :meth:`FrictionResult.unit_table` (same for every method)."""
+
+RESULT_KIND = "friction"
+
+
+@dataclass(frozen=True, kw_only=True)
+class FrictionResult:
+    """What every friction result offers (use :class:`WheelFriction` / :class:`AxleFriction`).
+
+    Attributes
+    ----------
+    wheels : pandas.DataFrame
+        One row per wheel and epoch (:data:`gripsense.estimate.friction.WHEEL_COLUMNS`).
+    summary : pandas.DataFrame
+        One row per wheel (:class:`WheelFriction`) or axle (:class:`AxleFriction`).
+    meta : dict
+        Method, vehicle, heading offset and how it was found, counts.
+    epochs : pandas.DataFrame or None
+        The epoch table the result was computed from (when it came from NMEA).
+    ingest : dict or None
+        The ingest line accounting (:meth:`gripsense.io.IngestReport.to_dict`).
+    vehicle : Vehicle or None
+        The vehicle description used.
+    noise : NoiseModel or None
+        The noise model used.
+    """
+
+    unit: ClassVar[str] = ""
+
+    wheels: pd.DataFrame
+    summary: pd.DataFrame
+    meta: dict = field(default_factory=dict)
+    epochs: pd.DataFrame | None = None
+    ingest: dict | None = None
+    vehicle: Vehicle | None = None
+    noise: NoiseModel | None = None
+
+    # ------------------------------------------------------------------ shared interface
+    @property
+    def method(self) -> str:
+        """The method that made the result."""
+        return str(self.meta.get("method", ""))
+
+    @property
+    def observable(self) -> bool:
+        """Whether any wheel or axle has a value (not only a bound)."""
+        s = self.summary
+        return bool(len(s) and s["observable"].fillna(False).astype(bool).any())
+
+    def explain(self) -> str:
+        """One line: what was found, or why nothing was observable."""
+        raise NotImplementedError
+
+    def estimates(self) -> pd.DataFrame:
+        """One row per estimate (a window or a sample), columns :data:`ESTIMATE_COLUMNS`.
+
+        ``observable`` rows carry ``mu`` and its 1σ ``mu_sigma``; ``mu_lower_bound`` is the
+        estimate's own lower bound where the method gives one per estimate (NaN otherwise, then
+        ``utilisation`` is the friction the sample used); ``epoch`` is the row of the epoch
+        table nearest the estimate's middle.
+        """
+        raise NotImplementedError
+
+    def unit_table(self) -> pd.DataFrame:
+        """The summary in the same columns for every method (:data:`UNIT_COLUMNS`)."""
+        s = self.summary.rename(columns={self.unit: "unit"})
+        return s.reindex(columns=UNIT_COLUMNS)
+
+    def replace(self, **changes) -> FrictionResult:
+        """A copy with some attributes changed (the result itself is immutable).
+
+        Parameters
+        ----------
+        **changes
+            Attribute → new value.
+
+        Returns
+        -------
+        FrictionResult
+            The same kind of result.
+        """
+        return replace(self, **changes)
+
+    # ------------------------------------------------------------------ files
+    def _tables(self) -> dict[str, pd.DataFrame]:
+        out = {"wheels": self.wheels}
+        if self.epochs is not None:
+            out["epochs"] = self.epochs
+        return out
+
+    def to_files(
+        self,
+        outdir: str | Path,
+        *,
+        overwrite: bool = True,
+        command: str = "",
+        inputs: list[str | Path] | None = None,
+    ) -> dict[str, Path]:
+        """Write the result folder: ``wheels.parquet``, ``summary.json`` (and
+        ``windows.parquet``, ``epochs.parquet``, ``ingest.json``, ``vehicle.toml`` when known)
+        plus ``manifest.json``, atomically (:func:`gripsense.io.results.write_result_folder`).
+
+        Parameters
+        ----------
+        outdir : str or Path
+            Output folder.
+        overwrite : bool
+            Replace an earlier friction result in *outdir*.
+        command : str
+            Command line recorded in the manifest.
+        inputs : list, optional
+            Input files recorded (with their SHA-256) in the manifest.
+
+        Returns
+        -------
+        dict
+            Name → path of each file written.
+        """
+        recs = _records(self.summary)
+        docs: dict[str, object] = {
+            "summary": {"meta": self.meta, f"{self.unit}s": recs, "explain": self.explain()}
+        }
+        if self.ingest is not None:
+            docs["ingest"] = self.ingest
+        copies = {}
+        src = Path(self.vehicle.source) if self.vehicle is not None else None
+        if src is not None and src.is_file():
+            copies["vehicle.toml"] = src
+        return write_result_folder(
+            outdir,
+            RESULT_KIND,
+            tables=self._tables(),
+            documents=docs,
+            copies=copies,
+            inputs=inputs,
+            command=command,
+            extra={"result": self.unit},
+            overwrite=overwrite,
+        )
+
+    @classmethod
+    def from_files(cls, folder: str | Path) -> FrictionResult:
+        """Read a result folder written by :meth:`to_files` (``gripsense friction -o``).
+
+        Parameters
+        ----------
+        folder : str or Path
+            Result folder.
+
+        Returns
+        -------
+        WheelFriction or AxleFriction
+            The kind recorded in the folder.
+        """
+        return read_result(folder)
+
+
+def _records(df: pd.DataFrame) -> list[dict]:
+    import json
+
+    return json.loads(df.to_json(orient="records"))
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelFriction(FrictionResult):
+    """μ per wheel and sample (the per-sample methods); ``summary`` has one row per wheel:
+    ``mu`` (median over valid steady samples), ``mu_low``/``mu_high`` (90 % interval),
+    ``n_valid``/``n_total``, ``surface``, ``mu_lower_bound`` (95th percentile of |F|/Fz over
+    steady cornering samples) and one ``n_<flag>`` column per flag.
+    """
+
+    unit: ClassVar[str] = "wheel"
+
+    def explain(self) -> str:
+        s = self.summary
+        if len(s) == 0:
+            return "nothing to analyse: " + self.meta.get(
+                "note", "no epoch had heading, course, speed and yaw rate together"
+            )
+        if s["observable"].any():
+            parts = []
+            for rec in s.to_dict("records"):
+                if rec["observable"]:
+                    parts.append(
+                        f"{rec['wheel']}: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "
+                        f"{rec['mu_high']:.2f}] ({rec['surface']}, {rec['n_valid']}/"
+                        f"{rec['n_total']} samples)"
+                    )
+                else:
+                    parts.append(
+                        f"{rec['wheel']}: not observable (μ ≥ {rec['mu_lower_bound']:.2f})"
+                    )
+            return "; ".join(parts)
+        if (s["n_valid"] > 0).any():
+            frac = float(s["valid_fraction"].max())
+            lb = s["mu_lower_bound"].max()
+            return (
+                f"μ not observable: at most {frac:.0%} of the steady cornering samples are "
+                "well-conditioned — a noise-selected tail, not a measurement; the data prove "
+                f"only μ ≥ {lb:.2f}"
+            )
+        flags = self.wheels["flag"].value_counts()
+        top = flags.index[0] if len(flags) else "none"
+        lb = s["mu_lower_bound"].max()
+        bound = f"; the data prove only μ ≥ {lb:.2f}" if np.isfinite(lb) else ""
+        why = {
+            "ill_conditioned": "lateral utilisation too low for the slip angle to pin μ down",
+            "not_steady": "no steady cornering",
+            "not_cornering": "no cornering",
+            "low_speed": "too slow",
+            "no_solution": "slip angles inconsistent with the forces (heading offset, G?)",
+            "full_sliding": "tyres fully sliding",
+        }.get(str(top), str(top))
+        return (
+            f"μ not observable: most wheel-epochs are {top} ({why}: {int(flags.iloc[0])} of "
+            f"{int(flags.sum())}){bound}"
+        )
+
+    def estimates(self) -> pd.DataFrame:
+        wh = self.wheels
+        sc = ~wh["flag"].isin(NOT_STEADY_CORNERING).to_numpy()
+        w = wh[sc]
+        ok = (w["flag"] == "ok").to_numpy()
+        t = w["t_s"].to_numpy(float)
+        return pd.DataFrame(
+            {
+                "unit": w["wheel"].astype(str).to_numpy(),
+                "t_start": t,
+                "t_end": t,
+                "epoch": w["epoch"].to_numpy(int),
+                "observable": ok,
+                "mu": np.where(ok, w["mu"].to_numpy(float), np.nan),
+                "mu_sigma": np.where(ok, w["mu_sigma"].to_numpy(float), np.nan),
+                "mu_lower_bound": np.nan,
+                "utilisation": w["utilisation"].to_numpy(float),
+            },
+            columns=ESTIMATE_COLUMNS,
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class AxleFriction(FrictionResult):
+    """μ per axle over windows (``axle-window``); ``summary`` has one row per axle and
+    ``windows`` one row per axle and window (see
+    :func:`gripsense.estimate.axle_window.estimate_windows`).
+
+    Attributes
+    ----------
+    windows : pandas.DataFrame
+        Windowed estimates.
+    """
+
+    unit: ClassVar[str] = "axle"
+
+    windows: pd.DataFrame = field(default_factory=pd.DataFrame)
+
+    def _tables(self) -> dict[str, pd.DataFrame]:
+        return {**super()._tables(), "windows": self.windows}
+
+    def explain(self) -> str:
+        parts = []
+        for rec in self.summary.to_dict("records"):
+            if rec.get("n", 0) == 0:
+                parts.append(f"{rec['axle']} axle: no steady cornering")
+            elif rec.get("fit") == "inconsistent":
+                parts.append(
+                    f"{rec['axle']} axle: the data contradict the model (heading offset, "
+                    f"vehicle or tyre parameters?) — only μ ≥ {rec['mu_lower_bound']:.2f} "
+                    "(the utilisation) is certain"
+                )
+            elif rec["observable"]:
+                parts.append(
+                    f"{rec['axle']} axle: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "
+                    f"{rec['mu_high']:.2f}] ({rec['surface']})"
+                )
+            else:
+                hi = "" if not np.isfinite(rec["mu_high"]) else f" ≤ {rec['mu_high']:.2f}"
+                parts.append(
+                    f"{rec['axle']} axle: μ not observable — the data prove μ ≥ "
+                    f"{rec['mu_lower_bound']:.2f}{hi} (utilisation {rec['utilisation']:.2f})"
+                )
+        return "; ".join(parts)
+
+    def estimates(self) -> pd.DataFrame:
+        w = self.windows
+        if w is None or w.empty:
+            return pd.DataFrame(columns=ESTIMATE_COLUMNS)
+        mid = 0.5 * (w["t_start"].to_numpy(float) + w["t_end"].to_numpy(float))
+        ep = self.wheels.drop_duplicates("epoch").sort_values("t_s")
+        te, ee = ep["t_s"].to_numpy(float), ep["epoch"].to_numpy(int)
+        idx = np.clip(np.searchsorted(te, mid), 0, max(len(te) - 1, 0))
+        obs = w["observable"].to_numpy(bool)
+        sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * Z90)
+        return pd.DataFrame(
+            {
+                "unit": w["axle"].astype(str).to_numpy(),
+                "t_start": w["t_start"].to_numpy(float),
+                "t_end": w["t_end"].to_numpy(float),
+                "epoch": ee[idx] if len(ee) else np.zeros(len(w), int),
+                "observable": obs,
+                "mu": np.where(obs, w["mu"].to_numpy(float), np.nan),
+                "mu_sigma": np.where(obs, sig, np.nan),
+                "mu_lower_bound": w["mu_lower_bound"].to_numpy(float),
+                "utilisation": w["utilisation"].to_numpy(float),
+            },
+            columns=ESTIMATE_COLUMNS,
+        )
+
+    def unit_table(self) -> pd.DataFrame:
+        s = self.summary
+        return super().unit_table().assign(n_valid=s["n"].to_numpy() if "n" in s else np.nan)
+
+
+RESULT_TYPES: dict[str, type[FrictionResult]] = {
+    WheelFriction.unit: WheelFriction,
+    AxleFriction.unit: AxleFriction,
+}
+"""Result class per ``unit`` (recorded in a result folder's manifest)."""
+
+
+def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> pd.DataFrame:
+    """Per-wheel summary of a wheel table (see :class:`WheelFriction`).
+
+    The interval is the median of the valid samples' own 90 % intervals (μ ± 1.645 σ_μ), not a
+    standard error of the median: the dominant errors (heading offset, G, pressure shape) are
+    shared by all samples and do not average out. A μ is given only when at least
+    *min_valid_fraction* of the steady cornering samples are valid (see
+    :class:`~gripsense.estimate.friction.FrictionOptions`); ``observable`` says whether it was.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
+    min_valid_fraction : float
+        Fewest valid samples, as a fraction of the steady cornering ones, for a value [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per wheel.
+    """
+    rows = []
+    for wname, g in wheels.groupby("wheel", observed=True, sort=False):
+        ok = g["flag"] == "ok"
+        mu = g.loc[ok, "mu"]
+        sig = g.loc[ok, "mu_sigma"]
+        cornering = ~g["flag"].isin(NOT_STEADY_CORNERING)
+        util = g.loc[cornering, "utilisation"]
+        rec = {"wheel": str(wname), "n_total": len(g), "n_valid": int(ok.sum())}
+        n_corner = int(cornering.sum())
+        rec["valid_fraction"] = float(ok.sum() / n_corner) if n_corner else 0.0
+        rec["observable"] = bool(ok.any() and rec["valid_fraction"] >= min_valid_fraction)
+        if rec["observable"]:
+            m = float(mu.median())
+            lo = float((mu - Z90 * sig).median())
+            hi = float((mu + Z90 * sig).median())
+            rec.update(
+                mu=m,
+                mu_low=max(lo, 0.0),
+                mu_high=hi,
+                surface=str(surface_class_interval(max(lo, 0.0), hi)),
+            )
+        else:
+            rec.update(mu=np.nan, mu_low=np.nan, mu_high=np.nan, surface="undetermined")
+        rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
+        counts = g["flag"].value_counts()
+        for f in FLAGS:
+            rec[f"n_{f}"] = int(counts.get(f, 0))
+        rows.append(rec)
+    cols = [
+        "wheel",
+        "mu",
+        "mu_low",
+        "mu_high",
+        "surface",
+        "observable",
+        "n_valid",
+        "n_total",
+        "valid_fraction",
+        "mu_lower_bound",
+        *[f"n_{f}" for f in FLAGS],
+    ]
+    return pd.DataFrame(rows, columns=cols)
+
+
+def summarize_axles(summary: pd.DataFrame) -> pd.DataFrame:
+    """The per-axle summary of :func:`gripsense.estimate.axle_window.estimate_windows` with
+    the Table-4 surface class of each observable axle's interval.
+
+    Parameters
+    ----------
+    summary : pandas.DataFrame
+        Per-axle summary.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The same with a ``surface`` column.
+    """
+    s = summary.copy()
+    if len(s) and "mu_low" in s:
+        s["surface"] = [
+            str(surface_class_interval(lo, hi)) if obs else "undetermined"
+            for lo, hi, obs in zip(s["mu_low"], s["mu_high"], s["observable"], strict=True)
+        ]
+    return s
+
+
+def read_result(folder: str | Path) -> FrictionResult:
+    """A friction result back from its folder (``gripsense friction -o``).
+
+    Parameters
+    ----------
+    folder : str or Path
+        Result folder.
+
+    Returns
+    -------
+    WheelFriction or AxleFriction
+        The kind recorded in the folder; only the files its manifest lists are read.
+    """
+    folder = Path(folder)
+    if read_manifest(folder) is None and (folder / "summary.json").is_file():
+        return _read_legacy(folder)
+    rf = read_result_folder(folder, RESULT_KIND)
+    kind = rf.manifest.get("result")
+    if kind not in RESULT_TYPES:
+        raise InputError(f"{folder}: unknown friction result kind {kind!r}")
+    doc = rf.documents.get("summary", {})
+    vehicle = None
+    if "vehicle.toml" in rf.files:
+        vehicle = Vehicle.from_toml(rf.files["vehicle.toml"])
+    kw = {}
+    if kind == AxleFriction.unit:
+        kw["windows"] = rf.tables.get("windows", pd.DataFrame())
+    return RESULT_TYPES[kind](
+        wheels=rf.tables["wheels"],
+        summary=_summary_frame(doc.get(f"{kind}s", [])),
+        meta=doc.get("meta", {}),
+        epochs=rf.tables.get("epochs"),
+        ingest=rf.documents.get("ingest"),
+        vehicle=vehicle,
+        **kw,
+    )
+
+
+def _summary_frame(records: list[dict]) -> pd.DataFrame:
+    s = pd.DataFrame(records)
+    for col in ("mu", "mu_low", "mu_high", "mu_lower_bound"):
+        if col in s:
+            s[col] = pd.to_numeric(s[col], errors="coerce").astype(float)
+    return s
+
+
+def _read_legacy(folder: Path) -> FrictionResult:
+    """Folders written before result manifests existed: the summary says which kind."""
+    import json
+
+    doc = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    kind = AxleFriction.unit if "axles" in doc else WheelFriction.unit
+    if not (folder / "wheels.parquet").is_file():
+        raise InputError(f"{folder}: not a result folder (no wheels.parquet)")
+    kw = {}
+    if kind == AxleFriction.unit and (folder / "windows.parquet").is_file():
+        kw["windows"] = pd.read_parquet(folder / "windows.parquet")
+    ingest = folder / "ingest.json"
+    return RESULT_TYPES[kind](
+        wheels=pd.read_parquet(folder / "wheels.parquet"),
+        summary=_summary_frame(doc.get(f"{kind}s", [])),
+        meta=doc.get("meta", {}),
+        epochs=(
+            pd.read_parquet(folder / "epochs.parquet")
+            if (folder / "epochs.parquet").is_file()
+            else None
+        ),
+        ingest=json.loads(ingest.read_text(encoding="utf-8")) if ingest.is_file() else None,
+        vehicle=(
+            Vehicle.from_toml(folder / "vehicle.toml")
+            if (folder / "vehicle.toml").is_file()
+            else None
+        ),
+        **kw,
+    )

@@ -1,0 +1,93 @@
+"""Tyre fits from the friction pipeline's per-wheel table: seed 002 with a GNSS compass."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.identify.tyre_fit.mf61 import fit_mf61_lateral
+from gripsense.identify.tyre_fit.pac94 import fit_pac94
+from gripsense.identify.tyre_fit.result import TyreFit
+
+__all__ = ["FITTERS", "fit_from_wheel_table"]
+
+FITTERS = {"pac94": fit_pac94, "mf61": fit_mf61_lateral}
+"""Model name → fitter of scattered (α, γ, Fz, Fy) points."""
+
+
+def fit_from_wheel_table(
+    wheels: pd.DataFrame,
+    *,
+    model: str = "pac94",
+    constraints: str = "all",
+    wheel: str | None = None,
+    loss: str = "soft_l1",
+    **kwargs,
+) -> TyreFit:
+    """Fit from the friction pipeline's per-wheel table (seed 002 with a GNSS compass).
+
+    Uses ``slip_angle_rad``, ``load_N`` and ``force_N`` (lateral force estimated from vehicle
+    motion, ISO) of the rows with finite values and ``steady`` True; camber is not measured, so
+    γ = 0 and the camber coefficients come out flagged undetermined. ``force_sigma_N`` (when
+    present) weights the points.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        :attr:`gripsense.pipeline.FrictionResult.wheels`.
+    model : {"pac94", "mf61"}
+    constraints : str
+        Constraint set.
+    wheel : str, optional
+        One wheel (``front_left`` …) or an axle (``front``/``rear``); default all rows.
+    loss : str
+        Robust loss (default ``soft_l1``: motion-derived forces have outliers).
+    **kwargs
+        Passed to :func:`fit_pac94` / :func:`fit_mf61_lateral`.
+
+    Returns
+    -------
+    TyreFit
+        ``extra["rows_used"]`` and ``extra["rows_rejected"]`` (reason → count).
+    """
+    need = ("slip_angle_rad", "load_N", "force_N")
+    missing = [c for c in need if c not in wheels.columns]
+    if missing:
+        raise InputError(
+            f"wheel table: missing column {missing[0]!r}; give the wheels table "
+            "of `gripsense friction -o DIR` (wheels.parquet)"
+        )
+    t = wheels
+    if wheel is not None:
+        sel = t["wheel"].astype(str)
+        t = t[(sel == wheel) | sel.str.startswith(wheel + "_")]
+        if t.empty:
+            raise InputError(f"wheel table: no rows for wheel/axle {wheel!r}")
+    rejected: dict[str, int] = {}
+    ok = np.ones(len(t), bool)
+    if "steady" in t.columns:
+        m = ~t["steady"].fillna(False).to_numpy(bool)
+        rejected["not_steady"] = int(m.sum())
+        ok &= ~m
+    vals = t[list(need)].to_numpy(float)
+    m = ~np.all(np.isfinite(vals), axis=1) & ok
+    rejected["not_finite"] = int(m.sum())
+    ok &= ~m
+    m = (vals[:, 1] <= 0) & ok
+    rejected["no_load"] = int(m.sum())
+    ok &= ~m
+    weights = None
+    if "force_sigma_N" in t.columns:
+        s = t["force_sigma_N"].to_numpy(float)[ok]
+        if np.all(np.isfinite(s) & (s > 0)):
+            weights = 1.0 / s**2
+    a, fz, fy = vals[ok, 0], vals[ok, 1], vals[ok, 2]
+    fitter = FITTERS.get(model)
+    if fitter is None:
+        raise InputError(f"model={model!r}; use pac94 or mf61")
+    fit = fitter(a, 0.0, fz, fy, constraints=constraints, loss=loss, weights=weights, **kwargs)
+    fit.extra.update(
+        {"rows_used": int(ok.sum()), "rows_rejected": {k: v for k, v in rejected.items() if v}}
+    )
+    return fit

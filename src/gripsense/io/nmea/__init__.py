@@ -1,0 +1,10 @@
+"""NMEA 0183 ingest: tokenizers, decoding, epoch assembly and line accounting.
+
+``read_nmea`` is the entry point; ``docs/ingest.md`` describes the sentences, the epoch table and
+the grouping rule.
+"""
+
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.reader import NmeaLog, read_nmea
+
+__all__ = ["IngestReport", "NmeaLog", "RejectedLine", "read_nmea"]

@@ -1,0 +1,316 @@
+"""Result folders: written atomically with a manifest, read back, never mixed with other files.
+
+A result folder holds tables (Parquet), JSON documents and copies of small inputs, plus
+``manifest.json``: the kind of result, the command, gripsense's version, the inputs with their
+SHA-256 and every file the folder's writer created. The manifest is written last, so a folder
+without one is incomplete (a killed run) and is never taken for a result.
+
+Rules (``docs/reliability.md``):
+
+* a new folder is written as a temporary sibling and renamed into place (atomic);
+* an existing folder is written into only if its manifest says it is gripsense's result of the
+  same kind **and** ``overwrite`` is set; then each file is replaced atomically, the files the
+  old manifest listed and the new one does not are deleted (nothing else), the manifest last;
+* a folder that exists and is not empty and is not a gripsense result is refused.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from gripsense.errors import InputError
+
+__all__ = [
+    "MANIFEST",
+    "ResultFolder",
+    "check_output_folder",
+    "file_sha256",
+    "read_manifest",
+    "read_result_folder",
+    "write_result_folder",
+]
+
+MANIFEST = "manifest.json"
+FORMAT = 1
+
+
+def file_sha256(path: str | Path) -> str:
+    """SHA-256 of a file, hex.
+
+    Parameters
+    ----------
+    path : str or Path
+        File to hash.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+    """
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def read_manifest(folder: str | Path) -> dict | None:
+    """The manifest of a gripsense result folder, or None when *folder* has none (or it is not
+    readable JSON).
+
+    Parameters
+    ----------
+    folder : str or Path
+        Folder to look into.
+
+    Returns
+    -------
+    dict or None
+        The manifest.
+    """
+    p = Path(folder) / MANIFEST
+    try:
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return doc if isinstance(doc, dict) and doc.get("gripsense_result") == FORMAT else None
+
+
+def check_output_folder(folder: str | Path, kind: str, *, overwrite: bool) -> None:
+    """Check before any work that *folder* may receive a result of *kind*.
+
+    Parameters
+    ----------
+    folder : str or Path
+        Output folder.
+    kind : str
+        Result kind (``"friction"``, ``"fleet"`` …).
+    overwrite : bool
+        Whether the user asked to replace an earlier result of the same kind.
+
+    Raises
+    ------
+    InputError
+        When the path is a file, the folder holds something that is not a gripsense result of
+        this kind, or holds one and *overwrite* is not set, or the parent cannot be written.
+    """
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{folder}: exists and is not a folder; give -o a folder path")
+    if folder.is_dir():
+        try:
+            entries = [p for p in folder.iterdir() if not p.name.startswith(".gripsense-")]
+        except PermissionError:
+            raise InputError(f"{folder}: permission denied (cannot list the folder)") from None
+        if entries:
+            man = read_manifest(folder)
+            if man is None:
+                raise InputError(
+                    f"{folder}: not empty and not a gripsense result folder; give -o a new or "
+                    "empty folder (gripsense never writes among files it did not create)"
+                )
+            if man.get("kind") != kind:
+                raise InputError(
+                    f"{folder}: holds a gripsense {man.get('kind')!r} result, not {kind!r}; "
+                    "give -o another folder"
+                )
+            if not overwrite:
+                raise InputError(
+                    f"{folder}: holds an earlier {kind} result; add --overwrite to replace it "
+                    "or give -o another folder"
+                )
+        parent = folder
+    else:
+        parent = folder.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            raise InputError(f"{folder}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{folder}: permission denied ({parent} is not writable)")
+
+
+@dataclass
+class ResultFolder:
+    """What a result folder holds once read back.
+
+    Attributes
+    ----------
+    path : Path
+        The folder.
+    manifest : dict
+        Its manifest (empty for folders written before manifests existed).
+    tables : dict
+        Name (file stem) → DataFrame, for every ``.parquet`` file listed.
+    documents : dict
+        Name (file stem) → parsed JSON, for every ``.json`` file listed (not the manifest).
+    files : dict
+        Name (file name) → Path, for every other file listed.
+    """
+
+    path: Path
+    manifest: dict
+    tables: dict[str, pd.DataFrame] = field(default_factory=dict)
+    documents: dict[str, object] = field(default_factory=dict)
+    files: dict[str, Path] = field(default_factory=dict)
+
+
+def write_result_folder(
+    folder: str | Path,
+    kind: str,
+    *,
+    tables: dict[str, pd.DataFrame] | None = None,
+    documents: dict[str, object] | None = None,
+    copies: dict[str, str | Path] | None = None,
+    inputs: list[str | Path] | None = None,
+    command: str = "",
+    extra: dict | None = None,
+    overwrite: bool = False,
+) -> dict[str, Path]:
+    """Write a result folder atomically (see the module documentation).
+
+    Parameters
+    ----------
+    folder : str or Path
+        Output folder.
+    kind : str
+        Result kind, recorded in the manifest and checked on reuse.
+    tables : dict, optional
+        File stem → DataFrame, written as ``<stem>.parquet``.
+    documents : dict, optional
+        File stem → JSON-ready object, written as ``<stem>.json``.
+    copies : dict, optional
+        File name → source path, copied byte for byte (e.g. the vehicle file).
+    inputs : list, optional
+        Input files, recorded with their size and SHA-256.
+    command : str
+        The command line or call that made the result.
+    extra : dict, optional
+        More manifest entries (e.g. ``{"result": "axle"}``).
+    overwrite : bool
+        Replace an earlier result of the same kind in *folder*.
+
+    Returns
+    -------
+    dict
+        Name (stem, or file name for copies) → path of every file written, plus ``manifest``.
+    """
+    from gripsense._version import __version__
+
+    folder = Path(folder)
+    check_output_folder(folder, kind, overwrite=overwrite)
+    tables, documents, copies = tables or {}, documents or {}, copies or {}
+    parent = folder.parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".gripsense-{folder.name}-", dir=parent))
+    except OSError as e:
+        raise InputError(f"{folder}: cannot create the output folder ({e.strerror or e})") from None
+    written: dict[str, str] = {}
+    try:
+        for stem, df in tables.items():
+            df.to_parquet(tmp / f"{stem}.parquet", index=False)
+            written[stem] = f"{stem}.parquet"
+        for stem, doc in documents.items():
+            (tmp / f"{stem}.json").write_text(
+                json.dumps(doc, indent=2, default=str) + "\n", encoding="utf-8"
+            )
+            written[stem] = f"{stem}.json"
+        for name, src in copies.items():
+            shutil.copyfile(src, tmp / name)
+            written[name] = name
+        manifest = {
+            "gripsense_result": FORMAT,
+            "kind": kind,
+            "gripsense_version": __version__,
+            "command": command,
+            "inputs": [_describe_input(p) for p in inputs or []],
+            "files": sorted(written.values()),
+            **(extra or {}),
+        }
+        (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+        _install(tmp, folder)
+    except OSError as e:
+        raise InputError(f"{folder}: cannot write the result ({e.strerror or e})") from None
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    out = {k: folder / v for k, v in written.items()}
+    out["manifest"] = folder / MANIFEST
+    return out
+
+
+def _describe_input(p: str | Path) -> dict:
+    p = Path(p)
+    if not p.is_file():
+        return {"path": str(p)}
+    return {"path": str(p), "bytes": p.stat().st_size, "sha256": file_sha256(p)}
+
+
+def _install(tmp: Path, folder: Path) -> None:
+    """Move the finished files of *tmp* into *folder*: a rename of the whole folder when it does
+    not exist yet, else file by file with the old manifest's leftovers removed."""
+    if not folder.exists():
+        os.rename(tmp, folder)
+        tmp.mkdir()  # so that the caller's cleanup has something to remove
+        return
+    old = read_manifest(folder) or {}
+    new = json.loads((tmp / MANIFEST).read_text(encoding="utf-8"))
+    (folder / MANIFEST).unlink(missing_ok=True)  # incomplete from here until the new manifest
+    for name in new["files"]:
+        os.replace(tmp / name, folder / name)
+    for name in set(old.get("files", [])) - set(new["files"]):
+        target = folder / name
+        if target.is_file() and target.parent == folder:
+            target.unlink()
+    os.replace(tmp / MANIFEST, folder / MANIFEST)
+
+
+def read_result_folder(folder: str | Path, kind: str | None = None) -> ResultFolder:
+    """Read back what :func:`write_result_folder` wrote.
+
+    Parameters
+    ----------
+    folder : str or Path
+        Result folder.
+    kind : str, optional
+        Expected kind; an error names the difference.
+
+    Returns
+    -------
+    ResultFolder
+        Manifest, tables, documents and other files.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError(f"{folder}: no such result folder")
+    man = read_manifest(folder)
+    if man is None:
+        raise InputError(
+            f"{folder}: not a result folder of gripsense (no {MANIFEST}: not written by "
+            "gripsense, or a run stopped before it finished)"
+        )
+    if kind is not None and man.get("kind") != kind:
+        raise InputError(f"{folder}: holds a {man.get('kind')!r} result, not {kind!r}")
+    res = ResultFolder(path=folder, manifest=man)
+    for name in man.get("files", []):
+        p = folder / name
+        if not p.is_file():
+            raise InputError(f"{folder}: {name} is listed in the manifest but missing")
+        try:
+            if name.endswith(".parquet"):
+                res.tables[name[: -len(".parquet")]] = pd.read_parquet(p)
+            elif name.endswith(".json"):
+                res.documents[name[: -len(".json")]] = json.loads(p.read_text(encoding="utf-8"))
+            else:
+                res.files[name] = p
+        except (OSError, ValueError) as e:
+            raise InputError(f"{p}: cannot be read back ({e})") from None
+    return res
