@@ -86,7 +86,8 @@ def write_demo_report(
     df: pd.DataFrame, folder: Path | None, path: Path, *, case: str = "case022"
 ) -> Path:
     """The demo's HTML report: estimate vs truth for every case, then the full report of one
-    near-limit drive (*case*)."""
+    near-limit drive (*case*).
+    """
     import html
 
     import matplotlib.pyplot as plt

@@ -1,4 +1,4 @@
-"""Braking μ = a/g (PHYSICS.md §7) on synthetic and simulated traces."""
+"""Braking μ = a/g (docs/physics.md §7) on synthetic and simulated traces."""
 
 from __future__ import annotations
 
@@ -44,7 +44,7 @@ def test_synthetic_traces(mu):
     res = estimate_braking(trace(mu, seed=int(mu * 10)))
     assert len(res.events) == 1
     assert res.mu == pytest.approx(mu, abs=0.03)
-    # a naive mean of all negative samples is far off when the stop is short (PHYSICS §7)
+    # a naive mean of all negative samples is far off when the stop is short (docs/physics.md §7)
     if mu >= 0.5:
         tr = trace(mu, seed=1)
         assert abs(-tr.loc[tr["ax"] < 0, "ax"].mean() / G0 - mu) > 0.1
@@ -102,7 +102,7 @@ def test_errors(tmp_path):
 
 
 def test_cli(tmp_path):
-    from tests.test_cli import run
+    from tests.cli.test_commands import run
 
     tr = trace(0.7, seed=9)
     f = tmp_path / "acc.csv"

@@ -114,7 +114,7 @@ def test_heading_offset_calibrated_on_straights():
     assert "straight driving (100 samples)" in res.meta["heading_offset_source"]
     rl = res.wheels.query("wheel == 'rear_left' and flag == 'ok'")
     np.testing.assert_allclose(rl["mu"], 0.5, rtol=1e-6)
-    # without calibration the 1° offset ruins the estimate (PHYSICS §1.4)
+    # without calibration the 1° offset ruins the estimate (docs/physics.md §1.4)
     bad = _run(both).wheels.query("wheel == 'rear_left' and flag == 'ok'")
     assert bad.empty or not np.allclose(bad["mu"], 0.5, rtol=0.05)
 

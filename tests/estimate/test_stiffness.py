@@ -36,7 +36,7 @@ def test_linear_range_recovers_g():
 
 
 def test_biased_low_near_the_limit():
-    """PHYSICS §6: with partial sliding F/tanβ = C(1 − θ + θ²/3) < C."""
+    """docs/physics.md §6: with partial sliding F/tanβ = C(1 − θ + θ²/3) < C."""
     lin = tread_stiffness(_wheels(20, 40), VEH)["G"].mean()
     high = tread_stiffness(_wheels(50, 30), VEH)
     assert high["near_limit"].all()
@@ -58,7 +58,7 @@ def test_g_sweep_thesis_criteria(tmp_path):
 
 
 def test_cli(tmp_path):
-    from tests.test_cli import run
+    from tests.cli.test_commands import run
 
     log = tmp_path / "c.nmea"
     m = M.circle(30 / 3.6, 30, laps=1.0, params=P)

@@ -129,7 +129,7 @@ def test_map_page_in_headless_chromium(fleet_run, tmp_path):
 
 
 def test_cli(fleet_logs):
-    from tests.test_cli import run
+    from tests.cli.test_commands import run
 
     out = fleet_logs / "cli"
     r = run(

@@ -72,7 +72,7 @@ def test_recovers_known_cs_and_ks_from_noisy_tests(cs, ks):
 
 
 def test_eq7_with_ln_reproduces_table_4_3():
-    """PHYSICS §9.3: a ln(70) + b with Table 4.2's a, b gives Table 4.3 within the rounding."""
+    """docs/physics.md §9.3: a ln(70) + b with Table 4.2's a, b gives Table 4.3 within rounding."""
     table = {(59.8, -169): 85.5, (60.6, -171): 85.9, (60.1, -169): 86.1, (59.7, -167): 86.5}
     rates = np.array([40.0, 55.0, 70.0, 85.0, 100.0])
     for (a, b), expect in table.items():

@@ -69,7 +69,7 @@ def test_left_turn_sign(with_rot):
 
 
 def test_rot_unit_trap():
-    # 0.2778 rad/s is 955 deg/min (PHYSICS.md section 3.2)
+    # 0.2778 rad/s is 955 deg/min (docs/physics.md section 3.2)
     ep = read_nmea(
         [
             sentence("GPRMC,120000.00,A,3500.0,N,13500.0,E,1.0,0.0,010120,,,A"),

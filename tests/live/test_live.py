@@ -20,7 +20,7 @@ import pytest
 import gripsense
 from gripsense.io import read_nmea
 from gripsense.live import LiveIngest, SerialSource, TcpSource, run_live
-from tests.test_cli import EXE
+from tests.cli.test_commands import EXE
 
 DATA = Path(gripsense.__file__).parent / "data"
 GPSD = Path(__file__).parents[1] / "data" / "gpsd"

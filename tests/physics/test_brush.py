@@ -1,6 +1,6 @@
 """Brush inversion: published worked numbers, round trips, limits, input types.
 
-Reference numbers: PHYSICS.md §1.4 tables (computed there independently with the exact model)
+Reference numbers: docs/physics.md §1.4 tables (computed there independently with the exact model)
 and §2.5 (model dependence); seed 000 eq. (4.15).
 """
 
@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 from gripsense.physics import brush
 
 G0 = 9.80665
-# PHYSICS.md §1.4 example: m = 240 kg, l = 0.134 m, w = 0.185 m, v = 25 km/h, R = 25 m
+# docs/physics.md §1.4 example: m = 240 kg, l = 0.134 m, w = 0.185 m, v = 25 km/h, R = 25 m
 M, L, W = 240.0, 0.134, 0.185
 FZ = M * G0
 F = M * (25 / 3.6) ** 2 / 25.0
@@ -89,7 +89,7 @@ def test_physics_worked_table_g1e7(row):
 
 
 def test_model_dependence_physics_2_5():
-    """Data from the exact P4 model (μ = 0.9, θ = 0.0765) read by other models (PHYSICS §2.5)."""
+    """Data from the exact P4 model (μ = 0.9, θ = 0.0765) read by other models (physics §2.5)."""
     C = brush.cornering_stiffness(5e7, W, L)
 
     def resid(b):
@@ -103,7 +103,7 @@ def test_model_dependence_physics_2_5():
         pytest.approx(0.943, abs=2e-3)
     )
     k = brush.kappa_beta(F, b, FZ, C, pressure="quartic")
-    assert k == pytest.approx(-17.7, abs=0.1)  # PHYSICS §2.3: worse than P2's −11.4
+    assert k == pytest.approx(-17.7, abs=0.1)  # docs/physics.md §2.3: worse than P2's −11.4
 
 
 @pytest.mark.parametrize(

@@ -1,5 +1,5 @@
 """The brush-model closed forms, derived here with sympy from the pressure distributions and
-compared with gripsense's code at random points (PHYSICS.md §1.1–§1.4, §2.1–§2.3; seed 000
+compared with gripsense's code at random points (docs/physics.md §1.1–§1.4, §2.1–§2.3; seed 000
 eqs. 4.8–4.16, 10.2–10.3). Nothing below is copied from the code under test."""
 
 from __future__ import annotations

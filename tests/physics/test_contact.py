@@ -1,4 +1,4 @@
-"""Pressure distributions, the l–m model and its fit to the thesis's Table 18 (PHYSICS.md §5)."""
+"""Pressure distributions, the l–m model and its fit to the thesis's Table 18 (physics §5)."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def test_pressure_peaks_and_gradients():
 
 
 def test_table18_fit_physics_5():
-    """PHYSICS.md §5: all 15 rows -> a = 0.010398, b = −1.0172e-4, R² 0.9953, RMSE 0.286 cm."""
+    """docs/physics.md §5: all 15 rows -> a = 0.010398, b = −1.0172e-4, R² 0.9953, RMSE 0.286 cm."""
     t = pd.read_csv(sample_path("thesis_table18.csv"), comment="#")
     assert len(t) == 15
     p, s = fit_contact_length(t["mass_kg"], t["length_m"])

@@ -1,4 +1,4 @@
-"""Antenna-to-wheel kinematics against hand-computed rigid-body cases (PHYSICS.md §3)."""
+"""Antenna-to-wheel kinematics against hand-computed rigid-body cases (docs/physics.md §3)."""
 
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def test_left_turn_antenna_ahead_of_rear_axle():
 
 
 def test_thesis_sign_trap_size():
-    """A wrong l_x sign shifts the rear slip by 2 l_x / R: 3.48° at R = 25 m (PHYSICS §3.2)."""
+    """A wrong l_x sign shifts the rear slip by 2 l_x / R: 3.48° at R = 25 m (physics §3.2)."""
     R, l_x, v = 25.0, 0.76, 10.0
     r = v / R
     right = K.slip_angle(*K.point_velocity(v, 0.0, r, -l_x, 0.0))

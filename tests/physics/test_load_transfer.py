@@ -1,4 +1,4 @@
-"""Load transfer (PHYSICS.md §4.2–§4.4; seed 000 eqs. 6.19–6.22)."""
+"""Load transfer (docs/physics.md §4.2–§4.4; seed 000 eqs. 6.19–6.22)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def test_rigid_and_equal_split_special_cases():
     assert rigid[1] == pytest.approx(480 * ay * h / 1.45)
     same = LT.lateral_load_transfer(ay, m, h, masses, tracks, (0.1, 0.1), 0.6)
     assert same[1] == pytest.approx(480 * ay * h / 1.45)
-    # equal splits but different roll-centre heights: an extra term (PHYSICS §4.2)
+    # equal splits but different roll-centre heights: an extra term (docs/physics.md §4.2)
     diff = LT.lateral_load_transfer(ay, m, h, masses, tracks, (0.05, 0.15), 0.6)
     assert diff[1] != pytest.approx(480 * ay * h / 1.45)
 
@@ -51,6 +51,6 @@ def test_wheel_loads_and_axle_force():
     assert left + right == pytest.approx(480 * 9.80665)
     assert right - left == pytest.approx(2 * 631.0)
     assert LT.axle_lateral_force(480.0, 1.929) == pytest.approx(925.92)
-    # steady state: rear-axle force = m a_y l_f / L (PHYSICS §4.4)
+    # steady state: rear-axle force = m a_y l_f / L (docs/physics.md §4.4)
     m, lf, L, ay = 1200.0, 1.04, 2.6, 3.0
     assert LT.axle_lateral_force(m * lf / L, ay) == pytest.approx(m * ay * lf / L)

@@ -90,7 +90,7 @@ def test_closed_form_slope_and_peak():
 
 
 def test_variants_agree_without_non_camber_shifts():
-    """a8 = a9 = a10 = a11 = a12 = 0: the two Sh/Sv forms are the same function (PHYSICS §8.1)."""
+    """a8 = a9 = a10 = a11 = a12 = 0: the two Sh/Sv forms are the same function (physics §8.1)."""
     a = A_TYPICAL.copy()
     a[[8, 9, 10, 11, 12]] = 0
     al = np.linspace(-0.2, 0.2, 41)

@@ -101,7 +101,7 @@ def test_demo_report_in_browser(tmp_path):
 
 
 def test_report_command_round_trip(tmp_path):
-    from tests.test_cli import _circle_nmea, run
+    from tests.cli.test_commands import _circle_nmea, run
 
     log = tmp_path / "c.nmea"
     _circle_nmea(log)

@@ -23,7 +23,7 @@ def car():
 
 
 def test_descriptor_is_regular_with_the_closed_form_determinant(car):
-    """PHYSICS §9.2: det M = m I I_s I_h Π K_i / (V³ k_y⁴) (release), without I_h for the step."""
+    """Physics §9.2: det M = m I I_s I_h Π K_i / (V³ k_y⁴) (release); no I_h for the step."""
     kf, kr = car.cornering_stiffness_front_N_per_rad, car.cornering_stiffness_rear_N_per_rad
     base = (
         car.mass_kg

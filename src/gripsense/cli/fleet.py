@@ -39,7 +39,8 @@ def fleet(
     logs_per_task: Annotated[int, typer.Option(help="Logs per Dask task")] = 4,
 ) -> None:
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
-    bucket (cells.parquet, cells.geojson) and an offline map page (map.html)."""
+    bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
+    """
     from gripsense.fleet import run_fleet
 
     try:

@@ -270,7 +270,7 @@ def stiffness(
             f"(all rows: {tab['G'].mean():.3g})"
         )
     else:
-        console.print("every condition is near the limit: G is biased low there (PHYSICS §6)")
+        console.print("every condition is near the limit: G is biased low there (physics §6)")
     for name, i, sw in sweeps:
         console.print(f"G sweep {name} condition {i}: chosen {sw.chosen:.3g} N/m³ — {sw.reason}")
     if outdir:

@@ -33,7 +33,8 @@ def live(
     ] = None,
 ) -> None:
     """Read NMEA as it arrives (serial, TCP or replay), update μ continuously, show and record
-    it; Ctrl-C (SIGINT) or SIGTERM stops cleanly."""
+    it; Ctrl-C (SIGINT) or SIGTERM stops cleanly.
+    """
     from gripsense.live import ReplaySource, SerialSource, TcpSource, run_live
     from gripsense.live import recover as do_recover
     from gripsense.live.display import LiveDisplay, render

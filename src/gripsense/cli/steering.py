@@ -76,7 +76,8 @@ def identify(
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output folder")] = None,
 ) -> None:
     """Identify kingpin damping C_s and steering stiffness k_s (k_s2) by alternating the
-    settling-time and yaw-gain inversions to a fixed point."""
+    settling-time and yaw-gain inversions to a fixed point.
+    """
     from dataclasses import replace
 
     from gripsense.config import SteeringCar

@@ -1,5 +1,6 @@
 """The seed-003 car and steering system: parameters only (the model is
-:mod:`gripsense.sim.steering`, the identification :mod:`gripsense.identify.steering`)."""
+:mod:`gripsense.sim.steering`, the identification :mod:`gripsense.identify.steering`).
+"""
 
 from __future__ import annotations
 
@@ -28,9 +29,9 @@ class SteeringCar:
     kingpin_inertia_kgm2 : float
         I_s: both steered wheels and knuckles about their kingpins.
     kingpin_damping_Nms : float
-        C_s: equivalent viscous friction about the kingpins [N·m·s/rad].
+        C_s: equivalent viscous friction about the kingpins [N m s/rad].
     ks1_Nm_per_rad : float
-        k_s1: steering stiffness computable from drawings [N·m/rad].
+        k_s1: steering stiffness computable from drawings [N m/rad].
     ks2_Nm_per_rad : float
         k_s2: the part that is not (joints, play); ``inf`` for rigid.
     trail_m : float
@@ -73,34 +74,52 @@ class SteeringCar:
 
     @property
     def ks(self) -> float:
-        """Series stiffness k_s = k_s1 k_s2/(k_s1 + k_s2) (eq. 6) [N·m/rad]."""
+        """Series stiffness k_s = k_s1 k_s2/(k_s1 + k_s2) (eq. 6) [N m/rad]."""
         k1, k2 = self.ks1_Nm_per_rad, self.ks2_Nm_per_rad
         return k1 if math.isinf(k2) else k1 * k2 / (k1 + k2)
 
     @property
     def ih(self) -> float:
-        """Steering-wheel inertia referred to the kingpin, I_sw N² [kg·m²]."""
+        """Steering-wheel inertia referred to the kingpin, I_sw N² [kg m^2]."""
         return self.wheel_inertia_kgm2 * self.steering_ratio**2
 
     @property
     def ch(self) -> float:
-        """Steering-wheel damping referred to the kingpin, C_h N² [N·m·s/rad]."""
+        """Steering-wheel damping referred to the kingpin, C_h N² [N m s/rad]."""
         return self.wheel_damping_Nms * self.steering_ratio**2
 
     def with_ks(self, ks: float) -> SteeringCar:
-        """The same car with total stiffness ``ks`` (k_s2 from eq. 6; ``inf`` when ks ≥ k_s1)."""
+        """The same car with total stiffness ``ks`` (k_s2 from eq. 6; ``inf`` when ks ≥ k_s1).
+
+        Parameters
+        ----------
+        ks : float
+            Total steering stiffness k_s [N m/rad].
+        """
         k1 = self.ks1_Nm_per_rad
         k2 = math.inf if ks >= k1 else ks * k1 / (k1 - ks)
         return replace(self, ks2_Nm_per_rad=k2)
 
     def with_cs(self, cs: float) -> SteeringCar:
-        """The same car with kingpin damping ``cs``."""
+        """The same car with kingpin damping ``cs``.
+
+        Parameters
+        ----------
+        cs : float
+            Kingpin damping C_s [N m s/rad].
+        """
         return replace(self, kingpin_damping_Nms=float(cs))
 
     @classmethod
     def from_toml(cls, path: str | Path) -> SteeringCar:
         """Read ``[car]``, ``[steering]``, ``[tyre]`` and ``[test]`` tables (see
-        ``gripsense/data/of18_steering.toml``); errors name the file, table and key."""
+        ``gripsense/data/of18_steering.toml``); errors name the file, table and key.
+
+        Parameters
+        ----------
+        path : str or Path
+            Car file with [car], [steering], [tyre] and [test] tables.
+        """
         r = TomlReader(read_toml(path, "steering car file"), str(path))
         car, st, ty, te = (r.table(n, True) for n in ("car", "steering", "tyre", "test"))
         ks2 = r.num(st, "steering", "ks2_Nm_per_rad", unit="N·m/rad", positive=True, required=False)

@@ -17,9 +17,11 @@ class TomlReader:
         self.source = source
 
     def fail(self, table: str, key: str, msg: str):
+        """Raise an InputError naming the file, table and key."""
         raise InputError(f"{self.source}: [{table}] {key}: {msg}")
 
     def table(self, name: str, required: bool) -> dict:
+        """The table *name* (empty when optional and absent)."""
         t = self.doc.get(name)
         if t is None:
             if required:
@@ -39,6 +41,7 @@ class TomlReader:
         positive: bool = False,
         required: bool = True,
     ) -> float | None:
+        """A number of table *t* (None when optional and absent); errors name the unit."""
         if key not in t:
             if required:
                 self.fail(table, key, f"missing [{unit}]")

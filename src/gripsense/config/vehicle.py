@@ -13,7 +13,7 @@ TOML layout (units are in the key names; see ``gripsense/data/corolla_thesis.tom
     cg_height_m = 0.55
     track_front_m = 1.50
     track_rear_m = 1.50
-    roll_stiffness_front_fraction = 0.6      # optional (PHYSICS.md §4.2)
+    roll_stiffness_front_fraction = 0.6      # optional (docs/physics.md §4.2)
     roll_centre_height_front_m = 0.05        # optional, both or neither
     roll_centre_height_rear_m = 0.10
     steering_ratio = 15.0                    # optional: steering-wheel angle / road-wheel angle
@@ -79,14 +79,26 @@ class Tyre:
     pressure: str = "parabolic"
 
     def contact_length(self, mass_kg) -> np.ndarray:
-        """Contact length [m] for the mass the wheel carries [kg]."""
+        """Contact length [m] for the mass the wheel carries [kg].
+
+        Parameters
+        ----------
+        mass_kg : array_like
+            Mass the wheel carries, Fz/g [kg].
+        """
         m = np.asarray(mass_kg, dtype=float)
         if self.contact_length_m is not None:
             return np.full(m.shape, self.contact_length_m)
         return np.asarray(contact_length_lm(m, self.contact_a, self.contact_b), dtype=float)
 
     def cornering_stiffness(self, length_m) -> np.ndarray:
-        """C [N/rad]: the given value, or G w l²/2 (seed 000 eq. 9.1)."""
+        """C [N/rad]: the given value, or G w l²/2 (seed 000 eq. 9.1).
+
+        Parameters
+        ----------
+        length_m : array_like
+            Contact length [m].
+        """
         length = np.asarray(length_m, dtype=float)
         if self.cornering_stiffness_N_per_rad is not None:
             return np.full(length.shape, self.cornering_stiffness_N_per_rad)
@@ -118,6 +130,8 @@ class Vehicle:
     name : str
     source : str
         Where the description came from (file path).
+    notes : dict
+        Free-form notes kept with the description.
     """
 
     mass_kg: float
@@ -144,11 +158,23 @@ class Vehicle:
         return self.mass_kg * f, self.mass_kg * (1.0 - f)
 
     def track(self, axle: str) -> float:
+        """Track width of an axle (``front`` or ``rear``) [m].
+
+        Parameters
+        ----------
+        axle : str
+            ``front`` or ``rear``.
+        """
         return self.track_front_m if axle == "front" else self.track_rear_m
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Vehicle:
         """Read and validate a vehicle description.
+
+        Parameters
+        ----------
+        path : str or Path
+            Vehicle file (TOML).
 
         Raises
         ------
@@ -159,7 +185,15 @@ class Vehicle:
 
     @classmethod
     def from_dict(cls, doc: dict, *, source: str = "<dict>") -> Vehicle:
-        """Build from a parsed TOML document (see :meth:`from_toml`)."""
+        """Build from a parsed TOML document (see :meth:`from_toml`).
+
+        Parameters
+        ----------
+        doc : dict
+            Parsed TOML document.
+        source : str
+            Where it came from, for messages.
+        """
         r = TomlReader(doc, source)
         veh = r.table("vehicle", required=True)
         mass = r.num(veh, "vehicle", "mass_kg", positive=True, unit="kg")

@@ -1,6 +1,55 @@
-"""Estimators: combine physics functions over tables; results carry validity flags."""
+"""Estimators: combine physics functions over tables; results carry validity flags and honest
+uncertainty (``docs/friction.md``).
+"""
 
-from gripsense.estimate.friction import FLAGS, METHODS, FrictionOptions
-from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.axle_window import (
+    OnlineAxleWindow,
+    WindowOptions,
+    axle_samples,
+    estimate_windows,
+)
+from gripsense.estimate.braking import BrakingResult, estimate_braking
+from gripsense.estimate.conditions import condition_table, conditions
+from gripsense.estimate.friction import (
+    FLAGS,
+    METHODS,
+    NOT_STEADY_CORNERING,
+    FrictionOptions,
+    friction_from_motion,
+    motion_from_epochs,
+)
+from gripsense.estimate.noise import RECEIVERS, NoiseModel, receiver_noise
+from gripsense.estimate.results import (
+    AxleFriction,
+    FrictionResult,
+    WheelFriction,
+    read_result,
+)
+from gripsense.estimate.stiffness import GSweep, g_sweep, tread_stiffness
 
-__all__ = ["FLAGS", "METHODS", "FrictionOptions", "NoiseModel"]
+__all__ = [
+    "FLAGS",
+    "METHODS",
+    "NOT_STEADY_CORNERING",
+    "RECEIVERS",
+    "AxleFriction",
+    "BrakingResult",
+    "FrictionOptions",
+    "FrictionResult",
+    "GSweep",
+    "NoiseModel",
+    "OnlineAxleWindow",
+    "WheelFriction",
+    "WindowOptions",
+    "axle_samples",
+    "condition_table",
+    "conditions",
+    "estimate_braking",
+    "estimate_windows",
+    "friction_from_motion",
+    "g_sweep",
+    "motion_from_epochs",
+    "read_result",
+    "receiver_noise",
+    "tread_stiffness",
+]

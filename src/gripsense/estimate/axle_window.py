@@ -1,11 +1,11 @@
 """``axle-window``: friction per axle over windows, with calibrated intervals and abstention.
 
 Why: at everyday lateral acceleration the whole difference between μ = 0.9 and μ = ∞ lies in a
-few hundredths of a degree of slip angle (PHYSICS.md §1.4), and the compass heading carries
+few hundredths of a degree of slip angle (docs/physics.md §1.4), and the compass heading carries
 errors of tenths of a degree that do not average out (mounting offset, multipath). A per-sample
 formula cannot know that; this estimator does.
 
-Model, for one axle and one steady window (PHYSICS.md §4.4, §1.2, §2.3):
+Model, for one axle and one steady window (docs/physics.md §4.4, §1.2, §2.3):
 
     F̄ = m_axle · ā_y = Σ_{L,R} −sign(ᾱ'_i) F_brush(μ, |ᾱ'_i|, F̄z_i, s_C · C̄_i) + e
     ᾱ'_i = ᾱ_i − δψ
@@ -262,6 +262,13 @@ def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
     (:func:`gripsense.estimate.friction.friction_from_motion`).
 
     Samples with both wheels present, steady cornering above the speed gate and finite inputs.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table.
+    axle : str
+        ``front`` or ``rear``.
     """
     lname, rname = f"{axle}_left", f"{axle}_right"
     cols = [
@@ -269,7 +276,7 @@ def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
         "t_s",
         "slip_angle_rad",
         "load_N",
-        "cornering_stiffness_Nprad",
+        "cornering_stiffness_N_per_rad",
         "force_N",
         "force_sigma_N",
         "slip_sigma_rad",
@@ -291,8 +298,8 @@ def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
         "aR": b["slip_angle_rad_R"].to_numpy(float),
         "fzL": fzl,
         "fzR": fzr,
-        "cL": b["cornering_stiffness_Nprad_L"].to_numpy(float),
-        "cR": b["cornering_stiffness_Nprad_R"].to_numpy(float),
+        "cL": b["cornering_stiffness_N_per_rad_L"].to_numpy(float),
+        "cR": b["cornering_stiffness_N_per_rad_R"].to_numpy(float),
         "F": F,
         "sF": (b["force_sigma_N_L"] + b["force_sigma_N_R"]).to_numpy(float),
         "sa": 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float),
@@ -310,7 +317,8 @@ _MEAN_KEYS = ("aL", "aR", "fzL", "fzR", "cL", "cR", "F", "dfz")
 
 def window_mean(x: dict, axle_force_rel: float = 0.0) -> dict:
     """One super-sample from a window's samples: means, white variances divided by n, plus
-    the systematic axle-force model error (not divided)."""
+    the systematic axle-force model error (not divided).
+    """
     n = x["F"].size
     out = {k: np.array([x[k].mean()]) for k in _MEAN_KEYS}
     out["sa"] = np.array([np.sqrt(np.mean(x["sa"] ** 2) / n)])
@@ -343,7 +351,7 @@ def estimate_windows(
         (95th percentile of |F_axle|/Fz_axle), ``mu`` (NaN unless ``observable``), ``mu_low``,
         ``mu_high`` (inf when unbounded), ``mu_lower_bound``, ``observable``,
         ``stiffness_scale`` with ``_low``/``_high`` (× the nominal C), ``heading_bias_deg``,
-        ``cornering_stiffness_Nprad`` (estimated, mean over the window's wheels).
+        ``cornering_stiffness_N_per_rad`` (estimated, mean over the window's wheels).
     summary : pandas.DataFrame
         One row per axle: the same quantities from all usable samples, combined over disjoint
         segments of ``segment_s`` each with its own heading bias.
@@ -420,7 +428,7 @@ def _row(axle: str, w: dict, est: dict, t0: float, t1: float) -> dict:
         "n": int(w["F"].size),
         "utilisation": float(np.quantile(w["util"], 0.95)) if w["F"].size else np.nan,
         **est,
-        "cornering_stiffness_Nprad": est["stiffness_scale"] * c,
+        "cornering_stiffness_N_per_rad": est["stiffness_scale"] * c,
     }
 
 
@@ -460,7 +468,13 @@ class OnlineAxleWindow:
             self._sum[k] += sign * v[k]
 
     def push(self, sample: dict) -> None:
-        """Add one axle sample (keys of :func:`axle_samples`, scalars; ``t`` [s])."""
+        """Add one axle sample (keys of :func:`axle_samples`, scalars; ``t`` [s]).
+
+        Parameters
+        ----------
+        sample : dict
+            One axle sample: the keys of :func:`axle_samples` as scalars, ``t`` [s].
+        """
         v = {k: float(sample[k]) for k in (*_MEAN_KEYS, "t", "util")}
         v["sa2"] = float(sample["sa"]) ** 2
         v["sF2"] = float(sample["sF"]) ** 2
@@ -468,13 +482,27 @@ class OnlineAxleWindow:
         self._add(v, +1.0)
 
     def expire(self, t_start: float) -> None:
-        """Drop samples older than *t_start*."""
+        """Drop samples older than *t_start*.
+
+        Parameters
+        ----------
+        t_start : float
+            Samples before this time are dropped [s].
+        """
         while self._items and self._items[0][0] < t_start:
             _, v = self._items.popleft()
             self._add(v, -1.0)
 
     def estimate(self, t_start: float, t_end: float) -> dict | None:
-        """Estimate over the samples in [t_start, t_end) (None with too few samples)."""
+        """Estimate over the samples in [t_start, t_end) (None with too few samples).
+
+        Parameters
+        ----------
+        t_start : float
+            Window start [s].
+        t_end : float
+            Window end (exclusive) [s].
+        """
         self.expire(t_start)
         late = [v for t, v in self._items if t >= t_end]
         n = len(self._items) - len(late)
@@ -502,5 +530,5 @@ class OnlineAxleWindow:
             "n": n,
             "utilisation": float(np.quantile(util, 0.95)),
             **est,
-            "cornering_stiffness_Nprad": est["stiffness_scale"] * c,
+            "cornering_stiffness_N_per_rad": est["stiffness_scale"] * c,
         }

@@ -1,6 +1,6 @@
 """Friction from straight-line braking with locked wheels: μ = a/g (thesis ch. 8, eq. 1.3).
 
-Estimator (PHYSICS.md §7), per braking event in an accelerometer trace:
+Estimator (docs/physics.md §7), per braking event in an accelerometer trace:
 
 1. **Bias**: the median of the cruise before the event (the 1.5 s ending 0.5 s before onset,
    or the first second of the trace) is subtracted: mounting tilt and sensor offset.
@@ -51,6 +51,7 @@ class BrakingResult:
     mu_std: float
 
     def explain(self) -> str:
+        """One line: μ of the events and their spread."""
         n = len(self.events)
         spread = f" ± {self.mu_std:.3f} (SD of {n} events)" if n > 1 else ""
         return f"locked-wheel braking: μ = {self.mu:.3f}{spread}"

@@ -19,6 +19,13 @@ __all__ = ["condition_table", "conditions"]
 def conditions(wheels: pd.DataFrame, *, min_duration_s: float = 3.0) -> list[tuple[float, float]]:
     """Steady cornering conditions: contiguous runs of steady, cornering samples.
 
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of a friction run.
+    min_duration_s : float
+        Shortest condition [s].
+
     Returns
     -------
     list of (t_start, t_end) [s]
@@ -53,7 +60,17 @@ def condition_table(
     """Per condition and wheel: mean speed, radius, yaw rate, a_y; median valid μ; counts.
 
     With ``axle-window`` windows, μ is the median of the observable windows of the wheel's
-    axle inside the condition (NaN when none is observable)."""
+    axle inside the condition (NaN when none is observable).
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of a friction run.
+    conds : list of (float, float)
+        Conditions from :func:`conditions` [s].
+    windows : pandas.DataFrame, optional
+        ``axle-window`` windows; μ then comes from their observable windows.
+    """
     rows = []
     for i, (t0, t1) in enumerate(conds):
         seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]

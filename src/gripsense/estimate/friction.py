@@ -1,6 +1,6 @@
 """Per-wheel friction μ from a GNSS-compass epoch table during cornering (thesis ch. 4, 6, 10).
 
-The chain, per epoch and wheel (PHYSICS.md §11):
+The chain, per epoch and wheel (docs/physics.md §11):
 
 1. antenna side-slip β_A = wrap(ψ − ψ₀ − χ) with the heading offset ψ₀ calibrated on straights;
    antenna velocity (U, V) = v (cos β_A, sin β_A); ISO yaw rate r (§3.1);
@@ -95,7 +95,7 @@ WHEEL_COLUMNS = [
     "lateral_accel_mps2",
     "utilisation",
     "steady",
-    "cornering_stiffness_Nprad",
+    "cornering_stiffness_N_per_rad",
     "slip_sigma_rad",
     "force_sigma_N",
 ]
@@ -118,7 +118,7 @@ class FrictionOptions:
     steady_speed_std_mps, steady_yaw_rate_std_dps : float
         Largest standard deviation in the window [m/s], [deg/s].
     max_rel_sigma : float
-        Largest σ_μ/μ reported as a value (PHYSICS.md §11.4: 0.5) [-].
+        Largest σ_μ/μ reported as a value (docs/physics.md §11: 0.5) [-].
     min_valid_fraction : float
         The summary reports a wheel's μ only when at least this fraction of its steady
         cornering samples is valid [-]. Below it the valid samples are the tail that noise made
@@ -172,7 +172,18 @@ def motion_from_epochs(
     """GNSS-compass epochs -> motion table of the antenna point (body axes).
 
     The heading offset is calibrated on straight driving (or taken from the vehicle file);
-    β_A = wrap(ψ − ψ₀ − χ), (U, V) = v (cos β_A, sin β_A) (PHYSICS.md §3.1).
+    β_A = wrap(ψ − ψ₀ − χ), (U, V) = v (cos β_A, sin β_A) (docs/physics.md §3.1).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table of :func:`gripsense.io.read_nmea`.
+    vehicle : Vehicle
+        Vehicle description (antenna position, heading offset).
+    options : FrictionOptions, optional
+        Gates and the heading calibration switch.
+    steer_rad : numpy.ndarray, optional
+        Road-wheel angle per epoch row [rad].
 
     Returns
     -------
@@ -346,7 +357,7 @@ def friction_from_motion(
         force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
         inv = brush.invert(force, alpha, fz, c, pressure=pressure, model=model)
         mu_raw, status, kap = inv["mu"], inv["status"], inv["kappa_beta"]
-        # first-order uncertainty (PHYSICS.md §1.4): T ∝ C tanβ, κ_F = 1 − κ_β
+        # first-order uncertainty (docs/physics.md §1.4): T ∝ C tanβ, κ_F = 1 − κ_β
         sig_alpha = np.sqrt(
             np.deg2rad(nz.heading_deg) ** 2
             + sig_v_rel**2
@@ -410,7 +421,7 @@ def friction_from_motion(
                     "lateral_accel_mps2": ay,
                     "utilisation": np.abs(force) / fz,
                     "steady": steady,
-                    "cornering_stiffness_Nprad": c,
+                    "cornering_stiffness_N_per_rad": c,
                     "slip_sigma_rad": sig_alpha_white,
                     "force_sigma_N": force_sigma,
                 }

@@ -44,7 +44,7 @@ class NoiseModel:
         Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
         (``axle-window``).
     axle_force_rel : float
-        Relative model error of the steady-state axle force m_i⁰ a_y (PHYSICS.md §4.4) [-]
+        Relative model error of the steady-state axle force m_i⁰ a_y (docs/physics.md §4.4) [-]
         (``axle-window``). The relation neglects the yaw moment of the front wheels' forces at
         large steering angles, (t/2)(F_y,R − F_y,L) sin δ: a few % at 10° of steer (measured on
         the simulator). Systematic: it does not average out over a window.
@@ -63,7 +63,13 @@ class NoiseModel:
     @classmethod
     def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:
         """Noise model for an RTK-class compass (0.05° heading); by default with a calibrated
-        tyre (G known to 5 %)."""
+        tyre (G known to 5 %).
+
+        Parameters
+        ----------
+        tread_stiffness_rel : float
+            Relative 1σ of the tyre stiffness [-].
+        """
         return cls(
             heading_deg=0.1,
             heading_white_deg=0.05,

@@ -24,6 +24,7 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.constants import Z90
 from gripsense.errors import InputError
+from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.estimate.friction import FLAGS, NOT_STEADY_CORNERING
 from gripsense.estimate.noise import NoiseModel
 from gripsense.io.results import read_manifest, read_result_folder, write_result_folder
@@ -91,6 +92,7 @@ class FrictionResult:
     """
 
     unit: ClassVar[str] = ""
+    windows: ClassVar[pd.DataFrame | None] = None  # per-window estimates (AxleFriction only)
 
     wheels: pd.DataFrame
     summary: pd.DataFrame
@@ -125,6 +127,39 @@ class FrictionResult:
         table nearest the estimate's middle.
         """
         raise NotImplementedError
+
+    def conditions(self, min_duration_s: float = 3.0) -> list[tuple[float, float]]:
+        """Steady cornering conditions of the drive (:func:`~gripsense.estimate.conditions.
+        conditions`).
+
+        Parameters
+        ----------
+        min_duration_s : float
+            Shortest condition [s].
+
+        Returns
+        -------
+        list of (float, float)
+            Start and end of each condition [s].
+        """
+        return conditions(self.wheels, min_duration_s=min_duration_s)
+
+    def condition_table(self, conds: list[tuple[float, float]] | None = None) -> pd.DataFrame:
+        """Per condition and wheel: speed, radius, yaw rate, a_y and μ
+        (:func:`~gripsense.estimate.conditions.condition_table`).
+
+        Parameters
+        ----------
+        conds : list of (float, float), optional
+            Conditions [s]; default :meth:`conditions`.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per condition and wheel.
+        """
+        conds = self.conditions() if conds is None else conds
+        return condition_table(self.wheels, conds, self.windows)
 
     def unit_table(self) -> pd.DataFrame:
         """The summary in the same columns for every method (:data:`UNIT_COLUMNS`)."""
@@ -237,6 +272,7 @@ class WheelFriction(FrictionResult):
     unit: ClassVar[str] = "wheel"
 
     def explain(self) -> str:
+        """One line: what was found, or why nothing was observable."""
         s = self.summary
         if len(s) == 0:
             return "nothing to analyse: " + self.meta.get(
@@ -282,6 +318,7 @@ class WheelFriction(FrictionResult):
         )
 
     def estimates(self) -> pd.DataFrame:
+        """One row per estimate (:meth:`FrictionResult.estimates`)."""
         wh = self.wheels
         sc = ~wh["flag"].isin(NOT_STEADY_CORNERING).to_numpy()
         w = wh[sc]
@@ -323,6 +360,7 @@ class AxleFriction(FrictionResult):
         return {**super()._tables(), "windows": self.windows}
 
     def explain(self) -> str:
+        """One line: what was found, or why nothing was observable."""
         parts = []
         for rec in self.summary.to_dict("records"):
             if rec.get("n", 0) == 0:
@@ -347,6 +385,7 @@ class AxleFriction(FrictionResult):
         return "; ".join(parts)
 
     def estimates(self) -> pd.DataFrame:
+        """One row per estimate (:meth:`FrictionResult.estimates`)."""
         w = self.windows
         if w is None or w.empty:
             return pd.DataFrame(columns=ESTIMATE_COLUMNS)
@@ -372,6 +411,7 @@ class AxleFriction(FrictionResult):
         )
 
     def unit_table(self) -> pd.DataFrame:
+        """The summary in :data:`UNIT_COLUMNS` (``n_valid``: samples used)."""
         s = self.summary
         return super().unit_table().assign(n_valid=s["n"].to_numpy() if "n" in s else np.nan)
 

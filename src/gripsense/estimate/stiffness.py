@@ -1,4 +1,4 @@
-"""Tread stiffness G of the brush model from cornering (thesis ch. 9; PHYSICS.md §6).
+"""Tread stiffness G of the brush model from cornering (thesis ch. 9; docs/physics.md §6).
 
 * From the cornering stiffness (thesis §9.3): with K_y = G w l²/2 (eq. 9.1) and F = K_y β
   (9.2), G = 2 m v² cos β /(w l² R β) (second eq. 9.3, the thesis's form, ``G_thesis``). The
@@ -134,6 +134,29 @@ def g_sweep(
     the brush inversion of *method* (``thesis-2`` as the thesis, or ``brush-2``, ...). The choice
     is *not unique* when G values with a left/right difference within *rel_tol* of the best
     span more than a factor 1.5, and undefined when no G keeps both μ in (0, mu_max].
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of a friction run.
+    vehicle : Vehicle
+        Vehicle description (tyre width).
+    t0 : float
+        Condition start [s].
+    t1 : float
+        Condition end [s].
+    method : str
+        Inversion of :data:`gripsense.estimate.friction.METHODS`.
+    g_min : float
+        Smallest G [N/m^3].
+    g_max : float
+        Largest G [N/m^3].
+    n : int
+        Number of log-spaced G values.
+    mu_max : float
+        Largest admissible μ [-].
+    rel_tol : float
+        Relative tolerance on the left/right difference that counts as equally good [-].
     """
     pressure, model = METHODS[method]
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]

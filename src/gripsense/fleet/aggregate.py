@@ -110,7 +110,13 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
 
 
 def cells_geojson(cells: pd.DataFrame) -> dict:
-    """GeoJSON FeatureCollection of the latest bucket per cell (hexagon polygons)."""
+    """GeoJSON FeatureCollection of the latest bucket per cell (hexagon polygons).
+
+    Parameters
+    ----------
+    cells : pandas.DataFrame
+        Cell table of :func:`aggregate_cells`.
+    """
     import h3
 
     latest = cells.sort_values("bucket").groupby("cell", sort=False).tail(1)

@@ -93,7 +93,17 @@ document.getElementById("tiles").addEventListener("change", e => {{
 def write_map(
     cells: pd.DataFrame, path: str | Path, *, title: str = "gripsense friction map"
 ) -> Path:
-    """Write the map page for *cells* (:func:`gripsense.fleet.aggregate.aggregate_cells`)."""
+    """Write the map page for *cells* (:func:`gripsense.fleet.aggregate.aggregate_cells`).
+
+    Parameters
+    ----------
+    cells : pandas.DataFrame
+        Cell table of :func:`gripsense.fleet.aggregate_cells`.
+    path : str or Path
+        Output ``.html``.
+    title : str
+        Page title.
+    """
     web = resources.files("gripsense") / "data" / "web" / "leaflet"
     js = (web / "leaflet.js").read_text(encoding="utf-8")
     css = (web / "leaflet.css").read_text(encoding="utf-8")

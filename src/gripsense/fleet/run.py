@@ -26,7 +26,17 @@ __all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet"]
 
 @dataclass
 class FleetResult:
-    """What :func:`run_fleet` produced."""
+    """What :func:`run_fleet` produced.
+
+    Attributes
+    ----------
+    cells : pandas.DataFrame
+        μ per cell and time bucket.
+    logs : pandas.DataFrame
+        One row per log: rows written or the problem.
+    paths : dict
+        Name → path of each output.
+    """
 
     cells: pd.DataFrame
     logs: pd.DataFrame  # one row per log: rows written or the problem
@@ -46,7 +56,8 @@ def expand_logs(patterns: list[str]) -> list[str]:
 
 def read_vehicle_map(path: str | Path) -> list[tuple[str, str, str]]:
     """CSV ``pattern,vehicle_toml[,vehicle_id]``: logs matching a glob pattern (relative to the
-    current folder) use that vehicle; the first matching row wins."""
+    current folder) use that vehicle; the first matching row wins.
+    """
     path = Path(path)
     try:
         rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
@@ -128,6 +139,8 @@ def run_fleet(
         Logs per Dask task.
     progress : callable, optional
         ``progress(done, total)`` after each finished task.
+    map_title : str
+        Title of the map page.
     """
     from dask.distributed import Client, LocalCluster, as_completed
 

@@ -143,7 +143,8 @@ def process_batch(
     receiver: str = "v100",
 ) -> list[dict]:
     """Process ``(log path, vehicle toml, vehicle id)`` items; write
-    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log."""
+    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log.
+    """
     from gripsense.config import Vehicle
 
     out = []

@@ -27,10 +27,32 @@ __all__ = ["LSQResult", "loss_weights", "solve_constrained_lsq"]
 
 @dataclass
 class LSQResult:
-    """Result of :func:`solve_constrained_lsq`."""
+    """Result of :func:`solve_constrained_lsq`.
+
+    Attributes
+    ----------
+    x : numpy.ndarray
+        Solution.
+    cost : float
+        ½ Σ ρ(r²) at x (ρ = identity for the linear loss) [unit of r^2].
+    residuals : numpy.ndarray
+        Residuals at x.
+    jacobian : numpy.ndarray
+        Jacobian of the residuals at x.
+    constraint_values : numpy.ndarray
+        c(x), ≥ 0 when satisfied.
+    success : bool
+        Whether the solver converged.
+    message : str
+        Why it stopped.
+    nit : int
+        Iterations.
+    nfev : int
+        Residual evaluations.
+    """
 
     x: np.ndarray
-    cost: float  #: ½ Σ ρ(r²) at x (ρ = identity for the linear loss) [unit of r²]
+    cost: float  #: ½ Σ ρ(r²) at x (ρ = identity for the linear loss) [unit of r^2]
     residuals: np.ndarray
     jacobian: np.ndarray
     constraint_values: np.ndarray  #: c(x) (≥ 0 when satisfied)
@@ -84,7 +106,8 @@ def _active_set_qp(
     max_iter: int = 500,
 ) -> np.ndarray | None:
     """Primal active-set method for the convex QP min ½zᵀHz + gᵀz s.t. G z ≥ h from a feasible z
-    (Nocedal & Wright, Algorithm 16.3). Returns None if it does not finish."""
+    (Nocedal & Wright, Algorithm 16.3). Returns None if it does not finish.
+    """
     n = g.size
     slack = gmat @ z - hvec
     work = [i for i in np.where(np.abs(slack) <= 1e-12)[0]]
@@ -130,7 +153,7 @@ def _active_set_qp(
 def _qp(
     h: np.ndarray, g: np.ndarray, c0: np.ndarray, a: np.ndarray, lo: np.ndarray, hi: np.ndarray
 ) -> np.ndarray:
-    """min ½dᵀHd + gᵀd s.t. c0 + A d ≥ 0, lo ≤ d ≤ hi, on variables scaled to unit diagonal."""
+    """Min ½dᵀHd + gᵀd s.t. c0 + A d ≥ 0, lo ≤ d ≤ hi, on variables scaled to unit diagonal."""
     s = 1.0 / np.sqrt(np.maximum(np.diag(h), 1e-300))
     hs = h * s[:, None] * s[None, :]
     gs = g * s

@@ -1,6 +1,6 @@
 """Contact length versus wheel mass: least-squares fit of the thesis's l–m model.
 
-l = a √m + b m, linear in (a, b) (seed 000 eq. 6.23, Table 18; PHYSICS.md §5).
+l = a √m + b m, linear in (a, b) (seed 000 eq. 6.23, Table 18; docs/physics.md §5).
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ def fit_contact_length(mass_kg, length_m) -> tuple[dict[str, float], dict[str, f
 
     Examples
     --------
-    Thesis Table 18 gives a = 0.010398, b = −1.0172e-4, RMSE 0.286 cm (PHYSICS.md §5).
+    Thesis Table 18 gives a = 0.010398, b = −1.0172e-4, RMSE 0.286 cm (docs/physics.md §5).
     """
     m = as_float_array(mass_kg, "mass_kg").ravel()
     y = as_float_array(length_m, "length_m").ravel()

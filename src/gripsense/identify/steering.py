@@ -1,6 +1,6 @@
 """Steering-system identification of seed 003: C_s from settling times, k_s from the yaw gain.
 
-PHYSICS.md §9.3–9.4. The model is :mod:`gripsense.sim.steering`. Procedure:
+docs/physics.md §9.3–9.4. The model is :mod:`gripsense.sim.steering`. Procedure:
 
 1. C_s: simulate the hands-off release for a grid of C_s at the current k_s, keep the
    over-damped branch (the measured traces are over-damped), invert the settling-time curve at
@@ -15,7 +15,8 @@ PHYSICS.md §9.3–9.4. The model is :mod:`gripsense.sim.steering`. Procedure:
    would refine the values); convergence is reported.
 
 Yaw-gain normalisation: measured gains at varying steering rates α_v are fitted with the
-corrected eq. 7, dr/dt = a ln(α_v) + b (PHYSICS §9.3: the printed linear form cannot reproduce
+corrected eq. 7, dr/dt = a ln(α_v) + b (docs/physics.md §9.3: the printed linear form cannot
+reproduce
 Table 4.3), and evaluated at the reference rate (70 deg/s).
 """
 
@@ -47,7 +48,29 @@ __all__ = [
 
 @dataclass
 class CsResult:
-    """C_s from settling times (N·m·s/rad); NaN bounds when the band leaves the curve."""
+    """C_s from settling times (N·m·s/rad); NaN bounds when the band leaves the curve.
+
+    Attributes
+    ----------
+    cs : float
+        C_s [N m s/rad] (NaN when not identified).
+    low : float
+        Lower end (inversion of mean + SD) [N m s/rad].
+    high : float
+        Upper end [N m s/rad].
+    t_mean_s : float
+        Mean measured settling time [s].
+    t_sd_s : float
+        Its sample standard deviation [s].
+    curve_cs : numpy.ndarray
+        C_s grid of the simulated curve [N m s/rad].
+    curve_t_s : numpy.ndarray
+        Simulated settling times [s].
+    overdamped : numpy.ndarray
+        Whether each grid point's release is over-damped.
+    flag : str
+        ``ok`` or why C_s is not identified.
+    """
 
     cs: float
     low: float
@@ -62,7 +85,31 @@ class CsResult:
 
 @dataclass
 class KsResult:
-    """k_s and k_s2 from the yaw gain (N·m/rad); ``flag`` says when k_s2 is not determined."""
+    """k_s and k_s2 from the yaw gain (N·m/rad); ``flag`` says when k_s2 is not determined.
+
+    Attributes
+    ----------
+    ks : float
+        k_s [N m/rad].
+    ks2 : float
+        k_s2 from eq. 6 [N m/rad].
+    low : float
+        Lower end of k_s (gain − 1.96σ) [N m/rad].
+    high : float
+        Upper end of k_s [N m/rad].
+    ks2_low : float
+        Lower end of k_s2 [N m/rad].
+    ks2_high : float
+        Upper end of k_s2 [N m/rad].
+    gain_dps2 : float
+        Measured (rate-normalised) yaw gain [deg/s^2].
+    curve_ks : numpy.ndarray
+        k_s grid of the simulated curve [N m/rad].
+    curve_gain_dps2 : numpy.ndarray
+        Simulated yaw gains [deg/s^2].
+    flag : str
+        ``ok`` or why k_s2 is not determined.
+    """
 
     ks: float
     ks2: float
@@ -78,7 +125,25 @@ class KsResult:
 
 @dataclass
 class SteeringIdentification:
-    """Result of :func:`identify_steering`."""
+    """Result of :func:`identify_steering`.
+
+    Attributes
+    ----------
+    cs : CsResult
+        Final C_s.
+    ks : KsResult or None
+        Final k_s (None without a yaw gain).
+    history : list of dict
+        C_s and k_s after each step of the alternation.
+    converged : bool
+        Whether the alternation reached a fixed point.
+    first_pass : dict
+        The seed's single pass, for comparison.
+    car : SteeringCar or None
+        The car with the identified values.
+    cs_rigid : CsResult or None
+        The first C_s step (k_s = k_s1, seed Fig. 4.2).
+    """
 
     cs: CsResult
     ks: KsResult | None
@@ -159,14 +224,25 @@ def normalise_yaw_gain(
 ) -> dict[str, float]:
     """Fit the yaw gain against the steering rate and evaluate it at ``reference_dps``.
 
-    ``law="ln"``: the corrected eq. 7, gain = a ln(α_v) + b (PHYSICS §9.3; fits the seed's
+    ``law="ln"``: the corrected eq. 7, gain = a ln(α_v) + b (docs/physics.md §9.3; fits the seed's
     measurements). ``law="linear"``: gain = a α_v + b (the printed eq. 7; also what a linear
     model produces). With a single measurement the gain is returned as is.
+
+    Parameters
+    ----------
+    steer_rates_dps : array_like
+        Steering-wheel rates of the tests [deg/s].
+    gains_dps2 : array_like
+        Their yaw gains [deg/s^2].
+    reference_dps : float
+        Rate to evaluate at [deg/s].
+    law : str
+        ``ln`` (corrected eq. 7) or ``linear``.
 
     Returns
     -------
     dict
-        ``gain`` [deg/s²] at the reference rate, ``sigma`` (1σ of that prediction, NaN with < 3
+        ``gain`` [deg/s^2] at the reference rate, ``sigma`` (1σ of that prediction, NaN with < 3
         points), ``a``, ``b``, ``n``, ``law``.
     """
     x = np.asarray(steer_rates_dps, float).ravel()
@@ -234,7 +310,7 @@ def settling_curve(
 def yaw_gain_curve(
     car: SteeringCar, ks_grid, *, steer_rate_rad_s: float, stop_rad: float, method: str = "rise"
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Yaw gain [deg/s²] per total stiffness k_s (seed Fig. 4.4)."""
+    """Yaw gain [deg/s^2] per total stiffness k_s (seed Fig. 4.4)."""
     ks_grid = np.asarray(ks_grid, float)
     g = np.empty(ks_grid.size)
     dur = 0.1 + stop_rad / steer_rate_rad_s + 2.5  # until the yaw rate is steady
@@ -253,8 +329,9 @@ def yaw_gain_curve(
 
 
 def _invert(x, y, target, f=None):
-    """x where the monotone-increasing y(x) equals target (NaN outside the curve); with the
-    model ``f`` the grid bracket is refined by Brent's method (no interpolation bias)."""
+    """X where the monotone-increasing y(x) equals target (NaN outside the curve); with the
+    model ``f`` the grid bracket is refined by Brent's method (no interpolation bias).
+    """
     if not np.isfinite(target) or not (np.nanmin(y) <= target <= np.nanmax(y)):
         return float("nan")
     guess = float(np.interp(target, y, x))
@@ -278,7 +355,21 @@ def identify_cs(
     reference: str = "initial",
     cs_grid=None,
 ) -> CsResult:
-    """C_s from measured settling times at the car's current k_s (step 1 above)."""
+    """C_s from measured settling times at the car's current k_s (step 1 above).
+
+    Parameters
+    ----------
+    car : SteeringCar
+        The car (its current k_s is used).
+    settling_times_s : array_like
+        Measured settling times [s].
+    alpha0_rad : float
+        Kingpin angle held before the release [rad].
+    reference : str
+        Settling band reference: ``initial`` or ``converged``.
+    cs_grid : array_like, optional
+        C_s values to simulate [N m s/rad].
+    """
     t = np.asarray(settling_times_s, float)
     t = t[np.isfinite(t)]
     if t.size == 0:
@@ -338,7 +429,25 @@ def identify_ks(
     method: str = "rise",
     n_grid: int = 40,
 ) -> KsResult:
-    """k_s (and k_s2) from the rate-normalised yaw gain at the car's current C_s (step 2)."""
+    """k_s (and k_s2) from the rate-normalised yaw gain at the car's current C_s (step 2).
+
+    Parameters
+    ----------
+    car : SteeringCar
+        The car (its current C_s is used).
+    gain_dps2 : float
+        Measured yaw gain at the reference rate [deg/s^2].
+    steer_rate_rad_s : float
+        Kingpin steering rate of the reference [rad/s].
+    stop_rad : float
+        Kingpin angle of the stopper [rad].
+    gain_sigma_dps2 : float
+        1σ of the gain [deg/s^2] (NaN: no interval).
+    method : str
+        Yaw-gain definition: ``rise``, ``slope`` or ``peak``.
+    n_grid : int
+        Number of k_s values simulated.
+    """
     k1 = car.ks1_Nm_per_rad
     grid = np.linspace(k1 / n_grid, k1, n_grid)
     ks, g = yaw_gain_curve(
@@ -405,13 +514,15 @@ def identify_steering(
     alpha0_rad : float
         Kingpin-referred angle held before the release [rad].
     yaw_gain_dps2, yaw_gain_sigma_dps2 : float, optional
-        Rate-normalised yaw gain and its 1σ [deg/s²]; without it only C_s is identified.
+        Rate-normalised yaw gain and its 1σ [deg/s^2]; without it only C_s is identified.
     steer_rate_rad_s, stop_rad : float, optional
         Kingpin-referred reference steering rate and stopper angle of the step test.
     reference : str
         Settling-time definition (:func:`gripsense.sim.steering.settling_time`).
     max_iter, rtol : int, float
         Fixed-point iteration limit and relative tolerance on C_s and k_s.
+    method : str
+        Yaw-gain definition: ``rise``, ``slope`` or ``peak``.
 
     Returns
     -------

@@ -1,6 +1,7 @@
 """Seed-003 metrics of steering traces — settling time after a release and yaw gain after a
 step steer — applied alike to measured recordings and to the model's responses
-(``docs/physics.md`` §9.3)."""
+(``docs/physics.md`` §9.3).
+"""
 
 from __future__ import annotations
 
@@ -227,7 +228,19 @@ def release_settling_time(
 
 def step_metrics(t, steer_angle, yaw_rate, *, method: str = "rise") -> dict[str, float]:
     """Steering rate (mean over the ramp, 10–90 % of the stopper angle) and yaw gain of a
-    measured step-steer trace (any consistent angle units, e.g. deg and deg/s)."""
+    measured step-steer trace (any consistent angle units, e.g. deg and deg/s).
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    steer_angle : array_like
+        Steering angle [any angle unit].
+    yaw_rate : array_like
+        Yaw rate [the angle unit per s].
+    method : str
+        Yaw-gain definition: ``rise``, ``slope`` or ``peak``.
+    """
     t = np.asarray(t, float)
     a = np.asarray(steer_angle, float)
     r = np.asarray(yaw_rate, float)

@@ -21,7 +21,21 @@ def read_laser_csv(
     scale_m: float = 1e-3,
     t_col: str = "t_s",
 ) -> pd.DataFrame:
-    """Read two laser channels (default in mm) into ``t_s``, ``d_outer_m``, ``d_inner_m``."""
+    """Read two laser channels (default in mm) into ``t_s``, ``d_outer_m``, ``d_inner_m``.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV (or Parquet) with time and two distance columns.
+    outer_col : str
+        Column of the outer sensor.
+    inner_col : str
+        Column of the inner sensor.
+    scale_m : float
+        Metres per unit of the distance columns (1e-3: mm) [m].
+    t_col : str
+        Time column [s].
+    """
     path = Path(path)
     df = read_table(path)
     for c in (t_col, outer_col, inner_col):

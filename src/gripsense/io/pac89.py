@@ -30,6 +30,11 @@ def _strip_json_comments(text: str) -> str:
 def read_pac89_json(path: str | Path) -> dict[str, dict[str, float]]:
     """Read a Chrono-style PAC89 JSON file (``//`` comments allowed).
 
+    Parameters
+    ----------
+    path : str or Path
+        PAC89 JSON file.
+
     Returns
     -------
     dict

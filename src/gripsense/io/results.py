@@ -256,7 +256,8 @@ def _describe_input(p: str | Path) -> dict:
 
 def _install(tmp: Path, folder: Path) -> None:
     """Move the finished files of *tmp* into *folder*: a rename of the whole folder when it does
-    not exist yet, else file by file with the old manifest's leftovers removed."""
+    not exist yet, else file by file with the old manifest's leftovers removed.
+    """
     if not folder.exists():
         os.rename(tmp, folder)
         tmp.mkdir()  # so that the caller's cleanup has something to remove

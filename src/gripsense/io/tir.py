@@ -129,6 +129,17 @@ class TirFile:
     """A parsed ``.tir`` file that remembers its layout.
 
     Use :func:`read_tir` to read one and :meth:`to_text` / :func:`write_tir` to write it.
+
+    Parameters
+    ----------
+    lines : list
+        Parsed lines (entries, comments, sections) in file order.
+    newline : str
+        Line ending written back.
+    name : str
+        Name used in messages.
+    final_newline : bool
+        Whether the file ended with a newline.
     """
 
     def __init__(
@@ -200,12 +211,26 @@ class TirFile:
             raise TirError(f"{self.name}: no key {key.upper()} in the file") from None
 
     def get(self, key: str, default: float | int | str | None = None) -> float | int | str | None:
-        """Value of ``key`` (any case) as written in the file, or ``default``."""
+        """Value of ``key`` (any case) as written in the file, or ``default``.
+
+        Parameters
+        ----------
+        key : str
+            Key, any case.
+        default : object
+            Returned when the key is absent.
+        """
         i = self._index.get(key.upper())
         return default if i is None else self._lines[i].value
 
     def section_of(self, key: str) -> str | None:
-        """Section that holds ``key`` (upper case), or None."""
+        """Section that holds ``key`` (upper case), or None.
+
+        Parameters
+        ----------
+        key : str
+            Key, any case.
+        """
         i = self._index.get(key.upper())
         return None if i is None else self._lines[i].section
 
@@ -225,7 +250,13 @@ class TirFile:
         return out
 
     def table(self, section: str) -> list[str]:
-        """Verbatim non-entry, non-comment lines of ``section`` (e.g. the ``[SHAPE]`` rows)."""
+        """Verbatim non-entry, non-comment lines of ``section`` (e.g. the ``[SHAPE]`` rows).
+
+        Parameters
+        ----------
+        section : str
+            Section name.
+        """
         sec = section.upper()
         return [ln.text for ln in self._lines if ln.kind == "other" and ln.section == sec]
 
@@ -237,7 +268,19 @@ class TirFile:
         comment: str | None = None,
     ) -> None:
         """Set ``key`` to ``value`` (file units). Existing keys are changed in place; new keys are
-        appended to ``section`` (created at the end when missing)."""
+        appended to ``section`` (created at the end when missing).
+
+        Parameters
+        ----------
+        key : str
+            Key, any case.
+        value : float, int, str or None
+            New value (in the file's units).
+        section : str, optional
+            Section for a new key.
+        comment : str, optional
+            Inline comment of a new entry.
+        """
         key_u = key.upper()
         raw = _format_value(value)
         i = self._index.get(key_u)
@@ -517,7 +560,15 @@ def read_tir(source: str | Path | IO[str] | IO[bytes]) -> TirFile:
 
 
 def write_tir(tir: TirFile, path: str | Path) -> Path:
-    """Write ``tir`` to ``path`` exactly as :meth:`TirFile.to_text` gives it."""
+    """Write ``tir`` to ``path`` exactly as :meth:`TirFile.to_text` gives it.
+
+    Parameters
+    ----------
+    tir : TirFile
+        The file.
+    path : str or Path
+        Output path.
+    """
     path = Path(path)
     path.write_bytes(tir.to_text().encode(tir.encoding))
     return path

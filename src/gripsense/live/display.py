@@ -32,6 +32,7 @@ class LiveDisplay:
         return self._live.__exit__(*exc)
 
     def __call__(self, summary, stats, ingest, source) -> None:
+        """Show the latest summary, counters and source state."""
         self._live.update(render(summary, stats, ingest, source))
 
 

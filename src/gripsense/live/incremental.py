@@ -69,7 +69,13 @@ class LiveIngest:
 
     # ------------------------------------------------------------------ input
     def feed(self, data: bytes) -> pd.DataFrame:
-        """Add received bytes; return the epochs that became final (maybe none)."""
+        """Add received bytes; return the epochs that became final (maybe none).
+
+        Parameters
+        ----------
+        data : bytes
+            Bytes as they arrived (any piece of the stream).
+        """
         if not data:
             return self._empty()
         buf = self._partial + data
@@ -171,7 +177,8 @@ class LiveIngest:
     def _trim(self) -> None:
         """Drop old lines, cutting only where an emitted epoch starts: the epoch grouping is a
         state machine over the whole stream, and a re-read must start in the state the batch
-        reader is in there (at an epoch start the state is just that epoch)."""
+        reader is in there (at an epoch start the state is just that epoch).
+        """
         end = self._tail_start + len(self._tail)
         target = end - self.max_lines
         if target <= self._tail_start:

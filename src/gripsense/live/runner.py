@@ -59,6 +59,7 @@ class LiveFriction:
         self.last_time_utc = pd.NaT
 
     def add(self, epochs: pd.DataFrame) -> None:
+        """Add final epochs; the window restarts when the data clock goes backwards."""
         if epochs is None or epochs.empty:
             return
         t = epochs["t_s"].to_numpy(float)
@@ -140,14 +141,17 @@ class Recorder:
         self._raw = open(self.raw_path, "wb")
 
     def raw(self, data: bytes) -> None:
+        """Append received bytes to the raw recording."""
         if self._raw is not None and data:
             self._raw.write(data)
 
     def rows(self, df: pd.DataFrame) -> None:
+        """Append result rows to the results file."""
         if self._csv is not None and len(df):
             df.reindex(columns=RESULT_COLUMNS).to_csv(self._csv, header=False, index=False)
 
     def maybe_flush(self, force: bool = False) -> None:
+        """Flush and fsync the files when ``flush_s`` has passed (or *force*)."""
         now = time.monotonic()
         if force or now - self._last_flush >= self.flush_s:
             for fh in (self._csv, self._raw):
@@ -157,6 +161,7 @@ class Recorder:
             self._last_flush = now
 
     def close(self) -> None:
+        """Flush, close, and convert the rows to Parquet for a ``.parquet`` output."""
         self.maybe_flush(force=True)
         for fh in (self._csv, self._raw):
             if fh is not None:
@@ -167,7 +172,13 @@ class Recorder:
 
 def recover(output: str | Path) -> Path:
     """Convert ``<output>.partial.csv`` (left by a running or killed live session) to
-    ``output`` (.parquet); return the path."""
+    ``output`` (.parquet); return the path.
+
+    Parameters
+    ----------
+    output : str or Path
+        The ``.parquet`` output of the killed run.
+    """
     output = Path(output)
     part = output.with_name(output.name + ".partial.csv")
     if not part.exists():
@@ -231,6 +242,8 @@ def run_live(
         ``display(summary, stats, ingest, source)`` called every update.
     on_epochs : callable, optional
         Receives each batch of final epochs (tests, custom sinks).
+    handle_signals : bool
+        Install SIGINT/SIGTERM handlers that stop the loop cleanly.
 
     Returns
     -------

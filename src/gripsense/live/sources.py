@@ -25,7 +25,17 @@ _BACKOFF = (0.1, 5.0)
 
 class ReplaySource:
     """Replay a log (plain or gzip) at ``speed`` × real time (0 = as fast as possible), paced
-    by the time-of-day fields of GGA/RMC/ZDA lines."""
+    by the time-of-day fields of GGA/RMC/ZDA lines.
+
+    Parameters
+    ----------
+    path : str or Path
+        Log file (plain or .gz).
+    speed : float
+        Replay speed (1 real time, 0 as fast as possible) [-].
+    chunk : int
+        Bytes per read at maximum speed.
+    """
 
     def __init__(self, path: str | Path, speed: float = 1.0, chunk: int = 65536):
         path = Path(path)
@@ -52,13 +62,22 @@ class ReplaySource:
 
     @property
     def eof(self) -> bool:
+        """Whether the whole file has been replayed."""
         return self._pos >= len(self._data)
 
     @property
     def status(self) -> str:
+        """One word or phrase for the display."""
         return f"replay {100 * self._pos / max(len(self._data), 1):.0f} %"
 
     def read(self, timeout: float = 0.1) -> bytes:
+        """Bytes received within *timeout* seconds (maybe none).
+
+        Parameters
+        ----------
+        timeout : float
+            Longest wait [s].
+        """
         if self.eof:
             return b""
         if self._speed == 0:
@@ -93,12 +112,23 @@ class ReplaySource:
         return b"".join(out)
 
     def close(self) -> None:
+        """Release the source."""
         pass
 
 
 class TcpSource:
     """TCP client for receivers that stream NMEA over the network (a plain socket: pyserial's
-    ``socket://`` drops bytes received while opening)."""
+    ``socket://`` drops bytes received while opening).
+
+    Parameters
+    ----------
+    host : str
+        Host name or address.
+    port : int
+        TCP port.
+    connect_timeout : float
+        Timeout of one connection attempt [s].
+    """
 
     def __init__(self, host: str, port: int, *, connect_timeout: float = 2.0):
         self.host, self.port = host, int(port)
@@ -114,6 +144,7 @@ class TcpSource:
 
     @property
     def status(self) -> str:
+        """One word or phrase for the display."""
         return f"{self.name} {self.state}" + (
             f" ({self.reconnects} reconnects)" if self.reconnects else ""
         )
@@ -138,6 +169,13 @@ class TcpSource:
             self._backoff = min(self._backoff * 2, _BACKOFF[1])
 
     def read(self, timeout: float = 0.1) -> bytes:
+        """Bytes received within *timeout* seconds (maybe none).
+
+        Parameters
+        ----------
+        timeout : float
+            Longest wait [s].
+        """
         if self._sock is None:
             self._connect()
             if self._sock is None:
@@ -157,6 +195,7 @@ class TcpSource:
         return data
 
     def close(self) -> None:
+        """Release the source."""
         if self._sock is not None:
             self._sock.close()
             self._sock = None
@@ -164,7 +203,15 @@ class TcpSource:
 
 class SerialSource:
     """Serial port via pyserial (``pip install gripsense[live]``); reopens the device with
-    backoff when it disappears (USB receiver unplugged)."""
+    backoff when it disappears (USB receiver unplugged).
+
+    Parameters
+    ----------
+    port : str
+        Device, e.g. /dev/ttyUSB0.
+    baud : int
+        Baud rate [1/s].
+    """
 
     def __init__(self, port: str, baud: int = 115200):
         try:
@@ -183,6 +230,7 @@ class SerialSource:
 
     @property
     def status(self) -> str:
+        """One word or phrase for the display."""
         return f"{self.name} {self.state}" + (
             f" ({self.reconnects} reopens)" if self.reconnects else ""
         )
@@ -207,6 +255,13 @@ class SerialSource:
             self._backoff = min(self._backoff * 2, _BACKOFF[1])
 
     def read(self, timeout: float = 0.1) -> bytes:
+        """Bytes received within *timeout* seconds (maybe none).
+
+        Parameters
+        ----------
+        timeout : float
+            Longest wait [s].
+        """
         import serial
 
         if self._ser is None:
@@ -228,6 +283,7 @@ class SerialSource:
             return b""
 
     def close(self) -> None:
+        """Release the source."""
         if self._ser is not None:
             self._ser.close()
             self._ser = None

@@ -1,6 +1,6 @@
 """Brush (Fiala) tyre model with parabolic or quartic contact pressure, and its inversion for μ.
 
-Notation (PHYSICS.md §0): load Fz [N], cornering stiffness C = G w l²/2 [N/rad], slip angle β
+Notation (docs/physics.md §0): load Fz [N], cornering stiffness C = G w l²/2 [N/rad], slip angle β
 [rad], T = C |tan β| (the "linear" force), F the lateral force magnitude the tyre carries,
 r = F/T the force ratio, θ = T/(3 μ Fz) the adhesion parameter, ξ = s/l the normalised slide
 point (adhesion on [0, s), sliding on [s, l]).
@@ -18,7 +18,7 @@ that slip angle, a measurement or parameter error); ``full_sliding`` (the whole 
 
 References
 ----------
-Seed 000 (Goda 2018) eqs. (4.8)–(4.16), (9.1), (10.2)–(10.3); PHYSICS.md §1.1–§1.4, §2.1–§2.5.
+Seed 000 (Goda 2018) eqs. (4.8)–(4.16), (9.1), (10.2)–(10.3); docs/physics.md §1.1–§1.4, §2.1–§2.5.
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ def cornering_stiffness(tread_stiffness, width, length):
 
     References
     ----------
-    Seed 000, eq. (9.1); PHYSICS.md §0, §1.2.
+    Seed 000, eq. (9.1); docs/physics.md §0, §1.2.
     """
     g, w, l = (
         as_float_array(v, n)
@@ -81,14 +81,26 @@ def cornering_stiffness(tread_stiffness, width, length):
     return restore(0.5 * g * w * l**2, tread_stiffness, length)
 
 
-def adhesion_parameter(mu, load, cornering_stiffness_Nprad, slip_angle):
-    """Fiala adhesion parameter θ = C |tan β| /(3 μ Fz) [-]. PHYSICS.md §0, §1.2."""
+def adhesion_parameter(mu, load, cornering_stiffness_N_per_rad, slip_angle):
+    """Fiala adhesion parameter θ = C |tan β| /(3 μ Fz) [-]. docs/physics.md §0, §1.2.
+
+    Parameters
+    ----------
+    mu : array_like
+        Friction coefficient [-].
+    load : array_like
+        Vertical load Fz [N].
+    cornering_stiffness_N_per_rad : array_like
+        C = G w l²/2 [N/rad].
+    slip_angle : array_like
+        Slip angle [rad].
+    """
     mu, fz, c, b = (
         as_float_array(v, n)
         for v, n in (
             (mu, "mu"),
             (load, "load"),
-            (cornering_stiffness_Nprad, "C"),
+            (cornering_stiffness_N_per_rad, "C"),
             (slip_angle, "slip_angle"),
         )
     )
@@ -99,7 +111,7 @@ def _xi_quartic_cubic(theta: np.ndarray) -> np.ndarray:
     """Root in [0, 1] of h(ξ) = (1 − ξ)(ξ² − ξ + ½) = 0.3 θ (closed form; 0 beyond θ = 5/3).
 
     Depressed cubic t³ + t/6 + (0.3θ − 5/54) = 0 with ξ = t + 2/3; one real root (p > 0).
-    PHYSICS.md §2.2.
+    docs/physics.md §2.2.
     """
     p = 1.0 / 6.0
     q = 0.3 * theta - 5.0 / 54.0
@@ -113,7 +125,7 @@ def _xi_quartic_cubic(theta: np.ndarray) -> np.ndarray:
 def _phi4(xi):
     """Φ4(ξ) = ∫₀^ξ φ4 = 5ξ² − 10ξ³ + 10ξ⁴ − 4ξ⁵ (normalised cumulative quartic pressure).
 
-    PHYSICS.md §2.3b; 1 − Φ4 = (1 − ξ)²(4ξ³ − 2ξ² + 2ξ + 1).
+    docs/physics.md §2.3b; 1 − Φ4 = (1 − ξ)²(4ξ³ − 2ξ² + 2ξ + 1).
     """
     return 5 * xi**2 - 10 * xi**3 + 10 * xi**4 - 4 * xi**5
 
@@ -137,7 +149,7 @@ def slide_point(theta, *, pressure: str = "parabolic", model: str = "exact"):
     References
     ----------
     Seed 000, eq. (4.12) (with the deflection factor s restored) and (10.3);
-    PHYSICS.md §1.2 (ξ = 1 − θ), §2.2 (cubic closed form).
+    docs/physics.md §1.2 (ξ = 1 − θ), §2.2 (cubic closed form).
     """
     _check(pressure, model)
     th = as_float_array(theta, "theta")
@@ -183,7 +195,7 @@ def force_scalar(mu, tan_slip, load, stiffness, which):
 def force_slope_scalar(mu, tan_slip, load, stiffness, quartic):
     """(|F|, d|F|/d|β|) of the exact brush model for one tyre.
 
-    dF/dθ = 3 μ Fz ξ² for both pressures (PHYSICS.md §1.2, §2.3b: ξ = 1 − θ for P2), and
+    dF/dθ = 3 μ Fz ξ² for both pressures (docs/physics.md §1.2, §2.3b: ξ = 1 − θ for P2), and
     dθ/dβ = C sec²β /(3 μ Fz), so dF/dβ = C sec²β ξ² (0 in full sliding).
 
     Parameters
@@ -229,7 +241,7 @@ _WHICH = {
 
 
 def lateral_force(
-    mu, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
+    mu, slip_angle, load, cornering_stiffness_N_per_rad, *, pressure="parabolic", model="exact"
 ):
     """Lateral force magnitude |F| of the brush model [N].
 
@@ -241,7 +253,7 @@ def lateral_force(
         β [rad] (its magnitude is used).
     load : array_like
         Fz [N].
-    cornering_stiffness_Nprad : array_like
+    cornering_stiffness_N_per_rad : array_like
         C [N/rad].
     pressure : {"parabolic", "quartic"}
     model : {"exact", "thesis"}
@@ -260,7 +272,7 @@ def lateral_force(
 
     References
     ----------
-    Seed 000, eq. (4.14), ch. 10; PHYSICS.md §1.2, §2.3.
+    Seed 000, eq. (4.14), ch. 10; docs/physics.md §1.2, §2.3.
     """
     _check(pressure, model)
     arrs = [
@@ -269,7 +281,7 @@ def lateral_force(
             (mu, "mu"),
             (slip_angle, "slip_angle"),
             (load, "load"),
-            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
+            (cornering_stiffness_N_per_rad, "cornering_stiffness_N_per_rad"),
         )
     ]
     shape = np.broadcast_shapes(*(a.shape for a in arrs))
@@ -279,11 +291,25 @@ def lateral_force(
     return restore(out.reshape(shape), mu, slip_angle)
 
 
-def force_ratio(force, slip_angle, cornering_stiffness_Nprad):
-    """r = |F| /(C |tan β|) [-]: 1 − r is the non-linearity deficit. PHYSICS.md §0, §1.3."""
+def force_ratio(force, slip_angle, cornering_stiffness_N_per_rad):
+    """R = |F| /(C |tan β|) [-]: 1 − r is the non-linearity deficit. docs/physics.md §0, §1.3.
+
+    Parameters
+    ----------
+    force : array_like
+        Lateral force [N].
+    slip_angle : array_like
+        Slip angle [rad].
+    cornering_stiffness_N_per_rad : array_like
+        C [N/rad].
+    """
     f, b, c = (
         as_float_array(v, n)
-        for v, n in ((force, "force"), (slip_angle, "slip_angle"), (cornering_stiffness_Nprad, "C"))
+        for v, n in (
+            (force, "force"),
+            (slip_angle, "slip_angle"),
+            (cornering_stiffness_N_per_rad, "C"),
+        )
     )
     with np.errstate(divide="ignore", invalid="ignore"):
         return restore(np.abs(f) / (c * np.abs(np.tan(b))), force, slip_angle)
@@ -293,7 +319,7 @@ def force_ratio(force, slip_angle, cornering_stiffness_Nprad):
 def _xi_exact_quartic(target):
     """Root ξ in [0, 1] of r(ξ) = ξ² + (1 − ξ)(4ξ³ − 2ξ² + 2ξ + 1)/(10(ξ² − ξ + ½)) = target.
 
-    r(ξ) rises strictly from 1/5 to 1 (PHYSICS.md §2.3); safeguarded Newton inside a bisection
+    r(ξ) rises strictly from 1/5 to 1 (docs/physics.md §2.3); safeguarded Newton inside a bisection
     bracket, to machine precision.
     """
     lo, hi = 0.0, 1.0
@@ -377,7 +403,13 @@ def _invert_kernel(f, b, fz, c, which, mu, status, xi, ratio, kap):
 
 
 def invert(
-    force, slip_angle, load, cornering_stiffness_Nprad, *, pressure="parabolic", model="exact"
+    force_N,
+    slip_angle_rad,
+    load_N,
+    cornering_stiffness_N_per_rad,
+    *,
+    pressure="parabolic",
+    model="exact",
 ):
     """Solve the brush model for μ; also return ξ, r and the condition number κ_β.
 
@@ -396,13 +428,13 @@ def invert(
 
     * exact, parabolic: r > 1 none; r ≤ 1/3 full sliding; else
       μ = T(1 + q)/(6 Fz (1 − r)), q = √((4r − 1)/3); ξ = 1 − θ;
-      κ_β = −3(1 − θ)²/(θ(3 − 2θ)).  (PHYSICS.md §1.3, §1.4)
+      κ_β = −3(1 − θ)²/(θ(3 − 2θ)).  (docs/physics.md §1.3, §1.4)
     * thesis, parabolic (eq. 4.15): μ = T²/(3 Fz (T − F)) on its rising branch r > ½ (r ≤ ½ is
       beyond the triangle's peak: full sliding); ξ = r; κ_β = (1 − 2r)/(1 − r).
     * thesis, quartic (ch. 10, explicit): μ = T/(10 Fz (1 − r)(r² − r + ½)) for r > ½; ξ = r;
-      κ_β = 1 + r g′(r)/g(r), g = (1 − r)(r² − r + ½).  (PHYSICS.md §2.3a)
+      κ_β = 1 + r g′(r)/g(r), g = (1 − r)(r² − r + ½).  (docs/physics.md §2.3a)
     * exact, quartic: r ≤ 1/5 full sliding; else ξ solves r(ξ) = r and μ = T/(10 Fz h(ξ)),
-      h = (1 − ξ)(ξ² − ξ + ½); κ_β = −3θξ²/(1 − Φ4(ξ)).  (PHYSICS.md §2.3b)
+      h = (1 − ξ)(ξ² − ξ + ½); κ_β = −3θξ²/(1 − Φ4(ξ)).  (docs/physics.md §2.3b)
 
     The force F and slip angle enter as magnitudes; whether their signs agree (ISO: F ≈ −Cβ)
     is for the caller to check.
@@ -411,10 +443,10 @@ def invert(
     arrs = [
         as_float_array(v, n)
         for v, n in (
-            (force, "force"),
-            (slip_angle, "slip_angle"),
-            (load, "load"),
-            (cornering_stiffness_Nprad, "cornering_stiffness_Nprad"),
+            (force_N, "force_N"),
+            (slip_angle_rad, "slip_angle_rad"),
+            (load_N, "load_N"),
+            (cornering_stiffness_N_per_rad, "cornering_stiffness_N_per_rad"),
         )
     ]
     shape = np.broadcast_shapes(*(a.shape for a in arrs))
@@ -445,7 +477,7 @@ def mu_from_force(
     force_N,
     slip_angle_rad,
     load_N,
-    cornering_stiffness_Nprad,
+    cornering_stiffness_N_per_rad,
     *,
     pressure="parabolic",
     model="exact",
@@ -460,7 +492,7 @@ def mu_from_force(
         Slip angle β [rad] (magnitude used).
     load_N : array_like
         Vertical load Fz [N].
-    cornering_stiffness_Nprad : array_like
+    cornering_stiffness_N_per_rad : array_like
         C = G w l²/2 [N/rad].
     pressure : {"parabolic", "quartic"}
         Contact pressure shape (thesis ch. 4 / ch. 10).
@@ -482,13 +514,18 @@ def mu_from_force(
 
     References
     ----------
-    Seed 000, eq. (4.15), ch. 10; PHYSICS.md §1.3, §2.3.
+    Seed 000, eq. (4.15), ch. 10; docs/physics.md §1.3, §2.3.
     """
     out = invert(
-        force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure, model=model
+        force_N,
+        slip_angle_rad,
+        load_N,
+        cornering_stiffness_N_per_rad,
+        pressure=pressure,
+        model=model,
     )
     names = np.array(STATUS)[out["status"]]
-    like = (force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad)
+    like = (force_N, slip_angle_rad, load_N, cornering_stiffness_N_per_rad)
     mu = restore(out["mu"], *like)
     st = names.item() if all(np.ndim(v) == 0 for v in like) else restore(names, *like)
     return mu, st
@@ -498,7 +535,7 @@ def kappa_beta(
     force_N,
     slip_angle_rad,
     load_N,
-    cornering_stiffness_Nprad,
+    cornering_stiffness_N_per_rad,
     *,
     pressure="parabolic",
     model="exact",
@@ -508,11 +545,31 @@ def kappa_beta(
     A 1 % error in tan β, G, w or l² moves μ by κ_β %; κ_F = 1 − κ_β (μ is homogeneous of
     degree one in (F, T)). |κ_β| ≤ 1 only near the friction limit (F ≳ 0.83 μFz for P2).
 
+    Parameters
+    ----------
+    force_N : array_like
+        Lateral force [N].
+    slip_angle_rad : array_like
+        Slip angle [rad].
+    load_N : array_like
+        Vertical load [N].
+    cornering_stiffness_N_per_rad : array_like
+        C [N/rad].
+    pressure : str
+        ``parabolic`` or ``quartic``.
+    model : str
+        ``exact`` or ``thesis``.
+
     References
     ----------
-    PHYSICS.md §1.4, §2.3.
+    docs/physics.md §1.4, §2.3.
     """
     out = invert(
-        force_N, slip_angle_rad, load_N, cornering_stiffness_Nprad, pressure=pressure, model=model
+        force_N,
+        slip_angle_rad,
+        load_N,
+        cornering_stiffness_N_per_rad,
+        pressure=pressure,
+        model=model,
     )
     return restore(out["kappa_beta"], force_N, slip_angle_rad)

@@ -1,6 +1,6 @@
 """Contact patch: pressure distributions and the contact-length (l–m) model.
 
-References: PHYSICS.md §1.1 (thesis eq. 4.8–4.9), §2.1 (eq. 10.2), §5 (eq. 6.23, Table 18).
+References: docs/physics.md §1.1 (thesis eq. 4.8–4.9), §2.1 (eq. 10.2), §5 (eq. 6.23, Table 18).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ def pressure_parabolic(x, length, width, load):
 
     References
     ----------
-    Seed 000, eq. (4.8)–(4.9); PHYSICS.md §1.1.
+    Seed 000, eq. (4.8)–(4.9); docs/physics.md §1.1.
     """
     x, l, w, fz = (
         as_float_array(v, n)
@@ -65,7 +65,7 @@ def pressure_quartic(x, length, width, load):
 
     References
     ----------
-    Seed 000, eq. (10.2); PHYSICS.md §2.1.
+    Seed 000, eq. (10.2); docs/physics.md §2.1.
     """
     x, l, w, fz = (
         as_float_array(v, n)
@@ -80,9 +80,20 @@ def edge_pressure_gradient(length, width, load, pressure: str = "parabolic"):
 
     At low utilisation μ ≈ G tanβ /(|P′(l)| (1 − F/(C tanβ))), so this unmeasured quantity sets μ.
 
+    Parameters
+    ----------
+    length : array_like
+        Contact length l [m].
+    width : array_like
+        Contact width w [m].
+    load : array_like
+        Vertical load Fz [N].
+    pressure : str
+        ``parabolic`` or ``quartic``.
+
     References
     ----------
-    PHYSICS.md §1.4, §2.1.
+    docs/physics.md §1.4, §2.1.
     """
     k = {"parabolic": 6.0, "quartic": 10.0}[pressure]
     l, w, fz = (
@@ -110,7 +121,7 @@ def contact_length_lm(mass_kg, a: float, b: float):
 
     References
     ----------
-    Seed 000, eq. (6.23), Table 18; PHYSICS.md §5.
+    Seed 000, eq. (6.23), Table 18; docs/physics.md §5.
     """
     m = as_float_array(mass_kg, "mass_kg")
     with np.errstate(invalid="ignore"):

@@ -3,7 +3,7 @@
 Frame: ISO 8855 body axes (x forward, y left, z up); yaw rate r positive counter-clockwise.
 Inputs from the receiver stay compass angles (heading ψ_c, course χ_c, clockwise from north).
 
-References: PHYSICS.md §3.1 (correct rigid-body transfer), §3.2 (the thesis's eqs. 6.9–6.12 and
+References: docs/physics.md §3.1 (correct rigid-body transfer), §3.2 (the thesis's eqs. 6.9–6.12 and
 their sign traps); seed 000 §6.1.
 """
 
@@ -26,7 +26,13 @@ __all__ = [
 
 
 def wrap_angle(angle):
-    """Wrap an angle to [−π, π) [rad]."""
+    """Wrap an angle to [−π, π) [rad].
+
+    Parameters
+    ----------
+    angle : array_like
+        Angle [rad].
+    """
     a = as_float_array(angle, "angle")
     return restore((a + np.pi) % (2.0 * np.pi) - np.pi, angle)
 
@@ -48,7 +54,7 @@ def antenna_sideslip(heading_rad, course_rad, heading_offset_rad: float = 0.0):
 
     References
     ----------
-    PHYSICS.md §3.1 (β_A = wrap(ψ_c − χ_c) = −(θ_t − θ_d) of thesis eq. 6.2).
+    docs/physics.md §3.1 (β_A = wrap(ψ_c − χ_c) = −(θ_t − θ_d) of thesis eq. 6.2).
     """
     h = as_float_array(heading_rad, "heading_rad")
     c = as_float_array(course_rad, "course_rad")
@@ -69,7 +75,7 @@ def point_velocity(u_a, v_a, yaw_rate, dx, dy):
 
     References
     ----------
-    PHYSICS.md §3.1: v_P = v_A + ω × r_AP with ω = (0, 0, r).
+    docs/physics.md §3.1: v_P = v_A + ω × r_AP with ω = (0, 0, r).
     """
     u, v, r = (
         as_float_array(x, n) for x, n in ((u_a, "u_a"), (v_a, "v_a"), (yaw_rate, "yaw_rate"))
@@ -80,9 +86,18 @@ def point_velocity(u_a, v_a, yaw_rate, dx, dy):
 def slip_angle(u, v, steer_angle=0.0):
     """Wheel slip angle α = atan2(V, U) − δ [rad] (ISO: negative at the rear in a left turn).
 
+    Parameters
+    ----------
+    u : array_like
+        Longitudinal velocity of the wheel centre, body axes [m/s].
+    v : array_like
+        Lateral velocity, body axes [m/s].
+    steer_angle : array_like
+        Road-wheel steer angle δ [rad].
+
     References
     ----------
-    PHYSICS.md §3.1.
+    docs/physics.md §3.1.
     """
     uu, vv = as_float_array(u, "u"), as_float_array(v, "v")
     d = as_float_array(steer_angle, "steer_angle")
@@ -92,9 +107,16 @@ def slip_angle(u, v, steer_angle=0.0):
 def path_radius(speed, yaw_rate):
     """Path radius of a body point, R = |v_P| / |r| [m] (exact for steady rotation).
 
+    Parameters
+    ----------
+    speed : array_like
+        Speed of the point |v_P| [m/s].
+    yaw_rate : array_like
+        Yaw rate r [rad/s].
+
     References
     ----------
-    PHYSICS.md §3.1.
+    docs/physics.md §3.1.
     """
     s, r = as_float_array(speed, "speed"), as_float_array(yaw_rate, "yaw_rate")
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -3,7 +3,7 @@
 Sign convention: ISO 8855, lateral acceleration a_y > 0 in a left turn, which moves load to the
 right (outer) wheels.
 
-References: PHYSICS.md §4.2 (general steady-state formula), §4.3 (thesis eqs. 6.21/6.22 as a
+References: docs/physics.md §4.2 (general steady-state formula), §4.3 (thesis eqs. 6.21/6.22 as a
 special case), §4.4 (what the lateral force is).
 """
 
@@ -23,7 +23,15 @@ from gripsense.constants import G0
 
 
 def static_axle_masses(mass_kg: float, front_fraction: float) -> tuple[float, float]:
-    """Static axle masses (front, rear) = (m f, m (1 − f)) [kg]; f = l_r/L. PHYSICS.md §4.2."""
+    """Static axle masses (front, rear) = (m f, m (1 − f)) [kg]; f = l_r/L. docs/physics.md §4.2.
+
+    Parameters
+    ----------
+    mass_kg : float
+        Vehicle mass [kg].
+    front_fraction : float
+        Static front weight fraction l_r/L [-].
+    """
     return mass_kg * front_fraction, mass_kg * (1.0 - front_fraction)
 
 
@@ -65,7 +73,7 @@ def lateral_load_transfer(
 
     References
     ----------
-    PHYSICS.md §4.2 (simplified: no sprung/unsprung split, no roll-induced CG shift).
+    docs/physics.md §4.2 (simplified: no sprung/unsprung split, no roll-induced CG shift).
     """
     ay = as_float_array(lateral_accel, "lateral_accel")
     mf, mr = axle_masses_kg
@@ -87,7 +95,7 @@ def thesis_load_transfer(axle_lateral_force_N, cg_height_m: float, half_track_m:
     """Thesis eqs. (6.21)/(6.22): Δm = F_c h /(2 b g), returned as a force ΔFz = F_c h/(2b) [N].
 
     Equals the rigid-vehicle transfer m_i⁰ a_y h / t only when F_c is the **axle's** lateral
-    force m_i⁰ a_y (PHYSICS.md §4.3); with the thesis's per-wheel F_c it is half of that.
+    force m_i⁰ a_y (docs/physics.md §4.3); with the thesis's per-wheel F_c it is half of that.
 
     Parameters
     ----------
@@ -114,7 +122,7 @@ def wheel_loads(axle_mass_kg: float, dfz):
 
     References
     ----------
-    PHYSICS.md §4.2: Fz,outer/inner = m_i⁰ g/2 ± ΔFz_i.
+    docs/physics.md §4.2: Fz,outer/inner = m_i⁰ g/2 ± ΔFz_i.
     """
     d = as_float_array(dfz, "dfz")
     half = 0.5 * axle_mass_kg * G0
@@ -126,9 +134,16 @@ def axle_lateral_force(axle_mass_kg: float, lateral_accel):
 
     With no yaw acceleration the rear axle carries m a_y l_f/L = (static rear-axle mass) · a_y.
 
+    Parameters
+    ----------
+    axle_mass_kg : float
+        Static axle mass m_i⁰ [kg].
+    lateral_accel : array_like
+        Lateral acceleration of the CG, ISO [m/s^2].
+
     References
     ----------
-    PHYSICS.md §4.4.
+    docs/physics.md §4.4.
     """
     ay = as_float_array(lateral_accel, "lateral_accel")
     return restore(axle_mass_kg * ay, lateral_accel)

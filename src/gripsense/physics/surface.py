@@ -44,7 +44,15 @@ def surface_class(mu):
 
 
 def surface_class_interval(mu_low, mu_high):
-    """Surface class of an interval [mu_low, mu_high]: ``undetermined`` if it spans classes."""
+    """Surface class of an interval [mu_low, mu_high]: ``undetermined`` if it spans classes.
+
+    Parameters
+    ----------
+    mu_low : array_like
+        Lower end of the interval [-].
+    mu_high : array_like
+        Upper end [-].
+    """
     lo, hi = surface_class(mu_low), surface_class(mu_high)
     if np.ndim(mu_low) == 0 and np.ndim(mu_high) == 0:
         return lo if lo == hi else UNDETERMINED

@@ -59,6 +59,17 @@ def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str =
 
     (a) slip angle and turn radius, (b) load and contact length, (c) lateral force and slide
     point, (d) μ with its 90 % interval, invalid samples shaded, Table-4 surface bands behind.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of a friction run.
+    t0 : float
+        Condition start [s].
+    t1 : float
+        Condition end [s].
+    title : str
+        Figure title.
     """
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
     fig, axs = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
@@ -157,7 +168,13 @@ def _speed_groups(ct: pd.DataFrame) -> pd.Series:
 
 
 def mu_vs_radius(ct: pd.DataFrame) -> Figure:
-    """μ per condition vs turn radius, per speed group, with least-squares lines (figs 82, 138)."""
+    """μ per condition vs turn radius, per speed group, with least-squares lines (figs 82, 138).
+
+    Parameters
+    ----------
+    ct : pandas.DataFrame
+        Condition table (:func:`gripsense.estimate.conditions.condition_table`).
+    """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
     d = ct.dropna(subset=["mu"])
@@ -180,7 +197,13 @@ def mu_vs_radius(ct: pd.DataFrame) -> Figure:
 
 
 def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
-    """μ per condition vs yaw rate (fig 139)."""
+    """μ per condition vs yaw rate (fig 139).
+
+    Parameters
+    ----------
+    ct : pandas.DataFrame
+        Condition table.
+    """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
     d = ct.dropna(subset=["mu"])
@@ -203,6 +226,13 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
 
     Values where the method gives one; elsewhere the lower bound the data prove (grey). With
     ``axle-window`` windows, one point per window.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table.
+    windows : pandas.DataFrame, optional
+        ``axle-window`` windows: one point per window.
     """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
@@ -263,7 +293,15 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
 
 
 def trajectory(epochs: pd.DataFrame, conds: list[tuple[float, float]] | None = None) -> Figure:
-    """Driven path from lat/lon (fig 71/112), steady conditions highlighted."""
+    """Driven path from lat/lon (fig 71/112), steady conditions highlighted.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table with ``lat_deg``/``lon_deg``.
+    conds : list of (float, float), optional
+        Steady conditions to highlight [s].
+    """
     fig, ax = plt.subplots(figsize=(6, 6))
     e = epochs.dropna(subset=["lat_deg", "lon_deg"]) if "lat_deg" in epochs else epochs.iloc[:0]
     if e.empty:

@@ -12,7 +12,6 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
 from gripsense.report import figures as F
 
@@ -43,6 +42,21 @@ def _img(fig, alt: str) -> str:
 
 
 def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
+    """An HTML table of *df*, every cell escaped (NaN as —, ∞ for infinite values).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    floatfmt : str
+        Format of float cells.
+
+    Returns
+    -------
+    str
+        ``<table>…</table>``.
+    """
+
     def cell(v):
         if isinstance(v, float | np.floating):
             if not np.isfinite(v):
@@ -192,9 +206,9 @@ def write_report(
     ingest = ingest if ingest is not None else result.ingest
     vehicle = vehicle if vehicle is not None else result.vehicle
     w = result.wheels
-    windows = getattr(result, "windows", None)
-    conds = conditions(w)
-    ct = condition_table(w, conds, windows)
+    windows = result.windows
+    conds = result.conditions()
+    ct = result.condition_table(conds)
     m = result.meta
     method = m.get("method", "")
     s = result.summary

@@ -16,7 +16,16 @@ def release_figure(
     traces: list[tuple[np.ndarray, np.ndarray]], model: dict | None = None
 ) -> Figure:
     """Fig. 4.1: steering angle after release, normalised to the held angle; the identified
-    model dashed. ``traces``: (time since release [s], angle) pairs."""
+    model dashed. ``traces``: (time since release [s], angle) pairs.
+
+    Parameters
+    ----------
+    traces : list of (numpy.ndarray, numpy.ndarray)
+        Measured time [s] and angle from the release on.
+    model : dict, optional
+        The identified model's release response
+        (:func:`gripsense.sim.steering.simulate_release`).
+    """
     fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     for i, (t, a) in enumerate(traces):
         ax.plot(t, a / a[0], lw=1, label=f"test {i + 1}")
@@ -41,7 +50,17 @@ def release_figure(
 
 def settling_figure(results: list[tuple[str, object]], t_mean: float, t_sd: float) -> Figure:
     """Figs. 4.2/4.5: settling time against C_s for each k_s, the measured mean ± SD band and
-    the identified C_s. ``results``: (label, CsResult) pairs."""
+    the identified C_s. ``results``: (label, CsResult) pairs.
+
+    Parameters
+    ----------
+    results : list of (str, CsResult)
+        Labelled C_s identifications.
+    t_mean : float
+        Mean measured settling time [s].
+    t_sd : float
+        Its standard deviation [s].
+    """
     fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     for label, r in results:
         over = r.overdamped
@@ -74,7 +93,13 @@ def settling_figure(results: list[tuple[str, object]], t_mean: float, t_sd: floa
 
 
 def yaw_gain_figure(r) -> Figure:
-    """Fig. 4.4: model yaw gain against k_s with the measured (normalised) gain."""
+    """Fig. 4.4: model yaw gain against k_s with the measured (normalised) gain.
+
+    Parameters
+    ----------
+    r : KsResult
+        The k_s identification.
+    """
     fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     ax.plot(r.curve_ks, r.curve_gain_dps2, "-", lw=2, label="model")
     ax.axhline(r.gain_dps2, color="tab:orange", label=f"measured {r.gain_dps2:.1f} deg/s²")

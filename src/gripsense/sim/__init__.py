@@ -1,5 +1,23 @@
 """Vehicle simulator and sensor emulators: drives with known friction (ground truth)."""
 
+from gripsense.sim.gnss import CompassLog, CompassNoise, emulate_compass
+from gripsense.sim.maneuvers import Maneuver
+from gripsense.sim.scenario import run_scenario
+from gripsense.sim.sensors import emulate_accelerometer
+from gripsense.sim.steering import descriptor, simulate_release, simulate_step
 from gripsense.sim.vehicle import SimParams, SimResult, simulate
 
-__all__ = ["SimParams", "SimResult", "simulate"]
+__all__ = [
+    "CompassLog",
+    "CompassNoise",
+    "Maneuver",
+    "SimParams",
+    "SimResult",
+    "descriptor",
+    "emulate_accelerometer",
+    "emulate_compass",
+    "run_scenario",
+    "simulate",
+    "simulate_release",
+    "simulate_step",
+]

@@ -47,7 +47,8 @@ def write_fleet(
     seed: int = 0,
 ) -> pd.DataFrame:
     """Simulate and write ``outdir/<vehicle>/<site>_<k>.nmea.gz``; return the truth table
-    (vehicle, site, log, mu, speed)."""
+    (vehicle, site, log, mu, speed).
+    """
     outdir = Path(outdir)
     veh = Vehicle.from_toml(vehicle_toml)
     params = SimParams.from_vehicle(veh, drive="front")

@@ -39,7 +39,31 @@ SENTENCES = ("HDT", "GGA", "VTG", "RMC", "ROT", "HPR")
 
 @dataclass(frozen=True)
 class CompassNoise:
-    """Noise model of the emulated receiver (1 σ values; see the module documentation)."""
+    """Noise model of the emulated receiver (1 σ values; see the module documentation).
+
+    Attributes
+    ----------
+    heading_white_deg : float
+        White heading noise [deg].
+    heading_gm_deg : float
+        Slowly varying (Gauss–Markov) heading error [deg].
+    heading_gm_tau_s : float
+        Its correlation time [s].
+    position_gm_m : float
+        Slowly varying position error [m].
+    position_gm_tau_s : float
+        Its correlation time [s].
+    position_white_m : float
+        White position noise [m].
+    velocity_mps : float
+        Noise of each velocity component [m/s].
+    rot_dps : float
+        Rate-of-turn noise [deg/s].
+    latency_s : float
+        Delay of the heading behind the velocity [s].
+    mounting_offset_deg : float
+        Antenna baseline offset from the vehicle axis [deg].
+    """
 
     heading_white_deg: float = 0.3
     heading_gm_deg: float = 0.4
@@ -54,12 +78,24 @@ class CompassNoise:
 
     @classmethod
     def none(cls, mounting_offset_deg: float = 0.0) -> CompassNoise:
-        """No noise (and no mounting offset unless given)."""
+        """No noise (and no mounting offset unless given).
+
+        Parameters
+        ----------
+        mounting_offset_deg : float
+            Mounting offset kept [deg].
+        """
         return cls(0.0, 0.0, 20.0, 0.0, 60.0, 0.0, 0.0, 0.0, 0.0, mounting_offset_deg)
 
     @classmethod
     def rtk(cls, mounting_offset_deg: float = 0.5) -> CompassNoise:
-        """An RTK-class dual-antenna receiver: heading 0.05° white + 0.05° slow, cm position."""
+        """An RTK-class dual-antenna receiver: heading 0.05° white + 0.05° slow, cm position.
+
+        Parameters
+        ----------
+        mounting_offset_deg : float
+            Mounting offset [deg].
+        """
         return cls(
             heading_white_deg=0.05,
             heading_gm_deg=0.05,
@@ -71,7 +107,13 @@ class CompassNoise:
         )
 
     def scaled(self, k: float) -> CompassNoise:
-        """All random terms multiplied by *k* (latency and mounting offset kept)."""
+        """All random terms multiplied by *k* (latency and mounting offset kept).
+
+        Parameters
+        ----------
+        k : float
+            Factor on every noise term [-].
+        """
         return replace(
             self,
             heading_white_deg=k * self.heading_white_deg,
@@ -104,7 +146,15 @@ class CompassLog:
     truth: pd.DataFrame
 
     def write(self, path, *, crlf: bool = True) -> None:
-        """Write the sentences to a file (gzip-compressed when the name ends in .gz)."""
+        """Write the sentences to a file (gzip-compressed when the name ends in .gz).
+
+        Parameters
+        ----------
+        path : str or Path
+            Output file (.gz: compressed).
+        crlf : bool
+            End lines with CR LF as NMEA does.
+        """
         import gzip
 
         eol = "\r\n" if crlf else "\n"

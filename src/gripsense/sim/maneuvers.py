@@ -29,7 +29,25 @@ __all__ = [
 
 @dataclass
 class Maneuver:
-    """A manoeuvre ready to simulate."""
+    """A manoeuvre ready to simulate.
+
+    Attributes
+    ----------
+    name : str
+        Label.
+    controller : numpy.ndarray
+        Packed controller settings of the integrator.
+    duration_s : float
+        Simulated time [s].
+    initial : dict
+        Initial state (speed, position, heading).
+    steer_table : tuple of numpy.ndarray, optional
+        Time [s] and road-wheel angle [rad] of an open-loop steer input.
+    settle_s : float
+        Initial transient, not part of the intended test [s].
+    info : dict
+        Parameters of the manoeuvre, for the case table.
+    """
 
     name: str
     controller: np.ndarray
@@ -61,7 +79,8 @@ def circle(
     params: V.SimParams | None = None,
 ) -> Maneuver:
     """Steady circle at constant speed: a straight lead-in of *lead_s* (which also lets the
-    heading offset be calibrated), then the circle, followed with pure pursuit."""
+    heading offset be calibrated), then the circle, followed with pure pursuit.
+    """
     sgn = 1.0 if left else -1.0
     lap_s = 2 * np.pi * radius_m / speed_mps
     look = float(np.clip(0.6 * speed_mps, 4.0, 0.5 * radius_m))

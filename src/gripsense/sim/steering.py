@@ -1,6 +1,6 @@
 """Vehicle + steering-system model of seed 003 as a linear descriptor system, and its two tests.
 
-PHYSICS.md §9 (seed ``003_fdc8abf9dc5f3e6a.txt`` eqs. 1–6, errors fixed):
+docs/physics.md §9 (seed ``003_fdc8abf9dc5f3e6a.txt`` eqs. 1–6, errors fixed):
 
 * (1) m V (β̇ + r) = Y_f1 + Y_f2 + Y_r1 + Y_r2
 * (2) I ṙ = l_f (Y_f1 + Y_f2) − l_r (Y_r1 + Y_r2)
@@ -18,7 +18,8 @@ takes them at the steering wheel). r is the yaw rate (the seed's γ). ISO signs:
 Test (i) *step steer*: α ramps at a constant rate to a stopper at constant speed, states
 [β, r, δ, δ̇, Y_f1, Y_f2, Y_r1, Y_r2]. Test (ii) *hands-off release* from a steady turn: T_h = 0,
 states [β, r, δ, δ̇, α, α̇, Y_f1, Y_f2, Y_r1, Y_r2]. M ẋ = A x + B u is regular
-(det M = m I I_s I_h Π K_i / (V³ k_y⁴) ≠ 0, PHYSICS §9.2). Inputs are piecewise linear, so the
+(det M = m I I_s I_h Π K_i / (V³ k_y⁴) ≠ 0, docs/physics.md §9.2). Inputs are piecewise linear, so
+the
 response is computed exactly on the sample grid (scipy ``lsim``, first-order hold).
 """
 
@@ -54,7 +55,7 @@ RELEASE_STATES = (
 
 
 def descriptor(car: SteeringCar, case: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Matrices (M, A, B) of M ẋ = A x + B u (PHYSICS §9.2).
+    """Matrices (M, A, B) of M ẋ = A x + B u (docs/physics.md §9.2).
 
     Parameters
     ----------
@@ -152,7 +153,8 @@ def _foh_response(
     a: np.ndarray, b: np.ndarray, x0: np.ndarray, u: np.ndarray, dt: float
 ) -> np.ndarray:
     """Exact response of ẋ = A x + B u for u linear between samples (scipy's ``lsim`` with
-    first-order hold); returns the states per sample."""
+    first-order hold); returns the states per sample.
+    """
     n = a.shape[0]
     t = dt * np.arange(u.size)
     _, _, x = lsim((a, b, np.eye(n), np.zeros((n, 1))), u, t, X0=x0, interp=True)
@@ -216,6 +218,17 @@ def simulate_release(
     car: SteeringCar, *, alpha0_rad: float, duration_s: float = 3.0, dt_s: float = 1e-3
 ) -> dict:
     """Test (ii): hands off (T_h = 0) at t = 0 from a steady turn held at kingpin angle α0.
+
+    Parameters
+    ----------
+    car : SteeringCar
+        The car.
+    alpha0_rad : float
+        Kingpin angle held before the release [rad].
+    duration_s : float
+        Simulated time after the release [s].
+    dt_s : float
+        Output step [s].
 
     Returns
     -------

@@ -118,7 +118,8 @@ def rig_samples(
     noise_N: float = 30.0,
 ) -> pd.DataFrame:
     """Independent uniform (α, γ, Fz) samples, as a flat-track rig sweeps them (same columns as
-    :func:`cornering_samples`)."""
+    :func:`cornering_samples`).
+    """
     fz = rng.uniform(*fz_range_N, n)
     alpha = rng.uniform(-alpha_max_rad, alpha_max_rad, n)
     gamma = rng.uniform(-gamma_max_rad, gamma_max_rad, n)

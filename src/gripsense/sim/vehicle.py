@@ -2,7 +2,7 @@
 
 States: world position X, Y (east, north) [m], yaw ψ (counter-clockwise from east) [rad], body
 velocities U, V [m/s], yaw rate r [rad/s], and, with a relaxation length, the four lateral tyre
-forces (first-order lag, seed 003 eq. 4 / PHYSICS.md §9.1: (σ/U) Ḟ + F = F_ss).
+forces (first-order lag, seed 003 eq. 4 / docs/physics.md §9.1: (σ/U) Ḟ + F = F_ss).
 
 Forces (ISO 8855 body axes):
 
@@ -12,7 +12,7 @@ Forces (ISO 8855 body axes):
   μ_y = √(μ² − (F_x/F_z)²) (friction circle);
 * locked wheels (straight braking) slide: F = −μ F_z along the wheel's velocity;
 * quasi-static loads: longitudinal transfer m a_x h / L and the steady-state lateral transfer of
-  PHYSICS.md §4.2 (roll-stiffness split and roll-centre heights), from the previous step's
+  docs/physics.md §4.2 (roll-stiffness split and roll-centre heights), from the previous step's
   accelerations; no aerodynamic drag, no rolling resistance.
 
 Equations: m(U̇ − V r) = ΣF_x, m(V̇ + U r) = ΣF_y, I_z ṙ = Σ(x_i F_y,i − y_i F_x,i).
@@ -46,6 +46,35 @@ class SimParams:
 
     Built from a :class:`~gripsense.config.Vehicle` with :meth:`from_vehicle`; the vehicle needs
     a wheelbase and G-or-C tyres for both axles.
+
+    Attributes
+    ----------
+    mass_kg : float
+        Mass [kg].
+    yaw_inertia_kgm2 : float
+        Yaw inertia [kg m^2].
+    l_f : float
+        CG to front axle [m].
+    l_r : float
+        CG to rear axle [m].
+    cg_height_m : float
+        CG height [m].
+    track_front_m : float
+        Front track [m].
+    track_rear_m : float
+        Rear track [m].
+    roll_front_fraction : float
+        Front share of the roll stiffness [-].
+    roll_centre_heights_m : tuple of float
+        Front and rear roll-centre heights [m].
+    tyres : dict
+        Axle → :class:`~gripsense.config.Tyre`.
+    relaxation_length_m : float
+        Tyre relaxation length (0: no lag) [m].
+    drive : str
+        Driven axle: ``front``, ``rear`` or ``all``.
+    pressure : str
+        Pressure shape of the brush tyres.
     """
 
     mass_kg: float
@@ -74,6 +103,17 @@ class SimParams:
         """Simulation parameters from a vehicle description.
 
         The yaw inertia defaults to m·l_f·l_r (a common estimate: radius of gyration² ≈ l_f l_r).
+
+        Parameters
+        ----------
+        v : Vehicle
+            Vehicle description (needs a wheelbase).
+        yaw_inertia_kgm2 : float, optional
+            Yaw inertia [kg m^2]; default m l_f l_r.
+        relaxation_length_m : float
+            Tyre relaxation length [m].
+        drive : str
+            Driven axle.
         """
         if v.wheelbase_m is None:
             raise InputError(f"{v.source}: [vehicle] wheelbase_m is needed to simulate")
@@ -171,6 +211,8 @@ class SimResult:
     params : SimParams
     wall_s : float
         Wall-clock time of the integration [s].
+    meta : dict
+        Notes on the run (manoeuvre, tyre models).
     """
 
     body: pd.DataFrame
@@ -232,7 +274,7 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ou
     drive, which = int(p[13]), int(p[14])
     X, Y, psi, U, V, r = s[0], s[1], s[2], s[3], s[4], s[5]
     L = lf + lr
-    # quasi-static loads (PHYSICS §4.2) from the previous step's accelerations
+    # quasi-static loads (docs/physics.md §4.2) from the previous step's accelerations
     h_ra = (mf * hf + mr * hr) / m
     arm = m * (h - h_ra)
     dfz_f = ay_prev / tf * (mf * hf + kf * arm)

@@ -45,6 +45,17 @@ def _cv2():
 def frame_pair_flow(a: np.ndarray, b: np.ndarray, *, block: int = 64, search: int = 48) -> dict:
     """Ground flow between two grey frames (see the module documentation).
 
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Earlier frame (grey).
+    b : numpy.ndarray
+        Later frame (grey).
+    block : int
+        Side of the centre block matched [px].
+    search : int
+        Search range of the block match [px].
+
     Returns
     -------
     dict

@@ -2,7 +2,7 @@
 
 Seed ``002_0ffa298cd6a17b3b.txt`` fits all coefficients at once to scattered on-road points
 (α, γ, Fz, Fy) — every point has its own conditions, so the usual staged fit (one load and camber
-at a time) is impossible — and adds constraints that keep the curve physical (PHYSICS.md §8.2):
+at a time) is impossible — and adds constraints that keep the curve physical (docs/physics.md §8.2):
 
 ==========  ==========================================================================
 set         meaning (PAC94 coefficient names; the MF 6.1 analogue in brackets)

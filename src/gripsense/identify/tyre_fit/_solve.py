@@ -1,5 +1,6 @@
 """What the tyre fits share: data cleaning, start values, the solver call and the
-covariance / "determined" analysis (``docs/physics.md`` §8.2)."""
+covariance / "determined" analysis (``docs/physics.md`` §8.2).
+"""
 
 from __future__ import annotations
 
@@ -81,7 +82,8 @@ def _covariance(res, free_idx, names, lb, ub, x, dof, fy):
     """Covariance s²(JᵀJ)⁻¹ of the free coefficients not held at a bound, and which coefficients
     the data determine: a coefficient is *undetermined* when it lies at a bound, on a null
     direction of JᵀJ, or when its 1σ uncertainty moves the force by more than 5 % of the RMS
-    force over the data (σᵢ·rms(∂F/∂xᵢ) > 0.05·rms(F))."""
+    force over the data (σᵢ·rms(∂F/∂xᵢ) > 0.05·rms(F)).
+    """
     j = res.jacobian
     xs = x[free_idx]
     tol_b = 1e-9 * (1 + np.abs(xs))

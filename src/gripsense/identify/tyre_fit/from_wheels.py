@@ -35,7 +35,7 @@ def fit_from_wheel_table(
     Parameters
     ----------
     wheels : pandas.DataFrame
-        :attr:`gripsense.pipeline.FrictionResult.wheels`.
+        :attr:`gripsense.estimate.results.FrictionResult.wheels`.
     model : {"pac94", "mf61"}
     constraints : str
         Constraint set.

@@ -160,7 +160,7 @@ def fit_pac94(
     x0 : array_like, optional
         Start; default derived from the data (peak |Fy| and slope at the origin per load bin).
     weights : array_like, optional
-        Per-point weights (1/σ² of the force) [1/N²].
+        Per-point weights (1/σ² of the force) [1/N^2].
     max_iter : int
         Iteration limit of the solver.
 

@@ -131,7 +131,8 @@ class TyreFit:
         """The keyword arguments of the model function this fit plugs into (pvlib's ``fit``
         convention): PAC94 → ``pac94_lateral(fz, alpha, gamma, **fit.model_kwargs)`` of
         :mod:`gripsense.physics.magic_formula.pac94`; MF 6.1 →
-        ``MFTyre(**fit.model_kwargs)``."""
+        ``MFTyre(**fit.model_kwargs)``.
+        """
         if self.model == "pac94":
             return {
                 "a": np.array([self.coefficients[n] for n in PAC94_NAMES]),
@@ -168,7 +169,8 @@ class TyreFit:
 
     def physical_checks(self) -> dict[str, bool]:
         """Seed-002 physical conditions over the fit's data box (independent of the constraint
-        set used): C in (1, 2); E in (−(1 + C²/2), 1]; peak largest at γ = 0."""
+        set used): C in (1, 2); E in (−(1 + C²/2), 1]; peak largest at γ = 0.
+        """
         fz_lo, fz_hi = self.ranges["fz_N"]
         g_lo, g_hi = self.ranges["gamma_rad"]
         fz = np.array([fz_lo, fz_lo, fz_hi, fz_hi])

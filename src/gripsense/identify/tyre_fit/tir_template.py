@@ -1,5 +1,6 @@
 """The ``.tir`` an MF 6.1 lateral fit is written as: a template's other sections kept, or a
-minimal file that gripsense and MFeval can read."""
+minimal file that gripsense and MFeval can read.
+"""
 
 from __future__ import annotations
 

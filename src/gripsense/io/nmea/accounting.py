@@ -13,7 +13,17 @@ __all__ = ["IngestReport", "RejectedLine"]
 
 @dataclass(frozen=True)
 class RejectedLine:
-    """One rejected input line: 1-based line number, reason and detail."""
+    """One rejected input line: 1-based line number, reason and detail.
+
+    Attributes
+    ----------
+    line : int
+        1-based line number in the input.
+    reason : str
+        Reject reason (:data:`gripsense.io.nmea.schema.REASONS`).
+    detail : str
+        What exactly was wrong.
+    """
 
     line: int
     reason: str
@@ -59,14 +69,17 @@ class IngestReport:
 
     @property
     def n_parsed(self) -> int:
+        """Lines parsed into sentences."""
         return sum(self.parsed.values())
 
     @property
     def n_ignored(self) -> int:
+        """Lines recognised but not used (other sentence types, blanks, comments)."""
         return sum(self.ignored.values())
 
     @property
     def n_rejected(self) -> int:
+        """Lines rejected with a reason."""
         return sum(self.rejected.values())
 
     @property

@@ -196,7 +196,7 @@ def _tokenize_array(data) -> Tokens:
         raw[k] = tab
 
     if (outcome < 0).any():  # pragma: no cover - a bug, not bad input
-        raise AssertionError("nmea_fast: a line was left without a bucket")
+        raise AssertionError("nmea fast tokenizer: a line was left without a bucket")
     return Tokens(outcome, code, list(NAME), junk, raw)
 
 

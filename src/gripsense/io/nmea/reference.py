@@ -71,7 +71,7 @@ def _type_key(addr: bytes, rest: bytes) -> str | None:
 
 
 def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
-    """Classify one line.
+    r"""Classify one line.
 
     Parameters
     ----------

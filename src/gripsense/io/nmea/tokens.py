@@ -48,6 +48,7 @@ class Tokens:
 
     @property
     def n_lines(self) -> int:
+        """Number of lines tokenized."""
         return int(self.outcome.size)
 
     @property
@@ -75,7 +76,7 @@ class Tokens:
 
 
 def split_lines(data: bytes) -> list[bytes]:
-    """Split a buffer into lines the way every gripsense reader does.
+    r"""Split a buffer into lines the way every gripsense reader does.
 
     Lines end at ``\\n``; a final line without a terminator counts; a terminator at the very end
     does not start another line. ``\\r`` is not a terminator (it is stripped as whitespace).

@@ -63,7 +63,27 @@ def _sign(x: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class MFForces:
-    """Forces of :meth:`MFTyre.forces` (arrays broadcast to the inputs' shape; SI, ISO-W)."""
+    """Forces of :meth:`MFTyre.forces` (arrays broadcast to the inputs' shape; SI, ISO-W).
+
+    Attributes
+    ----------
+    fx : numpy.ndarray
+        Combined-slip longitudinal force [N].
+    fy : numpy.ndarray
+        Combined-slip lateral force [N].
+    fx0 : numpy.ndarray
+        Pure-slip longitudinal force [N].
+    fy0 : numpy.ndarray
+        Pure-slip lateral force [N].
+    mux : numpy.ndarray
+        Longitudinal peak friction coefficient [-].
+    muy : numpy.ndarray
+        Lateral peak friction coefficient [-] (signed, as PDY1).
+    kxk : numpy.ndarray
+        Longitudinal slip stiffness [N].
+    kya : numpy.ndarray
+        Cornering stiffness [N/rad].
+    """
 
     fx: np.ndarray  #: combined-slip longitudinal force [N]
     fy: np.ndarray  #: combined-slip lateral force [N]

@@ -1,6 +1,6 @@
 """The a0…a17 lateral Magic Formula of seed 002 ("PAC94", Pacejka & Bakker 1993) with its Jacobian.
 
-PHYSICS.md §8.1, seed ``002_0ffa298cd6a17b3b.txt`` eqs. (1)–(9)::
+docs/physics.md §8.1, seed ``002_0ffa298cd6a17b3b.txt`` eqs. (1)–(9)::
 
     Fy = D sin(C atan(B x − E (B x − atan(B x)))) + Sv,   x = α + Sh
     C  = a0
@@ -8,7 +8,7 @@ PHYSICS.md §8.1, seed ``002_0ffa298cd6a17b3b.txt`` eqs. (1)–(9)::
     BCD = a3 sin(2 atan(Fz / a4)) (1 − a5 |γ|),   B = BCD / (C D)
     E  = (a6 Fz + a7)(1 − (a16 γ + a17) sgn(x))
 
-Two forms of the shifts exist (PHYSICS.md §8.1 could not decide which the seed meant):
+Two forms of the shifts exist (docs/physics.md §8.1 could not decide which the seed meant):
 
 * ``"published"`` (default): Sh = a8 Fz + a9 + a10 γ; Sv = a11 Fz + a12 + (a13 Fz + a14) γ Fz —
   the PAC94 form of MSC Adams and the literature, so coefficient sets exchanged with other tools
@@ -164,7 +164,7 @@ def pac94_lateral(a, fz, alpha, gamma=0.0, variant: str = "published"):
     gamma : array_like
         Camber angle [rad].
     variant : {"published", "seed"}
-        Form of Sh and Sv; PHYSICS.md §8.1.
+        Form of Sh and Sv; docs/physics.md §8.1.
 
     Returns
     -------

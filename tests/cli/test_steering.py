@@ -11,7 +11,7 @@ import pandas as pd
 import gripsense
 from gripsense.config import SteeringCar
 from gripsense.sim.steering import simulate_release, simulate_step
-from tests.test_cli import run
+from tests.cli.test_commands import run
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 

@@ -11,9 +11,9 @@ import pytest
 
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
-from tests.test_cli import run
+from tests.cli.test_commands import run
 
-TIR = Path(__file__).parent / "data" / "tyre" / "tir"
+TIR = Path(__file__).parent.parent / "data" / "tyre" / "tir"
 TRUTH = PAC94_EXAMPLE
 
 

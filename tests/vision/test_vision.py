@@ -88,7 +88,7 @@ def test_camera_sign_convention_iso():
 
 
 def test_camera_cli(tmp_path):
-    from tests.test_cli import run
+    from tests.cli.test_commands import run
 
     d = tmp_path / "frames"
     d.mkdir()
@@ -115,7 +115,7 @@ def test_camera_cli(tmp_path):
 def test_camber_cli(tmp_path):
     import pandas as pd
 
-    from tests.test_cli import run
+    from tests.cli.test_commands import run
 
     t = np.arange(0, 4, 0.01)
     gamma = np.where(t < 1.0, 0.0, 2.0)  # calibration second on the floor, then 2°
