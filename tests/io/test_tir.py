@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from gripsense.errors import InputError
 from gripsense.io.tir import TirError, TirFile, read_tir, write_tir
 
 TIR_DIR = Path(__file__).parents[1] / "data" / "tyre" / "tir"
@@ -100,8 +101,10 @@ def test_units_are_converted_to_si():
 
 
 def test_fortran_exponents_and_unquoted_words():
-    t = read_tir(io.StringIO("[MODEL]\nTYRESIDE = LEFT\nX = 1.5D-03 $c\n"))
-    assert t["X"] == pytest.approx(1.5e-3)
+    t = read_tir(
+        io.StringIO("[MODEL]\nTYRESIDE = LEFT\n[LATERAL_COEFFICIENTS]\nPDY2 = 1.5D-03 $c\n")
+    )
+    assert t["PDY2"] == pytest.approx(1.5e-3)
     assert t["TYRESIDE"] == "LEFT"
 
 
@@ -121,7 +124,7 @@ def test_errors_name_line_and_key(tmp_path):
         read_tir(io.StringIO("hello world\n[MODEL]\nA = 1\n"))
     with pytest.raises(TirError, match="not a known unit"):
         read_tir(io.StringIO("[UNITS]\nLENGTH = 'furlong'\n[X]\nA=1\n")).parameters()
-    with pytest.raises(TirError, match="no such file"):
+    with pytest.raises(InputError, match="no such file"):
         read_tir(tmp_path / "missing.tir")
 
 

@@ -44,10 +44,51 @@ from gripsense.config.toml_reader import TomlReader
 from gripsense.io.text import read_toml
 from gripsense.physics.contact import contact_length_lm
 
-__all__ = ["WHEELS", "Tyre", "Vehicle"]
+__all__ = ["PLAUSIBLE", "WHEELS", "Tyre", "Vehicle"]
 
 WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
+
+TOP_KEYS = ("vehicle", "antenna", "tyre")
+VEHICLE_KEYS = (
+    "name",
+    "mass_kg",
+    "front_weight_fraction",
+    "cg_to_front_axle_m",
+    "wheelbase_m",
+    "cg_height_m",
+    "track_front_m",
+    "track_rear_m",
+    "roll_stiffness_front_fraction",
+    "roll_centre_height_front_m",
+    "roll_centre_height_rear_m",
+    "steering_ratio",
+)
+ANTENNA_KEYS = ("x_m", "y_m", "heading_offset_deg", "wheels")
+TYRE_KEYS = (
+    "width_m",
+    "tread_stiffness_N_per_m3",
+    "cornering_stiffness_N_per_rad",
+    "contact_length",
+    "pressure",
+)
+PLAUSIBLE = {  # (low, high) of a road or race vehicle; outside: most likely a unit mistake
+    "mass_kg": (50.0, 60000.0),
+    "wheelbase_m": (0.5, 10.0),
+    "cg_height_m": (0.05, 3.0),
+    "track_m": (0.5, 3.5),
+    "roll_centre_height_m": (-0.5, 3.0),
+    "steering_ratio": (1.0, 40.0),
+    "offset_x_m": (-10.0, 10.0),
+    "offset_y_m": (-3.0, 3.0),
+    "tyre_width_m": (0.03, 1.0),
+    "tread_stiffness_N_per_m3": (1e5, 1e10),
+    "cornering_stiffness_N_per_rad": (1e3, 2e6),
+    "contact_length_m": (0.02, 0.6),
+}
+"""Plausible ranges of the vehicle file's numbers (docs/friction.md, "The vehicle file")."""
+MIN_STABILITY_FACTOR = 0.5
+"""Smallest track/(2 × CG height): below it the inner wheels would lift under 0.5 g."""
 
 
 @dataclass(frozen=True)
@@ -195,9 +236,20 @@ class Vehicle:
             Where it came from, for messages.
         """
         r = TomlReader(doc, source)
+        r.known(doc, "", TOP_KEYS)
         veh = r.table("vehicle", required=True)
-        mass = r.num(veh, "vehicle", "mass_kg", positive=True, unit="kg")
-        wb = r.num(veh, "vehicle", "wheelbase_m", positive=True, unit="m", required=False)
+        r.known(veh, "vehicle", VEHICLE_KEYS)
+        mass = r.num(
+            veh, "vehicle", "mass_kg", positive=True, unit="kg", plausible=PLAUSIBLE["mass_kg"]
+        )
+        wb = r.num(
+            veh,
+            "vehicle",
+            "wheelbase_m",
+            unit="m",
+            required=False,
+            plausible=PLAUSIBLE["wheelbase_m"],
+        )
         frac = r.num(veh, "vehicle", "front_weight_fraction", unit="-", required=False)
         lf = r.num(veh, "vehicle", "cg_to_front_axle_m", positive=True, unit="m", required=False)
         if frac is None and lf is None:
@@ -209,17 +261,37 @@ class Vehicle:
         if frac is None:
             if wb is None:
                 r.fail("vehicle", "wheelbase_m", "needed with cg_to_front_axle_m [m]")
+            if not lf < wb:
+                r.fail(
+                    "vehicle",
+                    "cg_to_front_axle_m",
+                    f"= {lf} [m] must be shorter than the wheelbase",
+                )
             frac = (wb - lf) / wb
         if not 0.0 < frac < 1.0:
             r.fail("vehicle", "front_weight_fraction", f"= {frac}: must be between 0 and 1")
-        h = r.num(veh, "vehicle", "cg_height_m", positive=True, unit="m")
-        tf = r.num(veh, "vehicle", "track_front_m", positive=True, unit="m")
-        tr = r.num(veh, "vehicle", "track_rear_m", positive=True, unit="m")
+        h = r.num(veh, "vehicle", "cg_height_m", unit="m", plausible=PLAUSIBLE["cg_height_m"])
+        tf = r.num(veh, "vehicle", "track_front_m", unit="m", plausible=PLAUSIBLE["track_m"])
+        tr = r.num(veh, "vehicle", "track_rear_m", unit="m", plausible=PLAUSIBLE["track_m"])
+        ssf = min(tf, tr) / (2.0 * h)  # static stability factor: inner wheel lifts at this a_y/g
+        if ssf < MIN_STABILITY_FACTOR:
+            r.fail(
+                "vehicle",
+                "cg_height_m",
+                f"= {h} m with a {min(tf, tr)} m track: the inner wheels would lift at "
+                f"{ssf:.2f} g (track/(2 h) must be ≥ {MIN_STABILITY_FACTOR}); check the CG height "
+                "and the track (metres)",
+            )
         kf = r.num(veh, "vehicle", "roll_stiffness_front_fraction", unit="-", required=False)
         if kf is not None and not 0.0 <= kf <= 1.0:
             r.fail("vehicle", "roll_stiffness_front_fraction", f"= {kf}: must be in 0..1")
-        hf = r.num(veh, "vehicle", "roll_centre_height_front_m", unit="m", required=False)
-        hr = r.num(veh, "vehicle", "roll_centre_height_rear_m", unit="m", required=False)
+        rc = PLAUSIBLE["roll_centre_height_m"]
+        hf = r.num(
+            veh, "vehicle", "roll_centre_height_front_m", unit="m", required=False, plausible=rc
+        )
+        hr = r.num(
+            veh, "vehicle", "roll_centre_height_rear_m", unit="m", required=False, plausible=rc
+        )
         if (hf is None) != (hr is None):
             r.fail(
                 "vehicle",
@@ -227,13 +299,35 @@ class Vehicle:
                 "give both roll-centre heights or "
                 "neither (neither: at CG height, the thesis's rigid model)",
             )
-        ratio = r.num(veh, "vehicle", "steering_ratio", positive=True, unit="-", required=False)
+        ratio = r.num(
+            veh,
+            "vehicle",
+            "steering_ratio",
+            unit="-",
+            required=False,
+            plausible=PLAUSIBLE["steering_ratio"],
+        )
         name = str(veh.get("name", Path(source).stem))
 
         ant = r.table("antenna", required=True)
-        off_deg = r.num(ant, "antenna", "heading_offset_deg", unit="deg", required=False) or 0.0
-        ax = r.num(ant, "antenna", "x_m", unit="m", required=False)
-        ay = r.num(ant, "antenna", "y_m", unit="m", required=False)
+        r.known(ant, "antenna", ANTENNA_KEYS)
+        off_deg = (
+            r.num(
+                ant,
+                "antenna",
+                "heading_offset_deg",
+                unit="deg",
+                required=False,
+                plausible=(-180, 180),
+            )
+            or 0.0
+        )
+        ax = r.num(
+            ant, "antenna", "x_m", unit="m", required=False, plausible=PLAUSIBLE["offset_x_m"]
+        )
+        ay = r.num(
+            ant, "antenna", "y_m", unit="m", required=False, plausible=PLAUSIBLE["offset_y_m"]
+        )
         explicit = ant.get("wheels", {})
         if not isinstance(explicit, dict):
             r.fail("antenna", "wheels", "must be a table of wheel = [x_m, y_m]")
@@ -262,6 +356,10 @@ class Vehicle:
                 or not all(isinstance(v, int | float) for v in xy)
             ):
                 r.fail("antenna.wheels", wname, "must be [x_m, y_m] relative to the antenna")
+            if abs(xy[0]) > PLAUSIBLE["offset_x_m"][1] or abs(xy[1]) > PLAUSIBLE["offset_y_m"][1]:
+                r.fail(
+                    "antenna.wheels", wname, f"= {xy}: more than 10 m / 3 m from the antenna [m]"
+                )
             offsets[wname] = (float(xy[0]), float(xy[1]))
         if not offsets:
             r.fail(
@@ -272,13 +370,15 @@ class Vehicle:
             )
 
         tyres_doc = r.table("tyre", required=True)
+        r.known(tyres_doc, "tyre", ("front", "rear"))
         tyres = {}
         for axle in ("front", "rear"):
             if axle not in tyres_doc:
                 if any(AXLE_OF[w] == axle for w in offsets):
                     r.fail("tyre", axle, f"missing [tyre.{axle}] for the {axle} wheels")
                 continue
-            tyres[axle] = _tyre(r, tyres_doc[axle], f"tyre.{axle}")
+            axle_mass = mass * (frac if axle == "front" else 1.0 - frac)
+            tyres[axle] = _tyre(r, tyres_doc[axle], f"tyre.{axle}", axle_mass / 2.0)
         offsets = {w: o for w, o in offsets.items() if AXLE_OF[w] in tyres}
         return cls(
             mass_kg=mass,
@@ -299,13 +399,26 @@ class Vehicle:
         )
 
 
-def _tyre(r: TomlReader, t: dict, where: str) -> Tyre:
+def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
     if not isinstance(t, dict):
         r.fail("tyre", where, "must be a table")
-    w = r.num(t, where, "width_m", positive=True, unit="m")
-    g = r.num(t, where, "tread_stiffness_N_per_m3", positive=True, unit="N/m^3", required=False)
+    r.known(t, where, TYRE_KEYS)
+    w = r.num(t, where, "width_m", unit="m", plausible=PLAUSIBLE["tyre_width_m"])
+    g = r.num(
+        t,
+        where,
+        "tread_stiffness_N_per_m3",
+        unit="N/m^3",
+        required=False,
+        plausible=PLAUSIBLE["tread_stiffness_N_per_m3"],
+    )
     c = r.num(
-        t, where, "cornering_stiffness_N_per_rad", positive=True, unit="N/rad", required=False
+        t,
+        where,
+        "cornering_stiffness_N_per_rad",
+        unit="N/rad",
+        required=False,
+        plausible=PLAUSIBLE["cornering_stiffness_N_per_rad"],
     )
     if (g is None) == (c is None):
         r.fail(
@@ -321,11 +434,24 @@ def _tyre(r: TomlReader, t: dict, where: str) -> Tyre:
             "contact_length",
             "missing; give { a = ..., b = ... } (l = a sqrt(m) + b m) or { fixed_m = ... }",
         )
+    r.known(cl, f"{where}.contact_length", ("a", "b", "fixed_m"))
     a = r.num(cl, f"{where}.contact_length", "a", unit="m/kg^0.5", required=False)
     b = r.num(cl, f"{where}.contact_length", "b", unit="m/kg", required=False)
-    fixed = r.num(cl, f"{where}.contact_length", "fixed_m", positive=True, unit="m", required=False)
+    lo, hi = PLAUSIBLE["contact_length_m"]
+    fixed = r.num(
+        cl, f"{where}.contact_length", "fixed_m", unit="m", required=False, plausible=(lo, hi)
+    )
     if fixed is None and (a is None or b is None):
         r.fail(f"{where}.contact_length", "a", "give both a and b, or fixed_m")
+    if fixed is None:
+        l0 = float(contact_length_lm(wheel_mass_kg, a, b))
+        if not lo <= l0 <= hi:
+            r.fail(
+                f"{where}.contact_length",
+                "a",
+                f"gives l = {l0:.3g} m at the static wheel mass {wheel_mass_kg:.0f} kg, outside "
+                f"{lo}–{hi} m; check a [m/kg^0.5] and b [m/kg]",
+            )
     pressure = t.get("pressure", "parabolic")
     if pressure not in ("parabolic", "quartic"):
         r.fail(where, "pressure", f"= {pressure!r}: use 'parabolic' or 'quartic'")

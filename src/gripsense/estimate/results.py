@@ -27,7 +27,7 @@ from gripsense.errors import InputError
 from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.estimate.friction import FLAGS, NOT_STEADY_CORNERING
 from gripsense.estimate.noise import NoiseModel
-from gripsense.io.results import read_manifest, read_result_folder, write_result_folder
+from gripsense.io.results import read_result_folder, write_result_folder
 from gripsense.physics.surface import surface_class_interval
 
 __all__ = [
@@ -524,9 +524,6 @@ def read_result(folder: str | Path) -> FrictionResult:
     WheelFriction or AxleFriction
         The kind recorded in the folder; only the files its manifest lists are read.
     """
-    folder = Path(folder)
-    if read_manifest(folder) is None and (folder / "summary.json").is_file():
-        return _read_legacy(folder)
     rf = read_result_folder(folder, RESULT_KIND)
     kind = rf.manifest.get("result")
     if kind not in RESULT_TYPES:
@@ -555,34 +552,3 @@ def _summary_frame(records: list[dict]) -> pd.DataFrame:
         if col in s:
             s[col] = pd.to_numeric(s[col], errors="coerce").astype(float)
     return s
-
-
-def _read_legacy(folder: Path) -> FrictionResult:
-    """Folders written before result manifests existed: the summary says which kind."""
-    import json
-
-    doc = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
-    kind = AxleFriction.unit if "axles" in doc else WheelFriction.unit
-    if not (folder / "wheels.parquet").is_file():
-        raise InputError(f"{folder}: not a result folder (no wheels.parquet)")
-    kw = {}
-    if kind == AxleFriction.unit and (folder / "windows.parquet").is_file():
-        kw["windows"] = pd.read_parquet(folder / "windows.parquet")
-    ingest = folder / "ingest.json"
-    return RESULT_TYPES[kind](
-        wheels=pd.read_parquet(folder / "wheels.parquet"),
-        summary=_summary_frame(doc.get(f"{kind}s", [])),
-        meta=doc.get("meta", {}),
-        epochs=(
-            pd.read_parquet(folder / "epochs.parquet")
-            if (folder / "epochs.parquet").is_file()
-            else None
-        ),
-        ingest=json.loads(ingest.read_text(encoding="utf-8")) if ingest.is_file() else None,
-        vehicle=(
-            Vehicle.from_toml(folder / "vehicle.toml")
-            if (folder / "vehicle.toml").is_file()
-            else None
-        ),
-        **kw,
-    )

@@ -31,6 +31,7 @@ from gripsense.errors import InputError
 __all__ = [
     "MANIFEST",
     "ResultFolder",
+    "ResultWriter",
     "check_output_folder",
     "file_sha256",
     "read_manifest",
@@ -163,6 +164,94 @@ class ResultFolder:
     files: dict[str, Path] = field(default_factory=dict)
 
 
+class ResultWriter:
+    """Build a result folder in a temporary sibling and install it atomically on success.
+
+    Use as a context manager::
+
+        with ResultWriter(out, "fleet", overwrite=False, command="…") as tmp:
+            ...write files below tmp...
+        # on a clean exit the files are installed into `out` and listed in its manifest;
+        # on an exception nothing in `out` changes and the temporary folder is removed
+
+    Parameters
+    ----------
+    folder : str or Path
+        Output folder.
+    kind : str
+        Result kind, recorded in the manifest and checked on reuse.
+    overwrite : bool
+        Replace an earlier result of the same kind in *folder*.
+    command : str
+        Command line recorded in the manifest.
+    inputs : list, optional
+        Input files recorded with their size and SHA-256.
+    extra : dict, optional
+        More manifest entries.
+    """
+
+    def __init__(
+        self,
+        folder: str | Path,
+        kind: str,
+        *,
+        overwrite: bool = False,
+        command: str = "",
+        inputs: list[str | Path] | None = None,
+        extra: dict | None = None,
+    ):
+        self.folder = Path(folder)
+        self.kind = kind
+        self.overwrite = overwrite
+        self.command = command
+        self.inputs = list(inputs or [])
+        self.extra = dict(extra or {})
+        self.tmp: Path | None = None
+        self.files: list[str] = []
+        check_output_folder(self.folder, kind, overwrite=overwrite)
+
+    def __enter__(self) -> Path:
+        parent = self.folder.parent
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            self.tmp = Path(tempfile.mkdtemp(prefix=f".gripsense-{self.folder.name}-", dir=parent))
+        except OSError as e:
+            raise InputError(
+                f"{self.folder}: cannot create the output folder ({e.strerror or e})"
+            ) from None
+        return self.tmp
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            if exc_type is None:
+                self._finish()
+        finally:
+            if self.tmp is not None:
+                shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def _finish(self) -> None:
+        from gripsense._version import __version__
+
+        tmp = self.tmp
+        self.files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
+        manifest = {
+            "gripsense_result": FORMAT,
+            "kind": self.kind,
+            "gripsense_version": __version__,
+            "command": self.command,
+            "inputs": [_describe_input(p) for p in self.inputs],
+            "files": self.files,
+            **self.extra,
+        }
+        try:
+            (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+            _install(tmp, self.folder)
+        except OSError as e:
+            raise InputError(
+                f"{self.folder}: cannot write the result ({e.strerror or e})"
+            ) from None
+
+
 def write_result_folder(
     folder: str | Path,
     kind: str,
@@ -175,7 +264,8 @@ def write_result_folder(
     extra: dict | None = None,
     overwrite: bool = False,
 ) -> dict[str, Path]:
-    """Write a result folder atomically (see the module documentation).
+    """Write a result folder of tables, JSON documents and copies atomically (see
+    :class:`ResultWriter` and the module documentation).
 
     Parameters
     ----------
@@ -203,45 +293,22 @@ def write_result_folder(
     dict
         Name (stem, or file name for copies) → path of every file written, plus ``manifest``.
     """
-    from gripsense._version import __version__
-
     folder = Path(folder)
-    check_output_folder(folder, kind, overwrite=overwrite)
-    tables, documents, copies = tables or {}, documents or {}, copies or {}
-    parent = folder.parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".gripsense-{folder.name}-", dir=parent))
-    except OSError as e:
-        raise InputError(f"{folder}: cannot create the output folder ({e.strerror or e})") from None
     written: dict[str, str] = {}
-    try:
-        for stem, df in tables.items():
+    with ResultWriter(
+        folder, kind, overwrite=overwrite, command=command, inputs=inputs, extra=extra
+    ) as tmp:
+        for stem, df in (tables or {}).items():
             df.to_parquet(tmp / f"{stem}.parquet", index=False)
             written[stem] = f"{stem}.parquet"
-        for stem, doc in documents.items():
+        for stem, doc in (documents or {}).items():
             (tmp / f"{stem}.json").write_text(
                 json.dumps(doc, indent=2, default=str) + "\n", encoding="utf-8"
             )
             written[stem] = f"{stem}.json"
-        for name, src in copies.items():
+        for name, src in (copies or {}).items():
             shutil.copyfile(src, tmp / name)
             written[name] = name
-        manifest = {
-            "gripsense_result": FORMAT,
-            "kind": kind,
-            "gripsense_version": __version__,
-            "command": command,
-            "inputs": [_describe_input(p) for p in inputs or []],
-            "files": sorted(written.values()),
-            **(extra or {}),
-        }
-        (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
-        _install(tmp, folder)
-    except OSError as e:
-        raise InputError(f"{folder}: cannot write the result ({e.strerror or e})") from None
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
     out = {k: folder / v for k, v in written.items()}
     out["manifest"] = folder / MANIFEST
     return out
@@ -256,7 +323,8 @@ def _describe_input(p: str | Path) -> dict:
 
 def _install(tmp: Path, folder: Path) -> None:
     """Move the finished files of *tmp* into *folder*: a rename of the whole folder when it does
-    not exist yet, else file by file with the old manifest's leftovers removed.
+    not exist yet, else file by file with the old manifest's leftovers removed (only files the
+    old manifest lists; folders only when they became empty).
     """
     if not folder.exists():
         os.rename(tmp, folder)
@@ -266,11 +334,17 @@ def _install(tmp: Path, folder: Path) -> None:
     new = json.loads((tmp / MANIFEST).read_text(encoding="utf-8"))
     (folder / MANIFEST).unlink(missing_ok=True)  # incomplete from here until the new manifest
     for name in new["files"]:
-        os.replace(tmp / name, folder / name)
-    for name in set(old.get("files", [])) - set(new["files"]):
         target = folder / name
-        if target.is_file() and target.parent == folder:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(tmp / name, target)
+    for name in set(old.get("files", [])) - set(new["files"]):
+        target = (folder / name).resolve()
+        if target.is_file() and folder.resolve() in target.parents:
             target.unlink()
+            for d in target.parents:
+                if d == folder.resolve() or any(d.iterdir()):
+                    break
+                d.rmdir()
     os.replace(tmp / MANIFEST, folder / MANIFEST)
 
 
@@ -306,7 +380,9 @@ def read_result_folder(folder: str | Path, kind: str | None = None) -> ResultFol
         if not p.is_file():
             raise InputError(f"{folder}: {name} is listed in the manifest but missing")
         try:
-            if name.endswith(".parquet"):
+            if "/" in name:
+                res.files[name] = p  # nested (e.g. partitioned tables): read on demand
+            elif name.endswith(".parquet"):
                 res.tables[name[: -len(".parquet")]] = pd.read_parquet(p)
             elif name.endswith(".json"):
                 res.documents[name[: -len(".json")]] = json.loads(p.read_text(encoding="utf-8"))

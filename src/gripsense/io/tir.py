@@ -18,14 +18,18 @@ Magic Formula coefficients themselves are dimensionless by construction).
 
 from __future__ import annotations
 
+import difflib
 import gzip
 import math
 import re
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
 from gripsense.errors import InputError
+from gripsense.io.text import read_bytes
+from gripsense.io.tir_keys import CHECKED_KEYS
 
 __all__ = ["TirError", "TirFile", "read_tir", "write_tir"]
 
@@ -49,6 +53,7 @@ class _Line:
     prefix: str = ""
     raw_value: str = ""
     suffix: str = ""
+    lineno: int = 0
 
 
 def _parse_value(raw: str, where: str) -> float | int | str | None:
@@ -154,6 +159,7 @@ class TirFile:
         self.name = name
         self._final_newline = final_newline
         self.encoding = "utf-8"
+        self.warnings: list[str] = []  #: unknown keys read with ``lenient=True``
         self._reindex()
 
     def _reindex(self) -> None:
@@ -472,7 +478,10 @@ def _dimension_factor(dim: tuple[int, int, int, int, int] | str, f: dict[str, fl
 
 
 # ---------------------------------------------------------------------- read / write
-def _parse(text: str, name: str) -> TirFile:
+_POSITIVE = ("FNOMIN", "UNLOADED_RADIUS", "NOMPRES", "LONGVL")
+
+
+def _parse(text: str, name: str, lenient: bool = False) -> TirFile:
     newline = "\r\n" if "\r\n" in text else "\n"
     final_nl = text.endswith("\n")
     raw_lines = text.split("\n")
@@ -480,24 +489,49 @@ def _parse(text: str, name: str) -> TirFile:
         raw_lines = raw_lines[:-1]
     lines: list[_Line] = []
     section = ""
+    seen: dict[tuple[str, str], int] = {}
+    warnings: list[str] = []
     for n, raw in enumerate(raw_lines, start=1):
         line = raw[:-1] if raw.endswith("\r") else raw
         stripped = line.strip()
         if stripped == "" or stripped[0] in "$!":
-            lines.append(_Line("comment", line, section=section))
+            lines.append(_Line("comment", line, section=section, lineno=n))
             continue
         m = _SECTION.match(line)
         if m:
             section = m.group(1).strip().upper().replace(" ", "_")
-            lines.append(_Line("section", line, section=section))
+            lines.append(_Line("section", line, section=section, lineno=n))
             continue
+        if stripped.startswith("["):
+            raise TirError(
+                f"{name} line {n}: {stripped[:40]!r} is not a section header; close it with ']'"
+            )
         m = _ENTRY.match(line)
         if m:
             key = m.group(1).upper()
+            where = f"{name} line {n} ({key})"
+            if (section, key) in seen:
+                raise TirError(
+                    f"{where}: {key} is given twice in [{section}] (first on line "
+                    f"{seen[section, key]}); keep one"
+                )
+            seen[section, key] = n
             rest = m.group(2)
             lead, val, suf = _split_entry(rest)
             prefix = line[: m.start(2)] + lead
-            value = _parse_value(val, f"{name} line {n} ({key})")
+            value = _parse_value(val, where)
+            if isinstance(value, float) and not math.isfinite(value):
+                raise TirError(f"{where}: {value!r} is not a finite number")
+            if key in _POSITIVE and isinstance(value, int | float) and value <= 0:
+                raise TirError(f"{where}: = {value} must be > 0")
+            known = CHECKED_KEYS.get(section)
+            if known is not None and key not in known:
+                close = difflib.get_close_matches(key, sorted(known), n=1, cutoff=0.7)
+                hint = f"did you mean {close[0]}?" if close else "not an MF-Tyre key"
+                msg = f"{where}: unknown key in [{section}]; {hint}"
+                if not lenient:
+                    raise TirError(msg + " (--lenient reads it with a warning)")
+                warnings.append(msg)
             lines.append(
                 _Line(
                     "entry",
@@ -508,11 +542,12 @@ def _parse(text: str, name: str) -> TirFile:
                     prefix=prefix,
                     raw_value=val,
                     suffix=suf,
+                    lineno=n,
                 )
             )
             continue
         if section:
-            lines.append(_Line("other", line, section=section))
+            lines.append(_Line("other", line, section=section, lineno=n))
             continue
         raise TirError(
             f"{name} line {n}: cannot read {stripped[:60]!r}; expected [SECTION], "
@@ -520,10 +555,21 @@ def _parse(text: str, name: str) -> TirFile:
         )
     if not any(ln.kind == "entry" for ln in lines):
         raise TirError(f"{name}: no KEY = value entries; is this a .tir file?")
-    return TirFile(lines, newline, name, final_nl)
+    # table rows (no '=') belong to table sections such as [SHAPE]; in a section of entries a
+    # line without '=' is a broken entry
+    with_entries = {ln.section for ln in lines if ln.kind == "entry"}
+    for ln in lines:
+        if ln.kind == "other" and ln.section in with_entries:
+            raise TirError(
+                f"{name} line {ln.lineno}: {ln.text.strip()[:60]!r} in [{ln.section}] is not "
+                "KEY = value"
+            )
+    tir = TirFile(lines, newline, name, final_nl)
+    tir.warnings = warnings
+    return tir
 
 
-def read_tir(source: str | Path | IO[str] | IO[bytes]) -> TirFile:
+def read_tir(source: str | Path | IO[str] | IO[bytes], *, lenient: bool = False) -> TirFile:
     """Read a ``.tir`` property file.
 
     Parameters
@@ -531,6 +577,9 @@ def read_tir(source: str | Path | IO[str] | IO[bytes]) -> TirFile:
     source : path, or text/binary file object
         A path (plain or ``.gz``) or an open file. Text is decoded as UTF-8, falling back to
         Latin-1 (TNO files sometimes carry ``°`` in comments).
+    lenient : bool
+        Read unknown keys in the sections gripsense uses with a warning (``TirFile.warnings``)
+        instead of an error — for vendor files with extra keys.
 
     Returns
     -------
@@ -538,9 +587,12 @@ def read_tir(source: str | Path | IO[str] | IO[bytes]) -> TirFile:
     """
     if isinstance(source, (str, Path)):
         path = Path(source)
-        if not path.exists():
-            raise TirError(f"{path}: no such file")
-        data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
+        data = read_bytes(path, "file")
+        if data[:2] == b"\x1f\x8b":
+            try:
+                data = gzip.decompress(data)
+            except (OSError, EOFError, zlib.error) as e:
+                raise TirError(f"{path}: not a readable .gz file ({e})") from None
         name = str(path)
     else:
         data = source.read()
@@ -554,7 +606,7 @@ def read_tir(source: str | Path | IO[str] | IO[bytes]) -> TirFile:
             text = data.decode(encoding)
     else:
         text = data
-    tir = _parse(text, str(name))
+    tir = _parse(text, str(name), lenient)
     tir.encoding = encoding
     return tir
 

@@ -20,24 +20,12 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import GripsenseError, InputError
+from gripsense.estimate.results import UNIT_COLUMNS
 from gripsense.live.incremental import LiveIngest
 
 __all__ = ["LiveFriction", "LiveStats", "Recorder", "recover", "run_live"]
 
-RESULT_COLUMNS = [
-    "wall_time_s",
-    "t_s",
-    "time_utc",
-    "unit",
-    "mu",
-    "mu_low",
-    "mu_high",
-    "surface",
-    "observable",
-    "mu_lower_bound",
-    "n_valid",
-    "stale",
-]
+RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", *UNIT_COLUMNS, "stale"]
 
 
 class LiveFriction:

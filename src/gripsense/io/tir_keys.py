@@ -1,0 +1,244 @@
+"""Keys of the ``.tir`` sections gripsense reads, as MF-Tyre 5.2 / 6.1 / 6.2 and PAC2002 files
+name them (collected from the MFeval, TNO-format and Project Chrono example files in
+``tests/data/tyre/tir``). A key outside these lists in one of these sections is a typo or a
+vendor extension: an error by default, a warning with ``lenient=True``.
+"""
+
+from __future__ import annotations
+
+__all__ = ["CHECKED_KEYS"]
+
+CHECKED_KEYS: dict[str, frozenset[str]] = {
+    "UNITS": frozenset(
+        {
+            "ANGLE",
+            "FORCE",
+            "LENGTH",
+            "MASS",
+            "PRESSURE",
+            "TIME",
+        }
+    ),
+    "MODEL": frozenset(
+        {
+            "BELT_DYNAMICS",
+            "CONTACT_MODEL",
+            "FE_METHOD",
+            "FITTYP",
+            "HMAX_LOCAL",
+            "LONGVL",
+            "MESSAGES",
+            "MFSAFE1",
+            "MFSAFE2",
+            "MFSAFE3",
+            "N_TIRE_STATES",
+            "PROPERTY_FILE_FORMAT",
+            "ROAD_DIRECTION",
+            "ROAD_INCREMENT",
+            "TIME_SWITCH_INTEG",
+            "TYRESIDE",
+            "USER_SUB_ID",
+            "USE_MODE",
+            "VXLOW",
+        }
+    ),
+    "DIMENSION": frozenset(
+        {
+            "ASPECT_RATIO",
+            "BOTTOMING_RADIUS",
+            "RIM_RADIUS",
+            "RIM_WIDTH",
+            "UNLOADED_RADIUS",
+            "WIDTH",
+        }
+    ),
+    "OPERATING_CONDITIONS": frozenset(
+        {
+            "INFLPRES",
+            "NOMPRES",
+        }
+    ),
+    "VERTICAL": frozenset(
+        {
+            "BOTTOM_OFFST",
+            "BOTTOM_STIFF",
+            "BREFF",
+            "DREFF",
+            "DYNAMIC_DAMPING",
+            "DYNAMIC_STIFFNESS",
+            "FNOMIN",
+            "FREFF",
+            "MC_CONTOUR_A",
+            "MC_CONTOUR_B",
+            "PFZ1",
+            "Q_CAM",
+            "Q_CAM1",
+            "Q_CAM2",
+            "Q_CAM3",
+            "Q_FCX",
+            "Q_FCY",
+            "Q_FCY2",
+            "Q_FYS1",
+            "Q_FYS2",
+            "Q_FYS3",
+            "Q_FZ2",
+            "Q_RE0",
+            "Q_V1",
+            "Q_V2",
+            "VERTICAL_DAMPING",
+            "VERTICAL_STIFFNESS",
+        }
+    ),
+    "VERTICAL_FORCE_RANGE": frozenset(
+        {
+            "FZMAX",
+            "FZMIN",
+        }
+    ),
+    "SLIP_ANGLE_RANGE": frozenset(
+        {
+            "ALPMAX",
+            "ALPMIN",
+        }
+    ),
+    "INCLINATION_ANGLE_RANGE": frozenset(
+        {
+            "CAMMAX",
+            "CAMMIN",
+        }
+    ),
+    "LONG_SLIP_RANGE": frozenset(
+        {
+            "KPUMAX",
+            "KPUMIN",
+        }
+    ),
+    "INFLATION_PRESSURE_RANGE": frozenset(
+        {
+            "PRESMAX",
+            "PRESMIN",
+        }
+    ),
+    "SCALING_COEFFICIENTS": frozenset(
+        {
+            "LCX",
+            "LCY",
+            "LCZ",
+            "LEX",
+            "LEY",
+            "LFZO",
+            "LGAX",
+            "LGAY",
+            "LGAZ",
+            "LGYR",
+            "LHX",
+            "LHY",
+            "LIP",
+            "LKG",
+            "LKX",
+            "LKY",
+            "LKYC",
+            "LKZC",
+            "LMP",
+            "LMUX",
+            "LMUY",
+            "LMX",
+            "LMY",
+            "LRES",
+            "LS",
+            "LSGAL",
+            "LSGKP",
+            "LTR",
+            "LVMX",
+            "LVX",
+            "LVY",
+            "LVYKA",
+            "LXAL",
+            "LYKA",
+        }
+    ),
+    "LONGITUDINAL_COEFFICIENTS": frozenset(
+        {
+            "PCX1",
+            "PDX1",
+            "PDX2",
+            "PDX3",
+            "PEX1",
+            "PEX2",
+            "PEX3",
+            "PEX4",
+            "PHX1",
+            "PHX2",
+            "PKX1",
+            "PKX2",
+            "PKX3",
+            "PPX1",
+            "PPX2",
+            "PPX3",
+            "PPX4",
+            "PTX1",
+            "PTX2",
+            "PTX3",
+            "PTX4",
+            "PVX1",
+            "PVX2",
+            "RBX1",
+            "RBX2",
+            "RBX3",
+            "RCX1",
+            "REX1",
+            "REX2",
+            "RHX1",
+        }
+    ),
+    "LATERAL_COEFFICIENTS": frozenset(
+        {
+            "PCY1",
+            "PDY1",
+            "PDY2",
+            "PDY3",
+            "PEY1",
+            "PEY2",
+            "PEY3",
+            "PEY4",
+            "PEY5",
+            "PHY1",
+            "PHY2",
+            "PHY3",
+            "PKY1",
+            "PKY2",
+            "PKY3",
+            "PKY4",
+            "PKY5",
+            "PKY6",
+            "PKY7",
+            "PPY1",
+            "PPY2",
+            "PPY3",
+            "PPY4",
+            "PPY5",
+            "PTY1",
+            "PTY2",
+            "PTY3",
+            "PVY1",
+            "PVY2",
+            "PVY3",
+            "PVY4",
+            "RBY1",
+            "RBY2",
+            "RBY3",
+            "RBY4",
+            "RCY1",
+            "REY1",
+            "REY2",
+            "RHY1",
+            "RHY2",
+            "RVY1",
+            "RVY2",
+            "RVY3",
+            "RVY4",
+            "RVY5",
+            "RVY6",
+        }
+    ),
+}
