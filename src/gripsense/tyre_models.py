@@ -42,40 +42,46 @@ class TyreModel:
         ratio, rad, rad) and forces in N (``fx`` NaN for lateral-only models).
     description : str
         What the model is and its sign convention.
+    warnings : tuple of str
+        What was read leniently (unknown ``.tir`` keys).
     """
 
     forces: Callable
     description: str
+    warnings: tuple[str, ...] = ()
 
 
-def load_mf_tyre(source: str | Path | TirFile) -> MFTyre:
+def load_mf_tyre(source: str | Path | TirFile, *, lenient: bool = False) -> MFTyre:
     """A Magic Formula tyre from a ``.tir`` file.
 
     Parameters
     ----------
     source : str or Path or TirFile
         Path of a ``.tir`` (plain or ``.gz``) or a file already read.
+    lenient : bool
+        Accept unknown keys with a warning (:func:`gripsense.io.tir.read_tir`).
 
     Returns
     -------
     MFTyre
         The model.
     """
-    tir = source if isinstance(source, TirFile) else read_tir(source)
+    tir = source if isinstance(source, TirFile) else read_tir(source, lenient=lenient)
     return MFTyre(tir.parameters(), name=tir.name)
 
 
-def _tir(path: Path) -> TyreModel:
-    tyre = load_mf_tyre(path)
+def _tir(path: Path, lenient: bool) -> TyreModel:
+    tir = read_tir(path, lenient=lenient)
+    tyre = load_mf_tyre(tir)
 
     def forces(fz, kappa, alpha, gamma, side=None):
         r = tyre.forces(fz, kappa, alpha, gamma, side=side)
         return r.fx, r.fy
 
-    return TyreModel(forces, f"MF {tyre.version} ({path.name}; ISO-W axes)")
+    return TyreModel(forces, f"MF {tyre.version} ({path.name}; ISO-W axes)", tuple(tir.warnings))
 
 
-def _json(path: Path) -> TyreModel:
+def _json(path: Path, lenient: bool) -> TyreModel:
     text = read_text(path, "tyre model file")
     try:
         doc = json.loads(text)
@@ -102,7 +108,7 @@ def _json(path: Path) -> TyreModel:
     return TyreModel(forces, f"PAC89 ({path.name}; the coefficients' own sign convention)")
 
 
-TYRE_FILE_TYPES: dict[str, Callable[[Path], TyreModel]] = {
+TYRE_FILE_TYPES: dict[str, Callable[[Path, bool], TyreModel]] = {
     ".tir": _tir,
     ".gz": _tir,
     ".json": _json,
@@ -110,13 +116,15 @@ TYRE_FILE_TYPES: dict[str, Callable[[Path], TyreModel]] = {
 """File suffix → loader."""
 
 
-def load_tyre_model(path: str | Path) -> TyreModel:
+def load_tyre_model(path: str | Path, *, lenient: bool = False) -> TyreModel:
     """Read a tyre model file of any registered type (:data:`TYRE_FILE_TYPES`).
 
     Parameters
     ----------
     path : str or Path
         ``.tir`` (MF 5.2/6.1/6.2), PAC89 ``.json`` or a gripsense fit ``.json``.
+    lenient : bool
+        Read unknown ``.tir`` keys with a warning instead of an error.
 
     Returns
     -------
@@ -130,4 +138,4 @@ def load_tyre_model(path: str | Path) -> TyreModel:
             f"{path}: unknown model file type {path.suffix!r}; give a .tir (MF 5.2/6.1/6.2), "
             "a PAC89 .json or a gripsense fit .json"
         )
-    return loader(path)
+    return loader(path, lenient)

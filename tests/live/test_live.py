@@ -192,7 +192,7 @@ def test_sigint_stops_cleanly(tmp_path):
     assert "stopped: SIGINT" in out
     df = pd.read_csv(tmp_path / "res.csv")
     assert len(df) > 0 and df["unit"].notna().all()
-    raw = (tmp_path / "res.nmea").read_bytes()
+    raw = (tmp_path / "res.csv.raw.nmea").read_bytes()
     assert raw and _demo_bytes().startswith(raw)  # every received byte, in order
 
 

@@ -2,16 +2,32 @@
 
 from __future__ import annotations
 
-from typing import NoReturn
+from typing import Annotated, NoReturn
 
 import typer
 from rich.console import Console
 from rich.text import Text
 
-__all__ = ["console", "err_console", "fail", "say"]
+__all__ = ["Overwrite", "command_line", "console", "err_console", "fail", "say"]
+
+Overwrite = Annotated[
+    bool,
+    typer.Option(
+        "--overwrite",
+        help="replace an earlier output of the same kind (only files gripsense wrote)",
+    ),
+]
 
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
+
+
+def command_line() -> str:
+    """The command line as the user typed it (for result manifests)."""
+    import shlex
+    import sys
+
+    return " ".join(shlex.quote(a) for a in ["gripsense", *sys.argv[1:]])
 
 
 def say(*parts: object) -> None:

@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 from rich.progress import Progress
 
-from gripsense.cli._common import console, fail
+from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
 
 
@@ -37,6 +37,7 @@ def fleet(
         str | None, typer.Option(help="Ignore data before this ISO time (UTC)")
     ] = None,
     logs_per_task: Annotated[int, typer.Option(help="Logs per Dask task")] = 4,
+    overwrite: Overwrite = False,
 ) -> None:
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
     bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
@@ -64,16 +65,16 @@ def fleet(
                 workers=workers,
                 logs_per_task=logs_per_task,
                 progress=progress,
+                overwrite=overwrite,
+                command=command_line(),
             )
     except GripsenseError as e:
         fail(e)
     lg, c = res.logs, res.cells
     bad = int((lg["problem"] != "").sum())
-    console.print(
-        f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})"
-    )
+    say(f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})")
     n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
     console.print(
         f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with a lower bound only"
     )
-    console.print(f"map: {res.paths['map']}")
+    say(f"map: {res.paths['map']}")

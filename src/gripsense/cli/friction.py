@@ -11,9 +11,10 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
+from gripsense.io.results import check_output_file, check_output_folder, write_file_atomic
 
 __all__ = ["friction", "print_friction", "report_cmd", "stiffness"]
 
@@ -47,6 +48,7 @@ def friction(
         Path, typer.Option("-o", "--outdir", help="folder for the result files")
     ] = Path("friction-results"),
     report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
+    overwrite: Overwrite = False,
 ) -> None:
     """Tyre-road friction per wheel (or per axle with --method axle-window) during cornering."""
     from gripsense.io.table import read_motion_table
@@ -57,6 +59,7 @@ def friction(
             raise GripsenseError("--vehicle car.toml is required")
         if (log is None) == (table is None):
             raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
+        check_output_folder(outdir, "friction", overwrite=overwrite)
         run = FrictionRun(vehicle, method=method)
         veh = run.vehicle
         if table is not None:
@@ -73,15 +76,18 @@ def friction(
         fail(e)
     print_friction(result)
     try:
-        paths = result.to_files(outdir)
-        say("wrote " + ", ".join(str(p) for p in paths.values()))
+        texts = {}
         if report:
-            from gripsense.report import write_report
+            from gripsense.report.html import render_report
 
-            rp = write_report(
-                result, outdir / "report.html", title=f"Friction — {(log or table).name}"
-            )
-            say(f"report: {rp}")
+            texts["report.html"] = render_report(result, title=f"Friction — {(log or table).name}")
+        inputs = [p for p in (log, table, vehicle, steer_csv) if p is not None]
+        paths = result.to_files(
+            outdir, overwrite=overwrite, command=command_line(), inputs=inputs, texts=texts
+        )
+        say("wrote " + ", ".join(str(p) for k, p in paths.items() if k != "manifest"))
+        if report:
+            say(f"report: {paths['report.html']}")
     except GripsenseError as e:
         fail(e)
 
@@ -92,15 +98,21 @@ def report_cmd(
         Path | None,
         typer.Option("-o", "--output", help="HTML file (default RESULT_DIR/report.html)"),
     ] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Write a self-contained HTML report (images embedded) of a friction result folder."""
-    from gripsense.report import write_report
+    from gripsense.io.results import add_to_folder
+    from gripsense.report.html import render_report
 
     try:
+        if output is not None:
+            check_output_file(output, "report", overwrite=overwrite, inputs=[result_dir])
         res = FrictionResult.from_files(result_dir)
-        out = write_report(
-            res, output or result_dir / "report.html", title=f"Friction — {result_dir.name}"
-        )
+        text = render_report(res, title=f"Friction — {result_dir.name}")
+        if output is None:
+            out = add_to_folder(result_dir, "report.html", text, overwrite=overwrite)
+        else:
+            out = write_file_atomic(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     except GripsenseError as e:
         fail(e)
     say(f"report: {out}")
@@ -208,6 +220,7 @@ def stiffness(
     outdir: Annotated[
         Path | None, typer.Option("-o", "--outdir", help="folder for the table (and plots)")
     ] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Tread stiffness G per steady condition and wheel (thesis ch. 9, like Table 23)."""
     import pandas as pd
@@ -218,6 +231,8 @@ def stiffness(
     from gripsense.report.figures import g_sweep_figure
 
     try:
+        if outdir:
+            check_output_folder(outdir, "stiffness", overwrite=overwrite)
         run = FrictionRun(vehicle)
         veh = run.vehicle
         frames, sweeps = [], []
@@ -274,8 +289,19 @@ def stiffness(
     for name, i, sw in sweeps:
         console.print(f"G sweep {name} condition {i}: chosen {sw.chosen:.3g} N/m³ — {sw.reason}")
     if outdir:
-        outdir.mkdir(parents=True, exist_ok=True)
-        tab.to_csv(outdir / "stiffness.csv", index=False)
-        for name, i, sw in sweeps:
-            g_sweep_figure(sw).savefig(outdir / f"gsweep_{Path(name).stem}_{i}.png", dpi=90)
-        console.print(f"wrote {outdir / 'stiffness.csv'}")
+        from gripsense.io.results import ResultWriter
+
+        try:
+            with ResultWriter(
+                outdir,
+                "stiffness",
+                overwrite=overwrite,
+                command=command_line(),
+                inputs=[*logs, vehicle],
+            ) as tmp:
+                tab.to_csv(tmp / "stiffness.csv", index=False)
+                for name, i, sw in sweeps:
+                    g_sweep_figure(sw).savefig(tmp / f"gsweep_{Path(name).stem}_{i}.png", dpi=90)
+        except GripsenseError as e:
+            fail(e)
+        say(f"wrote {outdir / 'stiffness.csv'}")

@@ -10,11 +10,14 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.errors import GripsenseError
 from gripsense.io import NmeaLog, read_nmea
+from gripsense.io.nmea.epochs import EPOCH_COLUMNS
+from gripsense.io.nmea.reader import MAX_LINES
+from gripsense.io.results import check_output_file, parquet_with_kind, write_file_atomic
 
-__all__ = ["ingest", "print_ingest", "write_table"]
+__all__ = ["check_table_output", "ingest", "print_ingest", "write_table"]
 
 
 def print_ingest(log: NmeaLog) -> None:
@@ -45,6 +48,8 @@ def print_ingest(log: NmeaLog) -> None:
         console.print(
             f"{rep.junk_prefix_lines} sentences recovered after non-NMEA bytes on their line"
         )
+    for note in rep.notes:
+        say(f"note: {note}")
     for r in rep.first_rejects[:5]:
         say(f"  line {r.line}: {r.reason} — {r.detail}")
     ep = log.epochs
@@ -80,8 +85,36 @@ def print_ingest(log: NmeaLog) -> None:
             say(f"{col}: " + ", ".join(f"{k} {v}" for k, v in vc.items()))
 
 
-def write_table(df, out: Path) -> None:
-    """Write an epoch table to Parquet or CSV (chosen by the file suffix).
+TABLE_WRITERS = {
+    ".parquet": lambda df, p, kind: parquet_with_kind(df, p, kind),
+    ".csv": lambda df, p, kind: df.to_csv(p, index=False),
+}
+"""Output suffix → writer of a table."""
+
+
+def check_table_output(out: Path, kind: str, columns: list[str], *, overwrite: bool, inputs=()):
+    """Check a table output path before the work (suffix, existing file, inputs).
+
+    Parameters
+    ----------
+    out : Path
+        ``.parquet`` or ``.csv`` file.
+    kind : str
+        Output kind (:func:`gripsense.io.results.is_own_file`).
+    columns : list of str
+        Columns of the table (how a CSV of this kind is recognised).
+    overwrite : bool
+        Replace an earlier output of this kind.
+    inputs : iterable of Path
+        The command's inputs (never written).
+    """
+    if out.suffix.lower() not in TABLE_WRITERS:
+        raise GripsenseError(f"{out}: unknown output format {out.suffix!r}; use .parquet or .csv")
+    check_output_file(out, kind, overwrite=overwrite, inputs=list(inputs), header=columns)
+
+
+def write_table(df, out: Path, kind: str = "epochs") -> None:
+    """Write a table to Parquet or CSV (chosen by the file suffix), atomically.
 
     Parameters
     ----------
@@ -89,14 +122,13 @@ def write_table(df, out: Path) -> None:
         The table.
     out : Path
         ``.parquet`` or ``.csv`` file.
+    kind : str
+        Output kind recorded in a Parquet file's metadata.
     """
-    suffix = out.suffix.lower()
-    if suffix == ".parquet":
-        df.to_parquet(out, index=False)
-    elif suffix == ".csv":
-        df.to_csv(out, index=False)
-    else:
-        raise GripsenseError(f"{out}: unknown output format {suffix!r}; use .parquet or .csv")
+    writer = TABLE_WRITERS.get(out.suffix.lower())
+    if writer is None:
+        raise GripsenseError(f"{out}: unknown output format {out.suffix!r}; use .parquet or .csv")
+    write_file_atomic(out, lambda tmp: writer(df, tmp, kind))
 
 
 def ingest(
@@ -107,10 +139,16 @@ def ingest(
     strict: Annotated[
         bool, typer.Option("--strict", help="stop at the first rejected line")
     ] = False,
+    max_lines: Annotated[
+        int, typer.Option(help="read at most this many lines; the rest are counted (memory)")
+    ] = MAX_LINES,
+    overwrite: Overwrite = False,
 ) -> None:
     """Read an NMEA log into the epoch table and print its line accounting."""
     try:
-        nlog = read_nmea(log, strict=strict)
+        if output is not None:
+            check_table_output(output, "epochs", EPOCH_COLUMNS, overwrite=overwrite, inputs=[log])
+        nlog = read_nmea(log, strict=strict, max_lines=max_lines)
         print_ingest(nlog)
         if output is not None:
             write_table(nlog.epochs, output)

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from gripsense.cli._common import console, fail
+from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.errors import GripsenseError, InputError
 
 
@@ -31,6 +31,7 @@ def live(
         Path | None,
         typer.Option(help="Convert OUTPUT.parquet.partial.csv left by a killed run, then exit"),
     ] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Read NMEA as it arrives (serial, TCP or replay), update μ continuously, show and record
     it; Ctrl-C (SIGINT) or SIGTERM stops cleanly.
@@ -38,11 +39,12 @@ def live(
     from gripsense.live import ReplaySource, SerialSource, TcpSource, run_live
     from gripsense.live import recover as do_recover
     from gripsense.live.display import LiveDisplay, render
+    from gripsense.live.runner import check_live_outputs, output_paths
 
     try:
         if recover is not None:
-            p = do_recover(recover)
-            console.print(f"recovered {p}")
+            p = do_recover(recover, overwrite=overwrite)
+            say(f"recovered {p}")
             return
         if sum(x is not None for x in (serial, tcp, replay)) != 1:
             raise InputError(
@@ -50,6 +52,8 @@ def live(
             )
         if vehicle is None:
             raise InputError("--vehicle car.toml is required")
+        if output is not None:  # before the source is opened: nothing is lost to a bad -o
+            check_live_outputs(output, overwrite=overwrite, inputs=[replay] if replay else [])
         if replay is not None:
             src = ReplaySource(replay, speed=speed)
         elif tcp is not None:
@@ -61,7 +65,13 @@ def live(
             src = SerialSource(serial, baud)
         if quiet:
             res = run_live(
-                src, vehicle, method=method, output=output, window_s=window_s, duration_s=duration_s
+                src,
+                vehicle,
+                method=method,
+                output=output,
+                window_s=window_s,
+                duration_s=duration_s,
+                overwrite=overwrite,
             )
         else:
             with LiveDisplay(console) as disp:
@@ -73,6 +83,7 @@ def live(
                     window_s=window_s,
                     duration_s=duration_s,
                     display=disp,
+                    overwrite=overwrite,
                 )
     except GripsenseError as e:
         fail(e)
@@ -85,10 +96,12 @@ def live(
         f"{sum(rep.rejected.values())} rejected), {rep.n_epochs} epochs, "
         f"{getattr(src, 'reconnects', 0)} reconnects"
     )
+    for note in getattr(src, "notes", []):
+        say(f"note: {note}")
     for t0, dt in st.gaps:
         console.print(f"gap: {dt:.1f} s of data missing after t = {t0:.1f} s")
     if output is not None:
-        console.print(f"wrote {output}")
+        say(f"wrote {output} and {output_paths(output)['raw']}")
 
 
 class _Ing:

@@ -10,8 +10,10 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.errors import GripsenseError
+from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.report.figures import save_png
 
 __all__ = ["brake_mu", "camber", "camera_slip"]
 
@@ -28,15 +30,19 @@ def brake_mu(
         float, typer.Option("--time-scale", help="seconds per time unit (0.001 for ms)")
     ] = 1.0,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
     import pandas as pd
 
-    from gripsense.estimate.braking import estimate_braking
+    from gripsense.estimate.braking import EVENT_COLUMNS, estimate_braking
     from gripsense.io.accel import read_accel_csv
 
     frames = []
+    header = [*EVENT_COLUMNS, "file"]
     try:
+        if output:
+            check_output_file(output, "braking", overwrite=overwrite, inputs=accel, header=header)
         for f in accel:
             acc = read_accel_csv(
                 f,
@@ -73,8 +79,15 @@ def brake_mu(
         "locked wheels (below peak μ; includes ~0.01–0.02 g of drag)"
     )
     if output:
-        ev.to_csv(output, index=False)
-        say(f"wrote {output}")
+        _write_csv(ev[header], output)
+
+
+def _write_csv(df, output: Path) -> None:
+    try:
+        write_file_atomic(output, lambda tmp: df.to_csv(tmp, index=False))
+    except GripsenseError as e:
+        fail(e)
+    say(f"wrote {output}")
 
 
 def camber(
@@ -92,12 +105,21 @@ def camber(
     ] = 0.0,
     reference_deg: Annotated[float, typer.Option("--reference-deg")] = 0.0,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="CSV")] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Camber to the ground from two laser displacement sensors (seed 002 Fig. 3)."""
     from gripsense.io.laser import read_laser_csv
-    from gripsense.vision.camber_laser import calibration_offsets, camber_from_lasers
+    from gripsense.vision.camber_laser import (
+        CAMBER_COLUMNS,
+        calibration_offsets,
+        camber_from_lasers,
+    )
 
     try:
+        if output:
+            check_output_file(
+                output, "camber", overwrite=overwrite, inputs=[laser], header=CAMBER_COLUMNS
+            )
         d = read_laser_csv(laser, outer_col=outer_col, inner_col=inner_col, scale_m=scale_m)
         off_o, off_i = calibration_offsets(d, calibrate_s) if calibrate_s > 0 else (0.0, 0.0)
         d["camber_deg"] = np.rad2deg(
@@ -118,8 +140,7 @@ def camber(
         f"range {c.min():.2f}° … {c.max():.2f}° over {len(d)} samples"
     )
     if output:
-        d.to_csv(output, index=False)
-        say(f"wrote {output}")
+        _write_csv(d[CAMBER_COLUMNS], output)
 
 
 def camera_slip(
@@ -131,17 +152,23 @@ def camera_slip(
     output: Annotated[
         Path, typer.Option("-o", "--output", help="CSV (a .png plot next to it)")
     ] = Path("camera_slip.csv"),
+    overwrite: Overwrite = False,
 ) -> None:
     """Slip angle from a downward camera on the wheel (seed 002 §2.1); image top = forward."""
     from gripsense.report.sensor_figures import camera_slip_figure
-    from gripsense.vision.slip_camera import slip_from_frames
+    from gripsense.vision.slip_camera import SLIP_COLUMNS, slip_from_frames
 
+    plot = output.with_suffix(".png")
     try:
+        check_output_file(
+            output, "camera-slip", overwrite=overwrite, inputs=[source], header=SLIP_COLUMNS
+        )
+        check_output_file(plot, "camera-slip", overwrite=overwrite, inputs=[source])
         res = slip_from_frames(source, fps=fps, mm_per_px=mm_per_px)
-        output.parent.mkdir(parents=True, exist_ok=True)
-        res.to_csv(output, index=False)
-        camera_slip_figure(res).savefig(output.with_suffix(".png"), dpi=90)
-    except (GripsenseError, OSError) as e:
+        write_file_atomic(output, lambda tmp: res.to_csv(tmp, index=False))
+        fig = camera_slip_figure(res)
+        write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "camera-slip"))
+    except GripsenseError as e:
         fail(e)
     ok = res[res["ok"]]
     if len(ok):
@@ -152,4 +179,4 @@ def camera_slip(
         )
     else:
         console.print(f"no frame pair passed the quality checks ({len(res)} pairs)")
-    say(f"wrote {output} and {output.with_suffix('.png')}")
+    say(f"wrote {output} and {plot}")

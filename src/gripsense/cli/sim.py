@@ -8,8 +8,9 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
+from gripsense.io.results import ResultWriter, check_output_folder
 
 __all__ = ["demo", "simulate"]
 
@@ -17,6 +18,7 @@ __all__ = ["demo", "simulate"]
 def simulate(
     scenario: Annotated[Path, typer.Argument(help="scenario TOML (see gripsense.sim.scenario)")],
     outdir: Annotated[Path, typer.Option("-o", "--outdir", help="output folder")] = Path("sim-out"),
+    overwrite: Overwrite = False,
 ) -> None:
     """Simulate drives with known friction and emulate the receiver (logs, truth, vehicle)."""
     from rich.progress import Progress
@@ -30,7 +32,9 @@ def simulate(
             def tick(i, n, cid):
                 prog.update(task, total=n, completed=i, description=f"simulating {cid}")
 
-            cases = run_scenario(scenario, outdir, progress=tick)
+            cases = run_scenario(
+                scenario, outdir, progress=tick, overwrite=overwrite, command=command_line()
+            )
     except GripsenseError as e:
         fail(e)
     say(
@@ -44,6 +48,13 @@ def demo(
     outdir: Annotated[
         Path, typer.Option("-o", "--outdir", help="folder for the demo's output")
     ] = Path("demo-report"),
+    overwrite: Annotated[
+        bool,
+        typer.Option(
+            "--overwrite/--no-overwrite",
+            help="replace an earlier demo output in OUTDIR (never other files)",
+        ),
+    ] = True,
 ) -> None:
     """Friction on the bundled simulated drives (dry μ 0.9, wet μ 0.5), estimate next to truth."""
     from rich.progress import Progress
@@ -51,6 +62,10 @@ def demo(
     from gripsense.demo import demo_dir, run_demo
 
     folder = demo_dir()
+    try:
+        check_output_folder(outdir, "demo", overwrite=overwrite)
+    except GripsenseError as e:
+        fail(e)
     console.print(
         f"[bold]gripsense demo[/] — {folder.name}: thesis-2018-like circles "
         "(20–50 km/h × R 20–40 m) on a dry and a wet road, emulated V100-like compass"
@@ -99,10 +114,13 @@ def demo(
         f"lower bound is reported); truth inside the 90 % interval in {n_cov} of {len(obs)}; "
         f"lower bound ≤ truth (+0.05) in {int(df['bound_holds'].sum())} of {len(df)}."
     )
-    outdir.mkdir(parents=True, exist_ok=True)
-    df.to_csv(outdir / "demo_results.csv", index=False)
     from gripsense.demo import write_demo_report
 
-    rp = write_demo_report(df, folder, outdir / "report.html")
+    try:
+        with ResultWriter(outdir, "demo", overwrite=overwrite, command=command_line()) as tmp:
+            df.to_csv(tmp / "demo_results.csv", index=False)
+            write_demo_report(df, folder, tmp / "report.html")
+    except GripsenseError as e:
+        fail(e)
     say(f"wrote {outdir / 'demo_results.csv'}")
-    say(f"report: {rp}")
+    say(f"report: {outdir / 'report.html'}")

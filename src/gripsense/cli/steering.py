@@ -10,8 +10,9 @@ import numpy as np
 import pandas as pd
 import typer
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError, InputError
+from gripsense.io.results import ResultWriter, check_output_folder
 
 steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
 
@@ -74,6 +75,7 @@ def identify(
         Path | None, typer.Option(help="CSV force_N, deflection_mm: sets k_y from the slope")
     ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output folder")] = None,
+    overwrite: Overwrite = False,
 ) -> None:
     """Identify kingpin damping C_s and steering stiffness k_s (k_s2) by alternating the
     settling-time and yaw-gain inversions to a fixed point.
@@ -93,7 +95,12 @@ def identify(
     )
     from gripsense.sim.steering import simulate_release
 
+    inputs = [config, *(release or []), *(step or [])]
+    if tyre_deflection is not None:
+        inputs.append(tyre_deflection)
     try:
+        if output is not None:
+            check_output_folder(output, "steering", overwrite=overwrite)
         car = SteeringCar.from_toml(config)
         n = car.steering_ratio
         ref_rate = float(steer_rate or car.reference_steer_rate_dps)
@@ -192,20 +199,25 @@ def identify(
             yaw_gain_figure,
         )
 
-        output.mkdir(parents=True, exist_ok=True)
-        (output / "steering.json").write_text(json.dumps(d, indent=2))
         model = (
             simulate_release(res.car, alpha0_rad=alpha0, duration_s=3.0)
             if np.isfinite(res.cs.cs)
             else None
         )
-        release_figure(traces, model).savefig(output / "release.png", dpi=110)
         curves = [("k_s = k_s1 (first pass)", res.cs_rigid)]
         if res.ks is not None and np.isfinite(res.ks.ks):
             curves.append((f"k_s = {res.ks.ks:.0f}", res.cs))
-        settling_figure(curves, res.cs.t_mean_s, res.cs.t_sd_s).savefig(
-            output / "settling.png", dpi=110
-        )
-        if res.ks is not None:
-            yaw_gain_figure(res.ks).savefig(output / "yaw_gain.png", dpi=110)
-        console.print(f"wrote {output}/steering.json and figures")
+        try:
+            with ResultWriter(
+                output, "steering", overwrite=overwrite, command=command_line(), inputs=inputs
+            ) as tmp:
+                (tmp / "steering.json").write_text(json.dumps(d, indent=2), encoding="utf-8")
+                release_figure(traces, model).savefig(tmp / "release.png", dpi=110)
+                settling_figure(curves, res.cs.t_mean_s, res.cs.t_sd_s).savefig(
+                    tmp / "settling.png", dpi=110
+                )
+                if res.ks is not None:
+                    yaw_gain_figure(res.ks).savefig(tmp / "yaw_gain.png", dpi=110)
+        except GripsenseError as e:
+            fail(e)
+        say(f"wrote {output}/steering.json and figures")

@@ -11,8 +11,13 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import console, fail, say
+from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.errors import GripsenseError, InputError
+from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.report.figures import save_png
+
+EVAL_COLUMNS = ["fz_N", "kappa", "gamma_deg", "alpha_deg", "fx_N", "fy_N"]
+"""Columns of ``gripsense tyre eval -o``."""
 
 tyre_app = typer.Typer(no_args_is_help=True, help="Magic Formula tyre models: evaluate and fit.")
 
@@ -51,12 +56,22 @@ def tyre_eval(
         str | None, typer.Option(help="Mounting side left/right (mirrors by TYRESIDE)")
     ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Write CSV here")] = None,
+    lenient: Annotated[
+        bool, typer.Option(help="Read unknown .tir keys with a warning (vendor files)")
+    ] = False,
+    overwrite: Overwrite = False,
 ) -> None:
     """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
     from gripsense.tyre_models import load_tyre_model
 
     try:
-        tm = load_tyre_model(model)
+        if output is not None:
+            check_output_file(
+                output, "tyre-eval", overwrite=overwrite, inputs=[model], header=EVAL_COLUMNS
+            )
+        tm = load_tyre_model(model, lenient=lenient)
+        for w in tm.warnings:
+            say(f"warning: {w}")
         f, desc = tm.forces, tm.description
         grids = np.meshgrid(
             parse_range(fz, "fz"),
@@ -81,12 +96,16 @@ def tyre_eval(
         }
     )
     if output is not None:
-        try:
-            with open(output, "x" if not output.exists() else "w") as fh:
-                fh.write(f"# {desc}\n")
+
+        def write(tmp):
+            with open(tmp, "w", encoding="utf-8") as fh:
+                fh.write(f"# {desc}; written by gripsense tyre-eval\n")
                 out.to_csv(fh, index=False)
-        except OSError as e:
-            fail(f"{output}: cannot write ({e.strerror or e})")
+
+        try:
+            write_file_atomic(output, write)
+        except GripsenseError as e:
+            fail(e)
         say(f"{desc}: {len(out)} points written to {output}")
         return
     table = Table(title=Text(desc))
@@ -129,6 +148,7 @@ def tyre_fit(
     compare: Annotated[
         bool, typer.Option(help="Also fit without constraints and show both")
     ] = False,
+    overwrite: Overwrite = False,
 ) -> None:
     """Fit Magic Formula lateral coefficients in one step (seed 002), with constraints."""
     from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
@@ -139,6 +159,10 @@ def tyre_fit(
             raise InputError(f"--model {model!r}: use pac94 or mf61")
         if output is not None and output.suffix.lower() == ".tir" and model != "mf61":
             raise InputError("-o .tir needs --model mf61; PAC94 coefficients are written as .json")
+        ins = [data] + ([template] if template else [])
+        for out in (output, plot):
+            if out is not None:
+                check_output_file(out, "tyre-fit", overwrite=overwrite, inputs=ins)
         table, info = read_tyre_table(data, columns)
         kw = {"constraints": constraints, "loss": loss}
         if model == "pac94":
@@ -163,9 +187,9 @@ def tyre_fit(
             }
         if output is not None:
             if output.suffix.lower() == ".tir":
-                fit.to_tir(output, template=template)
+                write_file_atomic(output, lambda tmp: fit.to_tir(tmp, template=template))
             else:
-                fit.to_json(output)
+                write_file_atomic(output, fit.to_json)
         if plot is not None:
             from gripsense.report.tyre_figures import fit_figure
 
@@ -186,7 +210,7 @@ def tyre_fit(
                 title=data.name,
                 extra_fits={"no constraints": free_fit} if free_fit else None,
             )
-            fig.savefig(plot, dpi=110)
+            write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-fit", dpi=110))
     except GripsenseError as e:
         fail(e)
     _print_fit(fit, info, data, free_fit)

@@ -27,7 +27,20 @@ import pandas as pd
 from gripsense.constants import G0
 from gripsense.errors import InputError
 
-__all__ = ["BrakingResult", "estimate_braking"]
+__all__ = ["EVENT_COLUMNS", "BrakingResult", "estimate_braking"]
+
+EVENT_COLUMNS = [
+    "t_onset",
+    "t_end",
+    "plateau_s",
+    "mu",
+    "mu_spread",
+    "mu_3axis",
+    "slope_per_s",
+    "bias_mps2",
+    "n",
+]
+"""Columns of :attr:`BrakingResult.events`."""
 
 
 @dataclass
@@ -168,7 +181,7 @@ def estimate_braking(
             f"{thr / G0:.2f} g lasting > 0.5 s); is the x axis forward "
             "(--ax-sign -1 for a backwards sensor)?"
         )
-    ev = pd.DataFrame(rows)
+    ev = pd.DataFrame(rows, columns=EVENT_COLUMNS)
     return BrakingResult(
         events=ev,
         mu=float(ev["mu"].mean()),

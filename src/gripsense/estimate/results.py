@@ -192,9 +192,10 @@ class FrictionResult:
         self,
         outdir: str | Path,
         *,
-        overwrite: bool = True,
+        overwrite: bool = False,
         command: str = "",
         inputs: list[str | Path] | None = None,
+        texts: dict[str, str] | None = None,
     ) -> dict[str, Path]:
         """Write the result folder: ``wheels.parquet``, ``summary.json`` (and
         ``windows.parquet``, ``epochs.parquet``, ``ingest.json``, ``vehicle.toml`` when known)
@@ -210,6 +211,8 @@ class FrictionResult:
             Command line recorded in the manifest.
         inputs : list, optional
             Input files recorded (with their SHA-256) in the manifest.
+        texts : dict, optional
+            More files of the folder: name → text (e.g. ``report.html``).
 
         Returns
         -------
@@ -232,6 +235,7 @@ class FrictionResult:
             tables=self._tables(),
             documents=docs,
             copies=copies,
+            texts=texts,
             inputs=inputs,
             command=command,
             extra={"result": self.unit},

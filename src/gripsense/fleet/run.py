@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import glob
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,8 +21,9 @@ from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
 from gripsense.fleet.tasks import process_batch
+from gripsense.io.results import ResultWriter
 
-__all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet"]
+__all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet", "safe_id"]
 
 
 @dataclass
@@ -88,8 +90,28 @@ def _assign(
         if vfile is None:
             raise InputError(f"{lg}: no vehicle (give --vehicle or a --vehicle-map row)")
         # one log = one pass; the vehicle id defaults to the log's folder (one folder per car)
-        items.append((lg, vfile, vid or Path(lg).resolve().parent.name))
+        items.append((lg, vfile, safe_id(vid or Path(lg).resolve().parent.name)))
     return items
+
+
+def safe_id(vid: str) -> str:
+    """A vehicle id that is safe as one folder name (``vehicle=<id>`` partitions): characters
+    other than letters, digits, ``.``, ``_`` and ``-`` become ``_``; ``.``/``..`` are refused.
+
+    Parameters
+    ----------
+    vid : str
+        Id from a vehicle map or a folder name.
+
+    Returns
+    -------
+    str
+        The sanitised id.
+    """
+    out = re.sub(r"[^A-Za-z0-9._-]", "_", vid.strip())
+    if out.strip(".") == "":
+        out = out.replace(".", "_") or "_"
+    return out
 
 
 def run_fleet(
@@ -108,6 +130,8 @@ def run_fleet(
     logs_per_task: int = 4,
     progress=None,
     map_title: str = "gripsense friction map",
+    overwrite: bool = False,
+    command: str = "",
 ) -> FleetResult:
     """Process every log matching *patterns* and build the cell table and the map.
 
@@ -117,7 +141,9 @@ def run_fleet(
         Glob patterns of NMEA logs (``LOGS/**/*.nmea``).
     outdir : path
         Output folder: ``epochs/`` (partitioned Parquet), ``cells.parquet``, ``cells.geojson``,
-        ``map.html``, ``logs.csv``, ``problems.csv``.
+        ``map.html``, ``logs.csv``, ``problems.csv`` and ``manifest.json``, written atomically
+        (:class:`gripsense.io.results.ResultWriter`): a run in which no log can be used raises
+        and leaves the previous result as it was.
     vehicle, vehicle_map : path, optional
         One vehicle TOML for all logs, and/or a CSV mapping log patterns to vehicles.
     method : str
@@ -141,9 +167,11 @@ def run_fleet(
         ``progress(done, total)`` after each finished task.
     map_title : str
         Title of the map page.
+    overwrite : bool
+        Replace an earlier fleet result in *outdir* (only the files its manifest lists).
+    command : str
+        Command line recorded in the manifest.
     """
-    from dask.distributed import Client, LocalCluster, as_completed
-
     if receiver not in ("v100", "rtk"):
         raise InputError(f"receiver={receiver!r}; use v100 or rtk")
     outdir = Path(outdir)
@@ -152,12 +180,38 @@ def run_fleet(
         raise InputError(f"no log matches {patterns}")
     vmap = read_vehicle_map(vehicle_map) if vehicle_map else []
     items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
-    if (outdir / "epochs").exists():
-        import shutil
-
-        shutil.rmtree(outdir / "epochs")  # a rerun replaces, never mixes with, old results
-    outdir.mkdir(parents=True, exist_ok=True)
     batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
+    inputs = [*logs, *sorted({it[1] for it in items})] + ([vehicle_map] if vehicle_map else [])
+    with ResultWriter(outdir, "fleet", overwrite=overwrite, command=command, inputs=inputs) as tmp:
+        records = _run_batches(
+            batches, tmp, scheduler, workers, method, h3_res, since, receiver, progress
+        )
+        logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
+        problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
+        if len(problems) == len(logs_df):
+            first = "; ".join(
+                f"{Path(r.log).name}: {r.problem}" for r in problems.head(3).itertuples()
+            )
+            raise InputError(
+                f"none of the {len(logs_df)} logs could be used ({first}); "
+                f"the previous result in {outdir} (if any) is unchanged"
+            )
+        logs_df.to_csv(tmp / "logs.csv", index=False)
+        problems.to_csv(tmp / "problems.csv", index=False)
+        cells = aggregate_cells(tmp, bucket=bucket)
+        cells.to_parquet(tmp / "cells.parquet", index=False)
+        write_geojson(cells, tmp / "cells.geojson")
+        write_map(cells, tmp / "map.html", title=map_title)
+    names = ("cells.parquet", "cells.geojson", "map.html", "problems.csv", "logs.csv", "epochs")
+    paths = dict(zip(("cells", "geojson", "map", "problems", "logs", "epochs"), names, strict=True))
+    paths = {k: outdir / v for k, v in paths.items()}
+    return FleetResult(cells=cells, logs=logs_df, paths=paths)
+
+
+def _run_batches(batches, outdir, scheduler, workers, method, h3_res, since, receiver, progress):
+    """Run the batches on a LocalCluster (or an existing scheduler); one record per log."""
+    from dask.distributed import Client, LocalCluster, as_completed
+
     cluster = None
     if scheduler is None:
         cluster = LocalCluster(
@@ -176,7 +230,7 @@ def run_fleet(
             client.submit(
                 process_batch,
                 b,
-                str(outdir.resolve()),
+                str(Path(outdir).resolve()),
                 method=method,
                 h3_res=h3_res,
                 since=since,
@@ -193,18 +247,4 @@ def run_fleet(
         client.close()
         if cluster is not None:
             cluster.close()
-    logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
-    logs_df.to_csv(outdir / "logs.csv", index=False)
-    problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
-    problems.to_csv(outdir / "problems.csv", index=False)
-    cells = aggregate_cells(outdir, bucket=bucket)
-    cells.to_parquet(outdir / "cells.parquet", index=False)
-    paths = {
-        "cells": outdir / "cells.parquet",
-        "geojson": write_geojson(cells, outdir / "cells.geojson"),
-        "map": write_map(cells, outdir / "map.html", title=map_title),
-        "problems": outdir / "problems.csv",
-        "logs": outdir / "logs.csv",
-        "epochs": outdir / "epochs",
-    }
-    return FleetResult(cells=cells, logs=logs_df, paths=paths)
+    return records

@@ -32,10 +32,15 @@ __all__ = [
     "MANIFEST",
     "ResultFolder",
     "ResultWriter",
+    "add_to_folder",
+    "check_output_file",
     "check_output_folder",
     "file_sha256",
+    "is_own_file",
+    "parquet_with_kind",
     "read_manifest",
     "read_result_folder",
+    "write_file_atomic",
     "write_result_folder",
 ]
 
@@ -137,6 +142,164 @@ def check_output_folder(folder: str | Path, kind: str, *, overwrite: bool) -> No
             raise InputError(f"{folder}: {parent} is not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"{folder}: permission denied ({parent} is not writable)")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.resolve() == Path(b).resolve()
+    except OSError:
+        return False
+
+
+def is_own_file(path: str | Path, kind: str, *, header: list[str] | None = None) -> bool:
+    """Whether *path* is a file gripsense wrote as output of *kind*.
+
+    Parquet files carry ``gripsense_kind`` in their metadata; CSV files are recognised by their
+    header (*header*); other formats (HTML, JSON, PNG, ``.tir``) carry ``gripsense <kind>`` in
+    their first bytes (a generator tag, a key, a PNG text chunk, a header comment).
+
+    Parameters
+    ----------
+    path : str or Path
+        The existing file.
+    kind : str
+        Output kind (``"epochs"``, ``"report"`` …).
+    header : list of str, optional
+        The column names a CSV of this kind starts with.
+
+    Returns
+    -------
+    bool
+        True only when the file is recognisably gripsense's output of that kind.
+    """
+    path = Path(path)
+    try:
+        if path.suffix.lower() == ".parquet":
+            import pyarrow.parquet as pq
+
+            meta = pq.read_schema(path).metadata or {}
+            return meta.get(b"gripsense_kind") == kind.encode()
+        with open(path, "rb") as fh:
+            head = fh.read(65536)
+    except (OSError, ValueError):
+        return False
+    if header is not None:
+        for line in head.decode("utf-8", "replace").splitlines():
+            if line.startswith("#") or not line.strip():
+                continue
+            return line.strip().split(",") == list(header)
+        return False
+    return f"gripsense {kind}".encode() in head
+
+
+def check_output_file(
+    path: str | Path,
+    kind: str,
+    *,
+    overwrite: bool,
+    inputs: list[str | Path] = (),
+    header: list[str] | None = None,
+) -> None:
+    """Check before any work that *path* may receive an output file of *kind*.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    kind : str
+        Output kind.
+    overwrite : bool
+        Whether the user asked to replace an earlier output of the same kind.
+    inputs : list
+        The command's input files: an output may never be one of them.
+    header : list of str, optional
+        CSV header of this kind (:func:`is_own_file`).
+
+    Raises
+    ------
+    InputError
+        When the path is a folder or an input, exists without *overwrite* or is not
+        gripsense's output of this kind, or its folder cannot be created or written.
+    """
+    path = Path(path)
+    for inp in inputs:
+        if _same_file(path, Path(inp)):
+            raise InputError(f"{path}: is also an input; give the output another name")
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder; give a file name")
+    if path.exists():
+        if not overwrite:
+            raise InputError(f"{path}: exists; add --overwrite to replace it, or give another name")
+        if not is_own_file(path, kind, header=header):
+            raise InputError(
+                f"{path}: exists and is not a gripsense {kind} output; gripsense overwrites only "
+                "its own files — give another name"
+            )
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"{path}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: permission denied ({parent} is not writable)")
+
+
+def write_file_atomic(path: str | Path, write) -> Path:
+    """Write a file through a temporary sibling renamed into place, so a reader (or a crash)
+    never sees half a file; missing parent folders are created.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    write : callable
+        ``write(tmp_path)`` writes the content to the temporary path.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    path = Path(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{path.name}.", suffix=".gripsense-tmp", dir=path.parent
+        )
+        os.close(fd)
+    except OSError as e:
+        raise InputError(f"{path}: cannot write ({e.strerror or e})") from None
+    try:
+        write(Path(tmp))
+        os.replace(tmp, path)
+    except OSError as e:
+        raise InputError(f"{path}: cannot write ({e.strerror or e})") from None
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def parquet_with_kind(df: pd.DataFrame, path: str | Path, kind: str) -> None:
+    """Write *df* to Parquet with ``gripsense_kind`` in the file's metadata (see
+    :func:`is_own_file`).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    path : str or Path
+        Output file.
+    kind : str
+        Output kind recorded in the metadata.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pandas(df, preserve_index=False)
+    meta = dict(table.schema.metadata or {})
+    meta[b"gripsense_kind"] = kind.encode()
+    pq.write_table(table.replace_schema_metadata(meta), path)
 
 
 @dataclass
@@ -259,12 +422,13 @@ def write_result_folder(
     tables: dict[str, pd.DataFrame] | None = None,
     documents: dict[str, object] | None = None,
     copies: dict[str, str | Path] | None = None,
+    texts: dict[str, str] | None = None,
     inputs: list[str | Path] | None = None,
     command: str = "",
     extra: dict | None = None,
     overwrite: bool = False,
 ) -> dict[str, Path]:
-    """Write a result folder of tables, JSON documents and copies atomically (see
+    """Write a result folder of tables, JSON documents, texts and copies atomically (see
     :class:`ResultWriter` and the module documentation).
 
     Parameters
@@ -279,6 +443,8 @@ def write_result_folder(
         File stem → JSON-ready object, written as ``<stem>.json``.
     copies : dict, optional
         File name → source path, copied byte for byte (e.g. the vehicle file).
+    texts : dict, optional
+        File name → text (UTF-8), e.g. ``report.html``.
     inputs : list, optional
         Input files, recorded with their size and SHA-256.
     command : str
@@ -291,7 +457,8 @@ def write_result_folder(
     Returns
     -------
     dict
-        Name (stem, or file name for copies) → path of every file written, plus ``manifest``.
+        Name (stem, or file name for copies and texts) → path of every file written, plus
+        ``manifest``.
     """
     folder = Path(folder)
     written: dict[str, str] = {}
@@ -309,9 +476,52 @@ def write_result_folder(
         for name, src in (copies or {}).items():
             shutil.copyfile(src, tmp / name)
             written[name] = name
+        for name, text in (texts or {}).items():
+            (tmp / name).write_text(text, encoding="utf-8")
+            written[name] = name
     out = {k: folder / v for k, v in written.items()}
     out["manifest"] = folder / MANIFEST
     return out
+
+
+def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool = False) -> Path:
+    """Add (or, with *overwrite*, replace) one text file in a gripsense result folder and list it
+    in the folder's manifest, so a later ``--overwrite`` of the folder replaces it too.
+
+    Parameters
+    ----------
+    folder : str or Path
+        A complete gripsense result folder.
+    name : str
+        File name (no folders).
+    text : str
+        Content (UTF-8).
+    overwrite : bool
+        Replace the file when the manifest already lists it.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
+    folder = Path(folder)
+    man = read_manifest(folder)
+    if man is None:
+        raise InputError(f"{folder}: not a result folder of gripsense (no {MANIFEST})")
+    target = folder / name
+    if target.exists():
+        if name not in man.get("files", []):
+            raise InputError(f"{target}: exists and was not written by gripsense; give -o")
+        if not overwrite:
+            raise InputError(f"{target}: exists; add --overwrite to replace it")
+    write_file_atomic(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    if name not in man["files"]:
+        man["files"] = sorted([*man["files"], name])
+        write_file_atomic(
+            folder / MANIFEST,
+            lambda tmp: tmp.write_text(json.dumps(man, indent=2) + "\n", encoding="utf-8"),
+        )
+    return target
 
 
 def _describe_input(p: str | Path) -> dict:

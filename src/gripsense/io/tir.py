@@ -207,6 +207,16 @@ class TirFile:
         return cls(lines, "\n", name)
 
     # ------------------------------------------------------------------ access
+    def prepend_comment(self, text: str) -> None:
+        """Add a ``$`` comment line at the top of the file.
+
+        Parameters
+        ----------
+        text : str
+            The comment (one line).
+        """
+        self._lines.insert(0, _Line("comment", f"$ {text}"))
+
     def __contains__(self, key: object) -> bool:
         return isinstance(key, str) and key.upper() in self._index
 

@@ -27,7 +27,8 @@ import numpy as np
 import pandas as pd
 
 from gripsense.io import read_nmea
-from gripsense.io.nmea.accounting import IngestReport
+from gripsense.io.nmea import schema as S
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 
 __all__ = ["LiveIngest"]
 
@@ -43,10 +44,22 @@ class LiveIngest:
         Epochs held back at each end of the tail.
     source : str
         Name used in the report.
+    max_line_bytes : int
+        Longest line kept while its end has not arrived; a longer one is counted as rejected and
+        dropped (bounded memory against binary junk) [bytes].
     """
 
-    def __init__(self, *, max_lines: int = 3000, hold: int = 3, source: str = "<live>"):
+    def __init__(
+        self,
+        *,
+        max_lines: int = 3000,
+        hold: int = 3,
+        source: str = "<live>",
+        max_line_bytes: int = 4096,
+    ):
         self.max_lines = int(max_lines)
+        self.max_line_bytes = int(max_line_bytes)
+        self._dropping = False  # inside an over-long line: its bytes are discarded
         self.hold = int(hold)
         self.source = source
         self._partial = b""
@@ -81,13 +94,31 @@ class LiveIngest:
         buf = self._partial + data
         parts = buf.split(b"\n")
         self._partial = parts.pop()
-        if not parts:
-            return self._empty()
-        lines = [p + b"\n" for p in parts]
-        self._account(lines)
-        self._tail.extend(lines)
-        self._n_lines += len(lines)
-        return self._emit(final=False)
+        if self._dropping and parts:
+            parts.pop(0)  # the end of an over-long line, counted when it was dropped
+            self._dropping = False
+        if parts:
+            lines = [p + b"\n" for p in parts]
+            self._account(lines)
+            self._tail.extend(lines)
+            self._n_lines += len(lines)
+        if len(self._partial) > self.max_line_bytes and not self._dropping:
+            # a line that never ends (binary data, a stuck device) must not grow without bound:
+            # it is counted once as rejected and its bytes are dropped up to its line end
+            self._n_lines += 1
+            self._rejected[S.OVER_LIMIT] += 1
+            if len(self._first_rejects) < 20:
+                self._first_rejects.append(
+                    RejectedLine(
+                        self._n_lines,
+                        S.OVER_LIMIT,
+                        f"longer than {self.max_line_bytes} bytes without a line end; dropped",
+                    )
+                )
+            self._dropping = True
+        if self._dropping:
+            self._partial = b""
+        return self._emit(final=False) if parts else self._empty()
 
     def finish(self) -> pd.DataFrame:
         """End of stream: the partial last line counts as a line; emit every remaining epoch."""
@@ -101,7 +132,7 @@ class LiveIngest:
 
     # ------------------------------------------------------------------ accounting
     def _account(self, lines: list[bytes]) -> None:
-        rep = read_nmea(b"".join(lines)).report
+        rep = read_nmea(b"".join(lines), decompress=False).report
         self._parsed.update(rep.parsed)
         self._ignored.update(rep.ignored)
         self._rejected.update(rep.rejected)
@@ -133,7 +164,7 @@ class LiveIngest:
     def _emit(self, final: bool) -> pd.DataFrame:
         if not self._tail:
             return self._empty()
-        log = read_nmea(b"".join(self._tail))
+        log = read_nmea(b"".join(self._tail), decompress=False)
         ep = log.epochs
         if ep.empty:
             self._trim()

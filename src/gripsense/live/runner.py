@@ -1,10 +1,15 @@
 """The live loop: source → incremental ingest → sliding-window friction → display and recording.
 
 Recording: every update appends one row per wheel (or axle) to a CSV and every received byte to
-``<output>.nmea``; both are flushed (and fsync'ed) every ``flush_s``. CSV rows are whole lines,
-so after a SIGKILL the file is readable up to the last flush. With a ``.parquet`` output the rows
-go to ``<output>.partial.csv`` while running and are converted at a clean stop;
-:func:`recover` converts what a killed run left. SIGINT/SIGTERM stop the loop cleanly (exit 0).
+``<output>.raw.nmea`` (next to the output, named after it in full so it can never be an input's
+name); both are flushed (and fsync'ed) every ``flush_s``. CSV rows are whole lines, so after a
+SIGKILL the file is readable up to the last flush. With a ``.parquet`` output the rows go to
+``<output>.partial.csv`` while running and are converted at a clean stop; :func:`recover`
+converts what a killed run left. SIGINT/SIGTERM stop the loop cleanly (exit 0).
+
+Nothing is overwritten by accident (:func:`check_live_outputs`): existing outputs need
+``overwrite`` and must be gripsense's own live outputs; an unrecovered ``.partial.csv`` is never
+touched until it is recovered; no output may be an input.
 """
 
 from __future__ import annotations
@@ -21,9 +26,18 @@ import pandas as pd
 
 from gripsense.errors import GripsenseError, InputError
 from gripsense.estimate.results import UNIT_COLUMNS
+from gripsense.io.results import check_output_file, parquet_with_kind, write_file_atomic
 from gripsense.live.incremental import LiveIngest
 
-__all__ = ["LiveFriction", "LiveStats", "Recorder", "recover", "run_live"]
+__all__ = [
+    "LiveFriction",
+    "LiveStats",
+    "Recorder",
+    "check_live_outputs",
+    "output_paths",
+    "recover",
+    "run_live",
+]
 
 RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", *UNIT_COLUMNS, "stale"]
 
@@ -104,42 +118,136 @@ class LiveStats:
     median_dt: float | None = None
 
 
-class Recorder:
-    """Append-only result CSV plus the raw bytes; periodic flush + fsync."""
+LIVE_KIND = "live"
 
-    def __init__(self, output: str | Path | None, flush_s: float = 1.0):
+
+def output_paths(output: str | Path) -> dict[str, Path]:
+    """Files a live run with *output* writes: ``results`` (the output), ``rows`` (where rows go
+    while running: the output itself for CSV, ``<output>.partial.csv`` for Parquet) and ``raw``
+    (``<output>.raw.nmea``).
+
+    Parameters
+    ----------
+    output : str or Path
+        ``.csv`` or ``.parquet`` results file.
+
+    Returns
+    -------
+    dict
+        Name → path.
+    """
+    output = Path(output)
+    suffix = output.suffix.lower()
+    if suffix not in (".csv", ".parquet"):
+        raise InputError(f"{output}: use a .csv or .parquet output")
+    rows = output if suffix == ".csv" else output.with_name(output.name + ".partial.csv")
+    return {"results": output, "rows": rows, "raw": output.with_name(output.name + ".raw.nmea")}
+
+
+def check_live_outputs(
+    output: str | Path, *, overwrite: bool = False, inputs: list[str | Path] = ()
+) -> None:
+    """Refuse a live output that would destroy something (see the module documentation).
+
+    Parameters
+    ----------
+    output : str or Path
+        ``.csv`` or ``.parquet`` results file.
+    overwrite : bool
+        Replace the outputs of an earlier live run with the same name.
+    inputs : list
+        Input files (a replayed log): never written.
+    """
+    paths = output_paths(output)
+    part = paths["rows"]
+    if part != paths["results"] and part.exists():
+        raise InputError(
+            f"{part}: an earlier run was stopped before it finished; recover it first "
+            f"(gripsense live --recover {paths['results']}) or move it away"
+        )
+    header = RESULT_COLUMNS if paths["results"].suffix.lower() == ".csv" else None
+    check_output_file(
+        paths["results"], LIVE_KIND, overwrite=overwrite, inputs=list(inputs), header=header
+    )
+    raw = paths["raw"]
+    for inp in inputs:
+        if raw.exists() and raw.resolve() == Path(inp).resolve():
+            raise InputError(f"{raw}: is also an input; give -o another name")
+    if raw.exists() and not overwrite:
+        raise InputError(f"{raw}: exists; add --overwrite to replace it, or give -o another name")
+
+
+class Recorder:
+    """Append-only result CSV plus the raw bytes; periodic flush + fsync.
+
+    Parameters
+    ----------
+    output : str or Path or None
+        ``.csv`` or ``.parquet`` results file (None: record nothing).
+    flush_s : float
+        Flush interval [s].
+    overwrite : bool
+        Replace the outputs of an earlier live run with the same name.
+    inputs : list
+        Input files, never written (:func:`check_live_outputs`).
+    """
+
+    def __init__(
+        self,
+        output: str | Path | None,
+        flush_s: float = 1.0,
+        *,
+        overwrite: bool = False,
+        inputs: list[str | Path] = (),
+    ):
         self.output = None if output is None else Path(output)
         self.flush_s = flush_s
         self._last_flush = time.monotonic()
         self._csv = self._raw = None
         if self.output is None:
             return
-        suffix = self.output.suffix.lower()
-        if suffix not in (".csv", ".parquet"):
-            raise InputError(f"{self.output}: use a .csv or .parquet output")
-        self.csv_path = (
-            self.output
-            if suffix == ".csv"
-            else self.output.with_name(self.output.name + ".partial.csv")
-        )
-        self.raw_path = self.output.with_name(self.output.stem + ".nmea")
-        self.csv_path.parent.mkdir(parents=True, exist_ok=True)
-        self._csv = open(self.csv_path, "w", encoding="utf-8", newline="")
+        check_live_outputs(self.output, overwrite=overwrite, inputs=inputs)
+        paths = output_paths(self.output)
+        self.csv_path, self.raw_path = paths["rows"], paths["raw"]
+        mode = "w" if overwrite else "x"  # "x": never truncate a file that appeared meanwhile
+        try:
+            self.csv_path.parent.mkdir(parents=True, exist_ok=True)
+            self._csv = open(self.csv_path, mode, encoding="utf-8", newline="")
+            self._raw = open(self.raw_path, mode + "b")
+        except OSError as e:
+            raise InputError(f"{self.output}: cannot write ({e.strerror or e})") from None
         self._csv.write(",".join(RESULT_COLUMNS) + "\n")
-        self._raw = open(self.raw_path, "wb")
 
     def raw(self, data: bytes) -> None:
-        """Append received bytes to the raw recording."""
+        """Append received bytes to the raw recording.
+
+        Parameters
+        ----------
+        data : bytes
+            The bytes as received.
+        """
         if self._raw is not None and data:
             self._raw.write(data)
 
     def rows(self, df: pd.DataFrame) -> None:
-        """Append result rows to the results file."""
+        """Append result rows to the results file.
+
+        Parameters
+        ----------
+        df : pandas.DataFrame
+            Rows with (some of) :data:`RESULT_COLUMNS`.
+        """
         if self._csv is not None and len(df):
             df.reindex(columns=RESULT_COLUMNS).to_csv(self._csv, header=False, index=False)
 
     def maybe_flush(self, force: bool = False) -> None:
-        """Flush and fsync the files when ``flush_s`` has passed (or *force*)."""
+        """Flush and fsync the files when ``flush_s`` has passed (or *force*).
+
+        Parameters
+        ----------
+        force : bool
+            Flush now.
+        """
         now = time.monotonic()
         if force or now - self._last_flush >= self.flush_s:
             for fh in (self._csv, self._raw):
@@ -155,10 +263,10 @@ class Recorder:
             if fh is not None:
                 fh.close()
         if self.output is not None and self.output.suffix.lower() == ".parquet":
-            recover(self.output)
+            recover(self.output, overwrite=True)
 
 
-def recover(output: str | Path) -> Path:
+def recover(output: str | Path, *, overwrite: bool = False) -> Path:
     """Convert ``<output>.partial.csv`` (left by a running or killed live session) to
     ``output`` (.parquet); return the path.
 
@@ -166,15 +274,26 @@ def recover(output: str | Path) -> Path:
     ----------
     output : str or Path
         The ``.parquet`` output of the killed run.
+    overwrite : bool
+        Replace an existing ``output`` (gripsense's own live output only).
+
+    Returns
+    -------
+    Path
+        The Parquet file.
     """
     output = Path(output)
-    part = output.with_name(output.name + ".partial.csv")
+    part = output_paths(output)["rows"]
+    if part == output:
+        raise InputError(f"{output}: a .csv output needs no recovery (it is written as it goes)")
     if not part.exists():
         raise InputError(f"{part}: nothing to recover")
-    df = pd.read_csv(part, on_bad_lines="skip")
-    tmp = output.with_name(output.name + ".tmp")
-    df.to_parquet(tmp, index=False)
-    os.replace(tmp, output)
+    check_output_file(output, LIVE_KIND, overwrite=overwrite)
+    try:
+        df = pd.read_csv(part, on_bad_lines="skip")
+    except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as e:
+        raise InputError(f"{part}: cannot be read back ({e})") from None
+    write_file_atomic(output, lambda tmp: parquet_with_kind(df, tmp, LIVE_KIND))
     part.unlink()
     return output
 
@@ -210,6 +329,7 @@ def run_live(
     display=None,
     on_epochs=None,
     handle_signals: bool = True,
+    overwrite: bool = False,
 ) -> dict:
     """Run until the source ends, ``duration_s`` passes, or SIGINT/SIGTERM.
 
@@ -220,7 +340,7 @@ def run_live(
     method : str
         Friction method (``gripsense friction --method``).
     output : path, optional
-        Results file (.csv or .parquet); raw bytes go to ``<stem>.nmea`` next to it.
+        Results file (.csv or .parquet); raw bytes go to ``<output>.raw.nmea`` next to it.
     window_s, update_s, flush_s, stale_s : float
         Estimation window, update interval, flush interval, silence after which the source is
         shown stale [s].
@@ -232,6 +352,8 @@ def run_live(
         Receives each batch of final epochs (tests, custom sinks).
     handle_signals : bool
         Install SIGINT/SIGTERM handlers that stop the loop cleanly.
+    overwrite : bool
+        Replace the outputs of an earlier live run with the same name (gripsense's own only).
 
     Returns
     -------
@@ -240,7 +362,12 @@ def run_live(
     """
     ingest = LiveIngest(source=getattr(source, "name", "<live>"))
     est = LiveFriction(vehicle, method, window_s)
-    rec = Recorder(output, flush_s)
+    rec = Recorder(
+        output,
+        flush_s,
+        overwrite=overwrite,
+        inputs=[p for p in [getattr(source, "path", None)] if p],
+    )
     stats = LiveStats()
     stop = {"why": None}
 

@@ -9,13 +9,13 @@ epoch times and is reported.
 
 from __future__ import annotations
 
-import gzip
 import re
 import socket
 import time
 from pathlib import Path
 
 from gripsense.errors import InputError
+from gripsense.io.nmea.reader import read_log_bytes
 
 __all__ = ["ReplaySource", "SerialSource", "TcpSource"]
 
@@ -39,12 +39,8 @@ class ReplaySource:
 
     def __init__(self, path: str | Path, speed: float = 1.0, chunk: int = 65536):
         path = Path(path)
-        try:
-            data = path.read_bytes()
-        except FileNotFoundError:
-            raise InputError(f"{path}: no such file") from None
-        if data[:2] == b"\x1f\x8b":
-            data = gzip.decompress(data)
+        self.path = path
+        data, self.notes = read_log_bytes(path)
         if speed < 0:
             raise InputError("--speed must be >= 0 (0 = as fast as possible)")
         self.name = str(path)

@@ -26,6 +26,7 @@ __all__ = [
     "mu_vs_radius",
     "mu_vs_utilisation",
     "mu_vs_yaw_rate",
+    "save_png",
     "trajectory",
 ]
 
@@ -354,3 +355,22 @@ def g_sweep_figure(sweep) -> Figure:
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def save_png(fig: Figure, path, kind: str, dpi: int = 90) -> None:
+    """Save *fig* as PNG with ``Software: gripsense <kind>`` in its metadata, so a later run
+    recognises the file as its own (:func:`gripsense.io.results.is_own_file`), and close it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or Path
+        Output file.
+    kind : str
+        Output kind.
+    dpi : int
+        Resolution [1/inch].
+    """
+    fig.savefig(path, dpi=dpi, format="png", metadata={"Software": f"gripsense {kind}"})
+    plt.close(fig)

@@ -13,9 +13,10 @@ import numpy as np
 import pandas as pd
 
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
+from gripsense.io.results import write_file_atomic
 from gripsense.report import figures as F
 
-__all__ = ["fig_to_data_uri", "html_table", "write_report"]
+__all__ = ["fig_to_data_uri", "html_table", "render_report", "write_report"]
 
 CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;
@@ -172,6 +173,30 @@ _METHOD = {
 def write_report(
     result: FrictionResult,
     path: str | Path,
+    **kwargs,
+) -> Path:
+    """Write :func:`render_report` to *path* atomically.
+
+    Parameters
+    ----------
+    result : FrictionResult
+        The result.
+    path : str or Path
+        Output ``.html`` (its folder is created).
+    **kwargs
+        Keyword arguments of :func:`render_report`.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+    """
+    text = render_report(result, **kwargs)
+    return write_file_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def render_report(
+    result: FrictionResult,
     *,
     epochs: pd.DataFrame | None = None,
     ingest: dict | None = None,
@@ -179,18 +204,21 @@ def write_report(
     title: str | None = None,
     max_conditions: int = 6,
     intro_html: str = "",
-) -> Path:
-    """Write a self-contained HTML report of a :class:`~gripsense.estimate.results.FrictionResult`.
+) -> str:
+    """A self-contained HTML report of a :class:`~gripsense.estimate.results.FrictionResult`.
 
     Parameters
     ----------
     result : FrictionResult
-    path : path
-        Output ``.html``.
-    epochs, ingest, vehicle
-        Epoch table, ingest accounting (``IngestReport.to_dict()``) and vehicle, when known:
-        they add the trajectory, data quality and vehicle sections.
-    title : str
+        The result.
+    epochs : pandas.DataFrame, optional
+        Epoch table (default the result's): adds the trajectory and data quality.
+    ingest : dict, optional
+        Ingest accounting (``IngestReport.to_dict()``; default the result's).
+    vehicle : Vehicle, optional
+        Vehicle (default the result's): adds the vehicle section.
+    title : str, optional
+        Page title.
     max_conditions : int
         Most steady conditions given their own four-panel figure.
     intro_html : str
@@ -198,10 +226,9 @@ def write_report(
 
     Returns
     -------
-    pathlib.Path
+    str
+        The page.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     epochs = epochs if epochs is not None else result.epochs
     ingest = ingest if ingest is not None else result.ingest
     vehicle = vehicle if vehicle is not None else result.vehicle
@@ -214,6 +241,7 @@ def write_report(
     s = result.summary
     out = [
         f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
+        "<meta name='generator' content='gripsense report'>"
         f"<title>{html.escape(title or 'gripsense report')}</title><style>{CSS}</style>"
         "</head><body>",
         f"<h1>{html.escape(title or 'Tyre-road friction report')}</h1>",
@@ -307,5 +335,4 @@ def write_report(
         "(friction.md) for the equations and their sources.</p>"
     )
     out.append("</body></html>")
-    path.write_text("\n".join(out), encoding="utf-8")
-    return path
+    return "\n".join(out)

@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import itertools
 import shutil
-import tomllib
 from dataclasses import fields
 from pathlib import Path
 
@@ -53,13 +52,19 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
+from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
+from gripsense.io.results import ResultWriter
+from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
 from gripsense.sim.sensors import emulate_accelerometer
 from gripsense.sim.vehicle import SimParams
 
 __all__ = ["run_scenario"]
+
+SCENARIO_TABLES = ("scenario", "road", "gnss", "accelerometer", "case", "grid")
+ACCEL_KEYS = ("rate_hz", "pitch_deg", "roll_deg", "noise_g")
 
 _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
     "circle": (
@@ -128,7 +133,14 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
         raise
 
 
-def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.DataFrame:
+def run_scenario(
+    path: str | Path,
+    outdir: str | Path,
+    *,
+    progress=None,
+    overwrite: bool = False,
+    command: str = "",
+) -> pd.DataFrame:
     """Simulate every case of a scenario file and write the outputs (see module docs).
 
     Parameters
@@ -136,9 +148,14 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
     path : path
         Scenario TOML.
     outdir : path
-        Output folder (created).
+        Output folder: written atomically with a manifest (:class:`gripsense.io.results.
+        ResultWriter`); an earlier simulation there is replaced only with *overwrite*.
     progress : callable or None
         Called as ``progress(i, n, case_id)`` before each case.
+    overwrite : bool
+        Replace an earlier simulation in *outdir*.
+    command : str
+        Command line recorded in the manifest.
 
     Returns
     -------
@@ -147,13 +164,11 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
     """
     path = Path(path)
     src = str(path)
-    try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such scenario file") from None
-    except tomllib.TOMLDecodeError as e:
-        raise InputError(f"{path}: not valid TOML ({e})") from None
-    sc = doc.get("scenario", {})
+    doc = read_toml(path, "scenario file")
+    r = TomlReader(doc, src)
+    r.known(doc, "", SCENARIO_TABLES)
+    sc = r.table("scenario", required=True)
+    r.known(sc, "scenario", ("name", "vehicle", "seed", "drive", "relaxation_length_m"))
     vref = sc.get("vehicle")
     if not vref:
         _fail(src, "[scenario] vehicle", "missing (a vehicle TOML path or bundled name)")
@@ -183,7 +198,8 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
         relaxation_length_m=float(sc.get("relaxation_length_m", 0)),
     )
     seed = int(sc.get("seed", 0))
-    road = doc.get("road", {})
+    road = r.table("road", required=False)
+    r.known(road, "road", ("mu", "patches"))
     mu0 = float(road.get("mu", 0.9))
     patches = []
     for k, pt in enumerate(road.get("patches", [])):
@@ -192,7 +208,8 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
         except (KeyError, TypeError, ValueError):
             _fail(src, f"[road] patches[{k}]", "needs x_m = [min, max], y_m = [min, max], mu")
         patches.append((x0, x1, y0, y1, mu))
-    g = doc.get("gnss", {})
+    g = r.table("gnss", required=False)
+    r.known(g, "gnss", ("rate_hz", "noise", *(f.name for f in fields(CompassNoise))))
     base = CompassNoise.none() if g.get("noise", "v100") == "none" else CompassNoise()
     names = {f.name for f in fields(CompassNoise)}
     over = {k: float(v) for k, v in g.items() if k in names}
@@ -201,6 +218,8 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
     )
     rate = float(g.get("rate_hz", 10.0))
     acc = doc.get("accelerometer")
+    if acc is not None:
+        r.known(r.table("accelerometer", required=False), "accelerometer", ACCEL_KEYS)
 
     specs: list[tuple[dict, float]] = []
     for c in doc.get("case", []):
@@ -216,13 +235,22 @@ def run_scenario(path: str | Path, outdir: str | Path, *, progress=None) -> pd.D
     if not specs:
         _fail(src, "[[case]] / [[grid]]", "no case to simulate")
 
-    out = Path(outdir)
-    out.mkdir(parents=True, exist_ok=True)
+    maneuvers = [_maneuver(spec, src, f"case {i + 1}", params) for i, (spec, _) in enumerate(specs)]
+    with ResultWriter(
+        outdir, "simulation", overwrite=overwrite, command=command, inputs=[path, vpath]
+    ) as out:
+        return _simulate_cases(
+            out, specs, maneuvers, params, vehicle, vpath, patches, noise, rate, acc, seed, progress
+        )
+
+
+def _simulate_cases(
+    out, specs, maneuvers, params, vehicle, vpath, patches, noise, rate, acc, seed, progress
+):
     shutil.copyfile(vpath, out / "vehicle.toml")
     antenna = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     rows = []
-    for i, (spec, mu) in enumerate(specs):
-        m = _maneuver(spec, src, f"case {i + 1}", params)
+    for i, ((spec, mu), m) in enumerate(zip(specs, maneuvers, strict=True)):
         cid = f"case{i + 1:03d}"
         if progress:
             progress(i, len(specs), cid)

@@ -19,7 +19,10 @@ import pandas as pd
 from gripsense._arrays import as_float_array, restore
 from gripsense.errors import InputError
 
-__all__ = ["calibration_offsets", "camber_from_lasers"]
+__all__ = ["CAMBER_COLUMNS", "calibration_offsets", "camber_from_lasers"]
+
+CAMBER_COLUMNS = ["t_s", "d_outer_m", "d_inner_m", "camber_deg"]
+"""Columns of ``gripsense camber -o``: the laser readings [s], [m] and the camber [deg]."""
 
 
 def camber_from_lasers(

@@ -29,7 +29,19 @@ import pandas as pd
 
 from gripsense.errors import InputError
 
-__all__ = ["frame_pair_flow", "slip_from_frames"]
+__all__ = ["SLIP_COLUMNS", "frame_pair_flow", "slip_from_frames"]
+
+SLIP_COLUMNS = [
+    "pair",
+    "t_s",
+    "slip_angle_rad",
+    "slip_angle_deg",
+    "speed_mps",
+    "quality",
+    "response",
+    "ok",
+]
+"""Columns of :func:`slip_from_frames`."""
 
 
 def _cv2():
@@ -177,7 +189,7 @@ def slip_from_frames(
                 "ok": bool(f["agree"] and q >= min_quality and px > 0.5),
             }
         )
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=SLIP_COLUMNS)
 
 
 def _load(frames, cv2):

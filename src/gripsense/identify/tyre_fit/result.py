@@ -207,6 +207,7 @@ class TyreFit:
     def to_dict(self) -> dict:
         """JSON-ready dictionary."""
         return {
+            "generator": "gripsense tyre-fit",
             "model": self.model,
             "variant": self.variant,
             "constraints": self.constraints,

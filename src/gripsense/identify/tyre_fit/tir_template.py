@@ -38,6 +38,7 @@ def fit_to_tir(fit, path: str | Path, template: str | Path | None = None) -> Pat
         for k, v in fit.coefficients.items():
             tir.set(k, float(v), section="LATERAL_COEFFICIENTS")
         tir.set("FNOMIN", float(fit.extra["FNOMIN"]), section="VERTICAL")
+        tir.prepend_comment("lateral coefficients identified by gripsense tyre-fit")
     else:
         fz_lo, fz_hi = fit.ranges["fz_N"]
         a_lo, a_hi = fit.ranges["alpha_rad"]

@@ -54,6 +54,8 @@ class IngestReport:
         Rows of the epoch table, and those without a UTC time.
     has_date : bool
         Whether a date (RMC, ZDA) was found; without one ``time_utc`` is NaT.
+    notes : list of str
+        What else happened to the input (a cut-off gzip stream, lines beyond the size limits).
     """
 
     source: str
@@ -66,6 +68,7 @@ class IngestReport:
     n_epochs: int = 0
     epochs_without_time: int = 0
     has_date: bool = False
+    notes: list[str] = field(default_factory=list)
 
     @property
     def n_parsed(self) -> int:
@@ -106,5 +109,6 @@ class IngestReport:
             "junk_prefix_lines": self.junk_prefix_lines,
             "n_epochs": self.n_epochs,
             "epochs_without_time": self.epochs_without_time,
+            "notes": list(self.notes),
             "has_date": self.has_date,
         }

@@ -30,8 +30,8 @@ float64 (also ``fix_quality`` and ``n_sats``, so that missing stays NaN).
 
 from __future__ import annotations
 
-import gzip
 import os
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -47,8 +47,9 @@ from gripsense.io.nmea.epochs import assemble_epochs
 from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, split_lines
+from gripsense.io.text import read_bytes
 
-__all__ = ["NmeaLog", "read_nmea"]
+__all__ = ["MAX_BYTES", "MAX_LINES", "NmeaLog", "read_log_bytes", "read_nmea"]
 
 N_FIRST_REJECTS = 20
 _ENGINES = {"fast": tokenize_fast, "reference": tokenize_reference}
@@ -76,27 +77,82 @@ class NmeaLog:
     sentences: dict[str, pd.DataFrame]
 
 
-def _read_source(source: NmeaSource) -> tuple[bytes, str]:
-    """Turn any accepted source into (bytes, display name)."""
+MAX_LINES = 5_000_000
+"""Default largest number of lines read (≈ 0.5 GB of working memory: 14 h of a 10 Hz compass
+sending 6 sentences per epoch); more are counted only."""
+MAX_BYTES = 1 << 30
+"""Default largest decompressed size read [bytes]; more is counted only."""
+
+
+@dataclass
+class _Input:
+    data: bytes
+    name: str
+    extra_lines: int = 0  # lines beyond the limits: counted, not read
+    notes: list[str] | None = None
+
+
+def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
+    """Decompress gzip data up to *max_bytes*, counting the lines beyond.
+
+    A stream that ends early (a recording cut off) keeps what was decompressed and says so.
+    """
+    d = zlib.decompressobj(16 + zlib.MAX_WBITS)
+    out: list[bytes] = []
+    size = 0
+    extra = 0
+    notes: list[str] = []
+    buf = raw
+    complete = False
+    try:
+        while buf:
+            chunk = d.decompress(buf, 1 << 24)
+            buf = d.unconsumed_tail
+            if size < max_bytes:
+                keep = chunk[: max_bytes - size]
+                out.append(keep)
+                size += len(keep)
+                chunk = chunk[len(keep) :]
+            extra += chunk.count(b"\n")
+            complete = d.eof
+            if d.eof:
+                rest = d.unused_data  # a further gzip member (concatenated files)
+                if rest.strip(b"\x00"):
+                    d = zlib.decompressobj(16 + zlib.MAX_WBITS)
+                    complete = False
+                buf = rest if not complete else b""
+        if not complete and size:
+            notes.append("the gzip stream ends early (file cut off?): read up to the cut")
+    except zlib.error as e:
+        if not size:
+            raise InputError(
+                f"{name}: looks gzip-compressed but cannot be decompressed ({e})"
+            ) from None
+        notes.append(f"the gzip stream is corrupt after {size} bytes ({e}): read up to there")
+    data = b"".join(out)
+    if extra and not data.endswith(b"\n"):
+        extra += 1  # the line cut at the limit
+        data = data[: data.rfind(b"\n") + 1]
+    if extra:
+        notes.append(f"decompressed size above {max_bytes} bytes: {extra} lines counted, not read")
+    return _Input(data, name, extra, notes)
+
+
+def _read_source(source: NmeaSource, max_bytes: int) -> _Input:
+    """Turn any accepted source into bytes and a display name (``max_bytes < 0``: no gzip
+    detection).
+    """
     if isinstance(source, str | os.PathLike):
         path = Path(source)
-        try:
-            with open(path, "rb") as fh:
-                data = fh.read()
-        except FileNotFoundError:
-            raise InputError(f"{path}: no such file; give the path of an NMEA log") from None
-        except IsADirectoryError:
-            raise InputError(f"{path}: is a directory; give the path of an NMEA log") from None
-        if data[:2] == b"\x1f\x8b":
-            try:
-                data = gzip.decompress(data)
-            except (OSError, EOFError) as e:
-                raise InputError(
-                    f"{path}: looks gzip-compressed but cannot be decompressed ({e})"
-                ) from None
-        return data, str(path)
+        data = read_bytes(path, "file; give the path of an NMEA log")
+        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
+            return _gunzip(data, str(path), max_bytes)
+        return _Input(data, str(path))
     if isinstance(source, bytes | bytearray | memoryview):
-        return bytes(source), "<bytes>"
+        data = bytes(source)
+        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
+            return _gunzip(data, "<bytes>", max_bytes)
+        return _Input(data, "<bytes>")
     if isinstance(source, list | tuple):
         out = []
         for i, ln in enumerate(source):
@@ -107,22 +163,67 @@ def _read_source(source: NmeaSource) -> tuple[bytes, str]:
                     f"<lines>: item {i} is {type(ln).__name__}; give str or bytes lines"
                 )
             out.append(bytes(ln).rstrip(b"\r\n"))
-        return b"\n".join(out) + (b"\n" if out else b""), "<lines>"
+        return _Input(b"\n".join(out) + (b"\n" if out else b""), "<lines>")
     if hasattr(source, "read"):
         data = source.read()
         if isinstance(data, str):
             data = data.encode("utf-8", "surrogateescape")
-        name = getattr(source, "name", "<stream>")
-        if data[:2] == b"\x1f\x8b":
-            data = gzip.decompress(data)
-        return bytes(data), str(name)
+        name = str(getattr(source, "name", "<stream>"))
+        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
+            return _gunzip(bytes(data), name, max_bytes)
+        return _Input(bytes(data), name)
     raise InputError(
         f"read_nmea: source of type {type(source).__name__} is not supported; give a path, a list "
         "of lines or a file object"
     )
 
 
-def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast") -> NmeaLog:
+def read_log_bytes(
+    path: str | os.PathLike, *, max_bytes: int = MAX_BYTES
+) -> tuple[bytes, list[str]]:
+    """The bytes of a log file, decompressed when it is gzip (detected from its content).
+
+    Parameters
+    ----------
+    path : str or Path
+        Log file.
+    max_bytes : int
+        Largest decompressed size kept [bytes] (the rest is dropped and said in the notes).
+
+    Returns
+    -------
+    data : bytes
+        The log's bytes.
+    notes : list of str
+        What happened on the way (a cut-off gzip stream, the size limit).
+    """
+    inp = _read_source(Path(path), max_bytes)
+    return inp.data, list(inp.notes or [])
+
+
+def _cap_lines(inp: _Input, max_lines: int) -> None:
+    """Keep the first *max_lines* lines; count the rest."""
+    data = inp.data
+    n = data.count(b"\n") + (1 if data and not data.endswith(b"\n") else 0)
+    if n <= max_lines:
+        return
+    cut = -1
+    for _ in range(max_lines):
+        cut = data.index(b"\n", cut + 1)
+    inp.data = data[: cut + 1]
+    inp.extra_lines += n - max_lines
+    inp.notes = [*(inp.notes or []), f"more than {max_lines} lines: the rest counted, not read"]
+
+
+def read_nmea(
+    source: NmeaSource,
+    *,
+    strict: bool = False,
+    engine: str = "fast",
+    max_lines: int = MAX_LINES,
+    max_bytes: int = MAX_BYTES,
+    decompress: bool = True,
+) -> NmeaLog:
     """Read an NMEA 0183 log into an epoch table with full line accounting.
 
     Parameters
@@ -135,6 +236,15 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         rejected line, instead of counting it.
     engine : {"fast", "reference"}
         Tokenizer: the vectorised production path or the per-line reference (same results).
+    max_lines : int
+        Largest number of lines read; further lines are counted as rejected
+        (``over the size limit``), so memory stays bounded whatever the input.
+    max_bytes : int
+        Largest decompressed size read from a gzip input [bytes]; the lines beyond are counted
+        the same way (a small ``.gz`` can expand enormously).
+    decompress : bool
+        Detect gzip input by its magic bytes and decompress it (off for a raw byte stream such
+        as a receiver's, which may start with any bytes).
 
     Returns
     -------
@@ -151,7 +261,9 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
     """
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
-    data, name = _read_source(source)
+    inp = _read_source(source, max_bytes if decompress else -1)
+    _cap_lines(inp, max_lines)
+    data, name = inp.data, inp.name
     tok = _ENGINES[engine](data)
     frames, malformed = decode_all(tok.raw)
     if malformed:
@@ -175,15 +287,21 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
     parsed = tok.counts(PARSED)
     ignored = tok.counts(IGNORED)
     rejected_c = tok.counts(REJECTED)
+    if inp.extra_lines:
+        rejected_c[S.OVER_LIMIT] = rejected_c.get(S.OVER_LIMIT, 0) + inp.extra_lines
+        if strict:
+            raise InputError(f"{name}: {inp.notes[-1]} (strict mode)")
     first = []
     for i in rej[:N_FIRST_REJECTS].tolist():
         detail = tok.details.get(i)
         if detail is None:
             detail = classify_line(split_lines(data)[i])[2]
         first.append(RejectedLine(i + 1, tok.names[tok.code[i]], detail))
+    if inp.extra_lines and len(first) < N_FIRST_REJECTS:
+        first.append(RejectedLine(tok.n_lines + 1, S.OVER_LIMIT, inp.notes[-1]))
     report = IngestReport(
         source=name,
-        total_lines=tok.n_lines,
+        total_lines=tok.n_lines + inp.extra_lines,
         parsed=dict(sorted(parsed.items())),
         ignored=dict(sorted(ignored.items())),
         rejected={r: int(rejected_c.get(r, 0)) for r in S.REASONS},
@@ -192,5 +310,6 @@ def read_nmea(source: NmeaSource, *, strict: bool = False, engine: str = "fast")
         n_epochs=len(epochs),
         epochs_without_time=notes["epochs_without_time"],
         has_date=notes["has_date"],
+        notes=list(inp.notes or []),
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)

@@ -25,7 +25,8 @@ MISSING_CHECKSUM = "missing checksum"
 MALFORMED = "malformed field"
 TRUNCATED = "truncated"
 NOT_NMEA = "not NMEA"
-REASONS = (BAD_CHECKSUM, MISSING_CHECKSUM, MALFORMED, TRUNCATED, NOT_NMEA)
+OVER_LIMIT = "over the size limit"  # lines beyond read_nmea's max_lines / max_bytes: counted only
+REASONS = (BAD_CHECKSUM, MISSING_CHECKSUM, MALFORMED, TRUNCATED, NOT_NMEA, OVER_LIMIT)
 
 # Pseudo sentence types for lines that are not sentences but not errors either.
 BLANK = "(blank)"
