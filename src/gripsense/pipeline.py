@@ -46,8 +46,11 @@ def _per_sample(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionR
 
 
 def _axle_window(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
-    # μ is per axle and window here; the per-sample brush values would contradict it
-    wheels = wheels.assign(mu=np.nan, mu_sigma=np.nan)
+    # μ is per axle and window here; the per-sample brush values would contradict it, and a
+    # sample without μ is never flagged "ok"
+    wheels = wheels.assign(
+        mu=np.nan, mu_sigma=np.nan, flag=wheels["flag"].replace({"ok": "per_axle"})
+    )
     windows, axles = estimate_windows(
         wheels, run.vehicle, noise=run.options.noise, options=run.window
     )

@@ -16,8 +16,13 @@ fleet           ``fleet``
 
 from __future__ import annotations
 
-import typer
+import os
+import sys
 
+import typer
+from rich.text import Text
+
+from gripsense.cli._common import err_console
 from gripsense.cli.fleet import fleet
 from gripsense.cli.friction import friction, report_cmd, stiffness
 from gripsense.cli.ingest import ingest
@@ -26,12 +31,14 @@ from gripsense.cli.sensors import brake_mu, camber, camera_slip
 from gripsense.cli.sim import demo, simulate
 from gripsense.cli.steering import steering_app
 from gripsense.cli.tyre import fit_contact, tyre_app
+from gripsense.errors import GripsenseError
 
 __all__ = ["app", "main"]
 
 app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
+    pretty_exceptions_enable=False,
     help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
 )
 
@@ -53,8 +60,32 @@ app.add_typer(steering_app, name="steering")
 
 
 def main() -> None:
-    """Console-script entry point (``gripsense``)."""
-    app()
+    """Console-script entry point (``gripsense``): every failure is one line on stderr and a
+    non-zero exit, never a traceback (set ``GRIPSENSE_DEBUG=1`` to see one).
+    """
+    try:
+        app()
+    except KeyboardInterrupt:
+        err_console.print("interrupted", highlight=False)
+        sys.exit(130)
+    except Exception as e:  # the one place that turns any failure into a message
+        if os.environ.get("GRIPSENSE_DEBUG"):
+            raise
+        if isinstance(e, GripsenseError):
+            msg, code = str(e), 2
+        elif isinstance(e, OSError):
+            where = f"{e.filename}: " if e.filename else ""
+            msg, code = f"{where}{e.strerror or e}", 1
+        elif isinstance(e, MemoryError):
+            msg, code = "out of memory; read a smaller part of the input (--max-lines)", 1
+        else:
+            msg = (
+                f"internal error: {type(e).__name__}: {e} — this is a bug in gripsense; rerun "
+                "with GRIPSENSE_DEBUG=1 for the details and report them"
+            )
+            code = 1
+        err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
+        sys.exit(code)
 
 
 if __name__ == "__main__":

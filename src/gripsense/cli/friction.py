@@ -266,7 +266,7 @@ def stiffness(
         table.add_column(col)
     for r in tab.to_dict("records"):
         table.add_row(
-            r["log"],
+            Text(r["log"]),
             str(r["condition"]),
             r["wheel"],
             f"{r['speed_kmh']:.0f}",

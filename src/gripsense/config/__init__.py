@@ -6,6 +6,6 @@ algorithms (the pvlib ``Location``/``PVSystem`` rule). All files are read by one
 """
 
 from gripsense.config.steering import SteeringCar
-from gripsense.config.vehicle import AXLE_OF, WHEELS, Tyre, Vehicle
+from gripsense.config.vehicle import AXLE_OF, PLAUSIBLE, WHEELS, Tyre, Vehicle
 
-__all__ = ["AXLE_OF", "WHEELS", "SteeringCar", "Tyre", "Vehicle"]
+__all__ = ["AXLE_OF", "PLAUSIBLE", "WHEELS", "SteeringCar", "Tyre", "Vehicle"]

@@ -13,6 +13,26 @@ from gripsense.io.text import read_toml
 
 __all__ = ["SteeringCar"]
 
+_KEYS = {
+    "car": ("name", "mass_kg", "yaw_inertia_kgm2", "lf_m", "lr_m"),
+    "steering": (
+        "kingpin_inertia_kgm2",
+        "kingpin_damping_Nms",
+        "ks1_Nm_per_rad",
+        "ks2_Nm_per_rad",
+        "trail_m",
+        "steering_ratio",
+        "wheel_inertia_kgm2",
+        "wheel_damping_Nms",
+    ),
+    "tyre": (
+        "cornering_stiffness_front_N_per_rad",
+        "cornering_stiffness_rear_N_per_rad",
+        "lateral_stiffness_N_per_m",
+    ),
+    "test": ("speed_mps", "release_angle_deg", "step_stop_deg", "reference_steer_rate_dps"),
+}
+
 
 @dataclass(frozen=True)
 class SteeringCar:
@@ -120,8 +140,12 @@ class SteeringCar:
         path : str or Path
             Car file with [car], [steering], [tyre] and [test] tables.
         """
-        r = TomlReader(read_toml(path, "steering car file"), str(path))
+        doc = read_toml(path, "steering car file")
+        r = TomlReader(doc, str(path))
+        r.known(doc, "", _KEYS)
         car, st, ty, te = (r.table(n, True) for n in ("car", "steering", "tyre", "test"))
+        for name, t in zip(("car", "steering", "tyre", "test"), (car, st, ty, te), strict=True):
+            r.known(t, name, _KEYS[name])
         ks2 = r.num(st, "steering", "ks2_Nm_per_rad", unit="N·m/rad", positive=True, required=False)
         return cls(
             mass_kg=r.num(car, "car", "mass_kg", unit="kg", positive=True),

@@ -74,7 +74,11 @@ FLAGS = (
     "no_solution",
     "full_sliding",
     "ill_conditioned",
+    "wheel_lifted",
+    "per_axle",
 )
+"""Why a wheel sample has no μ (``ok``: it has one). ``wheel_lifted``: the load-transfer model
+puts no load on the wheel; ``per_axle``: an ``axle-window`` sample (μ is in the windows)."""
 WHEEL_COLUMNS = [
     "t_s",
     "epoch",
@@ -382,12 +386,15 @@ def friction_from_motion(
         )
         with np.errstate(invalid="ignore"):
             force_sigma = np.abs(force) * sig_f_rel
+        with np.errstate(divide="ignore", invalid="ignore"):
+            utilisation = np.where(fz > 0, np.abs(force) / fz, np.nan)
         flag = np.full(t.size, "ok", dtype=object)
         sign_bad = force * alpha > 0  # ISO: F ≈ −C α
         conds = [
             ("ill_conditioned", ~(rel <= o.max_rel_sigma)),
             ("full_sliding", status == brush.FULL_SLIDING),
             ("no_solution", (status == brush.NO_SOLUTION) | (status == brush.INVALID) | sign_bad),
+            ("wheel_lifted", ~(fz > 0)),
             ("not_steady", ~steady),
             (
                 "not_cornering",
@@ -419,7 +426,7 @@ def friction_from_motion(
                     "mu_sigma": np.where(ok, mu_sigma, np.nan),
                     "flag": flag,
                     "lateral_accel_mps2": ay,
-                    "utilisation": np.abs(force) / fz,
+                    "utilisation": utilisation,
                     "steady": steady,
                     "cornering_stiffness_N_per_rad": c,
                     "slip_sigma_rad": sig_alpha_white,

@@ -292,8 +292,9 @@ class WheelFriction(FrictionResult):
                         f"{rec['n_total']} samples)"
                     )
                 else:
+                    why = f"; {rec['note']}" if rec.get("note") else ""
                     parts.append(
-                        f"{rec['wheel']}: not observable (μ ≥ {rec['mu_lower_bound']:.2f})"
+                        f"{rec['wheel']}: not observable (μ ≥ {rec['mu_lower_bound']:.2f}{why})"
                     )
             return "; ".join(parts)
         if (s["n_valid"] > 0).any():
@@ -459,6 +460,12 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
         n_corner = int(cornering.sum())
         rec["valid_fraction"] = float(ok.sum() / n_corner) if n_corner else 0.0
         rec["observable"] = bool(ok.any() and rec["valid_fraction"] >= min_valid_fraction)
+        rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
+        rec["note"] = ""
+        if rec["observable"] and float(mu.median()) < rec["mu_lower_bound"]:
+            # a value below what the same data prove contradicts itself: not a measurement
+            rec["observable"] = False
+            rec["note"] = "value below the bound the data prove: model inconsistent"
         if rec["observable"]:
             m = float(mu.median())
             lo = float((mu - Z90 * sig).median())
@@ -471,7 +478,6 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
             )
         else:
             rec.update(mu=np.nan, mu_low=np.nan, mu_high=np.nan, surface="undetermined")
-        rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
         counts = g["flag"].value_counts()
         for f in FLAGS:
             rec[f"n_{f}"] = int(counts.get(f, 0))
@@ -487,6 +493,7 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
         "n_total",
         "valid_fraction",
         "mu_lower_bound",
+        "note",
         *[f"n_{f}" for f in FLAGS],
     ]
     return pd.DataFrame(rows, columns=cols)

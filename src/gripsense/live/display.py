@@ -59,7 +59,7 @@ def render(summary, stats, ingest, source):
             if np.isfinite(mu):
                 cells = (
                     f"{mu:.2f}",
-                    f"[{r.get('mu_low', np.nan):.2f}, {r.get('mu_high', np.nan):.2f}]",
+                    Text(f"[{r.get('mu_low', np.nan):.2f}, {r.get('mu_high', np.nan):.2f}]"),
                     str(r.get("surface", "")),
                 )
             else:
