@@ -1,21 +1,24 @@
-"""Accuracy of the friction methods on simulated drives with known μ.
+"""Accuracy of ``axle-window`` on drives whose tyres and vehicles the estimator does not share.
 
-Drives: gripsense's simulator (brush tyres, the demo's Corolla-like car), circles from the
-thesis's grids (20–50 km/h × R 20/30/40 m) plus near-limit circles (utilisation 0.85, 0.95 at
-R 30 m) on roads with μ ∈ {0.2, 0.3, …, 1.1}; 1.5 laps after a 6 s straight lead-in, receiver
-emulated at 10 Hz with a 0.5° mounting offset. Two receivers:
+Matrix (issue 14): truth tyre {brush, three Magic Formula .tir files, PAC89}
+× vehicle {sedan, low sports car, tall SUV} × receiver {v100: 0.3° white + 0.4° slow heading,
+white-0.3: 0.3° white, rtk: 0.05°} × road μ {0.3, 0.5, 0.7, 0.9, 1.1}
+× manoeuvre {the thesis's 2018 circles 20–50 km/h × R 20/30/40 m, near-limit circles at 85 and
+95 % of the road's friction at R 30 m}. Each drive is simulated with the truth tyre (similarity-
+scaled to the road, load dependence and camber thrust of the file, roll-induced camber, 0.5 m
+relaxation length), recorded by the emulated receiver (0.5° mounting offset) and a steering
+channel with a 3 % scale error, and estimated with the vehicle file a user would write
+(:func:`gripsense.sim.drives.user_vehicle`: the truth tyre's C at the static load ± 10 %,
+default load sensitivity, shape and camber thrust). A second pass (``--wrong-cg``) declares the
+CG height 25 % too high and too low.
 
-* ``v100``: Hemisphere V100-like defaults (heading 0.3° white + 0.4° slow, ≈ 0.5° rms), and the
-  estimator's default noise model (G known to 20 %);
-* ``rtk``: an RTK-class dual-antenna receiver (0.05° + 0.05°) and a calibrated tyre (G to 5 %).
+Per axle-case: the true μ of the axle (load-weighted peak of its wheels), the true utilisation,
+the measured-grip bound, the estimate and its 90 % interval. Per cell and overall: values given
+at utilisation ≥ 0.6 and ≥ 0.8, bias, RMSE, 90 % coverage, share of measured-grip bounds above
+the truth (+0.01), the largest such excess, abstention.
 
-Methods: ``thesis-2`` and ``brush-2`` (per-wheel summaries of the rear wheels: the median of
-valid samples, reported only when most steady samples are valid) and ``axle-window`` (rear-axle
-summary, profile-likelihood interval). For each, binned by the true rear-axle utilisation
-a_y/(μ g): how often a value is given, its bias and RMSE, how often the reported interval
-covers the truth, and the worst miss of an interval. Prints a table and saves a plot.
-
-Usage: python benchmarks/accuracy.py [--quick] [--workers 2] [--plot benchmarks/accuracy.png]
+Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--workers 2] [--csv out.csv]
+       [--plot benchmarks/accuracy.png]
 """
 
 from __future__ import annotations
@@ -27,188 +30,227 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
-MUS = [0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1]
-BINS = [0.0, 0.4, 0.6, 0.8, 0.9, 1.01]
+TYRES = ("brush", "mf-book", "mf-sedan", "mf61", "pac89")
+VEHICLES = ("sedan", "sports", "suv")
+RECEIVERS = ("v100", "white-0.3", "rtk")
+MUS = (0.3, 0.5, 0.7, 0.9, 1.1)
 
 
-def cases(quick: bool) -> list[dict]:
-    g = 9.80665
-    out = []
-    mus = MUS[::3] if quick else MUS
+def manoeuvres(mu: float, quick: bool) -> list[tuple[str, float, float]]:
+    """(name, speed [m/s], radius [m]) of the circles driven on a road of friction *mu*."""
+    from gripsense.sim.drives import limit_speed
+
     speeds = (30, 50) if quick else (20, 30, 40, 50)
     radii = (20, 40) if quick else (20, 30, 40)
-    for mu in mus:
-        for v in speeds:
-            for r in radii:
-                out.append({"mu": mu, "speed_kmh": v, "radius_m": r})
-        for u in (0.85, 0.95):
-            out.append(
-                {"mu": mu, "speed_kmh": float(np.sqrt(u * mu * g * 30.0) * 3.6), "radius_m": 30.0}
-            )
+    out = [(f"{v} km/h R{r}", v / 3.6, float(r)) for v in speeds for r in radii]
+    for u in (0.85, 0.95):
+        out.append((f"limit {u:.2f} R30", limit_speed(mu, 30.0, u), 30.0))
     return out
 
 
-def one(args) -> list[dict]:
-    case, receiver, seed = args
+def jobs(
+    quick: bool,
+    wrong_cg: bool,
+    tyres=TYRES,
+    vehicles=VEHICLES,
+    receivers=RECEIVERS,
+) -> list[dict]:
+    out = []
+    rng = np.random.default_rng(14)
+    mus = MUS[::2] if quick else MUS
+    receivers = ("white-0.3",) if wrong_cg else receivers
+    cg = (1.25, 0.75) if wrong_cg else (1.0,)
+    for tyre in tyres:
+        for veh in vehicles:
+            for mu in mus:
+                for name, v, r in manoeuvres(mu, quick):
+                    for rec in receivers:
+                        for f in cg:
+                            out.append(
+                                {
+                                    "tyre": tyre,
+                                    "vehicle": veh,
+                                    "mu_road": mu,
+                                    "manoeuvre": name,
+                                    "speed_mps": v,
+                                    "radius_m": r,
+                                    "receiver": rec,
+                                    "cg_factor": f,
+                                    "stiffness_error": float(rng.uniform(-0.1, 0.1)),
+                                    "seed": len(out) + 1,
+                                }
+                            )
+    return out
+
+
+def one(job: dict) -> list[dict]:
     from gripsense import FrictionRun
-    from gripsense.config import Vehicle
-    from gripsense.data import sample_path
     from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
-    from gripsense.sim import SimParams
-    from gripsense.sim import maneuvers as M
-    from gripsense.sim.gnss import CompassNoise, emulate_compass
+    from gripsense.io.steer import steer_at
+    from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
-    veh = Vehicle.from_toml(sample_path("corolla_sim.toml"))
-    p = SimParams.from_vehicle(veh)
-    ant = (-veh.cg_offset[0], -veh.cg_offset[1])
-    if receiver == "rtk":
-        noise, nm = CompassNoise.rtk(), NoiseModel.rtk()
-    else:
-        noise, nm = CompassNoise(), NoiseModel()
-    m = M.circle(case["speed_kmh"] / 3.6, case["radius_m"], laps=1.5, params=p)
-    res = M.run(p, m, mu=case["mu"])
-    log = emulate_compass(res, ant, noise=noise, seed=seed)
-    tr = log.truth[
-        (log.truth["t_s"] > m.settle_s) & log.truth["wheel"].astype(str).str.startswith("rear")
-    ]
-    util = (
-        float((tr.groupby("t_s")["force_N"].sum().abs() / tr.groupby("t_s")["load_N"].sum()).mean())
-        / case["mu"]
+    d = simulate_drive(
+        job["vehicle"],
+        job["tyre"],
+        None,
+        job["mu_road"],
+        receiver=job["receiver"],
+        seed=job["seed"],
+        circle=(job["speed_mps"], job["radius_m"]),
     )
-    ep = read_nmea(log.lines).epochs
+    uv = user_vehicle(
+        truth_vehicle(job["vehicle"]),
+        job["tyre"],
+        stiffness_error=job["stiffness_error"],
+        cg_height_factor=job["cg_factor"],
+    )
+    ep = read_nmea(d.lines).epochs
+    ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
+    steer = steer_at(ch, ep["t_s"].to_numpy(float))
+    t0 = time.perf_counter()
+    run = FrictionRun(uv, method="axle-window", noise=NoiseModel.for_vehicle(uv, job["receiver"]))
+    res = run.run(ep, steer_rad=steer)
+    wall = time.perf_counter() - t0
+    truth = d.axles.set_index("axle")
     rows = []
-    for method in ("thesis-2", "brush-2", "axle-window"):
-        r = FrictionRun(veh, method=method, noise=nm).run(ep)
-        s = r.summary
-        recs = (
-            s.to_dict("records")
-            if method == "axle-window"
-            else [x for x in s.to_dict("records") if x["wheel"].startswith("rear")]
+    for s in res.summary.to_dict("records"):
+        ax = s["axle"]
+        if ax not in truth.index:
+            continue
+        t = truth.loc[ax]
+        rows.append(
+            {
+                **job,
+                "axle": ax,
+                "mu_true": t["mu_true"],
+                "mu_true_max": t["mu_true_max"],
+                "utilisation": t["utilisation"],
+                "grip_used_lower": s["grip_used_lower"],
+                "observable": bool(s["observable"]),
+                "mu": s["mu"],
+                "mu_low": s["mu_low"],
+                "mu_high": s["mu_high"],
+                "fit": s["fit"],
+                "limited_by": s.get("limited_by", ""),
+                "shape": s.get("shape", ""),
+                "estimate_s": wall,
+            }
         )
-        for x in recs:
-            rows.append(
-                {
-                    **case,
-                    "receiver": receiver,
-                    "method": method,
-                    "utilisation": util,
-                    "given": bool(x["observable"]),
-                    "mu_hat": x["mu"],
-                    "lo": x["mu_low"],
-                    "hi": x["mu_high"],
-                    "bound": x["mu_lower_bound"],
-                }
-            )
     return rows
 
 
-def table(df: pd.DataFrame) -> pd.DataFrame:
-    df = df.copy()
-    df["bin"] = pd.cut(
-        df["utilisation"],
-        BINS,
-        right=False,
-        labels=["<0.4", "0.4-0.6", "0.6-0.8", "0.8-0.9", ">=0.9"],
+def scores(df: pd.DataFrame) -> pd.Series:
+    """The issue's numbers for a set of axle-cases."""
+    obs = df["observable"].astype(bool)
+    err = (df["mu"] - df["mu_true"])[obs]
+    lo = df["mu_low"].fillna(-np.inf)
+    hi = df["mu_high"].fillna(np.inf)
+    covered = (lo <= df["mu_true"]) & (df["mu_true"] <= hi)
+    excess = (df["grip_used_lower"] - df["mu_true"]).fillna(-1)
+    u6, u8 = df["utilisation"] >= 0.6, df["utilisation"] >= 0.8
+    near = obs & u8
+    return pd.Series(
+        {
+            "n": len(df),
+            "given_u0.6": float(obs[u6].mean()) if u6.any() else np.nan,
+            "given_u0.8": float(obs[u8].mean()) if u8.any() else np.nan,
+            "within_0.05_u0.8": float(
+                (np.abs(df["mu"] - df["mu_true"])[near] <= 0.05).mean() if near.any() else np.nan
+            ),
+            "bias": float(err.mean()) if len(err) else np.nan,
+            "rmse": float(np.sqrt((err**2).mean())) if len(err) else np.nan,
+            "worst_error": float(np.abs(err).max()) if len(err) else np.nan,
+            "coverage90": float(covered[obs].mean()) if obs.any() else np.nan,
+            "coverage90_all": float(covered.mean()),
+            "bound_above": float((excess > 0.01).mean()),
+            "bound_excess_max": float(max(excess.max(), 0.0)),
+            "abstained": float(1 - obs.mean()),
+        }
     )
-    err = df["mu_hat"] - df["mu"]
-    df["err"] = np.where(df["given"], err, np.nan)
-    lo = df["lo"].fillna(-np.inf)
-    hi = df["hi"].fillna(np.inf)
-    df["covered"] = (lo <= df["mu"]) & (df["mu"] <= hi)
-    df["miss"] = np.where(df["given"], np.maximum(lo - df["mu"], df["mu"] - hi).clip(0), np.nan)
-    df["bound_ok"] = df["bound"].fillna(0) <= df["mu"] + 0.02
-    g = df.groupby(["receiver", "method", "bin"], observed=True)
-    out = g.agg(
-        n=("mu", "size"),
-        given=("given", "mean"),
-        bias=("err", "mean"),
-        rmse=("err", lambda e: float(np.sqrt(np.nanmean(e**2))) if e.notna().any() else np.nan),
-        coverage=("covered", "mean"),
-        worst_miss=("miss", "max"),
-        bound_ok=("bound_ok", "mean"),
-    )
-    return out.reset_index()
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--quick", action="store_true", help="μ 0.3/0.7/1.1, 4 thesis circles")
+    ap.add_argument("--wrong-cg", action="store_true", help="CG height declared ±25 %% off")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--plot", default="benchmarks/accuracy.png")
     ap.add_argument("--csv", default=None)
+    ap.add_argument("--plot", default=None)
+    ap.add_argument("--tyres", default=",".join(TYRES))
+    ap.add_argument("--vehicles", default=",".join(VEHICLES))
+    ap.add_argument("--receivers", default=",".join(RECEIVERS))
     args = ap.parse_args()
-    jobs = [(c, rec, 100 + i) for rec in ("v100", "rtk") for i, c in enumerate(cases(args.quick))]
+    todo = jobs(
+        args.quick,
+        args.wrong_cg,
+        tuple(args.tyres.split(",")),
+        tuple(args.vehicles.split(",")),
+        tuple(args.receivers.split(",")),
+    )
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as ex:
-        rows = [r for part in ex.map(one, jobs, chunksize=4) for r in part]
+        rows = [r for part in ex.map(one, todo, chunksize=4) for r in part]
     df = pd.DataFrame(rows)
-    print(f"{len(jobs)} drives in {time.perf_counter() - t0:.0f} s")
+    print(f"{len(todo)} drives, {len(df)} axle-cases in {time.perf_counter() - t0:.0f} s")
     if args.csv:
         df.to_csv(args.csv, index=False)
-    t = table(df)
-    pd.set_option("display.width", 160)
-    print(t.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
-    for rec in ("v100", "rtk"):
-        aw = df[(df["method"] == "axle-window") & (df["receiver"] == rec)]
-        lo = aw["lo"].fillna(-np.inf)
-        hi = aw["hi"].fillna(np.inf)
-        cov = float(((lo <= aw["mu"]) & (aw["mu"] <= hi)).mean())
-        hi_u = aw[aw["utilisation"] >= 0.6]
-        e = (hi_u["mu_hat"] - hi_u["mu"])[hi_u["given"]]
-        miss = np.maximum(lo - aw["mu"], aw["mu"] - hi)[aw["given"]].clip(lower=0)
-        print(
-            f"\naxle-window, {rec}: coverage {cov:.1%} (target 85–95 %); where utilisation ≥ 0.6: "
-            f"{len(e)} values, bias {e.mean() if len(e) else float('nan'):+.3f} (≤ 0.05), "
-            f"RMSE {np.sqrt((e**2).mean()) if len(e) else float('nan'):.3f} (≤ 0.08); worst miss "
-            f"of a value's interval {miss.max() if len(miss) else 0:.3f} (≤ 0.2); "
-            f"abstained {1 - aw['given'].mean():.0%}"
-        )
+    pd.set_option("display.width", 200)
+    fmt = {"float_format": lambda v: f"{v:.3f}"}
+    by_rec = df.groupby("receiver").apply(scores, include_groups=False)
+    print("\nper receiver\n" + by_rec.to_string(**fmt))
+    by_cell = df.groupby(["tyre", "vehicle"]).apply(scores, include_groups=False)
+    print("\nper truth tyre and vehicle (all receivers)\n" + by_cell.to_string(**fmt))
+    w3 = df[df["receiver"] == "white-0.3"]
+    if len(w3):
+        by_t = w3.groupby("tyre").apply(scores, include_groups=False)
+        print("\nwhite-0.3 receiver, per truth tyre\n" + by_t.to_string(**fmt))
+    print("\noverall\n" + scores(df).to_string(**fmt))
+    what = df[df["observable"] | (df["utilisation"] >= 0.8)]
+    lim = what.groupby(["receiver", "limited_by"]).size().rename("axle-cases")
+    print("\nwhat limits the estimate (utilisation ≥ 0.8 or a value given)\n" + lim.to_string())
     if args.plot:
-        import matplotlib
+        plot(df, args.plot)
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
 
-        fig, axes = plt.subplots(2, 3, figsize=(14, 8), sharex=True, sharey=True)
-        for i, rec in enumerate(("v100", "rtk")):
-            for j, method in enumerate(("thesis-2", "brush-2", "axle-window")):
-                ax = axes[i, j]
-                d = df[(df["receiver"] == rec) & (df["method"] == method)]
-                gv = d[d["given"]]
-                ax.errorbar(
-                    gv["utilisation"],
-                    gv["mu_hat"] - gv["mu"],
-                    yerr=[
-                        (gv["mu_hat"] - gv["lo"]).clip(lower=0),
-                        (gv["hi"] - gv["mu_hat"]).clip(lower=0),
-                    ],
-                    fmt="o",
-                    ms=3,
-                    alpha=0.6,
-                    label="value ± 90 % interval",
-                )
-                nb = d[~d["given"]]
-                ax.plot(
-                    nb["utilisation"],
-                    nb["bound"] - nb["mu"],
-                    "v",
-                    ms=3,
-                    alpha=0.5,
-                    color="grey",
-                    label="abstained: lower bound",
-                )
-                ax.axhline(0, color="k", lw=0.8)
-                ax.set_ylim(-1.0, 1.0)
-                ax.set_title(f"{method} — {rec}")
-                if i == 1:
-                    ax.set_xlabel("true utilisation a_y / (μ g)")
-                if j == 0:
-                    ax.set_ylabel("estimate − true μ")
-        axes[0, 0].legend(loc="lower left", fontsize=8)
-        fig.tight_layout()
-        fig.savefig(args.plot, dpi=110)
-        print(f"plot: {args.plot}")
+def plot(df: pd.DataFrame, path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 3, figsize=(14, 8), sharex=True, sharey="row")
+    for j, rec in enumerate(RECEIVERS):
+        d = df[df["receiver"] == rec]
+        ax = axes[0, j]
+        gv = d[d["observable"]]
+        ax.errorbar(
+            gv["utilisation"],
+            gv["mu"] - gv["mu_true"],
+            yerr=[
+                (gv["mu"] - gv["mu_low"]).clip(lower=0),
+                (gv["mu_high"] - gv["mu"]).clip(lower=0),
+            ],
+            fmt="o",
+            ms=3,
+            alpha=0.5,
+            label="estimate ± 90 % interval",
+        )
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_ylim(-0.4, 0.4)
+        ax.set_title(f"estimated μ — {rec}")
+        ax = axes[1, j]
+        ax.plot(d["utilisation"], d["grip_used_lower"] - d["mu_true"], ".", ms=3, alpha=0.4)
+        ax.axhline(0, color="r", lw=0.8)
+        ax.set_ylim(-1.0, 0.2)
+        ax.set_title(f"measured-grip bound − true μ — {rec}")
+        ax.set_xlabel("true utilisation of the axle")
+    axes[0, 0].set_ylabel("estimate − true μ")
+    axes[1, 0].set_ylabel("bound − true μ (must be ≤ 0)")
+    axes[0, 0].legend(loc="lower left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"plot: {path}")
 
 
 if __name__ == "__main__":

@@ -17,11 +17,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from gripsense.config import Vehicle
+from gripsense.config import Receiver, Vehicle
 from gripsense.errors import InputError
-from gripsense.estimate.axle_window import WindowOptions, estimate_windows
+from gripsense.estimate.axle_window import WindowOptions, estimate_windows, measured_grip
 from gripsense.estimate.friction import FrictionOptions, friction_from_motion, motion_from_epochs
-from gripsense.estimate.noise import NoiseModel, receiver_noise
+from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.results import (
     AxleFriction,
     FrictionResult,
@@ -36,9 +36,10 @@ __all__ = ["ESTIMATORS", "FrictionResult", "FrictionRun"]
 
 
 def _per_sample(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
+    grip = measured_grip(wheels, run.vehicle, noise=run.options.noise, options=run.window)
     return WheelFriction(
         wheels=wheels,
-        summary=summarize_wheels(wheels, run.options.min_valid_fraction),
+        summary=summarize_wheels(wheels, run.options.min_valid_fraction, grip),
         meta=meta,
         vehicle=run.vehicle,
         noise=run.options.noise,
@@ -84,10 +85,17 @@ class FrictionRun:
     vehicle : Vehicle or str or Path
         Vehicle description (or the path of its TOML file).
     method : str
-        A key of :data:`ESTIMATORS`: ``brush-2`` (default), ``brush-4``, ``thesis-2``,
-        ``thesis-4``, ``brush``, ``thesis``, ``axle-window``.
+        A key of :data:`ESTIMATORS`: ``axle-window`` (default: measured grip and a μ estimate
+        per axle), or a per-sample method of the thesis: ``brush-2``, ``brush-4``,
+        ``thesis-2``, ``thesis-4``, ``brush``, ``thesis``.
     noise : NoiseModel or str, optional
-        Uncertainties, or the name of a receiver class (``v100``, ``rtk``).
+        Uncertainties, or (as *receiver*) a receiver class or file.
+    receiver : str or Path or Receiver, optional
+        The receiver: ``v100``, ``white-0.3``, ``rtk`` or a TOML file with a ``[receiver]``
+        table (default: the vehicle file's ``[receiver]``, else ``v100``). With it (and always
+        for ``axle-window``) the noise model combines the receiver with the vehicle file's
+        stiffness uncertainty and CG-height range (:meth:`~gripsense.estimate.noise.NoiseModel.
+        for_vehicle`); without it the per-sample methods keep the thesis's defaults.
     window : WindowOptions, optional
         Settings of ``axle-window``.
     **options
@@ -104,9 +112,10 @@ class FrictionRun:
     def __init__(
         self,
         vehicle: Vehicle | str | Path,
-        method: str = "brush-2",
+        method: str = "axle-window",
         *,
         noise: NoiseModel | str | None = None,
+        receiver: str | Path | Receiver | None = None,
         window: WindowOptions | None = None,
         **options,
     ):
@@ -121,8 +130,11 @@ class FrictionRun:
                 f"FrictionRun: unknown option(s) {sorted(unknown)}; known: {sorted(known)}"
             )
         opts = replace(FrictionOptions(), **options)
-        if isinstance(noise, str):
-            noise = receiver_noise(noise)
+        if isinstance(noise, str | Path):
+            receiver, noise = noise, None
+        if noise is None and (receiver is not None or method == "axle-window"):
+            # the receiver as the user describes it, the vehicle file's tyre and CG ranges
+            noise = NoiseModel.for_vehicle(self.vehicle, receiver)
         self.options = replace(opts, noise=noise) if noise is not None else opts
         self.window = window or WindowOptions()
 

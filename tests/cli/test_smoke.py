@@ -27,21 +27,32 @@ def invoke(*args: str):
 
 @pytest.fixture(scope="module")
 def friction_dir(tmp_path_factory):
-    """A friction result folder of the demo's near-limit drive."""
+    """A friction result folder of a near-limit demo drive (brush tyres, RTK-class receiver)."""
     out = tmp_path_factory.mktemp("fr") / "res"
     d = demo_dir()
-    invoke("friction", d / "case022.nmea.gz", "--vehicle", d / "vehicle.toml", "-o", out)
+    invoke(
+        "friction", d / "case017.nmea.gz", "--vehicle", d / "vehicle.toml",
+        "--receiver", "rtk", "-o", out,
+    )  # fmt: skip
     return out
 
 
 def test_friction_writes_a_complete_result(friction_dir):
     man = json.loads((friction_dir / "manifest.json").read_text())
-    assert man["kind"] == "friction" and man["result"] == "wheel"
-    assert set(man["files"]) >= {"wheels.parquet", "summary.json", "epochs.parquet"}
+    assert man["kind"] == "friction" and man["result"] == "axle"  # axle-window by default
+    files = {"wheels.parquet", "summary.json", "epochs.parquet", "windows.parquet"}
+    assert set(man["files"]) >= files
     summary = json.loads((friction_dir / "summary.json").read_text())
-    assert {w["wheel"] for w in summary["wheels"]} == {"rear_left", "rear_right"}
+    assert {a["axle"] for a in summary["axles"]} == {"rear"}
+    rear = summary["axles"][0]
+    # both kinds of statement, under distinct names
+    assert 0 < rear["grip_used_lower"] <= rear["grip_used"] and "mu_low" in rear
+    assert "the data prove μ ≥" in summary["explain"]
     wheels = pd.read_parquet(friction_dir / "wheels.parquet")
-    assert {"mu", "flag", "utilisation"} <= set(wheels.columns) and len(wheels) > 100
+    assert {"grip_used", "grip_sigma", "flag"} <= set(wheels.columns) and len(wheels) > 100
+    windows = pd.read_parquet(friction_dir / "windows.parquet")
+    assert {"grip_used_lower", "mu", "mu_low", "mu_high"} <= set(windows.columns)
+    assert not any("lower_bound" in c for c in windows.columns)
 
 
 def test_report_command(friction_dir, tmp_path):

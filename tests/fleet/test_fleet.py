@@ -15,7 +15,7 @@ from gripsense.fleet import run_fleet
 from gripsense.sim.fleet_data import Site, write_fleet
 from tests.report.test_report import _open
 
-VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
+SIM_VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
 SITES = [
     Site("dry", 33.620, 133.7195, 30.0, 0.9),
     Site("wet", 33.625, 133.7195, 30.0, 0.5),
@@ -31,7 +31,13 @@ def _truth(cell: str) -> float:
 @pytest.fixture(scope="module")
 def fleet_logs(tmp_path_factory):
     d = tmp_path_factory.mktemp("fleet")
-    write_fleet(d / "logs", VEHICLE, SITES, n_vehicles=2)
+    write_fleet(d / "logs", SIM_VEHICLE, SITES, n_vehicles=2)
+    # the fleet's vehicle file: tyres calibrated on the car (G to 5 %, no camber thrust)
+    text = SIM_VEHICLE.read_text().replace(
+        'pressure = "parabolic"',
+        'pressure = "parabolic"\nstiffness_uncertainty = 0.05\ncamber_thrust_ratio = 0.0',
+    )
+    (d / "vehicle.toml").write_text(text)
     (d / "logs" / "car01" / "broken.nmea").write_text("garbage\n$GPGGA,bad*00\n")
     (d / "logs" / "car02" / "empty.nmea").write_bytes(b"")
     return d
@@ -42,7 +48,7 @@ def fleet_run(fleet_logs):
     return run_fleet(
         [str(fleet_logs / "logs" / "**" / "*.nmea*")],
         fleet_logs / "out2",
-        vehicle=VEHICLE,
+        vehicle=fleet_logs / "vehicle.toml",
         receiver="rtk",
         workers=2,
     )
@@ -53,11 +59,13 @@ def test_cells_recover_the_road_surfaces(fleet_run):
     assert len(c) >= 9
     truth = np.array([_truth(x) for x in c["cell"]])
     est = c["status"] == "estimate"
-    assert est.mean() > 0.8
-    assert np.all(np.abs(c.loc[est, "mu"] - truth[est]) < 0.03)
+    # a value only where a window neared the limit with enough change in it; measured grip in
+    # every cell
+    assert est.mean() > 0.3 and (c["grip_used_lower"] > 0).all()
+    assert np.all(np.abs(c.loc[est, "mu"] - truth[est]) < 0.05)
     covered = (c.loc[est, "mu_low"] <= truth[est]) & (truth[est] <= c.loc[est, "mu_high"])
-    assert covered.mean() >= 0.9
-    assert np.all(c["mu_lower_bound"] <= truth + 0.02)  # bounds never above the truth
+    assert covered.mean() >= 0.8
+    assert np.all(c["grip_used_lower"] <= truth + 0.01)  # model-free: never above the truth
     assert set(c.loc[est, "surface"]) <= {"DRY", "WET", "SNOW"}
     assert c["n_vehicles"].max() == 2
 
@@ -75,7 +83,8 @@ def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_
     from dask.distributed import LocalCluster
 
     pattern = [str(fleet_logs / "logs" / "**" / "*.nmea*")]
-    one = run_fleet(pattern, fleet_logs / "out1", vehicle=VEHICLE, receiver="rtk", workers=1)
+    veh = fleet_logs / "vehicle.toml"
+    one = run_fleet(pattern, fleet_logs / "out1", vehicle=veh, receiver="rtk", workers=1)
     with LocalCluster(
         n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None
     ) as cl:
@@ -83,11 +92,11 @@ def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_
         sch = run_fleet(
             pattern,
             fleet_logs / "out3",
-            vehicle=VEHICLE,
+            vehicle=veh,
             receiver="rtk",
             scheduler=cl.scheduler_address,
         )
-    cols = ["mu", "mu_sigma", "mu_lower_bound", "n_estimates", "n_passes"]
+    cols = ["mu", "mu_sigma", "grip_used_lower", "n_estimates", "n_passes"]
     ref = fleet_run.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
     for other in (one, sch):
         o = other.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
@@ -125,7 +134,8 @@ def test_map_page_in_headless_chromium(fleet_run, tmp_path):
     from matplotlib.image import imread
 
     img = imread(shot)
-    assert img[..., :3].std() > 0.05
+    # not a blank page: hexagons drawn (grey where only measured grip is known)
+    assert img[..., :3].std() > 0.02
 
 
 def test_cli(fleet_logs):
@@ -136,7 +146,7 @@ def test_cli(fleet_logs):
         "fleet",
         str(fleet_logs / "logs" / "car02" / "*.nmea*"),
         "--vehicle",
-        str(VEHICLE),
+        str(SIM_VEHICLE),
         "--receiver",
         "rtk",
         "--workers",
@@ -148,6 +158,11 @@ def test_cli(fleet_logs):
     assert "4 logs: 3 used, 1 with problems" in r.stdout
     assert (out / "map.html").exists() and (out / "cells.parquet").exists()
     r = run(
-        "fleet", str(fleet_logs / "nothing" / "*.nmea"), "--vehicle", str(VEHICLE), "-o", str(out)
+        "fleet",
+        str(fleet_logs / "nothing" / "*.nmea"),
+        "--vehicle",
+        str(SIM_VEHICLE),
+        "-o",
+        str(out),
     )
     assert r.returncode == 2 and "no log matches" in r.stderr

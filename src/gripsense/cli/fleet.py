@@ -23,8 +23,12 @@ def fleet(
     ] = None,
     method: Annotated[str, typer.Option(help="Friction method")] = "axle-window",
     receiver: Annotated[
-        str, typer.Option(help="Compass class: v100 or rtk (noise model)")
-    ] = "v100",
+        str | None,
+        typer.Option(
+            help="v100 | white-0.3 | rtk | FILE.toml (default: each vehicle file's [receiver], "
+            "else v100)"
+        ),
+    ] = None,
     scheduler: Annotated[
         str | None, typer.Option(help="Existing Dask scheduler tcp://HOST:8786")
     ] = None,
@@ -75,6 +79,6 @@ def fleet(
     say(f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})")
     n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
     console.print(
-        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with a lower bound only"
+        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with measured grip only"
     )
     say(f"map: {res.paths['map']}")

@@ -16,7 +16,12 @@ from gripsense.errors import GripsenseError
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
 from gripsense.io.results import check_output_file, check_output_folder, write_file_atomic
 
-__all__ = ["friction", "print_friction", "report_cmd", "stiffness"]
+__all__ = ["RECEIVER_HELP", "friction", "print_friction", "report_cmd", "stiffness"]
+
+RECEIVER_HELP = (
+    "receiver: v100 | white-0.3 | rtk | FILE.toml (default: the vehicle file's [receiver], "
+    "else v100)"
+)
 
 
 def friction(
@@ -26,8 +31,13 @@ def friction(
     ] = None,
     method: Annotated[
         str,
-        typer.Option("--method", help="brush-2 | brush-4 | thesis-2 | thesis-4 | axle-window"),
-    ] = "brush-2",
+        typer.Option(
+            "--method",
+            help="axle-window (default: measured grip and μ estimate per axle) | brush-2 | "
+            "brush-4 | thesis-2 | thesis-4 (per wheel, to reproduce the thesis)",
+        ),
+    ] = "axle-window",
+    receiver: Annotated[str | None, typer.Option("--receiver", help=RECEIVER_HELP)] = None,
     steer_csv: Annotated[
         Path | None,
         typer.Option("--steer-csv", help="CSV with t_s and road_wheel_deg (enables front wheels)"),
@@ -50,7 +60,9 @@ def friction(
     report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
     overwrite: Overwrite = False,
 ) -> None:
-    """Tyre-road friction per wheel (or per axle with --method axle-window) during cornering."""
+    """Tyre-road friction per axle (or per wheel with a per-sample --method) during cornering:
+    the grip the data prove (model-free) and an estimate of μ with its interval.
+    """
     from gripsense.io.table import read_motion_table
     from gripsense.pipeline import FrictionRun
 
@@ -60,7 +72,7 @@ def friction(
         if (log is None) == (table is None):
             raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
         check_output_folder(outdir, "friction", overwrite=overwrite)
-        run = FrictionRun(vehicle, method=method)
+        run = FrictionRun(vehicle, method=method, receiver=receiver)
         veh = run.vehicle
         if table is not None:
             if not columns:
@@ -142,36 +154,49 @@ def print_friction(result: FrictionResult) -> None:
     say(result.explain())
 
 
+def _num(x, fmt: str = ".2f") -> str:
+    return "—" if x is None or not np.isfinite(x) else format(x, fmt)
+
+
 @print_friction.register
 def _(result: AxleFriction) -> None:
     _print_head(result)
-    table = Table(title="Friction per axle (axle-window: 90 % profile-likelihood interval)")
+    table = Table(
+        title="Friction per axle — measured (model-free) and estimated (axle-window, tyre model)"
+    )
     for col in (
         "axle",
-        "μ",
+        "measured grip",
+        "data prove μ ≥",
+        "μ estimate",
         "90 % interval",
         "surface",
-        "utilisation",
-        "samples",
-        "windows observable",
+        "limited by",
+        "windows with a value",
     ):
         table.add_column(col)
     win = result.windows
     for rec in result.summary.to_dict("records"):
         if not rec.get("n"):
-            table.add_row(rec["axle"], "—", "—", "—", "—", "0", "—")
+            table.add_row(rec["axle"], "—", "—", "—", "—", "—", "no cornering", "—")
             continue
-        mu = f"{rec['mu']:.2f}" if rec["observable"] else "n/o"
-        hi = f"{rec['mu_high']:.2f}" if np.isfinite(rec["mu_high"]) else "∞"
+        mu = f"{rec['mu']:.2f}" if rec["observable"] else "no value"
+        lo, hi = rec.get("mu_low", np.nan), rec.get("mu_high", np.nan)
+        iv = (
+            "—"
+            if not np.isfinite(lo)
+            else f"{lo:.2f} – " + (f"{hi:.2f}" if np.isfinite(hi) else "∞")
+        )
         nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else []
         obs = f"{int(nw['observable'].sum())} / {len(nw)}" if len(nw) else "—"
         table.add_row(
             rec["axle"],
+            _num(rec.get("grip_used")),
+            _num(rec.get("grip_used_lower")),
             mu,
-            f"{rec['mu_low']:.2f} – {hi}",
+            iv,
             rec["surface"],
-            f"{rec['utilisation']:.2f}",
-            str(rec["n"]),
+            "" if rec["observable"] else str(rec.get("limited_by") or ""),
             obs,
         )
     console.print(table)
@@ -188,7 +213,7 @@ def _(result: WheelFriction) -> None:
         "90 % interval",
         "surface",
         "valid / total",
-        "μ ≥ (proven)",
+        "axle: data prove μ ≥",
         "main flags",
     ):
         table.add_column(col)
@@ -198,7 +223,7 @@ def _(result: WheelFriction) -> None:
     for rec in result.summary.to_dict("records"):
         mu = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu']:.2f}"
         iv = "—" if not np.isfinite(rec["mu"]) else f"{rec['mu_low']:.2f} – {rec['mu_high']:.2f}"
-        lb = "—" if not np.isfinite(rec["mu_lower_bound"]) else f"{rec['mu_lower_bound']:.2f}"
+        lb = _num(rec.get("grip_used_lower"))
         flags = sorted(((rec[c], c[2:]) for c in flag_cols if rec[c]), reverse=True)[:3]
         table.add_row(
             rec["wheel"],
@@ -233,7 +258,7 @@ def stiffness(
     try:
         if outdir:
             check_output_folder(outdir, "stiffness", overwrite=overwrite)
-        run = FrictionRun(vehicle)
+        run = FrictionRun(vehicle, method="brush-2")
         veh = run.vehicle
         frames, sweeps = [], []
         for log in logs:

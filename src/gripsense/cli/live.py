@@ -20,7 +20,14 @@ def live(
     speed: Annotated[float, typer.Option(help="Replay speed (1 = real time, 0 = max)")] = 1.0,
     method: Annotated[
         str, typer.Option(help="Friction method (as gripsense friction)")
-    ] = "brush-2",
+    ] = "axle-window",
+    receiver: Annotated[
+        str | None,
+        typer.Option(
+            help="v100 | white-0.3 | rtk | FILE.toml (default: the vehicle file's [receiver], "
+            "else v100)"
+        ),
+    ] = None,
     output: Annotated[
         Path | None, typer.Option("-o", "--output", help="results.csv or results.parquet")
     ] = None,
@@ -68,6 +75,7 @@ def live(
                 src,
                 vehicle,
                 method=method,
+                receiver=receiver,
                 output=output,
                 window_s=window_s,
                 duration_s=duration_s,
@@ -79,6 +87,7 @@ def live(
                     src,
                     vehicle,
                     method=method,
+                    receiver=receiver,
                     output=output,
                     window_s=window_s,
                     duration_s=duration_s,

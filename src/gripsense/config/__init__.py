@@ -5,7 +5,18 @@ algorithms (the pvlib ``Location``/``PVSystem`` rule). All files are read by one
 (:class:`~gripsense.config.toml_reader.TomlReader`) whose errors name file, table and key.
 """
 
+from gripsense.config.receiver import RECEIVERS, Receiver, receiver_from
 from gripsense.config.steering import SteeringCar
 from gripsense.config.vehicle import AXLE_OF, PLAUSIBLE, WHEELS, Tyre, Vehicle
 
-__all__ = ["AXLE_OF", "PLAUSIBLE", "WHEELS", "SteeringCar", "Tyre", "Vehicle"]
+__all__ = [
+    "AXLE_OF",
+    "PLAUSIBLE",
+    "RECEIVERS",
+    "WHEELS",
+    "Receiver",
+    "SteeringCar",
+    "Tyre",
+    "Vehicle",
+    "receiver_from",
+]

@@ -17,6 +17,7 @@ TOML layout (units are in the key names; see ``gripsense/data/corolla_thesis.tom
     roll_centre_height_front_m = 0.05        # optional, both or neither
     roll_centre_height_rear_m = 0.10
     steering_ratio = 15.0                    # optional: steering-wheel angle / road-wheel angle
+    drive = "front"                          # optional: driven axle, front | rear | all
 
     [antenna]
     x_m = 0.2                 # antenna position relative to the CG, x forward ...
@@ -40,7 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from gripsense.config.receiver import Receiver
 from gripsense.config.toml_reader import TomlReader
+from gripsense.constants import G0
 from gripsense.io.text import read_toml
 from gripsense.physics.contact import contact_length_lm
 
@@ -49,7 +52,7 @@ __all__ = ["PLAUSIBLE", "WHEELS", "Tyre", "Vehicle"]
 WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
 
-TOP_KEYS = ("vehicle", "antenna", "tyre")
+TOP_KEYS = ("vehicle", "antenna", "tyre", "receiver")
 VEHICLE_KEYS = (
     "name",
     "mass_kg",
@@ -63,6 +66,12 @@ VEHICLE_KEYS = (
     "roll_centre_height_front_m",
     "roll_centre_height_rear_m",
     "steering_ratio",
+    "drive",
+    "yaw_inertia_kgm2",
+    "cg_height_range_m",
+    "roll_stiffness_front_fraction_range",
+    "roll_gradient_deg_per_g",
+    "roll_camber_gain",
 )
 ANTENNA_KEYS = ("x_m", "y_m", "heading_offset_deg", "wheels")
 TYRE_KEYS = (
@@ -71,7 +80,17 @@ TYRE_KEYS = (
     "cornering_stiffness_N_per_rad",
     "contact_length",
     "pressure",
+    "stiffness_uncertainty",
+    "load_sensitivity",
+    "load_sensitivity_uncertainty",
+    "shape",
+    "relaxation_length_m",
+    "camber_thrust_ratio",
+    "friction_load_sensitivity",
+    "friction_load_sensitivity_uncertainty",
 )
+SHAPES = ("any", "brush", "magic-formula")
+DRIVES = ("front", "rear", "all")
 PLAUSIBLE = {  # (low, high) of a road or race vehicle; outside: most likely a unit mistake
     "mass_kg": (50.0, 60000.0),
     "wheelbase_m": (0.5, 10.0),
@@ -85,6 +104,16 @@ PLAUSIBLE = {  # (low, high) of a road or race vehicle; outside: most likely a u
     "tread_stiffness_N_per_m3": (1e5, 1e10),
     "cornering_stiffness_N_per_rad": (1e3, 2e6),
     "contact_length_m": (0.02, 0.6),
+    "yaw_inertia_kgm2": (5.0, 2e6),
+    "roll_gradient_deg_per_g": (0.0, 15.0),
+    "roll_camber_gain": (0.0, 1.5),
+    "stiffness_uncertainty": (0.0, 1.0),
+    "load_sensitivity": (0.0, 1.5),
+    "load_sensitivity_uncertainty": (0.0, 1.0),
+    "relaxation_length_m": (0.0, 3.0),
+    "camber_thrust_ratio": (0.0, 1.0),
+    "friction_load_sensitivity": (-0.5, 1.0),
+    "friction_load_sensitivity_uncertainty": (0.0, 1.0),
 }
 """Plausible ranges of the vehicle file's numbers (docs/friction.md, "The vehicle file")."""
 MIN_STABILITY_FACTOR = 0.5
@@ -109,6 +138,26 @@ class Tyre:
         Fixed contact length [m], instead of the l–m model.
     pressure : str
         ``parabolic`` or ``quartic``.
+    stiffness_uncertainty : float
+        Relative 1σ of the cornering stiffness as declared (G or C) [-]; 0.2 by default, 0.05
+        for a tyre calibrated on this car (``gripsense stiffness``).
+    load_sensitivity : float
+        Exponent p of C ∝ Fz^p for a declared C (typical Magic Formula tyres: 0.4–0.8) [-];
+        with G and an l–m model the load dependence follows from the contact length instead.
+    load_sensitivity_uncertainty : float
+        1σ of p [-].
+    shape : str
+        What is known of the curve's shape: ``any`` (brush or Magic Formula, the default),
+        ``brush`` or ``magic-formula`` (``docs/physics.md`` §14).
+    relaxation_length_m : float
+        Relaxation length of the lateral force [m] (force lags slip by σ/U).
+    camber_thrust_ratio : float
+        Camber stiffness over cornering stiffness, |C_γ/C_α| [-] (0.05–0.2 for car tyres).
+    friction_load_sensitivity : float
+        Exponent η of the peak friction's fall with load, μ ∝ Fz^−η [-]: 0 for a brush tyre;
+        the shipped Magic Formula files show 0.05–0.25 (default 0.1).
+    friction_load_sensitivity_uncertainty : float
+        1σ of η [-] (default 0.1).
     """
 
     width_m: float
@@ -118,6 +167,14 @@ class Tyre:
     contact_b: float | None = None
     contact_length_m: float | None = None
     pressure: str = "parabolic"
+    stiffness_uncertainty: float = 0.2
+    load_sensitivity: float = 0.6
+    load_sensitivity_uncertainty: float = 0.25
+    shape: str = "any"
+    relaxation_length_m: float = 0.5
+    camber_thrust_ratio: float = 0.1
+    friction_load_sensitivity: float = 0.1
+    friction_load_sensitivity_uncertainty: float = 0.1
 
     def contact_length(self, mass_kg) -> np.ndarray:
         """Contact length [m] for the mass the wheel carries [kg].
@@ -168,6 +225,23 @@ class Vehicle:
         ``front`` / ``rear`` -> :class:`Tyre`.
     wheelbase_m, roll_stiffness_front_fraction, roll_centre_heights_m, steering_ratio
         Optional; None when not given.
+    drive : str or None
+        Driven axle: ``front``, ``rear`` or ``all`` (None: not declared). On a steered axle the
+        measured body-axis force mixes lateral and drive force (``docs/physics.md`` §15).
+    yaw_inertia_kgm2 : float or None
+        Yaw inertia I_z [kg m^2]; None: the estimate m l_f l_r is used.
+    cg_height_range_m : tuple of float
+        What the CG height may really be [m] (default 0.7–1.4 × ``cg_height_m``: a guessed
+        CG height is more often too low than too high).
+    roll_stiffness_front_fraction_range : tuple of float
+        What the front roll-stiffness share may really be [-] (default ±0.1).
+    roll_gradient_deg_per_g : float
+        Body roll per g of lateral acceleration [deg/g] (default 4).
+    roll_camber_gain : float
+        Wheel inclination per degree of body roll [-] (1: the wheels lean with the body;
+        default 0.8).
+    receiver : Receiver or None
+        The ``[receiver]`` table, when the file has one.
     name : str
     source : str
         Where the description came from (file path).
@@ -188,6 +262,13 @@ class Vehicle:
     roll_stiffness_front_fraction: float | None = None
     roll_centre_heights_m: tuple[float, float] | None = None
     steering_ratio: float | None = None
+    drive: str | None = None
+    yaw_inertia_kgm2: float | None = None
+    cg_height_range_m: tuple[float, float] | None = None
+    roll_stiffness_front_fraction_range: tuple[float, float] | None = None
+    roll_gradient_deg_per_g: float = 4.0
+    roll_camber_gain: float = 0.8
+    receiver: Receiver | None = None
     name: str = "vehicle"
     source: str = ""
     notes: dict = field(default_factory=dict)
@@ -197,6 +278,55 @@ class Vehicle:
         """Static (front, rear) axle masses [kg]."""
         f = self.front_weight_fraction
         return self.mass_kg * f, self.mass_kg * (1.0 - f)
+
+    @property
+    def yaw_inertia(self) -> float:
+        """Yaw inertia [kg m^2]: the declared value, else m l_f l_r (radius of gyration² ≈
+        l_f l_r; a 2.6 m wheelbase is assumed when none is declared).
+        """
+        if self.yaw_inertia_kgm2 is not None:
+            return self.yaw_inertia_kgm2
+        wb = self.wheelbase_m if self.wheelbase_m is not None else 2.6
+        f = self.front_weight_fraction
+        return self.mass_kg * (wb * (1 - f)) * (wb * f)
+
+    def static_load(self, axle: str) -> float:
+        """Static load of one wheel of *axle* [N].
+
+        Parameters
+        ----------
+        axle : str
+            ``front`` or ``rear``.
+        """
+        m_f, m_r = self.axle_masses_kg
+        return (m_f if axle == "front" else m_r) * G0 / 2.0
+
+    def cornering_stiffness(self, axle: str, load_N) -> np.ndarray:
+        """Cornering stiffness of a wheel of *axle* at its load [N/rad]: G w l(m)²/2 with the
+        l–m contact length (thesis eq. 9.1, 6.23), or a declared C at the static load scaled by
+        (Fz / Fz_static)^p (``docs/physics.md`` §14).
+
+        Parameters
+        ----------
+        axle : str
+            ``front`` or ``rear``.
+        load_N : array_like
+            Wheel load [N].
+
+        Returns
+        -------
+        numpy.ndarray
+            C [N/rad] (NaN for loads ≤ 0).
+        """
+        t = self.tyres[axle]
+        fz = np.asarray(load_N, dtype=float)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            if t.cornering_stiffness_N_per_rad is None:
+                c = t.cornering_stiffness(t.contact_length(fz / G0))
+            else:
+                ratio = np.where(fz > 0, fz / self.static_load(axle), np.nan)
+                c = t.cornering_stiffness_N_per_rad * ratio**t.load_sensitivity
+        return np.where(fz > 0, c, np.nan)
 
     def track(self, axle: str) -> float:
         """Track width of an axle (``front`` or ``rear``) [m].
@@ -239,6 +369,7 @@ class Vehicle:
         r.known(doc, "", TOP_KEYS)
         veh = r.table("vehicle", required=True)
         r.known(veh, "vehicle", VEHICLE_KEYS)
+        pl = PLAUSIBLE
         mass = r.num(
             veh, "vehicle", "mass_kg", positive=True, unit="kg", plausible=PLAUSIBLE["mass_kg"]
         )
@@ -307,7 +438,47 @@ class Vehicle:
             required=False,
             plausible=PLAUSIBLE["steering_ratio"],
         )
+        drive = veh.get("drive")
+        if drive is not None and drive not in DRIVES:
+            r.fail("vehicle", "drive", f"= {drive!r}: use one of {', '.join(DRIVES)}")
         name = str(veh.get("name", Path(source).stem))
+        iz = r.num(
+            veh,
+            "vehicle",
+            "yaw_inertia_kgm2",
+            unit="kg m^2",
+            required=False,
+            plausible=pl["yaw_inertia_kgm2"],
+        )
+        h_range = _range(r, veh, "cg_height_range_m", (0.7 * h, 1.4 * h), pl["cg_height_m"])
+        kf0 = kf if kf is not None else frac
+        k_range = _range(
+            r,
+            veh,
+            "roll_stiffness_front_fraction_range",
+            (max(kf0 - 0.1, 0), min(kf0 + 0.1, 1)),
+            (0.0, 1.0),
+        )
+        roll_grad = r.num(
+            veh,
+            "vehicle",
+            "roll_gradient_deg_per_g",
+            unit="deg/g",
+            required=False,
+            plausible=pl["roll_gradient_deg_per_g"],
+        )
+        camber_gain = r.num(
+            veh,
+            "vehicle",
+            "roll_camber_gain",
+            unit="-",
+            required=False,
+            plausible=pl["roll_camber_gain"],
+        )
+        receiver = None
+        if "receiver" in doc:
+            rt = r.table("receiver", required=False)
+            receiver = Receiver.from_dict(rt, source=source)
 
         ant = r.table("antenna", required=True)
         r.known(ant, "antenna", ANTENNA_KEYS)
@@ -394,9 +565,31 @@ class Vehicle:
             roll_stiffness_front_fraction=kf,
             roll_centre_heights_m=(hf, hr) if hf is not None else None,
             steering_ratio=ratio,
+            drive=drive,
+            yaw_inertia_kgm2=iz,
+            cg_height_range_m=h_range,
+            roll_stiffness_front_fraction_range=k_range,
+            roll_gradient_deg_per_g=4.0 if roll_grad is None else roll_grad,
+            roll_camber_gain=0.8 if camber_gain is None else camber_gain,
+            receiver=receiver,
             name=name,
             source=source,
         )
+
+
+def _range(r: TomlReader, t: dict, key: str, default, plausible) -> tuple[float, float]:
+    """An optional ``key = [low, high]`` of table [vehicle]."""
+    if key not in t:
+        return (float(default[0]), float(default[1]))
+    v = t[key]
+    if (
+        not isinstance(v, list)
+        or len(v) != 2
+        or not all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+        or not plausible[0] <= v[0] <= v[1] <= plausible[1]
+    ):
+        r.fail("vehicle", key, f"= {v!r}: give [low, high] within {plausible[0]}–{plausible[1]}")
+    return (float(v[0]), float(v[1]))
 
 
 def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
@@ -455,7 +648,32 @@ def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
     pressure = t.get("pressure", "parabolic")
     if pressure not in ("parabolic", "quartic"):
         r.fail(where, "pressure", f"= {pressure!r}: use 'parabolic' or 'quartic'")
+    shape = t.get("shape", "any")
+    if shape not in SHAPES:
+        r.fail(where, "shape", f"= {shape!r}: use one of {', '.join(SHAPES)}")
+    extra = {}
+    for key in (
+        "stiffness_uncertainty",
+        "load_sensitivity",
+        "load_sensitivity_uncertainty",
+        "relaxation_length_m",
+        "camber_thrust_ratio",
+        "friction_load_sensitivity",
+        "friction_load_sensitivity_uncertainty",
+    ):
+        v = r.num(
+            t,
+            where,
+            key,
+            unit="-" if not key.endswith("_m") else "m",
+            required=False,
+            plausible=PLAUSIBLE[key],
+        )
+        if v is not None:
+            extra[key] = v
     return Tyre(
+        shape=shape,
+        **extra,
         width_m=w,
         tread_stiffness_N_per_m3=g,
         cornering_stiffness_N_per_rad=c,

@@ -3,9 +3,10 @@ uncertainty (``docs/friction.md``).
 """
 
 from gripsense.estimate.axle_window import (
+    AxleBins,
     OnlineAxleWindow,
     WindowOptions,
-    axle_samples,
+    axle_bins,
     estimate_windows,
 )
 from gripsense.estimate.braking import BrakingResult, estimate_braking
@@ -18,7 +19,7 @@ from gripsense.estimate.friction import (
     friction_from_motion,
     motion_from_epochs,
 )
-from gripsense.estimate.noise import RECEIVERS, NoiseModel, receiver_noise
+from gripsense.estimate.noise import NoiseModel, receiver_noise
 from gripsense.estimate.results import (
     AxleFriction,
     FrictionResult,
@@ -31,7 +32,7 @@ __all__ = [
     "FLAGS",
     "METHODS",
     "NOT_STEADY_CORNERING",
-    "RECEIVERS",
+    "AxleBins",
     "AxleFriction",
     "BrakingResult",
     "FrictionOptions",
@@ -41,7 +42,7 @@ __all__ = [
     "OnlineAxleWindow",
     "WheelFriction",
     "WindowOptions",
-    "axle_samples",
+    "axle_bins",
     "condition_table",
     "conditions",
     "estimate_braking",

@@ -1,65 +1,78 @@
-"""``axle-window``: friction per axle over windows, with calibrated intervals and abstention.
+"""``axle-window``: per axle, the friction the data prove (model-free) and an estimate of μ whose
+interval includes the tyre model's own form uncertainty.
 
-Why: at everyday lateral acceleration the whole difference between μ = 0.9 and μ = ∞ lies in a
-few hundredths of a degree of slip angle (docs/physics.md §1.4), and the compass heading carries
-errors of tenths of a degree that do not average out (mounting offset, multipath). A per-sample
-formula cannot know that; this estimator does.
+Two kinds of statement (``docs/physics.md`` §14, §15):
 
-Model, for one axle and one steady window (docs/physics.md §4.4, §1.2, §2.3):
+* **measured grip** — the friction the axle actually used, |F_axle| / Fz_axle, from the lateral
+  acceleration with the yaw-acceleration term; the axle's load is known from statics, so
+  ``grip_used_lower`` (a one-sided 99 % lower bound) holds for any tyre and any lateral load
+  transfer; it assumes a level road without aerodynamic downforce;
+* **estimated μ** — a profile-likelihood interval of μ under a tyre model with nuisances: the
+  curve's shape (brush P2/P4 and Magic Formula curves, :data:`~gripsense.physics.tyre_curves.
+  SHAPE_FAMILY`), a cornering-stiffness scale, a slip offset per bin that follows the receiver's
+  slowly varying heading error (a Gauss–Markov process), a
+  camber-thrust slip shift per g, an error of the lateral load transfer (CG height, roll split),
+  of the load sensitivity of the stiffness and of the axle force. Nuisances enter linearly after
+  linearisation and are profiled by a few Gauss–Newton steps (:mod:`._axle_kernel`), so the cost
+  does not grow with their number; the shape is profiled over the family.
 
-    F̄ = m_axle · ā_y = Σ_{L,R} −sign(ᾱ'_i) F_brush(μ, |ᾱ'_i|, F̄z_i, s_C · C̄_i) + e
-    ᾱ'_i = ᾱ_i − δψ
-
-where bars are means over the window. In steady cornering the true slip angle is one value per
-wheel, so the window mean is its sufficient estimate: the white noise averages down (variance
-/n) identically for every hypothesis. Treating samples as independent instead lets a fully
-sliding tyre, whose force does not depend on the slip angle, "explain" the white slip noise for
-free and win every comparison — a degeneracy this formulation avoids.
-
-* one μ per axle; the left/right split of the force follows from the brush model with each
-  wheel's own slip angle and load (not assumed equal);
-* nuisance parameters: the stiffness scale s_C ~ N(1, σ_G) (prior from the tread-stiffness
-  uncertainty) and a heading bias δψ ~ N(0, σ_bias) common to the samples of a window
-  (residual mounting offset + slowly varying heading error);
-* window variance (errors in variables, linearised): σ_F² (speed and yaw-rate noise in
-  a_y, and a systematic axle-force model error) + (∂F/∂α)² σ_α² (white heading, course and
-  yaw-rate noise in the slip angles) +
-  (∂F/∂ΔFz · ρ ΔFz)² (load-transfer parameter uncertainty ρ), evaluated at the candidate
-  parameters — the effective-variance method of errors-in-variables least squares (Orear,
-  Am. J. Phys. 50 (1982) 912; York et al., Am. J. Phys. 72 (2004) 367). A ½ log σ² term (full
-  Gaussian likelihood) is deliberately left out: it rewards the degenerate fully-sliding fit,
-  whose slope ∂F/∂α vanishes.
-
-Interval: **profile likelihood**. For each μ on a log grid the negative log-likelihood is
-minimised over (s_C, δψ) on a grid; {μ : 2(ℓ(μ) − ℓ_min) ≤ 2.706} is the 90 % interval
-(Wilks). It handles what the data cannot say: when the likelihood stays flat towards large μ
-(low utilisation), the interval is unbounded above, the window is reported **not observable**
-and only the interval's lower end — a one-sided 95 % lower bound — is given. No prior on μ is
-needed, and the interval's coverage is checked on simulated drives (``benchmarks/accuracy.py``).
-A point value is reported only when the interval at ``point_level`` (99 %) is bounded and
-narrower than ``max_width``; the interval reported is the 90 % one.
-
-The window means are running sums, so an online estimator keeps them incrementally
-(:class:`OnlineAxleWindow`) and gives the batch answers. The per-axle summary combines disjoint
-segments (``segment_s``), each with its own heading bias.
+Data: bins of ``bin_s`` (means of the samples: slip angles lagged by the relaxation length,
+loads, stiffnesses, axle force; white noise divided by n). A window is ``window_s`` of bins
+sharing their nuisances; a window whose measured grip stays below ``screen_utilisation`` carries
+no information on μ (its interval would be unbounded, ``docs/physics.md`` §1.4) and is not
+analysed. The per-axle summary uses every analysed bin of the drive, nuisances shared. A value
+is reported only when the ``point_level`` interval is bounded and narrower than ``max_width``;
+otherwise the interval [mu_low, ∞) and the measured grip.
 """
 
 from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 import pandas as pd
-from numba import njit, prange
+from scipy.stats import chi2, norm
 
 from gripsense.config import Vehicle
-from gripsense.constants import CHI2_1_90
-from gripsense.estimate.friction import NOT_STEADY_CORNERING
+from gripsense.constants import CHI2_1_90, G0
+from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.noise import NoiseModel
-from gripsense.physics.brush import force_slope_scalar
+from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
 
-__all__ = ["OnlineAxleWindow", "WindowOptions", "axle_samples", "estimate_windows", "profile"]
+__all__ = [
+    "BIN_COLUMNS",
+    "AxleBins",
+    "OnlineAxleWindow",
+    "WindowOptions",
+    "axle_bins",
+    "estimate_windows",
+    "measured_grip",
+    "merge_steady",
+]
+
+# bin array columns (the kernel's layout)
+BIN_COLUMNS = (
+    "alpha_L",
+    "alpha_R",
+    "fz_L",
+    "fz_R",
+    "c_L",
+    "c_R",
+    "force",
+    "force_sigma",
+    "slip_sigma",
+    "grip",
+    "ay_g",
+    "fz_static",
+    "steer",
+    "slip_spread",
+    "force_model_sd",
+)
+FORCE_MODEL_REL = 0.04
+"""Relative 1σ of a bin's force that no curve of the family reproduces (tyre-model fidelity)."""
+_OUT = ("low_speed", "not_cornering", "wheel_lifted")
 
 
 @dataclass(frozen=True)
@@ -69,112 +82,288 @@ class WindowOptions:
     Attributes
     ----------
     window_s, step_s : float
-        Sliding-window length and step [s].
-    segment_s : float
-        Length of the disjoint segments whose likelihoods are combined for the per-axle
-        summary, each with its own heading bias [s] (about the correlation time of slowly
-        varying heading errors).
+        Window length and step [s].
+    bin_s : float
+        Bin length: the unit of data (means of the samples) [s].
     max_width : float
-        Largest width of the ``point_level`` interval for which a point value is reported [-].
+        Largest width of the ``point_level`` interval for which a value is given [-].
     point_level : float
-        Confidence level of the interval that decides abstention (0.99): a point value needs
-        strong evidence, while the reported interval is the 90 % one.
+        Confidence level of the interval that decides abstention.
     min_samples : int
-        Fewest usable samples in a window.
+        Fewest usable samples in a bin.
+    screen_utilisation : float
+        Windows whose measured grip stays below this are not analysed (bound only) [-].
+    steady_tolerance : float
+        Consecutive bins whose measured grip stays within this are merged into one point of the
+        tyre curve (:func:`merge_steady`) [-].
     mu_min, mu_max : float
         μ grid range [-]; an interval reaching mu_max is unbounded.
-    n_mu, n_stiffness, n_bias : int
-        Grid sizes (μ log-spaced; s_C over ±2.5 σ; δψ over ±3 σ). Dense, because a window
-        is one super-sample (cheap) and a coarse δψ grid biases the profile.
+    n_mu : int
+        μ grid size (log-spaced).
+    iterations : int
+        Gauss–Newton steps per (μ, shape).
+    bound_level : float
+        One-sided confidence of the measured-grip bound (per window; the summary's bound holds
+        at this level over all windows of the drive together).
     """
 
     window_s: float = 3.0
     step_s: float = 1.0
-    segment_s: float = 20.0
+    bin_s: float = 1.0
     max_width: float = 0.3
     point_level: float = 0.99
-    min_samples: int = 10
+    min_samples: int = 5
+    screen_utilisation: float = 0.15
+    steady_tolerance: float = 0.03
     mu_min: float = 0.05
     mu_max: float = 3.0
-    n_mu: int = 80
-    n_stiffness: int = 41
-    n_bias: int = 201
+    n_mu: int = 48
+    iterations: int = 3
+    bound_level: float = 0.99
 
 
-@njit(cache=True, nogil=True, parallel=True)
-def _nll_grid(aL, aR, fzL, fzR, cL, cR, F, sF, sa, dfz, lt_rel, mu_g, s_g, d_g, quartic, out):
-    """out[im, js, kd] = Σ_k NLL_k(μ_im, s_js, δψ_kd) (without the priors)."""
-    n = F.size
-    for im in prange(mu_g.size):
-        mu = mu_g[im]
-        for js in range(s_g.size):
-            sc = s_g[js]
-            for kd in range(d_g.size):
-                d = d_g[kd]
-                acc = 0.0
-                for k in range(n):
-                    a1 = aL[k] - d
-                    a2 = aR[k] - d
-                    t1 = abs(np.tan(a1))
-                    t2 = abs(np.tan(a2))
-                    f1, g1 = force_slope_scalar(mu, t1, fzL[k], sc * cL[k], quartic)
-                    f2, g2 = force_slope_scalar(mu, t2, fzR[k], sc * cR[k], quartic)
-                    p1 = -f1 if a1 > 0 else f1
-                    p2 = -f2 if a2 > 0 else f2
-                    # ∂F/∂Fz at fixed α and C: (F − slope · t/(1 + t²)) / Fz
-                    dz1 = (f1 - g1 * t1 / (1.0 + t1 * t1)) / fzL[k] if fzL[k] > 0 else 0.0
-                    dz2 = (f2 - g2 * t2 / (1.0 + t2 * t2)) / fzR[k] if fzR[k] > 0 else 0.0
-                    if a1 > 0:
-                        dz1 = -dz1
-                    if a2 > 0:
-                        dz2 = -dz2
-                    lt = lt_rel * dfz[k] * (dz2 - dz1)
-                    var = sF[k] * sF[k] + (g1 + g2) ** 2 * sa[k] * sa[k] + lt * lt + 1e-6
-                    r = F[k] - p1 - p2
-                    # effective-variance least squares (Orear 1982; York 2004): no log-variance
-                    # term, which would reward the degenerate fully-sliding fit (zero slope)
-                    acc += 0.5 * r * r / var
-                out[im, js, kd] = acc
+@cache
+def _tables():
+    x, f, df = curve_tables()
+    return f, df, 1.0 / (x[1] - x[0])
 
 
-def _grids(o: WindowOptions, noise: NoiseModel):
-    mu_g = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
-    sig_s = max(noise.tread_stiffness_rel, 1e-6)
-    s_g = np.clip(1.0 + sig_s * np.linspace(-2.5, 2.5, o.n_stiffness), 0.2, None)
-    sig_d = max(np.deg2rad(noise.heading_bias_deg), 1e-9)
-    d_g = sig_d * np.linspace(-3.0, 3.0, o.n_bias)
-    prior = (s_g[:, None] - 1.0) ** 2 / (2 * sig_s**2) + d_g[None, :] ** 2 / (2 * sig_d**2)
-    return mu_g, s_g, d_g, prior
+SHAPE_PRIOR_PEAK = (2.9, 0.35)
+"""Prior of a curve's peak position: ln x_peak ~ N(ln 2.9, 0.35²) — the nine example ``.tir``
+files of ``tests/data/tyre/tir`` peak at x = 2.2–3.6 (brush P2 at 3, brush P4 at 5)."""
 
 
-def grid_nll(x: dict, o: WindowOptions, noise: NoiseModel, quartic: bool) -> np.ndarray:
-    """NLL grid (μ, s_C, δψ) of a set of axle samples (without priors)."""
-    mu_g, s_g, d_g, _ = _grids(o, noise)
-    out = np.zeros((mu_g.size, s_g.size, d_g.size))
-    if x["F"].size:
-        _nll_grid(
-            x["aL"],
-            x["aR"],
-            x["fzL"],
-            x["fzR"],
-            x["cL"],
-            x["cR"],
-            x["F"],
-            x["sF"],
-            x["sa"],
-            x["dfz"],
-            noise.load_transfer_rel,
-            mu_g,
-            s_g,
-            d_g,
-            quartic,
-            out,
+def _shape_ids(prior: str) -> np.ndarray:
+    kinds = {"any": None, "brush": ("brush-2", "brush-4"), "magic-formula": ("magic-formula",)}
+    allowed = kinds.get(prior)
+    return np.array(
+        [i for i, s in enumerate(SHAPE_FAMILY) if allowed is None or s.kind in allowed],
+        dtype=np.int64,
+    )
+
+
+@cache
+def _shape_penalty() -> np.ndarray:
+    """−log prior weight of every shape of the family (:data:`SHAPE_PRIOR_PEAK`)."""
+    x, f, _ = curve_tables()
+    x_peak = x[np.argmax(f, axis=1)]
+    z = (np.log(x_peak) - np.log(SHAPE_PRIOR_PEAK[0])) / SHAPE_PRIOR_PEAK[1]
+    return 0.5 * z * z
+
+
+@dataclass
+class AxleBins:
+    """The bins of one axle (see the module documentation).
+
+    Attributes
+    ----------
+    axle : str
+        ``front`` or ``rear``.
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    data : numpy.ndarray
+        (n_bins, 14) in :data:`BIN_COLUMNS` order: slips [rad], loads [N], stiffnesses [N/rad],
+        axle force [N] and its white 1σ [N], slip white 1σ [rad], measured grip [-], a_y/g
+        [-], static wheel load [N], road-wheel steer angle [rad] (0 on the rear axle), the
+        slip's spread within the bin beyond its white noise [rad], the 1σ of the force the
+        tyre model cannot represent [N] (:data:`FORCE_MODEL_REL` of it).
+    grip_sigma : numpy.ndarray
+        1σ of the measured grip of each bin [-].
+    p0 : float
+        Local load-sensitivity exponent of the declared stiffness [-].
+    """
+
+    axle: str
+    t0: np.ndarray
+    t1: np.ndarray
+    n: np.ndarray
+    data: np.ndarray
+    grip_sigma: np.ndarray
+    p0: float
+
+
+def axle_bins(
+    wheels: pd.DataFrame,
+    axle: str,
+    vehicle: Vehicle,
+    noise: NoiseModel,
+    bin_s: float = 1.0,
+    min_samples: int = 5,
+) -> AxleBins:
+    """Bin the samples of one axle (both wheels present, cornering, positive loads).
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`).
+    axle : str
+        ``front`` or ``rear``.
+    vehicle : Vehicle
+        Vehicle description (static loads, tyre, relaxation length).
+    noise : NoiseModel
+        Measurement noise (slip and grip white noise).
+    bin_s : float
+        Bin length [s].
+    min_samples : int
+        Fewest samples in a bin.
+
+    Returns
+    -------
+    AxleBins
+        The bins.
+    """
+    cols = [
+        "epoch",
+        "t_s",
+        "slip_angle_rad",
+        "load_N",
+        "cornering_stiffness_N_per_rad",
+        "force_sigma_N",
+        "slip_sigma_rad",
+        "flag",
+        "speed_mps",
+        "axle_force_N",
+        "grip_used",
+        "grip_sigma",
+        "lateral_accel_mps2",
+    ]
+    has_steer = "steer_rad" in wheels.columns and axle == "front"
+    if has_steer:
+        cols.append("steer_rad")
+    L = wheels.loc[wheels["wheel"] == f"{axle}_left", cols].set_index("epoch")
+    R = wheels.loc[wheels["wheel"] == f"{axle}_right", cols].set_index("epoch")
+    both = L.add_suffix("_L").join(R.add_suffix("_R"), how="inner").sort_values("t_s_L")
+    ok = ~both["flag_L"].isin(_OUT) & ~both["flag_R"].isin(_OUT)
+    num = both[[c for c in both.columns if not c.startswith("flag")]].to_numpy(float)
+    ok &= np.isfinite(num).all(axis=1)
+    b = both[ok.to_numpy()]
+    tyre = vehicle.tyres[axle]
+    fzs = vehicle.static_load(axle)
+    p0 = float(
+        np.log(
+            vehicle.cornering_stiffness(axle, 1.1 * fzs)
+            / vehicle.cornering_stiffness(axle, 0.9 * fzs)
         )
-    return out
+        / np.log(1.1 / 0.9)
+    )
+    t = b["t_s_L"].to_numpy(float)
+    empty = AxleBins(
+        axle,
+        np.zeros(0),
+        np.zeros(0),
+        np.zeros(0, int),
+        np.zeros((0, len(BIN_COLUMNS))),
+        np.zeros(0),
+        p0,
+    )
+    if t.size == 0:
+        return empty
+    # the tyre force lags the slip by σ/U: compare the force with the slip of σ/U earlier
+    lag = tyre.relaxation_length_m / np.maximum(b["speed_mps_L"].to_numpy(float), 1.0)
+    aL = np.interp(t - lag, t, b["slip_angle_rad_L"].to_numpy(float))
+    aR = np.interp(t - lag, t, b["slip_angle_rad_R"].to_numpy(float))
+    # bins on the data clock (not from the first sample): the live estimator forms the same
+    k = np.floor(t / bin_s).astype(np.int64)
+    # a gap in the data ends a bin
+    k += np.concatenate([[0], np.cumsum(np.diff(t) > 0.5 * bin_s)])
+    edges = np.flatnonzero(np.diff(k)) + 1
+    starts = np.concatenate([[0], edges])
+    n = np.diff(np.concatenate([starts, [t.size]]))
+
+    def mean(x):
+        return np.add.reduceat(x, starts) / n
+
+    def rms_over_n(x):
+        return np.sqrt(np.add.reduceat(x * x, starts) / n / n)
+
+    force = b["axle_force_N_L"].to_numpy(float)
+    steer = b["steer_rad_L"].to_numpy(float) if has_steer else np.zeros(t.size)
+    a_mid = 0.5 * (aL + aR)
+    white = 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float)
+    spread2 = np.add.reduceat(a_mid * a_mid, starts) / n - mean(a_mid) ** 2
+    spread = np.sqrt(np.maximum(spread2 - np.add.reduceat(white * white, starts) / n, 0.0))
+    ay = b["lateral_accel_mps2_L"].to_numpy(float) / G0
+    speed = b["speed_mps_L"].to_numpy(float)
+    data = np.column_stack(
+        [
+            mean(aL),
+            mean(aR),
+            mean(b["load_N_L"].to_numpy(float)),
+            mean(b["load_N_R"].to_numpy(float)),
+            mean(b["cornering_stiffness_N_per_rad_L"].to_numpy(float)),
+            mean(b["cornering_stiffness_N_per_rad_R"].to_numpy(float)),
+            mean(force),
+            # white force noise only: the systematic axle-force error is the nuisance ε
+            rms_over_n(b["force_sigma_N_L"].to_numpy(float) + b["force_sigma_N_R"].to_numpy(float)),
+            rms_over_n(0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float)),
+            mean(b["grip_used_L"].to_numpy(float)),
+            mean(ay),
+            np.full(starts.size, fzs),
+            mean(steer),
+            spread,
+            np.abs(mean(force)) * np.hypot(FORCE_MODEL_REL, 1.0 - np.cos(mean(steer))),
+        ]
+    )
+    # the measured grip's noise: white a_y noise / √n, and the lateral-velocity rate (a_y =
+    # U r + V̇) whose noise is set by the side-slip noise v σ_ψ over the bin
+    t_bin = np.maximum(np.maximum.reduceat(t, starts) - t[starts], 0.5 * bin_s)
+    sig_v_lat = mean(speed) * np.deg2rad(noise.heading_white_deg)
+    grip_sigma = np.hypot(
+        rms_over_n(b["grip_sigma_L"].to_numpy(float)),
+        2.0 * sig_v_lat / (t_bin + 1.0) / np.sqrt(np.maximum(n / 2, 1)) / G0,
+    )
+    keep = n >= min_samples
+    t_end = np.maximum.reduceat(t, starts)
+    return AxleBins(axle, t[starts][keep], t_end[keep], n[keep], data[keep], grip_sigma[keep], p0)
+
+
+@dataclass(frozen=True)
+class _Priors:
+    mean: np.ndarray  # ln s, κ, λ, q, ε
+    sd: np.ndarray
+    delta: float  # slip offset [rad]
+    tau_s: float  # its correlation time [s]
+
+
+def _priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> _Priors:
+    tyre = vehicle.tyres[axle]
+    s_rel = max(noise.tread_stiffness_rel, 1e-3)
+    # camber thrust: body roll (gradient, deg/g) leans the wheels (gain) and the thrust needs
+    # a slip of |C_γ/C_α| × inclination to balance: an effective slip shift per g
+    kap0 = np.deg2rad(
+        tyre.camber_thrust_ratio * vehicle.roll_camber_gain * vehicle.roll_gradient_deg_per_g
+    )
+    lam_sd = max(noise.load_transfer_rel, 0.02)
+    # slip offsets: what the heading calibration left (constant) and the slow error's drift
+    # (a Gauss–Markov process, widened by slow_error_margin: real heading errors have heavier
+    # tails than a Gaussian, and slip drift at constant force must not pass for saturation)
+    floor = np.deg2rad(max(0.5 * noise.heading_white_deg, 0.02))
+    sd_cal = max(np.deg2rad(noise.heading_slow_deg), floor)
+    sd_drift = max(np.deg2rad(noise.slow_error_margin * noise.heading_slow_deg), floor)
+    # a steered axle's body-axis force is F_y cos δ + F_x sin δ: undriven (F_x ≈ 0) F_y = F/cos δ,
+    # driven, roughly F cos δ (the drive force balances the turn's drag); the drive force is not
+    # measured, so the exponent d of cos^d δ is a nuisance around 0 (±1)
+    d0, d_sd = (0.0, 1.0) if axle == "front" else (0.0, 1e-3)
+    mean = np.array([0.0, kap0, 0.0, 0.0, 0.0, 0.0, 0.0, tyre.friction_load_sensitivity, d0])
+    sd = np.array(
+        [
+            np.log1p(s_rel),
+            max(kap0, np.deg2rad(0.2)),
+            lam_sd,
+            max(tyre.load_sensitivity_uncertainty, 1e-3),
+            max(noise.axle_force_rel, 1e-3),
+            sd_cal,
+            max(noise.steer_scale_rel, 1e-3),
+            max(tyre.friction_load_sensitivity_uncertainty, 1e-3),
+            d_sd,
+        ]
+    )
+    return _Priors(mean, sd, sd_drift, noise.heading_slow_tau_s)
 
 
 def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int) -> float:
-    """First x (log-interpolated) from index i_from moving by step where y rises above level."""
     i = i_from
     while 0 <= i + step < x.size:
         j = i + step
@@ -185,146 +374,216 @@ def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int
     return float("inf") if step > 0 else float(x[0])
 
 
-def profile(
-    nll: np.ndarray,
-    o: WindowOptions,
-    noise: NoiseModel,
-    *,
-    dof: int = 1,
-    utilisation: float = np.nan,
-) -> dict:
-    """Profile-likelihood estimate from an NLL grid (μ, s_C, δψ) or (μ, s_C).
+def merge_steady(
+    t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Merge runs of consecutive bins whose measured grip stays within *tol* of the run's first
+    bin into one bin (means weighted by the sample count; white noise combined).
 
-    Returns ``mu``, ``mu_low``, ``mu_high`` (inf when unbounded), ``observable``,
-    ``mu_lower_bound``, ``stiffness_scale`` and its 90 % interval, ``heading_bias_deg``,
-    ``fit`` (``ok``, or ``inconsistent`` when the best fit fails a χ² test with *dof* degrees
-    of freedom at 0.1 %, or lies on the lowest μ of the grid: the data contradict the model —
-    e.g. an uncorrected heading offset — and no value is given; the lower bound then falls
-    back to the *utilisation*, which every tyre model respects).
+    In steady cornering every bin shows the same force, so slip differences between its bins
+    are measurement error: kept apart they would let a tyre at its limit (whose force does not
+    depend on slip) explain them for free. Merged, a steady stretch is one point of the tyre
+    curve, and only changes of utilisation (transients) trace the curve.
+
+    Parameters
+    ----------
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    data : numpy.ndarray
+        Bins in :data:`BIN_COLUMNS` order.
+    tol : float
+        Largest change of measured grip within a merged run [-].
+
+    Returns
+    -------
+    mid : numpy.ndarray
+        Mid time of each merged bin [s].
+    merged : numpy.ndarray
+        The merged bins.
     """
-    mu_g, s_g, d_g, prior = _grids(o, noise)
-    sig_s = max(noise.tread_stiffness_rel, 1e-6)
-    kd_best = None
-    if nll.ndim == 3:
-        tot = nll + prior[None, :, :]
-        kd_best = np.argmin(tot, axis=2)
-        p_ms = np.take_along_axis(tot, kd_best[..., None], 2)[..., 0]
-    else:
-        p_ms = nll + ((s_g - 1.0) ** 2 / (2 * sig_s**2))[None, :]
-    p_mu = p_ms.min(axis=1)
-    dev = 2.0 * (p_mu - p_mu.min())
-    im = int(np.argmin(p_mu))
-    # refine the minimum with a parabola in log μ
-    mu_hat = mu_g[im]
-    if 0 < im < mu_g.size - 1:
+    if data.shape[0] == 0:
+        return np.zeros(0), data
+    groups = np.zeros(data.shape[0], dtype=np.int64)
+    g = 0
+    first = data[0, 9]
+    for k in range(1, data.shape[0]):
+        gap = t0[k] - t1[k - 1] > 1.5 * max(t1[k - 1] - t0[k - 1], 0.1)
+        if gap or abs(data[k, 9] - first) > tol:
+            g += 1
+            first = data[k, 9]
+        groups[k] = g
+    w = n.astype(float)
+    sw = np.bincount(groups, weights=w)
+    out = np.empty((g + 1, data.shape[1]))
+    for c in range(data.shape[1]):
+        if c in (7, 8):  # white noise of a mean: √(Σ nᵢ² σᵢ²) / Σ nᵢ
+            out[:, c] = np.sqrt(np.bincount(groups, weights=(w * data[:, c]) ** 2)) / sw
+        else:
+            out[:, c] = np.bincount(groups, weights=w * data[:, c]) / sw
+    mid = np.bincount(groups, weights=0.5 * (t0 + t1) * w) / sw
+    return mid, out
+
+
+def _rho(t0: np.ndarray, tau_s: float) -> np.ndarray:
+    """Correlation of the slow heading error between consecutive bins (0 after the last)."""
+    rho = np.zeros(t0.size)
+    if t0.size > 1:
+        rho[:-1] = np.exp(-np.maximum(np.diff(t0), 1e-3) / tau_s)
+    return rho
+
+
+def _profile(
+    bins: np.ndarray,
+    t0: np.ndarray,
+    pri: _Priors,
+    shapes: np.ndarray,
+    p0: float,
+    o: WindowOptions,
+    grip_lower: float,
+) -> dict:
+    """The profile likelihood of μ and what it says."""
+    f, df, inv_dx = _tables()
+    mu_g = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
+    n = bins.shape[0]
+    nll = np.empty(o.n_mu)
+    th = np.empty((o.n_mu, K.NG))
+    dl = np.zeros((o.n_mu, n))
+    shp = np.empty(o.n_mu, dtype=np.int64)
+    K.profile_grid(
+        mu_g,
+        shapes,
+        np.ascontiguousarray(_shape_penalty()[shapes]),
+        np.ascontiguousarray(bins),
+        _rho(t0, pri.tau_s),
+        pri.mean,
+        pri.sd,
+        pri.delta,
+        f,
+        df,
+        inv_dx,
+        p0,
+        o.iterations,
+        nll,
+        th,
+        dl,
+        shp,
+    )
+    dev = 2.0 * (nll - nll.min())
+    im = int(np.argmin(nll))
+    mu_hat = float(mu_g[im])
+    if 0 < im < o.n_mu - 1:
         x0, x1, x2 = np.log(mu_g[im - 1 : im + 2])
-        y0, y1, y2 = p_mu[im - 1 : im + 2]
+        y0, y1, y2 = nll[im - 1 : im + 2]
         den = (x0 - x1) * (x0 - x2) * (x1 - x2)
         a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
-        b = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
+        bq = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
         if a > 0:
-            mu_hat = float(np.exp(np.clip(-b / (2 * a), x0, x2)))
+            mu_hat = float(np.exp(np.clip(-bq / (2 * a), x0, x2)))
     lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
     hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
-    from scipy.stats import chi2
-
     level = float(chi2.ppf(o.point_level, 1))
     lo_p = _crossing(mu_g, dev, level, im, -1)
     hi_p = _crossing(mu_g, dev, level, im, +1)
-    observable = bool(np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
-    fit_ok = bool(2.0 * p_mu.min() <= chi2.ppf(0.999, dof) and im > 0)
-    if not fit_ok:
-        observable = False
-    p_s = p_ms.min(axis=0)
-    dev_s = 2.0 * (p_s - p_s.min())
-    js = int(np.argmin(p_s))
-    inside = s_g[dev_s <= CHI2_1_90]
-    out = {
-        "mu": float(mu_hat) if observable else np.nan,
-        "mu_low": float(lo),
-        "mu_high": float(hi),
+    n_bins = bins.shape[0]
+    z = (th[im] - pri.mean) / pri.sd
+    fit = "ok"
+    if 2.0 * nll[im] > chi2.ppf(0.999, max(n_bins, 1)) + float(np.sum(z**2)):
+        fit = "inconsistent"
+    elif im == 0 or np.max(np.abs(z)) > 3.0 or np.max(np.abs(dl[im])) > 3.5 * pri.delta:
+        fit = "edge"  # the data are explained only at the edge of what the priors allow
+    observable = bool(fit == "ok" and np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    # a model interval that lies below what the data prove without a model contradicts itself
+    if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
+        fit, observable = "inconsistent", False
+    names = (
+        "stiffness",
+        "camber",
+        "load transfer",
+        "load sensitivity",
+        "axle force",
+        "heading offset",
+        "steering scale",
+        "friction load sensitivity",
+        "drive force on the steered axle",
+    )
+    limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
+    if not observable and fit == "ok" and not np.isfinite(hi):
+        limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
+    return {
+        "mu": mu_hat if observable else np.nan,
+        "mu_low": float(max(lo, grip_lower)) if fit != "inconsistent" else np.nan,
+        "mu_high": float(hi) if fit != "inconsistent" else np.nan,
         "observable": observable,
-        "mu_lower_bound": float(lo) if fit_ok else float(utilisation),
-        "fit": "ok" if fit_ok else "inconsistent",
-        "mu_best": float(mu_hat),
-        "stiffness_scale": float(s_g[js]),
-        "stiffness_scale_low": float(inside.min()) if inside.size else np.nan,
-        "stiffness_scale_high": float(inside.max()) if inside.size else np.nan,
+        "fit": fit,
+        "mu_best": mu_hat,
+        "stiffness_scale": float(np.exp(th[im, 0])),
+        "heading_bias_deg": float(np.rad2deg(np.mean(dl[im]))),
+        "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
+        "load_transfer_error": float(th[im, 2]),
+        "shape": SHAPE_FAMILY[int(shp[im])].name,
+        "limited_by": limited,
     }
-    if kd_best is not None:
-        im_s = int(np.argmin(p_ms[im]))
-        out["heading_bias_deg"] = float(np.rad2deg(d_g[kd_best[im, im_s]]))
-    return out
 
 
-def axle_samples(wheels: pd.DataFrame, axle: str) -> dict:
-    """Per-sample inputs of one axle from a wheel table
-    (:func:`gripsense.estimate.friction.friction_from_motion`).
+def _bound(grip: np.ndarray, sigma: np.ndarray, z: float) -> float:
+    """Largest one-sided lower bound over the bins (NaN without bins)."""
+    if grip.size == 0:
+        return np.nan
+    return float(max(np.max(grip - z * sigma), 0.0))
 
-    Samples with both wheels present, steady cornering above the speed gate and finite inputs.
+
+def _drive_bound(ab: AxleBins, level: float) -> tuple[float, float]:
+    """Largest bin mean of the measured grip and its bound over all bins of a drive (one-sided,
+    Bonferroni over the bins so that the maximum holds at *level*).
+    """
+    n_b = ab.t0.size
+    if n_b == 0:
+        return np.nan, np.nan
+    z_all = float(norm.ppf(1.0 - (1.0 - level) / n_b))
+    return float(np.max(ab.data[:, 9])), _bound(ab.data[:, 9], ab.grip_sigma, z_all)
+
+
+def measured_grip(
+    wheels: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    noise: NoiseModel | None = None,
+    options: WindowOptions | None = None,
+) -> pd.DataFrame:
+    """The friction each axle used, from measurements alone (``docs/physics.md`` §14).
+
+    The axle's lateral force (m a_y share with the yaw-acceleration term) over its total load
+    (statics: known for any lateral load transfer), in bins of ``bin_s``; ``grip_used_lower``
+    is the largest bin's one-sided ``bound_level`` lower bound, corrected for the number of bins.
+    It holds for any tyre; it assumes a level road without aerodynamic downforce.
 
     Parameters
     ----------
     wheels : pandas.DataFrame
-        Wheel table.
-    axle : str
-        ``front`` or ``rear``.
+        Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
+    vehicle : Vehicle
+        Vehicle description.
+    noise : NoiseModel, optional
+        Measurement noise.
+    options : WindowOptions, optional
+        Bin length, fewest samples, bound level.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per axle: ``axle``, ``grip_used`` (largest bin mean) [-], ``grip_used_lower`` [-],
+        ``n_bins``.
     """
-    lname, rname = f"{axle}_left", f"{axle}_right"
-    cols = [
-        "epoch",
-        "t_s",
-        "slip_angle_rad",
-        "load_N",
-        "cornering_stiffness_N_per_rad",
-        "force_N",
-        "force_sigma_N",
-        "slip_sigma_rad",
-        "flag",
-    ]
-    L = wheels.loc[wheels["wheel"] == lname, cols].set_index("epoch")
-    R = wheels.loc[wheels["wheel"] == rname, cols].set_index("epoch")
-    both = L.add_suffix("_L").join(R.add_suffix("_R"), how="inner")
-    usable = ~both["flag_L"].isin(NOT_STEADY_CORNERING) & ~both["flag_R"].isin(NOT_STEADY_CORNERING)
-    num = both[[c for c in both.columns if not c.startswith("flag")]]
-    usable &= np.isfinite(num.to_numpy(dtype=float)).all(axis=1)
-    b = both[usable]
-    fzl, fzr = b["load_N_L"].to_numpy(float), b["load_N_R"].to_numpy(float)
-    F = (b["force_N_L"] + b["force_N_R"]).to_numpy(float)
-    return {
-        "epoch": b.index.to_numpy(),
-        "t": b["t_s_L"].to_numpy(float),
-        "aL": b["slip_angle_rad_L"].to_numpy(float),
-        "aR": b["slip_angle_rad_R"].to_numpy(float),
-        "fzL": fzl,
-        "fzR": fzr,
-        "cL": b["cornering_stiffness_N_per_rad_L"].to_numpy(float),
-        "cR": b["cornering_stiffness_N_per_rad_R"].to_numpy(float),
-        "F": F,
-        "sF": (b["force_sigma_N_L"] + b["force_sigma_N_R"]).to_numpy(float),
-        "sa": 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float),
-        "dfz": 0.5 * (fzr - fzl),
-        "util": np.abs(F) / (fzl + fzr),
-    }
-
-
-def _take(x: dict, sel) -> dict:
-    return {k: v[sel] for k, v in x.items()}
-
-
-_MEAN_KEYS = ("aL", "aR", "fzL", "fzR", "cL", "cR", "F", "dfz")
-
-
-def window_mean(x: dict, axle_force_rel: float = 0.0) -> dict:
-    """One super-sample from a window's samples: means, white variances divided by n, plus
-    the systematic axle-force model error (not divided).
-    """
-    n = x["F"].size
-    out = {k: np.array([x[k].mean()]) for k in _MEAN_KEYS}
-    out["sa"] = np.array([np.sqrt(np.mean(x["sa"] ** 2) / n)])
-    f = out["F"][0]
-    out["sF"] = np.array([np.sqrt(np.mean(x["sF"] ** 2) / n + (axle_force_rel * f) ** 2)])
-    return out
+    noise = noise or NoiseModel()
+    o = options or WindowOptions()
+    rows = []
+    for axle in sorted({w.split("_")[0] for w in wheels["wheel"].astype(str).unique()}):
+        ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
+        g, lo = _drive_bound(ab, o.bound_level)
+        rows.append({"axle": axle, "grip_used": g, "grip_used_lower": lo, "n_bins": ab.t0.size})
+    return pd.DataFrame(rows, columns=["axle", "grip_used", "grip_used_lower", "n_bins"])
 
 
 def estimate_windows(
@@ -341,194 +600,231 @@ def estimate_windows(
     wheels : pandas.DataFrame
         Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
     vehicle : Vehicle
+        Vehicle description.
     noise : NoiseModel
+        Measurement and parameter uncertainty.
     options : WindowOptions
+        Settings.
 
     Returns
     -------
     windows : pandas.DataFrame
-        One row per axle and window: ``axle``, ``t_start``, ``t_end``, ``n``, ``utilisation``
-        (95th percentile of |F_axle|/Fz_axle), ``mu`` (NaN unless ``observable``), ``mu_low``,
-        ``mu_high`` (inf when unbounded), ``mu_lower_bound``, ``observable``,
-        ``stiffness_scale`` with ``_low``/``_high`` (× the nominal C), ``heading_bias_deg``,
-        ``cornering_stiffness_N_per_rad`` (estimated, mean over the window's wheels).
+        One row per axle and window: ``axle``, ``t_start``, ``t_end``, ``n``, ``grip_used``
+        (mean measured grip), ``grip_used_lower`` (model-free one-sided bound), ``analysed``,
+        ``mu`` (NaN unless ``observable``), ``mu_low``, ``mu_high`` (inf when unbounded),
+        ``observable``, ``fit``, ``stiffness_scale``, ``heading_bias_deg``, ``shape``,
+        ``limited_by``, ``cornering_stiffness_N_per_rad``.
     summary : pandas.DataFrame
-        One row per axle: the same quantities from all usable samples, combined over disjoint
-        segments of ``segment_s`` each with its own heading bias.
+        One row per axle over the drive, the same columns plus ``n_windows`` and
+        ``n_screened``.
     """
     noise = noise or NoiseModel()
     o = options or WindowOptions()
+    z_w = float(norm.ppf(o.bound_level))
     rows, summ = [], []
     axles = sorted({w.split("_")[0] for w in wheels["wheel"].astype(str).unique()})
     for axle in axles:
-        x = axle_samples(wheels, axle)
-        quartic = vehicle.tyres[axle].pressure == "quartic"
-        t = x["t"]
-        if t.size:
-            starts = np.arange(t.min(), t.max() - o.window_s + o.step_s + 1e-9, o.step_s)
-            for t0 in starts:
-                sel = (t >= t0) & (t < t0 + o.window_s)
-                if sel.sum() < o.min_samples:
-                    continue
-                w = _take(x, sel)
-                mean = window_mean(w, noise.axle_force_rel)
-                est = profile(
-                    grid_nll(mean, o, noise, quartic),
-                    o,
-                    noise,
-                    utilisation=float(np.quantile(w["util"], 0.95)),
+        ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
+        pri = _priors(vehicle, axle, noise)
+        shapes = _shape_ids(vehicle.tyres[axle].shape)
+        n_b = ab.t0.size
+        grip, gsig = ab.data[:, 9], ab.grip_sigma
+        per_bin_win = max(round(o.window_s / o.bin_s), 1)
+        step = max(round(o.step_s / o.bin_s), 1)
+        n_screened = 0
+        analysed_bins = np.zeros(n_b, bool)
+        for i0 in range(0, max(n_b - per_bin_win + 1, 0), step):
+            sel = slice(i0, i0 + per_bin_win)
+            if ab.t1[sel.stop - 1] - ab.t0[i0] > o.window_s + o.bin_s:
+                continue  # the bins are not contiguous in time
+            g = grip[sel]
+            lower = _bound(g, gsig[sel], z_w)
+            row = {
+                "axle": axle,
+                "t_start": float(ab.t0[i0]),
+                "t_end": float(ab.t1[sel.stop - 1]),
+                "n": int(ab.n[sel].sum()),
+                "grip_used": float(np.mean(g)),
+                "grip_used_lower": lower,
+                "analysed": bool(np.max(g) >= o.screen_utilisation),
+            }
+            if row["analysed"]:
+                analysed_bins[sel] = True
+                mid, merged = merge_steady(
+                    ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], o.steady_tolerance
                 )
-                rows.append(_row(axle, w, est, t0, t0 + o.window_s))
-        # summary: disjoint segments, each with its own heading bias, combined
-        total = None
-        n_used = 0
-        n_seg = 0
-        if t.size:
-            _, _, d_g, _ = _grids(o, noise)
-            sig_d = max(np.deg2rad(noise.heading_bias_deg), 1e-9)
-            d_prior = d_g**2 / (2 * sig_d**2)
-            seg = np.floor((t - t.min()) / o.segment_s).astype(int)
-            for s_id in np.unique(seg):
-                sel = seg == s_id
-                if sel.sum() < o.min_samples:
-                    continue
-                g = grid_nll(window_mean(_take(x, sel), noise.axle_force_rel), o, noise, quartic)
-                g = (g + d_prior[None, None, :]).min(axis=2)  # this segment's own bias
-                total = g if total is None else total + g
-                n_used += int(sel.sum())
-                n_seg += 1
-        if total is not None:
-            # adds the stiffness prior once; dof = number of segments
-            est = profile(
-                total, o, noise, dof=n_seg, utilisation=float(np.quantile(x["util"], 0.95))
+                est = _profile(merged, mid, pri, shapes, ab.p0, o, lower)
+            else:
+                n_screened += 1
+                est = {
+                    "mu": np.nan,
+                    "mu_low": lower,
+                    "mu_high": np.inf,
+                    "observable": False,
+                    "fit": "screened",
+                    "limited_by": "below the screening utilisation",
+                }
+            row.update(est)
+            c = 0.5 * (ab.data[sel, 4] + ab.data[sel, 5]).mean()
+            row["cornering_stiffness_N_per_rad"] = row.get("stiffness_scale", np.nan) * c
+            rows.append(row)
+        # the drive: every analysed bin, nuisances shared, the slip offset a slow process
+        n_win = sum(1 for r in rows if r["axle"] == axle)
+        g_max, g_lower = _drive_bound(ab, o.bound_level)
+        base = {
+            "axle": axle,
+            "n": int(ab.n.sum()),
+            "n_windows": n_win,
+            "n_screened": n_screened,
+            "grip_used": g_max,
+            "grip_used_lower": g_lower,
+        }
+        if analysed_bins.any():
+            mid, merged = merge_steady(
+                ab.t0[analysed_bins],
+                ab.t1[analysed_bins],
+                ab.n[analysed_bins],
+                ab.data[analysed_bins],
+                o.steady_tolerance,
             )
-            summ.append(_row(axle, x, est, float(t.min()), float(t.max())) | {"n": n_used})
+            est = _profile(
+                merged,
+                mid,
+                pri,
+                shapes,
+                ab.p0,
+                o,
+                base["grip_used_lower"],
+            )
+            c = 0.5 * (ab.data[analysed_bins, 4] + ab.data[analysed_bins, 5]).mean()
+            est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
+            summ.append({**base, **est})
         else:
             summ.append(
                 {
-                    "axle": axle,
-                    "n": 0,
-                    "observable": False,
+                    **base,
                     "mu": np.nan,
-                    "mu_low": np.nan,
-                    "mu_high": np.nan,
-                    "mu_lower_bound": np.nan,
-                    "utilisation": np.nan,
+                    "mu_low": base["grip_used_lower"],
+                    "mu_high": np.inf if n_b else np.nan,
+                    "observable": False,
+                    "fit": "screened" if n_b else "no data",
+                    "limited_by": "no cornering above the screening utilisation"
+                    if n_b
+                    else "no steady or transient cornering",
                 }
             )
     return pd.DataFrame(rows), pd.DataFrame(summ)
 
 
-def _row(axle: str, w: dict, est: dict, t0: float, t1: float) -> dict:
-    c = 0.5 * (w["cL"] + w["cR"]).mean() if w["F"].size else np.nan
-    return {
-        "axle": axle,
-        "t_start": t0,
-        "t_end": t1,
-        "n": int(w["F"].size),
-        "utilisation": float(np.quantile(w["util"], 0.95)) if w["F"].size else np.nan,
-        **est,
-        "cornering_stiffness_N_per_rad": est["stiffness_scale"] * c,
-    }
-
-
 class OnlineAxleWindow:
-    """Sliding-window ``axle-window`` estimator for live use, updated sample by sample.
+    """``axle-window`` for live use: bins are kept as running sums, so adding a sample costs
+    O(1) and an update one window's profile (independent of how long the drive is).
 
-    Keeps running sums of the window's samples (added on arrival, subtracted on expiry), so
-    an update costs O(1) and an estimate one super-sample grid. The estimates equal the batch
-    :func:`estimate_windows` windows on the same data (up to floating-point summation order).
+    Feed it the wheel-table rows of one axle as they become final (:meth:`push`), ask for the
+    newest window (:meth:`estimate`). The answers equal :func:`estimate_windows` on the same
+    samples (the bins are formed the same way).
 
     Parameters
     ----------
-    quartic : bool
-        Pressure shape of the axle's tyres.
-    noise, options
-        As for :func:`estimate_windows`.
+    vehicle : Vehicle
+        Vehicle description.
+    axle : str
+        ``front`` or ``rear``.
+    noise : NoiseModel, optional
+        Measurement and parameter uncertainty.
+    options : WindowOptions, optional
+        Settings.
     """
-
-    _SUMS = (*_MEAN_KEYS, "sa2", "sF2")
 
     def __init__(
         self,
+        vehicle: Vehicle,
+        axle: str,
         *,
-        quartic: bool = False,
         noise: NoiseModel | None = None,
         options: WindowOptions | None = None,
     ):
+        self.vehicle = vehicle
+        self.axle = axle
         self.noise = noise or NoiseModel()
         self.o = options or WindowOptions()
-        self.quartic = quartic
-        self._sum = dict.fromkeys(self._SUMS, 0.0)
-        self._items: deque = deque()  # (t, {key: value})
-        self._util: deque = deque()
+        self._rows: deque = deque()  # wheel-table rows of the current and recent bins
+        self._bins: deque = deque(maxlen=max(round(self.o.window_s / self.o.bin_s), 1))
+        self._pri = _priors(vehicle, axle, self.noise)
+        self._shapes = _shape_ids(vehicle.tyres[axle].shape)
 
-    def _add(self, v: dict, sign: float) -> None:
-        for k in self._SUMS:
-            self._sum[k] += sign * v[k]
-
-    def push(self, sample: dict) -> None:
-        """Add one axle sample (keys of :func:`axle_samples`, scalars; ``t`` [s]).
+    def push(self, rows: pd.DataFrame) -> None:
+        """Add final wheel-table rows (both wheels of this axle, any number of epochs).
 
         Parameters
         ----------
-        sample : dict
-            One axle sample: the keys of :func:`axle_samples` as scalars, ``t`` [s].
+        rows : pandas.DataFrame
+            Rows of :func:`gripsense.estimate.friction.friction_from_motion`.
         """
-        v = {k: float(sample[k]) for k in (*_MEAN_KEYS, "t", "util")}
-        v["sa2"] = float(sample["sa"]) ** 2
-        v["sF2"] = float(sample["sF"]) ** 2
-        self._items.append((v["t"], v))
-        self._add(v, +1.0)
+        mine = rows[rows["wheel"].astype(str).str.startswith(self.axle + "_")]
+        for t, g in mine.groupby("t_s", sort=True):
+            k = int(np.floor(float(t) / self.o.bin_s))
+            if self._rows and k != self._rows[-1][0]:
+                self._close()
+            self._rows.append((k, g))
 
-    def expire(self, t_start: float) -> None:
-        """Drop samples older than *t_start*.
-
-        Parameters
-        ----------
-        t_start : float
-            Samples before this time are dropped [s].
-        """
-        while self._items and self._items[0][0] < t_start:
-            _, v = self._items.popleft()
-            self._add(v, -1.0)
-
-    def estimate(self, t_start: float, t_end: float) -> dict | None:
-        """Estimate over the samples in [t_start, t_end) (None with too few samples).
-
-        Parameters
-        ----------
-        t_start : float
-            Window start [s].
-        t_end : float
-            Window end (exclusive) [s].
-        """
-        self.expire(t_start)
-        late = [v for t, v in self._items if t >= t_end]
-        n = len(self._items) - len(late)
-        if n < self.o.min_samples:
-            return None
-        tot = dict(self._sum)
-        for v in late:
-            for k in self._SUMS:
-                tot[k] -= v[k]
-        w = {k: np.array([tot[k] / n]) for k in _MEAN_KEYS}
-        w["sa"] = np.array([np.sqrt(tot["sa2"] / n / n)])
-        f = w["F"][0]
-        w["sF"] = np.array([np.sqrt(tot["sF2"] / n / n + (self.noise.axle_force_rel * f) ** 2)])
-        util = np.array([v["util"] for t, v in self._items if t < t_end])
-        est = profile(
-            grid_nll(w, self.o, self.noise, self.quartic),
-            self.o,
-            self.noise,
-            utilisation=float(np.quantile(util, 0.95)),
+    def _close(self) -> None:
+        frame = pd.concat([g for _, g in self._rows], ignore_index=True)
+        self._rows.clear()
+        ab = axle_bins(
+            frame, self.axle, self.vehicle, self.noise, self.o.bin_s * 1e6, self.o.min_samples
         )
-        c = 0.5 * (w["cL"][0] + w["cR"][0])
-        return {
-            "t_start": t_start,
-            "t_end": t_end,
-            "n": n,
-            "utilisation": float(np.quantile(util, 0.95)),
-            **est,
-            "cornering_stiffness_N_per_rad": est["stiffness_scale"] * c,
+        if ab.t0.size:
+            self._bins.append((ab.t0[0], ab.t1[0], ab.n[0], ab.data[0], ab.grip_sigma[0], ab.p0))
+
+    def estimate(self) -> dict | None:
+        """The newest complete window (None until there is one).
+
+        Returns
+        -------
+        dict or None
+            The window row (keys as :func:`estimate_windows`' windows).
+        """
+        if len(self._bins) < self._bins.maxlen:
+            return None
+        t0 = np.array([b[0] for b in self._bins])
+        t1 = np.array([b[1] for b in self._bins])
+        data = np.array([b[3] for b in self._bins])
+        gsig = np.array([b[4] for b in self._bins])
+        grip = data[:, 9]
+        z_w = float(norm.ppf(self.o.bound_level))
+        lower = _bound(grip, gsig, z_w)
+        row = {
+            "axle": self.axle,
+            "t_start": float(t0[0]),
+            "t_end": float(t1[-1]),
+            "n": int(sum(b[2] for b in self._bins)),
+            "grip_used": float(np.mean(grip)),
+            "grip_used_lower": lower,
+            "analysed": bool(np.max(grip) >= self.o.screen_utilisation),
         }
+        if row["analysed"]:
+            n = np.array([b[2] for b in self._bins])
+            mid, merged = merge_steady(t0, t1, n, data, self.o.steady_tolerance)
+            row.update(
+                _profile(
+                    merged,
+                    mid,
+                    self._pri,
+                    self._shapes,
+                    self._bins[-1][5],
+                    self.o,
+                    lower,
+                )
+            )
+        else:
+            row.update(
+                {
+                    "mu": np.nan,
+                    "mu_low": lower,
+                    "mu_high": np.inf,
+                    "observable": False,
+                    "fit": "screened",
+                }
+            )
+        return row

@@ -85,6 +85,7 @@ WHEEL_COLUMNS = [
     "wheel",
     "speed_mps",
     "slip_angle_rad",
+    "steer_rad",
     "radius_m",
     "mass_kg",
     "contact_length_m",
@@ -102,6 +103,10 @@ WHEEL_COLUMNS = [
     "cornering_stiffness_N_per_rad",
     "slip_sigma_rad",
     "force_sigma_N",
+    "axle_force_N",
+    "axle_load_N",
+    "grip_used",
+    "grip_sigma",
 ]
 
 
@@ -164,6 +169,109 @@ def _steady(t: np.ndarray, speed: np.ndarray, yaw: np.ndarray, o: FrictionOption
         & (sd["r"].to_numpy() <= np.deg2rad(o.steady_yaw_rate_std_dps))
         & (n >= 3)
     )
+
+
+def _local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
+    """dy/dt by a least-squares line over the samples within ±half_s of each sample
+    (cumulative sums: O(n)); NaN where fewer than 3 samples fall in the window.
+    """
+    n = t.size
+    if n < 3:
+        return np.full(n, np.nan)
+    lo = np.searchsorted(t, t - half_s, side="left")
+    hi = np.searchsorted(t, t + half_s, side="right")
+    tc = t - t[0]
+    yy = np.where(np.isfinite(y), y, 0.0)
+    ok = np.isfinite(y).astype(float)
+    cs = [np.concatenate([[0.0], np.cumsum(a)]) for a in (ok, ok * tc, ok * tc**2, yy, yy * tc)]
+    c0, c1, c2, cy, cty = (c[hi] - c[lo] for c in cs)
+    den = c0 * c2 - c1**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = (c0 * cty - c1 * cy) / den
+    return np.where((c0 >= 3) & (den > 0), slope, np.nan)
+
+
+def _earth_frame_ay(t, speed, course, heading, r, cg) -> np.ndarray:
+    """Lateral acceleration of the CG from the velocity differentiated in the earth frame.
+
+    a = d(v_E, v_N)/dt over ±0.5 s at the antenna, projected on the body's y axis with the
+    heading, moved to the CG with the rigid-body terms ṙ ẑ × d − r² d (d: antenna → CG).
+    Unlike U r + V̇ in body axes, the smoothing here averages a physical acceleration, so its
+    magnitude never exceeds what the tyres delivered — also in a spin.
+    """
+    ve, vn = speed * np.sin(course), speed * np.cos(course)
+    ae, an = _local_slope(ve, t, 0.5), _local_slope(vn, t, 0.5)
+    ay_ant = -ae * np.cos(heading) + an * np.sin(heading)
+    rdot = np.nan_to_num(_local_slope(r, t, 0.5))
+    return ay_ant + rdot * cg[0] - r * r * cg[1]
+
+
+def _axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None) -> tuple:
+    """Per axle: the lateral force it carries (with the yaw-acceleration term), its nominal
+    load, and the friction it used — model-free, ``docs/physics.md`` §14.
+
+    F_front = (m a_y l_r + I_z ṙ)/L, F_rear = (m a_y l_f − I_z ṙ)/L, a_y of the CG from the
+    earth-frame velocity (*earth* = (course, heading) known, :func:`_earth_frame_ay`), else
+    U r + V̇;
+    the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the largest axle
+    load the longitudinal transfer allows over the declared CG-height range — a lower bound on
+    μ for any tyre and any lateral load transfer.
+    """
+    m = vehicle.mass_kg
+    m_ax = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
+    ok_t = t.size > 2 and bool(np.all(np.diff(t) > 0))
+    cg = vehicle.cg_offset
+    if ok_t and cg is not None and earth is not None and not np.all(ay_measured):
+        ay_e = _earth_frame_ay(t, np.hypot(u_a, v_a), earth[0], earth[1], r, cg)
+        ay_tot = np.where(ay_measured | ~np.isfinite(ay_e), ay, ay_e)
+    elif ok_t and cg is not None and not np.all(ay_measured):
+        v_cg = v_a + r * cg[0]
+        vdot = _local_slope(v_cg, t, 0.5)
+        ay_tot = np.where(ay_measured, ay, ay + np.nan_to_num(vdot))
+    else:
+        ay_tot = ay
+    rdot = np.nan_to_num(_local_slope(r, t, 0.5)) if ok_t else np.zeros(t.size)
+    wb = vehicle.wheelbase_m
+    force, load, grip = {}, {}, {}
+    ax = np.zeros(t.size)
+    if ok_t and cg is not None:
+        u_cg = u_a - r * cg[1]
+        v_cg = v_a + r * cg[0]
+        ax = np.nan_to_num(_local_slope(u_cg, t, 0.5)) - v_cg * r
+    h_hi = vehicle.cg_height_range_m[1] if vehicle.cg_height_range_m else vehicle.cg_height_m
+    for axle in ("front", "rear"):
+        mi = m_ax[axle]
+        if wb is not None:
+            # front: (m a_y l_r + I_z ṙ)/L; rear: (m a_y l_f − I_z ṙ)/L; l_r/L = weight share
+            share = (
+                vehicle.front_weight_fraction
+                if axle == "front"
+                else 1.0 - vehicle.front_weight_fraction
+            )
+            sgn = 1.0 if axle == "front" else -1.0
+            base = m * ay_tot * share
+            iz = vehicle.yaw_inertia
+            f_nom = base + sgn * iz * rdot / wb
+            f_lo = base + sgn * 0.7 * iz * rdot / wb
+            f_hi = base + sgn * 1.3 * iz * rdot / wb
+            crosses = np.sign(f_lo) != np.sign(f_hi)
+            f_min = np.where(crosses, 0.0, np.minimum(np.abs(f_lo), np.abs(f_hi)))
+            dfz = m * ax * vehicle.cg_height_m / wb
+            dfz_hi = m * np.abs(ax) * h_hi / wb
+        else:
+            f_nom = mi * ay_tot
+            f_min = np.abs(f_nom)
+            dfz = np.zeros(t.size)
+            dfz_hi = np.zeros(t.size)
+        fz_nom = mi * G0 + (dfz if axle == "rear" else -dfz)
+        force[axle] = f_nom
+        load[axle] = fz_nom
+        grip[axle] = f_min / (mi * G0 + dfz_hi)
+    # white noise of a_y = U r (+ V̇) per sample, relative to g
+    sig_ay = np.hypot(
+        np.abs(r) * noise.velocity_mps, np.hypot(u_a, v_a) * np.deg2rad(noise.yaw_rate_dps)
+    )
+    return force, load, grip, sig_ay / G0
 
 
 def motion_from_epochs(
@@ -251,6 +359,10 @@ def motion_from_epochs(
             "yaw_rate_rps": r,
             "ay_mps2": np.full(rows.size, np.nan),
             "steer_rad": steer,
+            # the velocity direction and the vehicle's heading (clockwise from north): the
+            # model-free grip differentiates the velocity in the earth frame (_axle_grip)
+            "course_rad": chi,
+            "heading_rad": psi - offset,
         }
     )
     return motion, meta
@@ -334,6 +446,13 @@ def friction_from_motion(
         )
     )
 
+    earth = None
+    if "course_rad" in motion.columns and "heading_rad" in motion.columns:
+        earth = (motion["course_rad"].to_numpy(float), motion["heading_rad"].to_numpy(float))
+    axle_force, axle_load, grip, grip_sig = _axle_grip(
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth
+    )
+
     nz = o.noise
     sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
     sig_r = np.deg2rad(nz.yaw_rate_dps)
@@ -357,7 +476,7 @@ def friction_from_motion(
         fz = (left if wname.endswith("left") else right) + (dfz_x if axle == "rear" else -dfz_x)
         mass = fz / G0
         length = tyre.contact_length(mass)
-        c = tyre.cornering_stiffness(length)
+        c = vehicle.cornering_stiffness(axle, fz)
         force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
         inv = brush.invert(force, alpha, fz, c, pressure=pressure, model=model)
         mu_raw, status, kap = inv["mu"], inv["status"], inv["kappa_beta"]
@@ -414,6 +533,7 @@ def friction_from_motion(
                     "wheel": wname,
                     "speed_mps": spd,
                     "slip_angle_rad": alpha,
+                    "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
                     "radius_m": radius,
                     "mass_kg": mass,
                     "contact_length_m": length,
@@ -431,6 +551,10 @@ def friction_from_motion(
                     "cornering_stiffness_N_per_rad": c,
                     "slip_sigma_rad": sig_alpha_white,
                     "force_sigma_N": force_sigma,
+                    "axle_force_N": axle_force[axle],
+                    "axle_load_N": axle_load[axle],
+                    "grip_used": grip[axle],
+                    "grip_sigma": grip_sig,
                 }
             )
         )

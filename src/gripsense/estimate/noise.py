@@ -1,16 +1,19 @@
-"""Measurement and parameter uncertainty of a friction estimate, and the named receivers.
+"""Measurement and parameter uncertainty of a friction estimate.
 
-:class:`NoiseModel` holds 1σ values; :data:`RECEIVERS` maps the names users give
-(``--receiver v100|rtk``) to noise models.
+:class:`NoiseModel` holds 1σ values; :meth:`NoiseModel.for_vehicle` builds one from a receiver
+(:class:`gripsense.config.Receiver`: ``--receiver v100|white-0.3|rtk|FILE.toml`` or the vehicle
+file's ``[receiver]``) and the vehicle's declared uncertainties.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from gripsense.errors import InputError
+import numpy as np
 
-__all__ = ["RECEIVERS", "NoiseModel", "receiver_noise"]
+from gripsense.config import Receiver, Vehicle, receiver_from
+
+__all__ = ["NoiseModel", "receiver_noise"]
 
 
 @dataclass(frozen=True)
@@ -30,6 +33,15 @@ class NoiseModel:
         slowly varying (multipath) error [deg]; ``axle-window`` treats it as a nuisance
         parameter with this prior. After a short straight-line calibration it is the
         difference of two values of the slow error: √2 × ~0.4° for a V100-class receiver.
+    heading_slow_deg : float
+        The slowly varying heading error itself [deg] (``axle-window``: the offset the
+        calibration leaves, and the drift after it).
+    heading_slow_tau_s : float
+        Correlation time of the slowly varying heading error [s] (``axle-window`` models the
+        slip offset as a Gauss–Markov process with it).
+    slow_error_margin : float
+        Factor on the slow error's drift in ``axle-window`` (real heading errors have heavier
+        tails than a Gaussian process) [-].
     velocity_mps : float
         Each horizontal velocity component [m/s]; gives the course noise σ_v / v and the speed
         noise. 0.05 m/s is a typical Doppler velocity accuracy.
@@ -43,6 +55,9 @@ class NoiseModel:
     load_transfer_rel : float
         Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
         (``axle-window``).
+    steer_scale_rel : float
+        Relative 1σ of the steering channel's scale (the steering ratio is never known
+        exactly and varies with the angle) [-].
     axle_force_rel : float
         Relative model error of the steady-state axle force m_i⁰ a_y (docs/physics.md §4.4) [-]
         (``axle-window``). The relation neglects the yaw moment of the front wheels' forces at
@@ -53,12 +68,61 @@ class NoiseModel:
     heading_deg: float = 0.75
     heading_white_deg: float = 0.3
     heading_bias_deg: float = 0.6
+    heading_slow_deg: float = 0.4
+    heading_slow_tau_s: float = 20.0
+    slow_error_margin: float = 1.5
     velocity_mps: float = 0.05
     yaw_rate_dps: float = 0.3
     tread_stiffness_rel: float = 0.2
     contact_length_rel: float = 0.02
     load_transfer_rel: float = 0.1
     axle_force_rel: float = 0.03
+    steer_scale_rel: float = 0.05
+
+    @classmethod
+    def for_vehicle(
+        cls,
+        vehicle: Vehicle | None,
+        receiver: Receiver | str | None = None,
+    ) -> NoiseModel:
+        """The noise model of a receiver on a vehicle: heading, velocity and yaw-rate noise
+        from the receiver; the stiffness uncertainty from the tyres (the larger of the two
+        axles'); the lateral load-transfer uncertainty from the declared CG-height range (taken
+        as a 90 % interval).
+
+        Parameters
+        ----------
+        vehicle : Vehicle or None
+            Vehicle description (None: defaults).
+        receiver : Receiver or str, optional
+            Receiver, its name or file; default the vehicle file's ``[receiver]``, else
+            ``v100``.
+
+        Returns
+        -------
+        NoiseModel
+            The noise model.
+        """
+        if receiver is None:
+            receiver = vehicle.receiver if vehicle is not None and vehicle.receiver else "v100"
+        rec = receiver_from(receiver)
+        white, slow = rec.heading_white_deg, rec.heading_slow_deg
+        kw = {
+            "heading_deg": float(np.hypot(white, slow)),
+            "heading_white_deg": white,
+            # after calibration on a straight the residual offset is the difference of two
+            # values of the slow error (√2 σ), or the white noise's mean over the lead-in
+            "heading_bias_deg": float(max(np.sqrt(2.0) * slow, 0.05 * white / 0.3, 0.01)),
+            "heading_slow_deg": slow,
+            "velocity_mps": rec.velocity_mps,
+            "yaw_rate_dps": rec.yaw_rate_dps,
+        }
+        if vehicle is not None:
+            kw["tread_stiffness_rel"] = max(t.stiffness_uncertainty for t in vehicle.tyres.values())
+            h = vehicle.cg_height_m
+            lo, hi = vehicle.cg_height_range_m or (0.7 * h, 1.4 * h)
+            kw["load_transfer_rel"] = max((hi - lo) / (2 * 1.645 * h), 0.02)
+        return cls(**kw)
 
     @classmethod
     def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:
@@ -74,32 +138,25 @@ class NoiseModel:
             heading_deg=0.1,
             heading_white_deg=0.05,
             heading_bias_deg=0.1,
+            heading_slow_deg=0.05,
             velocity_mps=0.02,
             yaw_rate_dps=0.1,
             tread_stiffness_rel=tread_stiffness_rel,
         )
 
 
-RECEIVERS = {
-    "v100": NoiseModel,  # Hemisphere V100-class dual-antenna compass: the defaults
-    "rtk": NoiseModel.rtk,  # RTK-class compass with a calibrated tyre
-}
-
-
 def receiver_noise(name: str) -> NoiseModel:
-    """The noise model of a named receiver class.
+    """The noise model of a named receiver class (:data:`gripsense.config.RECEIVERS`) with the
+    default tyre and vehicle uncertainties.
 
     Parameters
     ----------
     name : str
-        A key of :data:`RECEIVERS` (``v100``, ``rtk``).
+        ``v100``, ``white-0.3`` or ``rtk`` (or a receiver TOML file).
 
     Returns
     -------
     NoiseModel
         Its noise model.
     """
-    try:
-        return RECEIVERS[name]()
-    except KeyError:
-        raise InputError(f"receiver {name!r}; use one of {', '.join(RECEIVERS)}") from None
+    return NoiseModel.for_vehicle(None, receiver_from(name))

@@ -49,10 +49,15 @@ ESTIMATE_COLUMNS = [
     "observable",
     "mu",
     "mu_sigma",
-    "mu_lower_bound",
-    "utilisation",
+    "mu_low",
+    "mu_high",
+    "grip_used",
+    "grip_used_lower",
 ]
-"""Columns of :meth:`FrictionResult.estimates` (same for every method)."""
+"""Columns of :meth:`FrictionResult.estimates` (same for every method). Two kinds of number
+(``docs/physics.md`` §14): ``grip_used`` / ``grip_used_lower`` are *measured* (the friction the
+axle used, and its model-free one-sided lower bound: "the data prove μ ≥ …", level road
+assumed); ``mu``, ``mu_sigma``, ``mu_low``, ``mu_high`` are *estimated* under a tyre model."""
 
 UNIT_COLUMNS = [
     "unit",
@@ -61,7 +66,8 @@ UNIT_COLUMNS = [
     "mu_high",
     "surface",
     "observable",
-    "mu_lower_bound",
+    "grip_used",
+    "grip_used_lower",
     "n_valid",
 ]
 """Columns of :meth:`FrictionResult.unit_table` (same for every method)."""
@@ -121,10 +127,11 @@ class FrictionResult:
     def estimates(self) -> pd.DataFrame:
         """One row per estimate (a window or a sample), columns :data:`ESTIMATE_COLUMNS`.
 
-        ``observable`` rows carry ``mu`` and its 1σ ``mu_sigma``; ``mu_lower_bound`` is the
-        estimate's own lower bound where the method gives one per estimate (NaN otherwise, then
-        ``utilisation`` is the friction the sample used); ``epoch`` is the row of the epoch
-        table nearest the estimate's middle.
+        ``observable`` rows carry the estimate ``mu``, its 1σ ``mu_sigma`` and 90 % interval
+        ``mu_low``/``mu_high`` (model-based); every row carries the measured ``grip_used`` and
+        its model-free lower bound ``grip_used_lower`` (per sample: one-sided 95 %; per window:
+        the window's bound); ``epoch`` is the row of the epoch table nearest the estimate's
+        middle.
         """
         raise NotImplementedError
 
@@ -259,6 +266,21 @@ class FrictionResult:
         return read_result(folder)
 
 
+def _proven(rec: dict) -> str:
+    """The model-free statement of a summary row (empty when there is none)."""
+    lo = rec.get("grip_used_lower", np.nan)
+    if lo is None or not np.isfinite(lo) or lo <= 0:
+        return ""
+    return f"; the data prove μ ≥ {lo:.2f} (measured grip, model-free, level road assumed)"
+
+
+def _best(s: pd.DataFrame) -> dict:
+    """The summary row with the highest measured-grip bound."""
+    if "grip_used_lower" not in s or s["grip_used_lower"].isna().all():
+        return {}
+    return s.loc[s["grip_used_lower"].idxmax()].to_dict()
+
+
 def _records(df: pd.DataFrame) -> list[dict]:
     import json
 
@@ -269,8 +291,11 @@ def _records(df: pd.DataFrame) -> list[dict]:
 class WheelFriction(FrictionResult):
     """μ per wheel and sample (the per-sample methods); ``summary`` has one row per wheel:
     ``mu`` (median over valid steady samples), ``mu_low``/``mu_high`` (90 % interval),
-    ``n_valid``/``n_total``, ``surface``, ``mu_lower_bound`` (95th percentile of |F|/Fz over
-    steady cornering samples) and one ``n_<flag>`` column per flag.
+    ``n_valid``/``n_total``, ``surface``, the measured grip of the wheel's axle (``grip_used``,
+    largest bin mean, and ``grip_used_lower``, its model-free bound; see
+    :func:`gripsense.estimate.axle_window.measured_grip`), ``utilisation_p95`` (95th percentile of
+    the wheel's own |F|/Fz, which depends on the load-transfer model) and one ``n_<flag>``
+    column per flag.
     """
 
     unit: ClassVar[str] = "wheel"
@@ -293,22 +318,18 @@ class WheelFriction(FrictionResult):
                     )
                 else:
                     why = f"; {rec['note']}" if rec.get("note") else ""
-                    parts.append(
-                        f"{rec['wheel']}: not observable (μ ≥ {rec['mu_lower_bound']:.2f}{why})"
-                    )
+                    parts.append(f"{rec['wheel']}: not observable{_proven(rec)}{why}")
             return "; ".join(parts)
         if (s["n_valid"] > 0).any():
             frac = float(s["valid_fraction"].max())
-            lb = s["mu_lower_bound"].max()
             return (
                 f"μ not observable: at most {frac:.0%} of the steady cornering samples are "
-                "well-conditioned — a noise-selected tail, not a measurement; the data prove "
-                f"only μ ≥ {lb:.2f}"
+                "well-conditioned — a noise-selected tail, not a measurement"
+                f"{_proven(_best(s))}"
             )
         flags = self.wheels["flag"].value_counts()
         top = flags.index[0] if len(flags) else "none"
-        lb = s["mu_lower_bound"].max()
-        bound = f"; the data prove only μ ≥ {lb:.2f}" if np.isfinite(lb) else ""
+        bound = _proven(_best(s))
         why = {
             "ill_conditioned": "lateral utilisation too low for the slip angle to pin μ down",
             "not_steady": "no steady cornering",
@@ -338,8 +359,12 @@ class WheelFriction(FrictionResult):
                 "observable": ok,
                 "mu": np.where(ok, w["mu"].to_numpy(float), np.nan),
                 "mu_sigma": np.where(ok, w["mu_sigma"].to_numpy(float), np.nan),
-                "mu_lower_bound": np.nan,
-                "utilisation": w["utilisation"].to_numpy(float),
+                "mu_low": np.where(ok, w["mu"] - Z90 * w["mu_sigma"], np.nan),
+                "mu_high": np.where(ok, w["mu"] + Z90 * w["mu_sigma"], np.nan),
+                "grip_used": w["grip_used"].to_numpy(float),
+                "grip_used_lower": np.maximum(
+                    w["grip_used"].to_numpy(float) - Z90 * w["grip_sigma"].to_numpy(float), 0.0
+                ),
             },
             columns=ESTIMATE_COLUMNS,
         )
@@ -368,25 +393,31 @@ class AxleFriction(FrictionResult):
         """One line: what was found, or why nothing was observable."""
         parts = []
         for rec in self.summary.to_dict("records"):
+            ax = f"{rec['axle']} axle"
             if rec.get("n", 0) == 0:
-                parts.append(f"{rec['axle']} axle: no steady cornering")
-            elif rec.get("fit") == "inconsistent":
+                parts.append(f"{ax}: no cornering to analyse")
+                continue
+            proven = _proven(rec)
+            if rec.get("fit") == "inconsistent":
                 parts.append(
-                    f"{rec['axle']} axle: the data contradict the model (heading offset, "
-                    f"vehicle or tyre parameters?) — only μ ≥ {rec['mu_lower_bound']:.2f} "
-                    "(the utilisation) is certain"
+                    f"{ax}: no estimate — the data contradict the tyre model (heading offset, "
+                    f"vehicle or tyre parameters?){proven}"
                 )
             elif rec["observable"]:
                 parts.append(
-                    f"{rec['axle']} axle: μ = {rec['mu']:.2f} [{rec['mu_low']:.2f}, "
-                    f"{rec['mu_high']:.2f}] ({rec['surface']})"
+                    f"{ax}: μ ≈ {rec['mu']:.2f} [{rec['mu_low']:.2f}, {rec['mu_high']:.2f}] "
+                    f"(estimate, 90 %, tyre-shape uncertainty included; {rec['surface']})"
+                    f"{proven}"
                 )
             else:
-                hi = "" if not np.isfinite(rec["mu_high"]) else f" ≤ {rec['mu_high']:.2f}"
-                parts.append(
-                    f"{rec['axle']} axle: μ not observable — the data prove μ ≥ "
-                    f"{rec['mu_lower_bound']:.2f}{hi} (utilisation {rec['utilisation']:.2f})"
+                hi = rec.get("mu_high", np.nan)
+                est = (
+                    f"; estimate μ ≤ {hi:.2f} (90 %)"
+                    if np.isfinite(hi) and hi > rec.get("grip_used_lower", 0)
+                    else ""
                 )
+                why = rec.get("limited_by") or "not enough near-limit data"
+                parts.append(f"{ax}: no value ({why}){proven}{est}")
         return "; ".join(parts)
 
     def estimates(self) -> pd.DataFrame:
@@ -399,7 +430,8 @@ class AxleFriction(FrictionResult):
         te, ee = ep["t_s"].to_numpy(float), ep["epoch"].to_numpy(int)
         idx = np.clip(np.searchsorted(te, mid), 0, max(len(te) - 1, 0))
         obs = w["observable"].to_numpy(bool)
-        sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * Z90)
+        with np.errstate(invalid="ignore"):
+            sig = (w["mu_high"].to_numpy(float) - w["mu_low"].to_numpy(float)) / (2 * Z90)
         return pd.DataFrame(
             {
                 "unit": w["axle"].astype(str).to_numpy(),
@@ -409,8 +441,10 @@ class AxleFriction(FrictionResult):
                 "observable": obs,
                 "mu": np.where(obs, w["mu"].to_numpy(float), np.nan),
                 "mu_sigma": np.where(obs, sig, np.nan),
-                "mu_lower_bound": w["mu_lower_bound"].to_numpy(float),
-                "utilisation": w["utilisation"].to_numpy(float),
+                "mu_low": w["mu_low"].to_numpy(float),
+                "mu_high": w["mu_high"].to_numpy(float),
+                "grip_used": w["grip_used"].to_numpy(float),
+                "grip_used_lower": w["grip_used_lower"].to_numpy(float),
             },
             columns=ESTIMATE_COLUMNS,
         )
@@ -428,7 +462,11 @@ RESULT_TYPES: dict[str, type[FrictionResult]] = {
 """Result class per ``unit`` (recorded in a result folder's manifest)."""
 
 
-def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> pd.DataFrame:
+def summarize_wheels(
+    wheels: pd.DataFrame,
+    min_valid_fraction: float = 0.5,
+    measured: pd.DataFrame | None = None,
+) -> pd.DataFrame:
     """Per-wheel summary of a wheel table (see :class:`WheelFriction`).
 
     The interval is the median of the valid samples' own 90 % intervals (μ ± 1.645 σ_μ), not a
@@ -443,6 +481,8 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
         Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
     min_valid_fraction : float
         Fewest valid samples, as a fraction of the steady cornering ones, for a value [-].
+    measured : pandas.DataFrame, optional
+        Measured grip per axle (:func:`gripsense.estimate.axle_window.measured_grip`).
 
     Returns
     -------
@@ -460,9 +500,18 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
         n_corner = int(cornering.sum())
         rec["valid_fraction"] = float(ok.sum() / n_corner) if n_corner else 0.0
         rec["observable"] = bool(ok.any() and rec["valid_fraction"] >= min_valid_fraction)
-        rec["mu_lower_bound"] = float(util.quantile(0.95)) if len(util) else np.nan
+        rec["utilisation_p95"] = float(util.quantile(0.95)) if len(util) else np.nan
+        axle = str(wname).split("_")[0]
+        grip = (
+            measured.set_index("axle").reindex([axle]).iloc[0]
+            if measured is not None and len(measured)
+            else {}
+        )
+        rec["grip_used"] = float(grip.get("grip_used", np.nan))
+        rec["grip_used_lower"] = float(grip.get("grip_used_lower", np.nan))
         rec["note"] = ""
-        if rec["observable"] and float(mu.median()) < rec["mu_lower_bound"]:
+        lower = rec["grip_used_lower"]
+        if rec["observable"] and np.isfinite(lower) and float(mu.median()) < lower:
             # a value below what the same data prove contradicts itself: not a measurement
             rec["observable"] = False
             rec["note"] = "value below the bound the data prove: model inconsistent"
@@ -492,7 +541,9 @@ def summarize_wheels(wheels: pd.DataFrame, min_valid_fraction: float = 0.5) -> p
         "n_valid",
         "n_total",
         "valid_fraction",
-        "mu_lower_bound",
+        "grip_used",
+        "grip_used_lower",
+        "utilisation_p95",
         "note",
         *[f"n_{f}" for f in FLAGS],
     ]
@@ -559,7 +610,7 @@ def read_result(folder: str | Path) -> FrictionResult:
 
 def _summary_frame(records: list[dict]) -> pd.DataFrame:
     s = pd.DataFrame(records)
-    for col in ("mu", "mu_low", "mu_high", "mu_lower_bound"):
+    for col in ("mu", "mu_low", "mu_high", "grip_used", "grip_used_lower"):
         if col in s:
             s[col] = pd.to_numeric(s[col], errors="coerce").astype(float)
     return s

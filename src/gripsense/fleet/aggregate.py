@@ -20,7 +20,8 @@ CELL_COLUMNS = [
     "mu_sigma",
     "mu_low",
     "mu_high",
-    "mu_lower_bound",
+    "grip_used",
+    "grip_used_lower",
     "status",
     "surface",
     "n_estimates",
@@ -36,9 +37,13 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
 
     Within one pass (log) the overlapping windows share their errors, so they are averaged by
     inverse variance but keep the pass's median σ; passes are independent and are combined by
-    inverse variance (σ = (Σ 1/σ_p²)^(−½)). The lower bound is the largest bound proven by any
-    estimate (a bound holds whatever the others say). Also counts of estimates, vehicles and
+    inverse variance (σ = (Σ 1/σ_p²)^(−½)). Also counts of estimates, vehicles and
     passes (logs), and the last update.
+
+    Two kinds of number (``docs/physics.md`` §14): ``mu``/``mu_sigma``/``mu_low``/``mu_high``
+    are the model-based estimate; ``grip_used`` (the largest measured grip) and
+    ``grip_used_lower`` (the largest model-free bound: "the data prove μ ≥ …", a bound holds
+    whatever the others say) are measured.
 
     Parameters
     ----------
@@ -50,7 +55,8 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     Returns
     -------
     pandas.DataFrame
-        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, mu_lower_bound, status, surface,
+        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, grip_used, grip_used_lower, status,
+        surface,
         n_estimates, n_rows, n_vehicles, n_passes, last_update``.
     """
     import duckdb
@@ -73,7 +79,8 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
                      / SUM(1 / (mu_sigma * mu_sigma)) FILTER (WHERE observable AND mu_sigma > 0)
                      AS mu_p,
                    MEDIAN(mu_sigma) FILTER (WHERE observable AND mu_sigma > 0) AS sigma_p,
-                   MAX(mu_lower_bound) AS bound_p,
+                   MAX(grip_used_lower) AS bound_p,
+                   MAX(grip_used) AS grip_p,
                    COUNT(*) FILTER (WHERE observable) AS n_est,
                    COUNT(*) AS n_rows,
                    MAX(time_utc) AS last_t
@@ -82,7 +89,8 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
         SELECT cell, bucket,
                SUM(mu_p / (sigma_p * sigma_p)) / SUM(1 / (sigma_p * sigma_p)) AS mu,
                1 / sqrt(SUM(1 / (sigma_p * sigma_p))) AS mu_sigma,
-               MAX(bound_p) AS mu_lower_bound,
+               MAX(grip_p) AS grip_used,
+               MAX(bound_p) AS grip_used_lower,
                SUM(n_est) AS n_estimates,
                SUM(n_rows) AS n_rows,
                COUNT(DISTINCT vehicle) AS n_vehicles,
@@ -99,7 +107,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     df["mu_high"] = df["mu"] + Z90 * df["mu_sigma"]
     has = df["mu"].notna()
     df["status"] = np.where(
-        has, "estimate", np.where(df["mu_lower_bound"].notna(), "lower bound only", "no data")
+        has, "estimate", np.where(df["grip_used_lower"].notna(), "measured grip only", "no data")
     )
     df["surface"] = [
         surface_class_interval(lo, hi) if h else "undetermined"

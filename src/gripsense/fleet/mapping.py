@@ -54,10 +54,11 @@ const layer = L.geoJSON(cells, {{
     const p = f.properties;
     l.bindPopup(
       `<b>cell ${{p.cell}}</b><br>` +
-      (p.mu === null ? `μ not observable<br>lower bound ≥ ${{fmt(p.mu_lower_bound, 2)}}`
-                     : `μ = ${{fmt(p.mu, 2)}} [${{fmt(p.mu_low, 2)}}, ${{fmt(p.mu_high, 2)}}]` +
-                       `<br>surface ${{p.surface}}` +
-                       `<br>lower bound ≥ ${{fmt(p.mu_lower_bound, 2)}}`) +
+      (p.mu === null ? `no μ estimate`
+                     : `estimate μ ≈ ${{fmt(p.mu, 2)}} [${{fmt(p.mu_low, 2)}}, ` +
+                       `${{fmt(p.mu_high, 2)}}] (90 %, tyre model)<br>surface ${{p.surface}}`) +
+      `<br>measured: the data prove μ ≥ ${{fmt(p.grip_used_lower, 2)}} ` +
+      `(model-free, level road)` +
       `<br>${{p.n_estimates}} estimates, ${{p.n_vehicles}} vehicles, ${{p.n_passes}} passes` +
       `<br>last update ${{p.last_update}}`);
   }}
@@ -72,7 +73,8 @@ legend.onAdd = () => {{
     h += `<span class="swatch" style="background:${{colours[b[0]]}}"></span>` +
          `${{b[0]}} (μ ≥ ${{b[1]}})<br>`;
   }}
-  h += '<span class="swatch" style="background:#888888;opacity:.5"></span>only a lower bound<br>';
+  h += '<span class="swatch" style="background:#888888;opacity:.5"></span>' +
+       'measured grip only (no estimate)<br>';
   h += '<label><input type="checkbox" id="tiles"> background map (needs network)</label>';
   d.innerHTML = h;
   L.DomEvent.disableClickPropagation(d);

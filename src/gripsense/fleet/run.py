@@ -121,7 +121,7 @@ def run_fleet(
     vehicle: str | Path | None = None,
     vehicle_map: str | Path | None = None,
     method: str = "axle-window",
-    receiver: str = "v100",
+    receiver: str | None = None,
     h3_res: int = 11,
     bucket: str = "1 hour",
     since: str | None = None,
@@ -148,9 +148,9 @@ def run_fleet(
         One vehicle TOML for all logs, and/or a CSV mapping log patterns to vehicles.
     method : str
         Friction method (default ``axle-window``: calibrated intervals and bounds).
-    receiver : {"v100", "rtk"}
-        Noise model of the fleet's compasses (:class:`gripsense.estimate.friction.NoiseModel`
-        default or ``.rtk()``).
+    receiver : str, optional
+        The fleet's compasses: ``v100``, ``white-0.3``, ``rtk`` or a TOML file with a
+        ``[receiver]`` table (default: each vehicle file's ``[receiver]``, else ``v100``).
     h3_res : int
         H3 resolution (11: ~25 m cells).
     bucket : str
@@ -172,8 +172,10 @@ def run_fleet(
     command : str
         Command line recorded in the manifest.
     """
-    if receiver not in ("v100", "rtk"):
-        raise InputError(f"receiver={receiver!r}; use v100 or rtk")
+    if receiver is not None:
+        from gripsense.config import receiver_from
+
+        receiver_from(receiver)  # a bad name or file fails here, before any work
     outdir = Path(outdir)
     logs = expand_logs(list(patterns))
     if not logs:

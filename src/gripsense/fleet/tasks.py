@@ -2,12 +2,13 @@
 
 Rows (one per estimate; schema :data:`ROW_COLUMNS`):
 
-* ``axle-window`` (default, the calibrated estimator): one row per axle window — μ and its
-  1σ from the 90 % interval when observable, the window's lower bound (calibrated: "bound ok"
-  ≥ 99 % in the accuracy benchmark) always; placed at the epoch nearest the window's middle;
+* ``axle-window`` (default): one row per axle window — the estimate μ, its 1σ and 90 %
+  interval when observable (model-based), and always the measured grip and its model-free lower
+  bound ``grip_used_lower`` (one-sided 99 % per window, level road assumed); placed at the epoch
+  nearest the window's middle;
 * per-sample methods (``brush-2`` …): one row per valid wheel sample (μ, σ_μ), plus per log and
-  cell one bound row = the 95th percentile of the steady cornering utilisation (noisier than a
-  window bound).
+  cell one measured-grip row: ``grip_used`` the 95th percentile of the axle's measured grip over
+  the cell's cornering samples, ``grip_used_lower`` that minus 3 × the samples' median 1σ.
 
 A log that cannot be read or analysed never fails the batch: it is returned as a problem with
 its reason.
@@ -38,8 +39,10 @@ ROW_COLUMNS = [
     "observable",
     "mu",
     "mu_sigma",
-    "mu_lower_bound",
-    "utilisation",
+    "mu_low",
+    "mu_high",
+    "grip_used",
+    "grip_used_lower",
 ]
 
 
@@ -60,7 +63,7 @@ def process_log(
     method: str = "axle-window",
     h3_res: int = 11,
     since: pd.Timestamp | None = None,
-    receiver: str = "v100",
+    receiver: str | None = None,
 ) -> pd.DataFrame:
     """Rows of one log (schema :data:`ROW_COLUMNS`).
 
@@ -78,8 +81,9 @@ def process_log(
         H3 resolution of the cells.
     since : pandas.Timestamp, optional
         Epochs before it are ignored.
-    receiver : str
-        Receiver class (:data:`gripsense.estimate.noise.RECEIVERS`).
+    receiver : str, optional
+        Receiver class or file (:func:`gripsense.config.receiver_from`); default the vehicle
+        file's ``[receiver]``, else ``v100``.
 
     Returns
     -------
@@ -95,7 +99,7 @@ def process_log(
     """
     from gripsense.pipeline import FrictionRun
 
-    res = FrictionRun(vehicle, method=method, noise=receiver).run_log(path, since=since)
+    res = FrictionRun(vehicle, method=method, receiver=receiver).run_log(path, since=since)
     ep = res.epochs
     if ep.empty:
         return pd.DataFrame(columns=ROW_COLUMNS)
@@ -110,23 +114,36 @@ def process_log(
         lon_deg=ep["lon_deg"].to_numpy(float)[e],
     )
     rows["cell"] = _cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), h3_res)
-    own = rows["observable"].to_numpy(bool) | np.isfinite(rows["mu_lower_bound"].to_numpy(float))
-    unbound = rows[~np.isfinite(rows["mu_lower_bound"].to_numpy(float))]
+    per_window = method == "axle-window"
+    own = rows["observable"].to_numpy(bool) | per_window
     parts = [rows[own]]
-    if len(unbound) and unbound["cell"].notna().any():
+    samples = rows[~rows["observable"].to_numpy(bool)] if not per_window else rows.iloc[:0]
+    if len(samples) and samples["cell"].notna().any():
+        sig = res.wheels.groupby("epoch")["grip_sigma"].median()
+        samples = samples.assign(grip_sigma=sig.reindex(est["epoch"]).to_numpy()[~own])
         b = (
-            unbound.groupby("cell")
+            samples.groupby("cell")
             .agg(
                 time_utc=("time_utc", "max"),
                 t_s=("t_s", "max"),
                 lat_deg=("lat_deg", "mean"),
                 lon_deg=("lon_deg", "mean"),
-                utilisation=("utilisation", "median"),
-                mu_lower_bound=("utilisation", lambda u: float(np.quantile(u, 0.95))),
+                grip_used=("grip_used", lambda u: float(np.quantile(u, 0.95))),
+                grip_sigma=("grip_sigma", "median"),
             )
             .reset_index()
         )
-        parts.append(b.assign(unit="all", observable=False, mu=np.nan, mu_sigma=np.nan))
+        b["grip_used_lower"] = np.maximum(b["grip_used"] - 3.0 * b["grip_sigma"], 0.0)
+        parts.append(
+            b.drop(columns="grip_sigma").assign(
+                unit="all",
+                observable=False,
+                mu=np.nan,
+                mu_sigma=np.nan,
+                mu_low=np.nan,
+                mu_high=np.nan,
+            )
+        )
     rows = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     rows = rows.assign(vehicle=vehicle_id, log=Path(path).name)
     rows = rows[rows["cell"].notna()]
@@ -140,7 +157,7 @@ def process_batch(
     method: str,
     h3_res: int,
     since: str | None,
-    receiver: str = "v100",
+    receiver: str | None = None,
 ) -> list[dict]:
     """Process ``(log path, vehicle toml, vehicle id)`` items; write
     ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log.

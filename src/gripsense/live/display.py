@@ -49,7 +49,14 @@ def render(summary, stats, ingest, source):
         f"{rejected} rejected, {len(stats.gaps)} gaps",
     )
     t = Table(expand=False)
-    for c in ("unit", "μ", "90 % interval", "surface", "lower bound", "n valid"):
+    for c in (
+        "unit",
+        "μ estimate",
+        "90 % interval",
+        "surface",
+        "measured: data prove μ ≥",
+        "n valid",
+    ):
         t.add_column(c, justify="right")
     if summary is None or len(summary) == 0:
         t.add_row("–", "no steady cornering yet", "", "", "", "")
@@ -63,12 +70,12 @@ def render(summary, stats, ingest, source):
                     str(r.get("surface", "")),
                 )
             else:
-                cells = ("not observable", "", str(r.get("surface", "undetermined")))
-            lb = r.get("mu_lower_bound", np.nan)
+                cells = ("no value", "", str(r.get("surface", "undetermined")))
+            lb = r.get("grip_used_lower", np.nan)
             t.add_row(
                 str(r.get("unit")),
                 *cells,
-                f"≥ {lb:.2f}" if np.isfinite(lb) else "",
+                f"{lb:.2f}" if np.isfinite(lb) else "",
                 str(r.get("n_valid", "")),
             )
     return Group(head, t)

@@ -50,10 +50,10 @@ class LiveFriction:
     the same recent data.
     """
 
-    def __init__(self, vehicle, method: str = "brush-2", window_s: float = 30.0):
+    def __init__(self, vehicle, method: str = "axle-window", window_s: float = 30.0, receiver=None):
         from gripsense.pipeline import FrictionRun
 
-        self.run = FrictionRun(vehicle, method=method)
+        self.run = FrictionRun(vehicle, method=method, receiver=receiver)
         self.window_s = float(window_s)
         self._epochs: deque[pd.DataFrame] = deque()
         self.last_t: float = float("nan")
@@ -319,7 +319,8 @@ def run_live(
     source,
     vehicle,
     *,
-    method: str = "brush-2",
+    method: str = "axle-window",
+    receiver=None,
     output: str | Path | None = None,
     window_s: float = 30.0,
     update_s: float = 0.25,
@@ -339,6 +340,8 @@ def run_live(
     vehicle : Vehicle or path
     method : str
         Friction method (``gripsense friction --method``).
+    receiver : str or Path or Receiver, optional
+        The receiver (``gripsense friction --receiver``).
     output : path, optional
         Results file (.csv or .parquet); raw bytes go to ``<output>.raw.nmea`` next to it.
     window_s, update_s, flush_s, stale_s : float
@@ -361,7 +364,7 @@ def run_live(
         ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``.
     """
     ingest = LiveIngest(source=getattr(source, "name", "<live>"))
-    est = LiveFriction(vehicle, method, window_s)
+    est = LiveFriction(vehicle, method, window_s, receiver=receiver)
     rec = Recorder(
         output,
         flush_s,

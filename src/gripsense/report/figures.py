@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from gripsense.constants import G0, Z90
+from gripsense.constants import Z90
 from gripsense.estimate.friction import NOT_STEADY_CORNERING
 from gripsense.physics.surface import SURFACE_BANDS
 
@@ -223,9 +223,10 @@ def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
 
 
 def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None) -> Figure:
-    """μ with its 90 % interval vs lateral utilisation |a_y|/g — where μ is observable.
+    """Estimated μ with its 90 % interval vs the measured grip — where μ is observable.
 
-    Values where the method gives one; elsewhere the lower bound the data prove (grey). With
+    Estimates (model-based) where the method gives one; everywhere the measured grip's
+    model-free lower bound (grey triangles: what the data prove without a tyre model). With
     ``axle-window`` windows, one point per window.
 
     Parameters
@@ -237,9 +238,9 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
     """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
-    ax.plot([0, 1.5], [0, 1.5], color="0.5", lw=0.8, ls="--", label="μ = |a_y|/g (bound)")
+    ax.plot([0, 1.5], [0, 1.5], color="0.5", lw=0.8, ls="--", label="μ = measured grip")
     if windows is not None and len(windows):
-        ay = windows["utilisation"]
+        ay = windows["grip_used"]
         ok = windows["observable"].astype(bool)
         ax.errorbar(
             ay[ok],
@@ -250,20 +251,20 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
             ],
             fmt="o",
             ms=3,
-            label="axle-window value, 90 % interval",
+            label="estimate μ (tyre model), 90 % interval",
         )
         ax.plot(
-            ay[~ok],
-            windows.loc[~ok, "mu_lower_bound"],
+            ay,
+            windows["grip_used_lower"],
             "v",
             color="0.5",
             ms=3,
-            label="not observable: lower bound",
+            label="measured: the data prove μ ≥ (model-free)",
         )
     else:
         c = wheels[~wheels["flag"].isin(NOT_STEADY_CORNERING)]
         ok = c["flag"] == "ok"
-        ay = c["lateral_accel_mps2"].abs() / G0
+        ay = c["grip_used"]
         ax.errorbar(
             ay[ok],
             c.loc[ok, "mu"],
@@ -275,19 +276,19 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
             label="valid μ ± 90 %",
         )
         ax.plot(
-            ay[~ok],
-            c.loc[~ok, "utilisation"],
+            ay,
+            (c["grip_used"] - Z90 * c["grip_sigma"]).clip(lower=0),
             "v",
             color="0.5",
             ms=2,
             alpha=0.5,
-            label="not valid: |F|/Fz (lower bound)",
+            label="measured: the data prove μ ≥ (model-free)",
         )
     ax.set_xlim(0, max(1.0, ax.get_xlim()[1]))
     ax.set_ylim(0, 1.5)
-    ax.set_xlabel("|a_y| / g")
+    ax.set_xlabel("measured grip of the axle |F_axle| / Fz_axle")
     ax.set_ylabel("μ")
-    ax.set_title("μ vs lateral utilisation: μ is observable only near the limit")
+    ax.set_title("estimated μ vs measured grip: μ is observable only near the limit")
     ax.legend(fontsize=7, loc="upper left")
     fig.tight_layout()
     return fig

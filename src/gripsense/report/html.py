@@ -279,8 +279,11 @@ def render_report(
                 "n_valid",
                 "n",
                 "n_total",
-                "utilisation",
-                "mu_lower_bound",
+                "grip_used",
+                "grip_used_lower",
+                "fit",
+                "shape",
+                "limited_by",
                 "stiffness_scale",
             )
             if c in s.columns

@@ -3,8 +3,9 @@
 from gripsense.sim.gnss import CompassLog, CompassNoise, emulate_compass
 from gripsense.sim.maneuvers import Maneuver
 from gripsense.sim.scenario import run_scenario
-from gripsense.sim.sensors import emulate_accelerometer
+from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
 from gripsense.sim.steering import descriptor, simulate_release, simulate_step
+from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams, SimResult, simulate
 
 __all__ = [
@@ -13,9 +14,12 @@ __all__ = [
     "Maneuver",
     "SimParams",
     "SimResult",
+    "SimTyre",
     "descriptor",
     "emulate_accelerometer",
     "emulate_compass",
+    "emulate_steering",
+    "load_sim_tyre",
     "run_scenario",
     "simulate",
     "simulate_release",

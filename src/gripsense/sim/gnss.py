@@ -35,6 +35,7 @@ KNOT = 1852.0 / 3600.0
 DEFAULT_ORIGIN = (33.6200, 133.7195, 10.0)
 DEFAULT_START = dt.datetime(2018, 2, 8, 4, 0, 0, tzinfo=dt.UTC)
 SENTENCES = ("HDT", "GGA", "VTG", "RMC", "ROT", "HPR")
+RECEIVER_PRESETS = ("v100", "white-0.3", "rtk", "none")
 
 
 @dataclass(frozen=True)
@@ -105,6 +106,28 @@ class CompassNoise:
             rot_dps=0.1,
             mounting_offset_deg=mounting_offset_deg,
         )
+
+    @classmethod
+    def preset(cls, name: str, mounting_offset_deg: float = 0.5) -> CompassNoise:
+        """A named receiver class: ``v100`` (the defaults), ``white-0.3`` (0.3° white heading
+        noise, no slow error), ``rtk`` (:meth:`rtk`) or ``none`` (:meth:`none`).
+
+        Parameters
+        ----------
+        name : str
+            The class.
+        mounting_offset_deg : float
+            Mounting offset [deg].
+        """
+        if name == "v100":
+            return cls(mounting_offset_deg=mounting_offset_deg)
+        if name == "white-0.3":
+            return cls(heading_gm_deg=0.0, mounting_offset_deg=mounting_offset_deg)
+        if name == "rtk":
+            return cls.rtk(mounting_offset_deg)
+        if name == "none":
+            return cls.none(mounting_offset_deg)
+        raise ValueError(f"receiver {name!r}; use one of {', '.join(RECEIVER_PRESETS)}")
 
     def scaled(self, k: float) -> CompassNoise:
         """All random terms multiplied by *k* (latency and mounting offset kept).

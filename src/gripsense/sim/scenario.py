@@ -8,6 +8,9 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
     seed = 1
     drive = "front"                 # front | rear | all
     relaxation_length_m = 0.0       # first-order tyre lag (0: none)
+    tyre = "brush"                  # or a .tir / PAC89 .json path (next to the scenario or
+                                    # bundled: "PacejkaBook_Defaults.tir"), or per axle:
+                                    # { front = "brush", rear = "Sedan_Pac02Tire.tir" }
 
     [road]
     mu = 0.9                        # outside the patches
@@ -15,8 +18,14 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
 
     [gnss]
     rate_hz = 10
-    noise = "v100"                  # or "none"; single terms may be overridden below
-    mounting_offset_deg = 0.5
+    noise = "v100"                  # v100 | white-0.3 | rtk | none; single terms may be
+    mounting_offset_deg = 0.5       # overridden here
+
+    [steering]                      # optional: a road-wheel angle channel <id>_steer.csv
+    rate_hz = 50
+    noise_deg = 0.05                # white noise, 1 σ
+    scale_error = 0.03              # the channel reads (1 + scale_error) × the true angle
+    offset_deg = 0.0
 
     [accelerometer]                 # optional: 50 Hz CSV for the braking test
     rate_hz = 50
@@ -32,13 +41,20 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
     maneuver = "circle"
     speed_kmh = [20, 30, 40, 50]
     radius_m = [20, 30, 40]
-    mu = [0.9, 0.5]                 # optional: the road μ as a grid dimension
+    mu = [0.9, 0.5]                 # optional: the road μ as a grid dimension, and
+    tyre = ["brush", "PacejkaBook_Defaults.tir"]   # the tyre and
+    receiver = ["v100", "rtk"]      # the receiver class (overrides [gnss] noise)
     laps = 2
 
-Output folder: ``vehicle.toml`` (the vehicle used), ``cases.csv`` (one row per case with its
-parameters, road μ and file names), and per case ``<id>.nmea.gz`` (the emulated receiver),
-``<id>_truth.parquet`` (per epoch and wheel: true μ, slip angle, load, lateral force) and, with
-``[accelerometer]``, ``<id>_accel.csv``.
+Output folder: ``vehicle.toml`` (the vehicle used), for cases with tyres from files
+``vehicle_<tyre>.toml`` (the vehicle file a user would write for them: the tyre's cornering
+stiffness at the static load instead of the brush parameters, :func:`gripsense.sim.drives.
+user_vehicle_toml`), ``cases.csv`` (one row per case with its parameters, road μ, receiver,
+the vehicle file to estimate with and file names), and per case ``<id>.nmea.gz`` (the emulated
+receiver),
+``<id>_truth.parquet`` (per epoch and wheel: true μ — the wheel's peak friction at its load and
+inclination —, road μ, inclination, slip angle, load, lateral force), with ``[accelerometer]``
+``<id>_accel.csv`` and with ``[steering]`` ``<id>_steer.csv``.
 """
 
 from __future__ import annotations
@@ -57,14 +73,17 @@ from gripsense.errors import InputError
 from gripsense.io.results import ResultWriter
 from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
-from gripsense.sim.gnss import CompassNoise, emulate_compass
-from gripsense.sim.sensors import emulate_accelerometer
+from gripsense.sim.gnss import RECEIVER_PRESETS, CompassNoise, emulate_compass
+from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
+from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams
 
 __all__ = ["run_scenario"]
 
-SCENARIO_TABLES = ("scenario", "road", "gnss", "accelerometer", "case", "grid")
+SCENARIO_TABLES = ("scenario", "road", "gnss", "accelerometer", "steering", "case", "grid")
 ACCEL_KEYS = ("rate_hz", "pitch_deg", "roll_deg", "noise_g")
+STEER_KEYS = ("rate_hz", "noise_deg", "scale_error", "offset_deg")
+CASE_KEYS = ("maneuver", "mu", "name", "tyre", "receiver")  # besides the manoeuvre's own
 
 _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
     "circle": (
@@ -116,7 +135,7 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
     builder, keys = _ARGS[kind]
     kw = {}
     for k, v in spec.items():
-        if k in ("maneuver", "mu", "name"):
+        if k in CASE_KEYS:
             continue
         if k not in keys:
             _fail(src, where, f"unknown key {k!r} for {kind}; known: {sorted(keys)}")
@@ -168,22 +187,11 @@ def run_scenario(
     r = TomlReader(doc, src)
     r.known(doc, "", SCENARIO_TABLES)
     sc = r.table("scenario", required=True)
-    r.known(sc, "scenario", ("name", "vehicle", "seed", "drive", "relaxation_length_m"))
+    r.known(sc, "scenario", ("name", "vehicle", "seed", "drive", "relaxation_length_m", "tyre"))
     vref = sc.get("vehicle")
     if not vref:
         _fail(src, "[scenario] vehicle", "missing (a vehicle TOML path or bundled name)")
-    vpath = path.parent / vref
-    if not vpath.exists():
-        from gripsense.data import sample_path
-
-        try:
-            vpath = sample_path(vref)
-        except FileNotFoundError:
-            _fail(
-                src,
-                "[scenario] vehicle",
-                f"{vref!r} is neither a file next to the scenario nor a bundled vehicle",
-            )
+    vpath = _resolve(path, vref, "", src, "[scenario] vehicle", "vehicle")
     vehicle = Vehicle.from_toml(vpath)
     if vehicle.cg_offset is None:
         _fail(
@@ -192,11 +200,11 @@ def run_scenario(
             f"{vpath.name} needs [antenna] x_m, y_m (the antenna "
             "position relative to the CG) to emulate the receiver",
         )
-    params = SimParams.from_vehicle(
-        vehicle,
-        drive=sc.get("drive", "front"),
-        relaxation_length_m=float(sc.get("relaxation_length_m", 0)),
-    )
+    sim_kw = {
+        "drive": sc.get("drive"),
+        "relaxation_length_m": float(sc.get("relaxation_length_m", 0)),
+    }
+    default_tyre = sc.get("tyre", "brush")
     seed = int(sc.get("seed", 0))
     road = r.table("road", required=False)
     r.known(road, "road", ("mu", "patches"))
@@ -210,16 +218,16 @@ def run_scenario(
         patches.append((x0, x1, y0, y1, mu))
     g = r.table("gnss", required=False)
     r.known(g, "gnss", ("rate_hz", "noise", *(f.name for f in fields(CompassNoise))))
-    base = CompassNoise.none() if g.get("noise", "v100") == "none" else CompassNoise()
     names = {f.name for f in fields(CompassNoise)}
     over = {k: float(v) for k, v in g.items() if k in names}
-    noise = CompassNoise(
-        **{**{f.name: getattr(base, f.name) for f in fields(CompassNoise)}, **over}
-    )
+    default_receiver = g.get("noise", "v100")
     rate = float(g.get("rate_hz", 10.0))
     acc = doc.get("accelerometer")
     if acc is not None:
         r.known(r.table("accelerometer", required=False), "accelerometer", ACCEL_KEYS)
+    steer = doc.get("steering")
+    if steer is not None:
+        r.known(r.table("steering", required=False), "steering", STEER_KEYS)
 
     specs: list[tuple[dict, float]] = []
     for c in doc.get("case", []):
@@ -235,28 +243,83 @@ def run_scenario(
     if not specs:
         _fail(src, "[[case]] / [[grid]]", "no case to simulate")
 
-    maneuvers = [_maneuver(spec, src, f"case {i + 1}", params) for i, (spec, _) in enumerate(specs)]
+    tyre_cache: dict = {}
+    setups = []
+    for i, (spec, _) in enumerate(specs):
+        where = f"case {i + 1}"
+        tyres = _tyres(path, spec.get("tyre", default_tyre), src, where, tyre_cache)
+        params = SimParams.from_vehicle(vehicle, sim_tyres=tyres, **sim_kw)
+        rec = spec.get("receiver", default_receiver)
+        if rec not in RECEIVER_PRESETS:
+            _fail(src, where, f"receiver = {rec!r}; use one of {', '.join(RECEIVER_PRESETS)}")
+        base = CompassNoise.preset(rec)
+        noise = CompassNoise(**{**{f.name: getattr(base, f.name) for f in fields(CompassNoise)}})
+        if "receiver" not in spec:
+            noise = CompassNoise(**{**noise.__dict__, **over})
+        setups.append((params, _maneuver(spec, src, where, params), noise, rec))
+    inputs = [path, vpath, *(t for t in tyre_cache if isinstance(t, Path))]
     with ResultWriter(
-        outdir, "simulation", overwrite=overwrite, command=command, inputs=[path, vpath]
+        outdir, "simulation", overwrite=overwrite, command=command, inputs=inputs
     ) as out:
         return _simulate_cases(
-            out, specs, maneuvers, params, vehicle, vpath, patches, noise, rate, acc, seed, progress
+            out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress
         )
 
 
-def _simulate_cases(
-    out, specs, maneuvers, params, vehicle, vpath, patches, noise, rate, acc, seed, progress
-):
+def _resolve(base: Path, ref: str, bundled_dir: str, src: str, where: str, what: str) -> Path:
+    """A file named in a scenario: next to the scenario file, else a bundled one."""
+    p = base.parent / ref
+    if p.exists():
+        return p
+    from gripsense.data import sample_path
+
+    try:
+        return sample_path(f"{bundled_dir}{ref}")
+    except FileNotFoundError:
+        _fail(src, where, f"{ref!r} is neither a file next to the scenario nor a bundled {what}")
+        raise
+
+
+def _tyres(base: Path, spec, src: str, where: str, cache: dict) -> dict[str, SimTyre]:
+    """Axle → tabulated tyre for the axles that do not use the brush tyre."""
+    per_axle = spec if isinstance(spec, dict) else {"front": spec, "rear": spec}
+    unknown = set(per_axle) - {"front", "rear"}
+    if unknown:
+        _fail(src, f"{where}: tyre", f"unknown axle {sorted(unknown)}; use front and rear")
+    out = {}
+    for axle, ref in per_axle.items():
+        if not isinstance(ref, str):
+            _fail(src, f"{where}: tyre", f'{ref!r}: use "brush" or a .tir / .json path')
+        if ref == "brush":
+            continue
+        p = _resolve(base, ref, "tyres/", src, f"{where}: tyre", "tyre file")
+        if p not in cache:
+            cache[p] = load_sim_tyre(p)
+        out[axle] = cache[p]
+    return out
+
+
+def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress):
     shutil.copyfile(vpath, out / "vehicle.toml")
     antenna = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     rows = []
-    for i, ((spec, mu), m) in enumerate(zip(specs, maneuvers, strict=True)):
+    user_files: dict = {}
+    for i, ((spec, mu), (params, m, noise, rec)) in enumerate(zip(specs, setups, strict=True)):
         cid = f"case{i + 1:03d}"
         if progress:
             progress(i, len(specs), cid)
         res = M.run(params, m, mu=mu, patches=np.array(patches) if patches else None)
         log = emulate_compass(res, antenna, rate_hz=rate, noise=noise, seed=seed + i)
         log.write(out / f"{cid}.nmea.gz")
+        key = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
+        if key and key not in user_files:
+            from gripsense.sim.drives import user_vehicle_toml
+
+            stem = "_".join(dict.fromkeys(Path(n).stem for _, n in key))
+            user_files[key] = f"vehicle_{stem}.toml"
+            (out / user_files[key]).write_text(
+                user_vehicle_toml(vehicle, params.sim_tyres), encoding="utf-8"
+            )
         truth = log.truth.copy()
         truth["wheel"] = truth["wheel"].astype(str)
         truth.to_parquet(out / f"{cid}_truth.parquet", index=False)
@@ -265,7 +328,13 @@ def _simulate_cases(
             "name": m.name,
             "maneuver": spec["maneuver"],
             "mu_road": mu,
-            **{k: v for k, v in spec.items() if k not in ("maneuver", "mu")},
+            "receiver": rec,
+            "vehicle_file": user_files.get(key, "vehicle.toml"),
+            **{
+                k: (v if not isinstance(v, dict) else " / ".join(f"{a}: {t}" for a, t in v.items()))
+                for k, v in spec.items()
+                if k not in ("maneuver", "mu")
+            },
             "nmea": f"{cid}.nmea.gz",
             "truth": f"{cid}_truth.parquet",
             "settle_s": m.settle_s,
@@ -284,6 +353,17 @@ def _simulate_cases(
             )
             a.to_csv(out / f"{cid}_accel.csv", index=False, float_format="%.5f")
             row["accel"] = f"{cid}_accel.csv"
+        if steer is not None:
+            st = emulate_steering(
+                res,
+                rate_hz=float(steer.get("rate_hz", 50.0)),
+                noise_deg=float(steer.get("noise_deg", 0.05)),
+                scale_error=float(steer.get("scale_error", 0.03)),
+                offset_deg=float(steer.get("offset_deg", 0.0)),
+                seed=seed + 7919 + i,
+            )
+            st.to_csv(out / f"{cid}_steer.csv", index=False, float_format="%.5f")
+            row["steer"] = f"{cid}_steer.csv"
         rows.append(row)
     cases = pd.DataFrame(rows)
     cases.to_csv(out / "cases.csv", index=False)

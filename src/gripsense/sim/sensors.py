@@ -1,4 +1,7 @@
-"""Accelerometer emulator for the braking test (thesis ch. 8: KX022 at 50 Hz on the dashboard).
+"""Sensor emulators besides the compass: the accelerometer of the braking test and a steering
+channel.
+
+Accelerometer (thesis ch. 8: KX022 at 50 Hz on the dashboard).
 
 Output layout (what ``gripsense brake-mu`` reads): CSV with ``t_s, ax_g, ay_g, az_g`` — specific
 force along the sensor axes (x forward, y left, z up) in units of g, so a level sensor at rest
@@ -14,7 +17,7 @@ import pandas as pd
 from gripsense.constants import G0
 from gripsense.sim.vehicle import SimResult
 
-__all__ = ["emulate_accelerometer"]
+__all__ = ["emulate_accelerometer", "emulate_steering"]
 
 
 def emulate_accelerometer(
@@ -63,3 +66,46 @@ def emulate_accelerometer(
     return pd.DataFrame(
         {"t_s": sub["t_s"].to_numpy(), "ax_g": s[:, 0], "ay_g": s[:, 1], "az_g": s[:, 2]}
     )
+
+
+def emulate_steering(
+    result: SimResult,
+    *,
+    rate_hz: float = 50.0,
+    noise_deg: float = 0.05,
+    scale_error: float = 0.03,
+    offset_deg: float = 0.0,
+    seed: int = 0,
+) -> pd.DataFrame:
+    """A road-wheel steering-angle channel of a simulated drive, as a steering-angle sensor
+    behind the steering ratio gives it: a scale error (the ratio is never known exactly and
+    varies with the angle), a zero offset and white noise.
+
+    Parameters
+    ----------
+    result : SimResult
+        The drive.
+    rate_hz : float
+        Sample rate [Hz] (the simulator output rate must be a multiple).
+    noise_deg : float
+        White noise of the road-wheel angle [deg], 1 σ.
+    scale_error : float
+        Relative scale error: the channel reads (1 + scale_error) × the true angle [-].
+    offset_deg : float
+        Zero offset of the road-wheel angle [deg].
+    seed : int
+        Random seed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``t_s`` and ``road_wheel_deg`` (ISO: positive to the left), the layout of
+        :func:`gripsense.io.steer.read_steer_csv`.
+    """
+    b = result.body
+    step = max(round(result.meta.get("output_hz", 100.0) / rate_hz), 1)
+    sub = b.iloc[::step]
+    rng = np.random.default_rng(seed)
+    deg = np.rad2deg(sub["steer_rad"].to_numpy(float)) * (1.0 + scale_error) + offset_deg
+    deg = deg + rng.normal(0.0, noise_deg, deg.size)
+    return pd.DataFrame({"t_s": sub["t_s"].to_numpy(float), "road_wheel_deg": deg})

@@ -1,4 +1,5 @@
-"""Planar two-track vehicle model with brush tyres, load transfer and friction patches.
+"""Planar two-track vehicle model with brush or tabulated (Magic Formula, PAC89) tyres, load
+transfer, roll-induced camber and friction patches.
 
 States: world position X, Y (east, north) [m], yaw ψ (counter-clockwise from east) [rad], body
 velocities U, V [m/s], yaw rate r [rad/s], and, with a relaxation length, the four lateral tyre
@@ -10,6 +11,10 @@ Forces (ISO 8855 body axes):
   quartic pressure), with the local road μ, the wheel's load and C = G w l(m)²/2;
   a driven or braked wheel keeps the lateral friction left by its longitudinal force,
   μ_y = √(μ² − (F_x/F_z)²) (friction circle);
+* or, per axle, a tyre from a file (:mod:`gripsense.sim.tyres`: Magic Formula ``.tir`` or
+  PAC89) with its own load dependence and camber thrust, scaled to the road μ by similarity;
+  the wheels lean with the body: inclination γ = k_γ φ, roll φ = (dφ/da_y) a_y (the vehicle
+  file's ``roll_gradient_deg_per_g`` and ``roll_camber_gain``), the same for all four wheels;
 * locked wheels (straight braking) slide: F = −μ F_z along the wheel's velocity;
 * quasi-static loads: longitudinal transfer m a_x h / L and the steady-state lateral transfer of
   docs/physics.md §4.2 (roll-stiffness split and roll-centre heights), from the previous step's
@@ -75,6 +80,13 @@ class SimParams:
         Driven axle: ``front``, ``rear`` or ``all``.
     pressure : str
         Pressure shape of the brush tyres.
+    sim_tyres : dict
+        Axle → :class:`~gripsense.sim.tyres.SimTyre` for axles whose tyres come from a file
+        (others are brush tyres).
+    roll_gradient_rad_per_g : float
+        Body roll per g of lateral acceleration [rad].
+    roll_camber_gain : float
+        Wheel inclination per radian of body roll [-].
     """
 
     mass_kg: float
@@ -90,6 +102,9 @@ class SimParams:
     relaxation_length_m: float = 0.0
     drive: str = "rear"
     pressure: str = "parabolic"
+    sim_tyres: dict = field(default_factory=dict)
+    roll_gradient_rad_per_g: float = 0.0
+    roll_camber_gain: float = 0.0
 
     @classmethod
     def from_vehicle(
@@ -98,7 +113,8 @@ class SimParams:
         *,
         yaw_inertia_kgm2: float | None = None,
         relaxation_length_m: float = 0.0,
-        drive: str = "front",
+        drive: str | None = None,
+        sim_tyres: dict | None = None,
     ) -> SimParams:
         """Simulation parameters from a vehicle description.
 
@@ -112,14 +128,17 @@ class SimParams:
             Yaw inertia [kg m^2]; default m l_f l_r.
         relaxation_length_m : float
             Tyre relaxation length [m].
-        drive : str
-            Driven axle.
+        drive : str, optional
+            Driven axle (default the vehicle file's ``drive``, else ``front``).
+        sim_tyres : dict, optional
+            Axle → :class:`~gripsense.sim.tyres.SimTyre` (tyres from files; others brush).
         """
         if v.wheelbase_m is None:
             raise InputError(f"{v.source}: [vehicle] wheelbase_m is needed to simulate")
         for axle in ("front", "rear"):
             if axle not in v.tyres:
                 raise InputError(f"{v.source}: [tyre.{axle}] is needed to simulate")
+        drive = drive or v.drive or "front"
         if drive not in DRIVES:
             raise InputError(f"drive={drive!r}; use one of {sorted(DRIVES)}")
         L = v.wheelbase_m
@@ -134,7 +153,7 @@ class SimParams:
         pressures = {t.pressure for t in v.tyres.values()}
         return cls(
             mass_kg=v.mass_kg,
-            yaw_inertia_kgm2=yaw_inertia_kgm2 or v.mass_kg * l_f * l_r,
+            yaw_inertia_kgm2=yaw_inertia_kgm2 or v.yaw_inertia,
             l_f=l_f,
             l_r=l_r,
             cg_height_m=v.cg_height_m,
@@ -146,6 +165,9 @@ class SimParams:
             relaxation_length_m=relaxation_length_m,
             drive=drive,
             pressure="quartic" if pressures == {"quartic"} else "parabolic",
+            sim_tyres=dict(sim_tyres or {}),
+            roll_gradient_rad_per_g=np.deg2rad(v.roll_gradient_deg_per_g),
+            roll_camber_gain=v.roll_camber_gain,
         )
 
     @property
@@ -190,8 +212,28 @@ class SimParams:
                 DRIVES[self.drive],
                 0.0 if self.pressure == "parabolic" else 2.0,
                 *tyre_cols,
+                self.roll_gradient_rad_per_g,
+                self.roll_camber_gain,
             ]
         )
+
+    def _tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Tyre tables for the compiled core: front and rear F_0, their peaks, and per axle
+        (kind, grid description); a brush axle gets a 2×2×2 dummy table.
+        """
+        tabs, peaks = [], []
+        ax = np.zeros((2, 8))
+        for k, axle in enumerate(("front", "rear")):
+            t = self.sim_tyres.get(axle)
+            if t is None:
+                tabs.append(np.zeros((2, 2, 2)))
+                peaks.append(np.zeros((2, 2, 2)))
+            else:
+                tabs.append(np.ascontiguousarray(t.fy))
+                peaks.append(np.ascontiguousarray(t.peak))
+                ax[k, 0] = 1.0
+                ax[k, 1:] = t.axes()
+        return tabs[0], tabs[1], peaks[0], peaks[1], ax
 
 
 @dataclass
@@ -205,8 +247,10 @@ class SimResult:
         ``v_mps``, ``yaw_rate_rps``, ``ax_mps2``, ``ay_mps2`` (body-axis accelerations),
         ``steer_rad`` (road-wheel angle, front), ``fx_N`` (total longitudinal tyre force).
     wheels : pandas.DataFrame
-        Long table per output time and wheel: ``t_s``, ``wheel``, ``mu_true`` (road μ at the
-        wheel), ``slip_angle_rad``, ``load_N``, ``force_N`` (lateral, wheel axes, ISO sign),
+        Long table per output time and wheel: ``t_s``, ``wheel``, ``mu_true`` (the wheel's
+        peak friction at its load and inclination, in the direction of its force: the road μ for
+        a brush tyre), ``mu_road`` (road μ at the wheel), ``camber_rad`` (inclination, ISO),
+        ``slip_angle_rad``, ``load_N``, ``force_N`` (lateral, wheel axes, ISO sign),
         ``speed_mps``.
     params : SimParams
     wall_s : float
@@ -267,8 +311,46 @@ def _tyre_c(p, axle, mass):
 
 
 @njit(cache=True, nogil=True)
-def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, out_w):
-    """State derivative; out_w[i] = (alpha, Fz, Fy_wheel, mu, speed, Fy_ss) per wheel."""
+def _cell(v, v0, dv, n):
+    x = min(max((v - v0) / dv, 0.0), n - 1.000001)
+    i = int(x)
+    return i, x - i
+
+
+@njit(cache=True, nogil=True)
+def _tab_force(tab, ax, alpha, fz, gamma):
+    """Trilinear interpolation of F_0(α, Fz, γ) (:mod:`gripsense.sim.tyres`)."""
+    i, u = _cell(alpha, ax[1], ax[2], tab.shape[0])
+    j, v = _cell(fz, ax[3], ax[4], tab.shape[1])
+    k, w = _cell(gamma, ax[5], ax[6], tab.shape[2])
+    out = 0.0
+    for di in range(2):
+        wi = u if di else 1.0 - u
+        for dj in range(2):
+            wj = v if dj else 1.0 - v
+            for dk in range(2):
+                wk = w if dk else 1.0 - w
+                out += wi * wj * wk * tab[i + di, j + dj, k + dk]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _tab_peak(peak, ax, fz, gamma, side):
+    """Peak ±F_0/Fz at a load and inclination (bilinear)."""
+    j, v = _cell(fz, ax[3], ax[4], peak.shape[0])
+    k, w = _cell(gamma, ax[5], ax[6], peak.shape[1])
+    return (
+        (1 - v) * (1 - w) * peak[j, k, side]
+        + v * (1 - w) * peak[j + 1, k, side]
+        + (1 - v) * w * peak[j, k + 1, side]
+        + v * w * peak[j + 1, k + 1, side]
+    )
+
+
+@njit(cache=True, nogil=True)
+def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, tabs, out_w):
+    """State derivative; out_w[i] = (alpha, Fz, Fy_wheel, μ peak, speed, Fy_ss, γ, μ road)."""
+    tab_f, tab_r, peak_f, peak_r, tax = tabs
     m, iz, lf, lr, h = p[0], p[1], p[2], p[3], p[4]
     tf, tr, kf, hf, hr, mf, mr, sigma = p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12]
     drive, which = int(p[13]), int(p[14])
@@ -280,6 +362,8 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ou
     dfz_f = ay_prev / tf * (mf * hf + kf * arm)
     dfz_r = ay_prev / tr * (mr * hr + (1.0 - kf) * arm)
     dfx = m * ax_prev * h / L / 2.0
+    # the wheels lean with the body (quasi-static roll, same inclination for all four)
+    gamma = p[28] * p[27] * ay_prev / G0
     fz = np.empty(4)
     fz[0] = mf * G0 / 2 - dfz_f - dfx
     fz[1] = mf * G0 / 2 + dfz_f - dfx
@@ -316,6 +400,7 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ou
         mu = _road_mu(wx, wy, mu0, patches)
         load = max(fz[i], 0.0)
         speed = np.sqrt(uw * uw + vw * vw)
+        mu_peak = mu
         if lock == 1:
             if speed > 1e-6:
                 fxi = -mu * load * uw / speed
@@ -331,11 +416,24 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ou
             else:
                 fxi = 0.0
                 mu_y = 0.0
-            c = _tyre_c(p, 0 if i < 2 else 1, load / G0)
-            mag = force_scalar(mu_y, np.tan(alpha) if abs(alpha) < 1.5 else 1e3, load, c, which)
-            fy_ss = -mag if alpha > 0 else mag
-            if alpha == 0.0:
-                fy_ss = 0.0
+            axle = 0 if i < 2 else 1
+            if tax[axle, 0] > 0:
+                # tyre from a file: similarity scaling to the road (and friction-circle) μ
+                lam = mu_y / tax[axle, 7]
+                tab = tab_f if axle == 0 else tab_r
+                if lam > 1e-6 and load > 0:
+                    fy_ss = lam * _tab_force(tab, tax[axle], alpha / lam, load, gamma)
+                else:
+                    fy_ss = 0.0
+                pk = peak_f if axle == 0 else peak_r
+                side = 0 if fy_ss >= 0 else 1
+                mu_peak = mu / tax[axle, 7] * _tab_peak(pk, tax[axle], load, gamma, side)
+            else:
+                c = _tyre_c(p, axle, load / G0)
+                mag = force_scalar(mu_y, np.tan(alpha) if abs(alpha) < 1.5 else 1e3, load, c, which)
+                fy_ss = -mag if alpha > 0 else mag
+                if alpha == 0.0:
+                    fy_ss = 0.0
         if sigma > 0 and lock == 0:
             fyw = s[6 + i]
             ds[6 + i] = abs(uw) / sigma * (fy_ss - fyw)
@@ -349,9 +447,11 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ou
         out_w[i, 0] = alpha
         out_w[i, 1] = load
         out_w[i, 2] = fyw
-        out_w[i, 3] = mu
+        out_w[i, 3] = mu_peak
         out_w[i, 4] = speed
         out_w[i, 5] = fy_ss
+        out_w[i, 6] = gamma
+        out_w[i, 7] = mu
     ds[0] = U * cpsi - V * spsi
     ds[1] = U * spsi + V * cpsi
     ds[2] = r
@@ -403,18 +503,18 @@ def _controls(t, s, ctrl, steer_t, steer_v, lf, lr):
 
 @njit(cache=True, nogil=True)
 def _integrate(
-    s0, p, wpos, ctrl, steer_t, steer_v, mu0, patches, dt, n_steps, every, out_body, out_wheel
+    s0, p, wpos, ctrl, steer_t, steer_v, mu0, patches, tabs, dt, n_steps, every, out_body, out_wheel
 ):
     s = s0.copy()
     n_state = s.size
-    ow = np.empty((4, 6))
+    ow = np.empty((4, 8))
     ax_prev = 0.0
     ay_prev = s[5] * s[3]
     k_out = 0
     for n in range(n_steps + 1):
         t = n * dt
         delta, fx, lock = _controls(t, s, ctrl, steer_t, steer_v, p[2], p[3])
-        k1 = _deriv(s, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, ow)
+        k1 = _deriv(s, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, tabs, ow)
         if n % every == 0 and k_out < out_body.shape[0]:
             out_body[k_out, 0] = t
             for j in range(6):
@@ -426,17 +526,17 @@ def _integrate(
             out_body[k_out, 9] = delta
             out_body[k_out, 10] = fx
             for i in range(4):
-                for j in range(6):
+                for j in range(8):
                     out_wheel[k_out, i, j] = ow[i, j]
             k_out += 1
         if n == n_steps:
             break
         s2 = s + 0.5 * dt * k1
-        k2 = _deriv(s2, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, ow)
+        k2 = _deriv(s2, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, tabs, ow)
         s3 = s + 0.5 * dt * k2
-        k3 = _deriv(s3, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, ow)
+        k3 = _deriv(s3, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, tabs, ow)
         s4 = s + dt * k3
-        k4 = _deriv(s4, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, ow)
+        k4 = _deriv(s4, p, wpos, delta, fx, lock, ax_prev, ay_prev, mu0, patches, tabs, ow)
         s = s + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         ax_prev = k1[3] - s[4] * s[5]
         ay_prev = k1[4] + s[3] * s[5]
@@ -514,7 +614,7 @@ def simulate(
     st, sv = steer_table if steer_table is not None else (np.zeros(1), np.zeros(1))
     n_out = n_steps // every + 1
     ob = np.full((n_out, 11), np.nan)
-    ow = np.full((n_out, 4, 6), np.nan)
+    ow = np.full((n_out, 4, 8), np.nan)
     t0 = time.perf_counter()
     k = _integrate(
         s0,
@@ -525,6 +625,7 @@ def simulate(
         np.asarray(sv, float),
         float(mu),
         pt,
+        params._tables(),
         dt,
         n_steps,
         every,
@@ -556,6 +657,8 @@ def simulate(
                 np.tile(np.array(WHEEL_NAMES), n), categories=list(WHEEL_NAMES)
             ),
             "mu_true": ow[:, :, 3].ravel(),
+            "mu_road": ow[:, :, 7].ravel(),
+            "camber_rad": ow[:, :, 6].ravel(),
             "slip_angle_rad": ow[:, :, 0].ravel(),
             "load_N": ow[:, :, 1].ravel(),
             "force_N": ow[:, :, 2].ravel(),

@@ -1,0 +1,397 @@
+"""Compiled core of ``axle-window``: the profile likelihood of μ for a set of bins of one axle,
+nuisances profiled by Levenberg–Marquardt on their linearisation (no nuisance grids).
+
+Per bin k (means over ~1 s) and wheel w ∈ {L, R} (``docs/physics.md`` §15):
+
+    α_eff = α_wk − c − δ_k + κ a_k + ς δ_s,k    slip offsets (heading error), camber thrust,
+                                                steering-channel scale error (front axle)
+    Fz'_w = Fz_wk ∓ λ ΔFz_k                             load-transfer error (axle sum unchanged)
+    C'_w  = s C_wk (Fz'_w/Fz_wk)^p0 (Fz'_w/Fz_static)^q  stiffness scale, load-sensitivity error
+    x_w   = C'_w tan|α_eff| / (μ_w Fz'_w)
+    μ_w   = μ (Fz'_w/F̄z')^−η · ΣFz' / Σ Fz'_v (Fz'_v/F̄z')^−η  load sensitivity of the friction
+    F_model = Σ_w −sign(α_eff) μ_w Fz'_w f(x_w; shape)
+    r_k  = F_k (1 + ε) cos^d δ_k − F_model
+    v_k  = σ_F,k² + m_k² + (Σ_w ∂F_w/∂α)² (σ_α,k² + s_α,k²)
+
+(cos^d δ turns the body-axis force of a steered axle into the wheels' lateral force: d = −1
+when the axle is not driven, +1 when it is and the drive force balances the drag of the turn)
+
+where s_α,k is the slip's spread within the bin beyond its noise (a transient: the mean of the
+force is not the force at the mean slip) and m_k the force no curve of the family represents.
+θ = [ln s, κ, λ, q, ε, c, ς, η, d] is shared by every bin, with Gaussian priors (c: the offset left
+by the heading calibration). The slip offset δ_k of each bin follows the receiver's slowly
+varying heading error: a Gauss–Markov process (variance σ_δ²,
+correlation ρ_k = exp(−Δt/τ) to the next bin, 0 across gaps), whose precision matrix is
+tridiagonal. The normal equations are solved with the δ block eliminated by a tridiagonal
+(Thomas) solve, so the cost is O(bins) whatever the number of bins or nuisances. The profile
+over the curve's shape is the minimum over the shapes allowed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _lookup(tab_f, tab_df, inv_dx, x):
+    """Table lookup: f and f' of one shape at x ≥ 0 (linear interpolation)."""
+    u = x * inv_dx
+    n = tab_f.size
+    if u >= n - 1:
+        return tab_f[n - 1], 0.0
+    i = int(u)
+    w = u - i
+    return tab_f[i] + w * (tab_f[i + 1] - tab_f[i]), tab_df[i] + w * (tab_df[i + 1] - tab_df[i])
+
+
+@njit(cache=True, nogil=True)
+def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_out, jd_out):
+    """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin."""
+    ln_s, kap, lam, q, eps, c_off, st_sc, eta = (
+        th[0],
+        th[1],
+        th[2],
+        th[3],
+        th[4],
+        th[5],
+        th[6],
+        th[7],
+    )
+    d_drive = th[8]
+    n = b.shape[0]
+    fzp = np.empty(2)
+    lr = np.empty(2)
+    mw = np.empty(2)
+    for k in range(n):
+        ay = b[k, 10]
+        dfz = 0.5 * (b[k, 3] - b[k, 2])
+        fzs = b[k, 11]
+        # loads after the load-transfer error; the friction of each wheel falls with its load
+        # (Fz/F̄z)^−η, normalised so that μ stays the axle's load-weighted friction
+        for w in range(2):
+            sgn_load = -1.0 if w == 0 else 1.0
+            fzp[w] = max(b[k, 2 + w] + sgn_load * lam * dfz, 1.0)
+        fbar = 0.5 * (fzp[0] + fzp[1])
+        den = 0.0
+        dden = 0.0
+        for w in range(2):
+            lr[w] = np.log(fzp[w] / fbar)
+            g = np.exp(-eta * lr[w])
+            den += fzp[w] * g
+            dden += fzp[w] * g * lr[w]
+        for w in range(2):
+            mw[w] = mu * np.exp(-eta * lr[w]) * (fzp[0] + fzp[1]) / den
+        fm = 0.0
+        g_sum = 0.0
+        d_lns = 0.0
+        d_lam = 0.0
+        d_q = 0.0
+        d_eta = 0.0
+        for w in range(2):
+            fz = b[k, 2 + w]
+            sgn_load = -1.0 if w == 0 else 1.0
+            ae = b[k, w] - dl[k] - c_off + kap * ay + st_sc * b[k, 12]
+            t = abs(np.tan(ae))
+            lnc = ln_s + np.log(b[k, 4 + w]) + p0 * np.log(fzp[w] / fz) + q * np.log(fzp[w] / fzs)
+            cp = np.exp(lnc)
+            m_w = mw[w]
+            x = cp * t / (m_w * fzp[w])
+            f, df = _lookup(tab_f[shape], tab_df[shape], inv_dx, x)
+            sg = -1.0 if ae > 0 else 1.0
+            fm += sg * m_w * fzp[w] * f
+            g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
+            d_lns += sg * m_w * fzp[w] * df * x
+            d_lam += sg * m_w * (f + df * x * (p0 + q - 1.0)) * sgn_load * dfz
+            d_q += sg * m_w * fzp[w] * df * x * np.log(fzp[w] / fzs)
+            # ∂F/∂μ_w = Fz (f − x f'),  ∂ln μ_w/∂η = −ln(Fz/F̄z) + Σ Fz g ln(Fz/F̄z) / Σ Fz g
+            d_eta += sg * fzp[w] * (f - x * df) * m_w * (-lr[w] + dden / den)
+        cosd = np.cos(b[k, 12])
+        fk = b[k, 6] * cosd**d_drive
+        r_out[k] = fk * (1.0 + eps) - fm
+        v_out[k] = b[k, 7] ** 2 + b[k, 14] ** 2 + g_sum**2 * (b[k, 8] ** 2 + b[k, 13] ** 2) + 1e-6
+        j_out[k, 0] = -d_lns
+        j_out[k, 1] = g_sum * ay
+        j_out[k, 2] = -d_lam
+        j_out[k, 3] = -d_q
+        j_out[k, 4] = fk
+        j_out[k, 5] = -g_sum
+        j_out[k, 6] = g_sum * b[k, 12]
+        j_out[k, 7] = -d_eta
+        j_out[k, 8] = fk * (1.0 + eps) * np.log(cosd)
+        jd_out[k] = -g_sum
+    return 0
+
+
+@njit(cache=True, nogil=True)
+def _prior_delta(rho, sd, pd, pe):
+    """Tridiagonal precision of a Gauss–Markov sequence: diagonal pd, off-diagonal pe."""
+    n = pd.size
+    s2 = sd * sd
+    for k in range(n):
+        a = rho[k - 1] if k > 0 else 0.0
+        c = rho[k] if k < n - 1 else 0.0
+        pd[k] = (1.0 - a * a * c * c) / ((1.0 - a * a) * (1.0 - c * c) * s2)
+        if k < n - 1:
+            pe[k] = -c / ((1.0 - c * c) * s2)
+    return 0
+
+
+@njit(cache=True, nogil=True)
+def _objective(
+    mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe, r, v, jg, jd
+):
+    _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r, v, jg, jd)
+    n = b.shape[0]
+    nll = 0.0
+    for k in range(n):
+        nll += 0.5 * r[k] * r[k] / v[k]
+        nll += 0.5 * pd[k] * dl[k] * dl[k]
+        if k < n - 1:
+            nll += pe[k] * dl[k] * dl[k + 1]
+    for i in range(NG):
+        z = (th[i] - prior_m[i]) / prior_s[i]
+        nll += 0.5 * z * z
+    return nll
+
+
+@njit(cache=True, nogil=True)
+def _thomas(lo, di, up, rhs, out, cp, dp):
+    """Solve a tridiagonal system (sub-diagonal lo[k] = A[k+1, k], super up[k] = A[k, k+1])."""
+    n = di.size
+    cp[0] = up[0] / di[0] if n > 1 else 0.0
+    dp[0] = rhs[0] / di[0]
+    for k in range(1, n):
+        den = di[k] - lo[k - 1] * cp[k - 1]
+        cp[k] = up[k] / den if k < n - 1 else 0.0
+        dp[k] = (rhs[k] - lo[k - 1] * dp[k - 1]) / den
+    out[n - 1] = dp[n - 1]
+    for k in range(n - 2, -1, -1):
+        out[k] = dp[k] - cp[k] * out[k + 1]
+    return 0
+
+
+@njit(cache=True, nogil=True)
+def profile_nll(
+    mu,
+    shape,
+    b,
+    rho,
+    prior_m,
+    prior_s,
+    prior_d,
+    tab_f,
+    tab_df,
+    inv_dx,
+    p0,
+    th0,
+    dl0,
+    iters,
+    th_out,
+    dl_out,
+):
+    """Minimise ½Σr²/v + ½ priors over the nuisances for one (μ, shape) by Levenberg–Marquardt
+    (Gauss–Newton steps, damped when a step does not lower the objective).
+
+    Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
+    method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances.
+    """
+    n = b.shape[0]
+    th = th0.copy()
+    dl = dl0.copy()
+    r = np.empty(n)
+    v = np.empty(n)
+    jg = np.empty((n, NG))
+    jd = np.empty(n)
+    pd = np.empty(n)
+    pe = np.zeros(max(n - 1, 1))
+    _prior_delta(rho, prior_d, pd, pe)
+    best = _objective(
+        mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe, r, v, jg, jd
+    )
+    th_out[:] = th
+    dl_out[:] = dl
+    lam = 1e-3
+    trial_th = np.empty(NG)
+    trial_dl = np.empty(n)
+    h_gg = np.zeros((NG, NG))
+    g_g = np.zeros(NG)
+    h_gd = np.zeros((n, NG))  # column a: ∂²/∂θ_a∂δ_k
+    dd = np.empty(n)
+    ud = np.empty(max(n - 1, 1))
+    g_d = np.empty(n)
+    sol = np.empty((NG + 1, n))
+    cp = np.empty(n)
+    dp = np.empty(n)
+    rhs_tmp = np.empty(n)
+    out_tmp = np.empty(n)
+    for _ in range(2 * iters):
+        h_gg[:, :] = 0.0
+        g_g[:] = 0.0
+        for k in range(n):
+            wk = 1.0 / v[k]
+            for a in range(NG):
+                g_g[a] += jg[k, a] * r[k] * wk
+                h_gd[k, a] = jg[k, a] * jd[k] * wk
+                for c in range(NG):
+                    h_gg[a, c] += jg[k, a] * jg[k, c] * wk
+            dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
+            g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
+            if k > 0:
+                g_d[k] += pe[k - 1] * dl[k - 1]
+            if k < n - 1:
+                g_d[k] += pe[k] * dl[k + 1]
+                ud[k] = pe[k]
+        for a in range(NG):
+            h_gg[a, a] += 1.0 / prior_s[a] ** 2
+            g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
+            h_gg[a, a] *= 1.0 + lam
+        # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
+        for a in range(NG):
+            for k in range(n):
+                rhs_tmp[k] = h_gd[k, a]
+            _thomas(ud, dd, ud, rhs_tmp, out_tmp, cp, dp)
+            sol[a, :] = out_tmp
+        _thomas(ud, dd, ud, g_d, out_tmp, cp, dp)
+        sol[NG, :] = out_tmp
+        a_mat = h_gg.copy()
+        rhs = -g_g.copy()
+        for a in range(NG):
+            for k in range(n):
+                rhs[a] += h_gd[k, a] * sol[NG, k]
+            for c in range(NG):
+                acc = 0.0
+                for k in range(n):
+                    acc += h_gd[k, a] * sol[c, k]
+                a_mat[a, c] -= acc
+        dg = np.linalg.solve(a_mat, rhs)
+        for a in range(NG):
+            trial_th[a] = th[a] + dg[a]
+        for k in range(n):
+            acc = sol[NG, k]
+            for a in range(NG):
+                acc += sol[a, k] * dg[a]
+            trial_dl[k] = dl[k] - acc
+        # keep the step physical: stiffness scale within e^±2, load-transfer error > −0.95
+        trial_th[0] = min(max(trial_th[0], -2.0), 2.0)
+        trial_th[2] = max(trial_th[2], -0.95)
+        trial_th[7] = min(max(trial_th[7], -0.5), 1.0)
+        trial_th[8] = min(max(trial_th[8], -2.0), 2.0)
+        val = _objective(
+            mu,
+            trial_th,
+            trial_dl,
+            shape,
+            tab_f,
+            tab_df,
+            inv_dx,
+            b,
+            p0,
+            prior_m,
+            prior_s,
+            pd,
+            pe,
+            r,
+            v,
+            jg,
+            jd,
+        )
+        if val < best:
+            improvement = best - val
+            th[:] = trial_th
+            dl[:] = trial_dl
+            best = val
+            th_out[:] = th
+            dl_out[:] = dl
+            lam = max(lam * 0.1, 1e-6)
+            if improvement < 1e-4:
+                break
+        else:
+            lam *= 10.0
+            # r, v, J hold the rejected trial: evaluate at the current point again
+            _objective(
+                mu,
+                th,
+                dl,
+                shape,
+                tab_f,
+                tab_df,
+                inv_dx,
+                b,
+                p0,
+                prior_m,
+                prior_s,
+                pd,
+                pe,
+                r,
+                v,
+                jg,
+                jd,
+            )
+    return best
+
+
+@njit(cache=True, nogil=True)
+def profile_grid(
+    mu_grid,
+    shapes,
+    shape_pen,
+    b,
+    rho,
+    prior_m,
+    prior_s,
+    prior_d,
+    tab_f,
+    tab_df,
+    inv_dx,
+    p0,
+    iters,
+    out_nll,
+    out_th,
+    out_dl,
+    out_shape,
+):
+    """Profile NLL(μ) over the allowed shapes for every μ of the grid (warm-started along μ);
+    ``shape_pen[si]`` is the prior's −log weight of shape si.
+    """
+    n_mu = mu_grid.size
+    n = b.shape[0]
+    th = np.empty(NG)
+    dl = np.zeros(n)
+    warm = np.empty((shapes.size, NG))
+    warm_d = np.zeros((shapes.size, n))
+    for si in range(shapes.size):
+        warm[si] = prior_m
+    for im in range(n_mu):
+        best = 1e300
+        for si in range(shapes.size):
+            nll = profile_nll(
+                mu_grid[im],
+                shapes[si],
+                b,
+                rho,
+                prior_m,
+                prior_s,
+                prior_d,
+                tab_f,
+                tab_df,
+                inv_dx,
+                p0,
+                warm[si],
+                warm_d[si],
+                iters,
+                th,
+                dl,
+            )
+            warm[si] = th
+            warm_d[si] = dl
+            nll += shape_pen[si]
+            if nll < best:
+                best = nll
+                out_th[im] = th
+                out_dl[im] = dl
+                out_shape[im] = shapes[si]
+        out_nll[im] = best
+    return 0
