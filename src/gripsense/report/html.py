@@ -254,10 +254,17 @@ def render_report(
     observable = result.observable
     box = "ok" if observable else "note"
     text = html.escape(result.explain())
+    text += (
+        "<br><br>Two kinds of statement: <b>the data prove μ ≥ …</b> is measured — the "
+        "friction the axle actually used, from the lateral acceleration and the axle's load, "
+        "true for any tyre (on a level road without downforce); <b>μ ≈ …</b> is an estimate "
+        "under a tyre model whose curve shape, stiffness and load sensitivity are uncertain, "
+        "with a 90 % interval that includes that uncertainty."
+    )
     if not observable:
         text += (
             "<br><br>What this means: from how the vehicle moved, the data prove only the "
-            "lower bound — the tyres used at least that much of the friction available. "
+            "measured grip — the tyres used at least that much of the friction available. "
             "The friction coefficient itself shows in the slip angles only near the "
             "friction limit: at everyday cornering the difference between μ = 0.9 and "
             "μ = ∞ lies in a few hundredths of a degree of slip angle, far below the "
