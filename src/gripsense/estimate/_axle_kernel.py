@@ -32,6 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
 
 
@@ -158,6 +159,42 @@ def _objective(
 
 
 @njit(cache=True, nogil=True)
+def _cholesky_solve(a, x):
+    """Solve a y = x in place (x ← y) for a small symmetric positive-definite a (overwritten
+    by its Cholesky factor); a tiny ridge keeps a numerically semi-definite a solvable.
+    """
+    m = a.shape[0]
+    for j in range(m):
+        d = a[j, j]
+        for k in range(j):
+            d -= a[j, k] * a[j, k]
+        d = np.sqrt(max(d, 1e-300))
+        a[j, j] = d
+        for i in range(j + 1, m):
+            acc = a[i, j]
+            for k in range(j):
+                acc -= a[i, k] * a[j, k]
+            a[i, j] = acc / d
+    for i in range(m):
+        acc = x[i]
+        for k in range(i):
+            acc -= a[i, k] * x[k]
+        x[i] = acc / a[i, i]
+    for i in range(m - 1, -1, -1):
+        acc = x[i]
+        for k in range(i + 1, m):
+            acc -= a[k, i] * x[k]
+        x[i] = acc / a[i, i]
+    return 0
+
+
+@njit(cache=True, nogil=True)
+def workspace(n):
+    """Work arrays of :func:`profile_nll` for n bins."""
+    return np.zeros((15 + 3 * NG, max(n, 1))), np.zeros((4 + 2 * NG, NG + 1))
+
+
+@njit(cache=True, nogil=True)
 def _thomas(lo, di, up, rhs, out, cp, dp):
     """Solve a tridiagonal system (sub-diagonal lo[k] = A[k+1, k], super up[k] = A[k, k+1])."""
     n = di.size
@@ -191,22 +228,24 @@ def profile_nll(
     iters,
     th_out,
     dl_out,
+    ws,
+    wm,
 ):
     """Minimise ½Σr²/v + ½ priors over the nuisances for one (μ, shape) by Levenberg–Marquardt
     (Gauss–Newton steps, damped when a step does not lower the objective).
 
     Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
-    method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances.
+    method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``
+    (20, n) and ``wm`` (3·NG + 2, NG + 1) are work arrays (:func:`workspace`), so a call
+    allocates nothing.
     """
     n = b.shape[0]
-    th = th0.copy()
-    dl = dl0.copy()
-    r = np.empty(n)
-    v = np.empty(n)
-    jg = np.empty((n, NG))
-    jd = np.empty(n)
-    pd = np.empty(n)
-    pe = np.zeros(max(n - 1, 1))
+    th = wm[0, :NG]
+    dl = ws[0]
+    th[:] = th0
+    dl[:] = dl0
+    r, v, jd, pd, pe = ws[1], ws[2], ws[3], ws[4], ws[5]
+    jg = ws[6 : 6 + NG].T
     _prior_delta(rho, prior_d, pd, pe)
     best = _objective(
         mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe, r, v, jg, jd
@@ -214,19 +253,17 @@ def profile_nll(
     th_out[:] = th
     dl_out[:] = dl
     lam = 1e-3
-    trial_th = np.empty(NG)
-    trial_dl = np.empty(n)
-    h_gg = np.zeros((NG, NG))
-    g_g = np.zeros(NG)
-    h_gd = np.zeros((n, NG))  # column a: ∂²/∂θ_a∂δ_k
-    dd = np.empty(n)
-    ud = np.empty(max(n - 1, 1))
-    g_d = np.empty(n)
-    sol = np.empty((NG + 1, n))
-    cp = np.empty(n)
-    dp = np.empty(n)
-    rhs_tmp = np.empty(n)
-    out_tmp = np.empty(n)
+    trial_th = wm[1, :NG]
+    g_g = wm[2, :NG]
+    rhs = wm[3, :NG]
+    h_gg = wm[4 : 4 + NG, :NG]
+    a_mat = wm[4 + NG : 4 + 2 * NG, :NG]
+    trial_dl, dd, ud, g_d, cp, dp, rhs_tmp, out_tmp = (
+        ws[6 + NG], ws[7 + NG], ws[8 + NG], ws[9 + NG], ws[10 + NG], ws[11 + NG], ws[12 + NG],
+        ws[13 + NG],
+    )  # fmt: skip
+    h_gd = ws[14 + NG : 14 + 2 * NG].T  # column a: ∂²/∂θ_a∂δ_k
+    sol = ws[14 + 2 * NG : 15 + 3 * NG]
     for _ in range(2 * iters):
         h_gg[:, :] = 0.0
         g_g[:] = 0.0
@@ -256,8 +293,9 @@ def profile_nll(
             sol[a, :] = out_tmp
         _thomas(ud, dd, ud, g_d, out_tmp, cp, dp)
         sol[NG, :] = out_tmp
-        a_mat = h_gg.copy()
-        rhs = -g_g.copy()
+        a_mat[:, :] = h_gg
+        for a in range(NG):
+            rhs[a] = -g_g[a]
         for a in range(NG):
             for k in range(n):
                 rhs[a] += h_gd[k, a] * sol[NG, k]
@@ -266,13 +304,13 @@ def profile_nll(
                 for k in range(n):
                     acc += h_gd[k, a] * sol[c, k]
                 a_mat[a, c] -= acc
-        dg = np.linalg.solve(a_mat, rhs)
+        _cholesky_solve(a_mat, rhs)  # the Schur complement is symmetric positive definite
         for a in range(NG):
-            trial_th[a] = th[a] + dg[a]
+            trial_th[a] = th[a] + rhs[a]
         for k in range(n):
             acc = sol[NG, k]
             for a in range(NG):
-                acc += sol[a, k] * dg[a]
+                acc += sol[a, k] * rhs[a]
             trial_dl[k] = dl[k] - acc
         # keep the step physical: stiffness scale within e^±2, load-transfer error > −0.95
         trial_th[0] = min(max(trial_th[0], -2.0), 2.0)
@@ -354,19 +392,26 @@ def profile_grid(
     out_shape,
 ):
     """Profile NLL(μ) over the allowed shapes for every μ of the grid (warm-started along μ);
-    ``shape_pen[si]`` is the prior's −log weight of shape si.
+    ``shape_pen[si]`` is the prior's −log weight of shape si. A shape that was worse than the
+    best by more than ``SKIP_MARGIN`` at the previous μ is not refitted at the next one (the
+    profile moves smoothly in μ), except at every fourth μ.
     """
     n_mu = mu_grid.size
     n = b.shape[0]
     th = np.empty(NG)
     dl = np.zeros(n)
+    ws, wm = workspace(n)
     warm = np.empty((shapes.size, NG))
     warm_d = np.zeros((shapes.size, n))
+    last = np.zeros(shapes.size)
+    last_best = 0.0
     for si in range(shapes.size):
         warm[si] = prior_m
     for im in range(n_mu):
         best = 1e300
         for si in range(shapes.size):
+            if im % 4 != 0 and last[si] > last_best + SKIP_MARGIN:
+                continue
             nll = profile_nll(
                 mu_grid[im],
                 shapes[si],
@@ -384,14 +429,18 @@ def profile_grid(
                 iters,
                 th,
                 dl,
+                ws,
+                wm,
             )
             warm[si] = th
             warm_d[si] = dl
             nll += shape_pen[si]
+            last[si] = nll
             if nll < best:
                 best = nll
                 out_th[im] = th
                 out_dl[im] = dl
                 out_shape[im] = shapes[si]
         out_nll[im] = best
+        last_best = best
     return 0

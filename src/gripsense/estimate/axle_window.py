@@ -445,35 +445,49 @@ def _profile(
 ) -> dict:
     """The profile likelihood of μ and what it says."""
     f, df, inv_dx = _tables()
-    mu_g = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
+    fine = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
     n = bins.shape[0]
-    nll = np.empty(o.n_mu)
-    th = np.empty((o.n_mu, K.NG))
-    dl = np.zeros((o.n_mu, n))
-    shp = np.empty(o.n_mu, dtype=np.int64)
-    K.profile_grid(
-        mu_g,
-        shapes,
-        np.ascontiguousarray(_shape_penalty()[shapes]),
-        np.ascontiguousarray(bins),
-        _rho(t0, pri.tau_s),
-        pri.mean,
-        pri.sd,
-        pri.delta,
-        f,
-        df,
-        inv_dx,
-        p0,
-        o.iterations,
-        nll,
-        th,
-        dl,
-        shp,
-    )
+    pen = np.ascontiguousarray(_shape_penalty()[shapes])
+    b = np.ascontiguousarray(bins)
+    rho = _rho(t0, pri.tau_s)
+    nll_f = np.full(o.n_mu, np.nan)
+    th_f = np.empty((o.n_mu, K.NG))
+    dl_f = np.zeros((o.n_mu, n))
+    shp_f = np.zeros(o.n_mu, dtype=np.int64)
+
+    def evaluate(idx: np.ndarray) -> None:
+        m = idx.size
+        nll, th, dl = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
+        shp = np.empty(m, dtype=np.int64)
+        K.profile_grid(
+            fine[idx], shapes, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx, p0,
+            o.iterations, nll, th, dl, shp,
+        )  # fmt: skip
+        nll_f[idx], th_f[idx], dl_f[idx], shp_f[idx] = nll, th, dl, shp
+
+    # coarse grid first (every third point); refine only where the profile's minimum is and
+    # where it crosses the interval levels — a flat profile (μ unbounded) costs a third
+    level = float(chi2.ppf(o.point_level, 1))
+    coarse = np.unique(np.concatenate([np.arange(0, o.n_mu, 3), [o.n_mu - 1]]))
+    evaluate(coarse)
+    dev_c = 2.0 * (nll_f[coarse] - np.nanmin(nll_f[coarse]))
+    ic = int(np.argmin(dev_c))
+    add = []
+    for j in range(coarse.size - 1):
+        lo_c, hi_c = coarse[j], coarse[j + 1]
+        near_min = abs(j - ic) <= 1 or abs(j + 1 - ic) <= 1
+        crosses = any((dev_c[j] - lv) * (dev_c[j + 1] - lv) <= 0 for lv in (CHI2_1_90, level))
+        if near_min or crosses:
+            add.extend(range(lo_c + 1, hi_c))
+    if add:
+        evaluate(np.array(sorted(set(add)), dtype=np.int64))
+    done = np.flatnonzero(np.isfinite(nll_f))
+    mu_g, nll, th, dl, shp = fine[done], nll_f[done], th_f[done], dl_f[done], shp_f[done]
+    n_mu = done.size
     dev = 2.0 * (nll - nll.min())
     im = int(np.argmin(nll))
     mu_hat = float(mu_g[im])
-    if 0 < im < o.n_mu - 1:
+    if 0 < im < n_mu - 1:
         x0, x1, x2 = np.log(mu_g[im - 1 : im + 2])
         y0, y1, y2 = nll[im - 1 : im + 2]
         den = (x0 - x1) * (x0 - x2) * (x1 - x2)
@@ -483,7 +497,6 @@ def _profile(
             mu_hat = float(np.exp(np.clip(-bq / (2 * a), x0, x2)))
     lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
     hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
-    level = float(chi2.ppf(o.point_level, 1))
     lo_p = _crossing(mu_g, dev, level, im, -1)
     hi_p = _crossing(mu_g, dev, level, im, +1)
     n_bins = bins.shape[0]
@@ -525,6 +538,35 @@ def _profile(
         "shape": SHAPE_FAMILY[int(shp[im])].name,
         "limited_by": limited,
     }
+
+
+class _Reuse:
+    """The previous window's answer, for a window whose merged data cannot be told apart from
+    it: the same number of points, every slip within its white-noise 1σ, every force within
+    its 1σ (a steady run seen through overlapping windows). Batch and online windows use it
+    the same way, so they stay equal.
+    """
+
+    def __init__(self):
+        self.data: np.ndarray | None = None
+        self.est: dict | None = None
+
+    def profile(self, merged, mid, pri, shapes, p0, o, lower) -> dict:
+        d = self.data
+        if (
+            d is not None
+            and d.shape == merged.shape
+            and np.all(np.abs(d[:, :2] - merged[:, :2]) <= merged[:, 8:9])
+            and np.all(np.abs(d[:, 6] - merged[:, 6]) <= merged[:, 7])
+            and self.est["fit"] != "inconsistent"
+        ):
+            est = dict(self.est)
+            if np.isfinite(lower):
+                est["mu_low"] = max(est["mu_low"], lower)
+            return est
+        est = _profile(merged, mid, pri, shapes, p0, o, lower)
+        self.data, self.est = merged.copy(), est
+        return dict(est)
 
 
 def _bound(grip: np.ndarray, sigma: np.ndarray, z: float) -> float:
@@ -633,6 +675,7 @@ def estimate_windows(
         step = max(round(o.step_s / o.bin_s), 1)
         n_screened = 0
         analysed_bins = np.zeros(n_b, bool)
+        reuse = _Reuse()
         for i0 in range(0, max(n_b - per_bin_win + 1, 0), step):
             sel = slice(i0, i0 + per_bin_win)
             if ab.t1[sel.stop - 1] - ab.t0[i0] > o.window_s + o.bin_s:
@@ -653,7 +696,7 @@ def estimate_windows(
                 mid, merged = merge_steady(
                     ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], o.steady_tolerance
                 )
-                est = _profile(merged, mid, pri, shapes, ab.p0, o, lower)
+                est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, lower)
             else:
                 n_screened += 1
                 est = {
@@ -751,6 +794,7 @@ class OnlineAxleWindow:
         self._rows: deque = deque()  # wheel-table rows of the current and recent bins
         self._bins: deque = deque(maxlen=max(round(self.o.window_s / self.o.bin_s), 1))
         self._pri = _priors(vehicle, axle, self.noise)
+        self._reuse = _Reuse()
         self._shapes = _shape_ids(vehicle.tyres[axle].shape)
 
     def push(self, rows: pd.DataFrame) -> None:
@@ -807,7 +851,7 @@ class OnlineAxleWindow:
             n = np.array([b[2] for b in self._bins])
             mid, merged = merge_steady(t0, t1, n, data, self.o.steady_tolerance)
             row.update(
-                _profile(
+                self._reuse.profile(
                     merged,
                     mid,
                     self._pri,
