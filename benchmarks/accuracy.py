@@ -17,8 +17,11 @@ the measured-grip bound, the estimate and its 90 % interval. Per cell and overal
 at utilisation ≥ 0.6 and ≥ 0.8, bias, RMSE, 90 % coverage, share of measured-grip bounds above
 the truth (+0.01), the largest such excess, abstention.
 
-Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--workers 2] [--csv out.csv]
-       [--plot benchmarks/accuracy.png]
+``--kind transients`` drives slaloms instead (60 km/h, 3 s period, steering amplitude 2–8°:
+no steady segment), to show that non-steady windows contribute without bias.
+
+Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients]
+       [--workers 2] [--csv out.csv] [--plot benchmarks/accuracy.png]
 """
 
 from __future__ import annotations
@@ -36,10 +39,15 @@ RECEIVERS = ("v100", "white-0.3", "rtk")
 MUS = (0.3, 0.5, 0.7, 0.9, 1.1)
 
 
-def manoeuvres(mu: float, quick: bool) -> list[tuple[str, float, float]]:
-    """(name, speed [m/s], radius [m]) of the circles driven on a road of friction *mu*."""
+def manoeuvres(mu: float, quick: bool, kind: str = "circles") -> list[tuple[str, float, float]]:
+    """(name, speed [m/s], radius [m] or −steer amplitude [deg]) of the drives on a road of
+    friction *mu*: circles (the thesis's grid and near-limit circles) or transients (slaloms
+    at 60 km/h, 3 s period, from everyday to beyond the limit: no steady segment at all)."""
     from gripsense.sim.drives import limit_speed
 
+    if kind == "transients":
+        amps = (3.0, 7.0) if quick else (2.0, 4.0, 6.0, 8.0)
+        return [(f"slalom {a:g}° 60 km/h", 60 / 3.6, -a) for a in amps]
     speeds = (30, 50) if quick else (20, 30, 40, 50)
     radii = (20, 40) if quick else (20, 30, 40)
     out = [(f"{v} km/h R{r}", v / 3.6, float(r)) for v in speeds for r in radii]
@@ -54,6 +62,7 @@ def jobs(
     tyres=TYRES,
     vehicles=VEHICLES,
     receivers=RECEIVERS,
+    kind: str = "circles",
 ) -> list[dict]:
     out = []
     rng = np.random.default_rng(14)
@@ -63,7 +72,7 @@ def jobs(
     for tyre in tyres:
         for veh in vehicles:
             for mu in mus:
-                for name, v, r in manoeuvres(mu, quick):
+                for name, v, r in manoeuvres(mu, quick, kind):
                     for rec in receivers:
                         for f in cg:
                             out.append(
@@ -88,16 +97,25 @@ def one(job: dict) -> list[dict]:
     from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
     from gripsense.io.steer import steer_at
+    from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
+    if job["radius_m"] > 0:
+        m, circle = None, (job["speed_mps"], job["radius_m"])
+    else:  # a slalom after a 6 s straight (heading calibration)
+        amp = np.deg2rad(-job["radius_m"])
+        t = np.linspace(0.0, 24.0, 1201)
+        steer = np.where(t < 6.0, 0.0, amp * np.sin(2 * np.pi * (t - 6.0) / 3.0))
+        m = M.slalom(job["speed_mps"], amplitude_rad=amp, period_s=3.0, cycles=8)
+        m.steer_table, m.duration_s, m.settle_s, circle = (t, steer), 24.0, 6.0, None
     d = simulate_drive(
         job["vehicle"],
         job["tyre"],
-        None,
+        m,
         job["mu_road"],
         receiver=job["receiver"],
         seed=job["seed"],
-        circle=(job["speed_mps"], job["radius_m"]),
+        circle=circle,
     )
     uv = user_vehicle(
         truth_vehicle(job["vehicle"]),
@@ -180,6 +198,7 @@ def main() -> None:
     ap.add_argument("--tyres", default=",".join(TYRES))
     ap.add_argument("--vehicles", default=",".join(VEHICLES))
     ap.add_argument("--receivers", default=",".join(RECEIVERS))
+    ap.add_argument("--kind", default="circles", choices=("circles", "transients"))
     args = ap.parse_args()
     todo = jobs(
         args.quick,
@@ -187,6 +206,7 @@ def main() -> None:
         tuple(args.tyres.split(",")),
         tuple(args.vehicles.split(",")),
         tuple(args.receivers.split(",")),
+        args.kind,
     )
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as ex:
