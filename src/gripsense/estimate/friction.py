@@ -441,6 +441,7 @@ def friction_from_motion(
                 (vehicle.track_front_m, vehicle.track_rear_m),
                 vehicle.roll_centre_heights_m,
                 vehicle.roll_stiffness_front_fraction,
+                np.deg2rad(vehicle.roll_gradient_deg_per_g),
             ),
             strict=True,
         )

@@ -43,10 +43,12 @@ def lateral_load_transfer(
     tracks_m: tuple[float, float],
     roll_centre_heights_m: tuple[float, float] | None = None,
     roll_stiffness_front_fraction: float | None = None,
+    roll_gradient_rad_per_g: float = 0.0,
 ):
     """Steady-state lateral load transfer per axle, ΔFz_i [N] (to the right wheels for a_y > 0).
 
-    ΔFz_i = (a_y / t_i) · [ m_i⁰ h_i + (K_φi / ΣK_φ) · m · (h − h_ra) ],  h_ra = Σ m_i⁰ h_i / m.
+    ΔFz_i = (1 / t_i) · [ a_y m_i⁰ h_i + (K_φi / ΣK_φ) · m · (h − h_ra) · a_y (1 + φ_g) ],
+    h_ra = Σ m_i⁰ h_i / m, with the body's roll φ = φ_g a_y/g moving the CG sideways.
 
     Parameters
     ----------
@@ -65,15 +67,17 @@ def lateral_load_transfer(
         thesis model, ΔFz_i = m_i⁰ a_y h / t_i.
     roll_stiffness_front_fraction : float or None
         K_φf / ΣK_φ [-]. None: equal to the weight split.
+    roll_gradient_rad_per_g : float
+        Body roll per g of lateral acceleration φ_g [rad] (0: the CG does not move sideways).
 
     Returns
     -------
     (dfz_front, dfz_rear) : tuple of array_like
-        [N]. Moment balance: Σ ΔFz_i t_i = m a_y h.
+        [N]. Moment balance: Σ ΔFz_i t_i = m a_y h (+ m (h − h_ra) a_y φ_g).
 
     References
     ----------
-    docs/physics.md §4.2 (simplified: no sprung/unsprung split, no roll-induced CG shift).
+    docs/physics.md §4.2 (simplified: no sprung/unsprung split).
     """
     ay = as_float_array(lateral_accel, "lateral_accel")
     mf, mr = axle_masses_kg
@@ -86,8 +90,9 @@ def lateral_load_transfer(
     )
     h_ra = (mf * hf + mr * hr) / mass_kg
     arm = mass_kg * (cg_height_m - h_ra)
-    dfz_f = ay / tf * (mf * hf + kf * arm)
-    dfz_r = ay / tr * (mr * hr + (1.0 - kf) * arm)
+    roll = 1.0 + roll_gradient_rad_per_g
+    dfz_f = ay / tf * (mf * hf + kf * arm * roll)
+    dfz_r = ay / tr * (mr * hr + (1.0 - kf) * arm * roll)
     return restore(dfz_f, lateral_accel), restore(dfz_r, lateral_accel)
 
 

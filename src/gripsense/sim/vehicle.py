@@ -17,8 +17,9 @@ Forces (ISO 8855 body axes):
   file's ``roll_gradient_deg_per_g`` and ``roll_camber_gain``), the same for all four wheels;
 * locked wheels (straight braking) slide: F = −μ F_z along the wheel's velocity;
 * quasi-static loads: longitudinal transfer m a_x h / L and the steady-state lateral transfer of
-  docs/physics.md §4.2 (roll-stiffness split and roll-centre heights), from the previous step's
-  accelerations; no aerodynamic drag, no rolling resistance.
+  docs/physics.md §4.2 (roll-stiffness split and roll-centre heights) with the body's roll
+  φ = (dφ/da_y) a_y moving the CG sideways (roll moment m (h − h_ra)(a_y + g φ)), from the
+  previous step's accelerations; no aerodynamic drag, no rolling resistance.
 
 Equations: m(U̇ − V r) = ΣF_x, m(V̇ + U r) = ΣF_y, I_z ṙ = Σ(x_i F_y,i − y_i F_x,i).
 Integration: fixed-step RK4 (default 2 ms) in one compiled loop; controllers are evaluated once
@@ -359,8 +360,11 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ta
     # quasi-static loads (docs/physics.md §4.2) from the previous step's accelerations
     h_ra = (mf * hf + mr * hr) / m
     arm = m * (h - h_ra)
-    dfz_f = ay_prev / tf * (mf * hf + kf * arm)
-    dfz_r = ay_prev / tr * (mr * hr + (1.0 - kf) * arm)
+    # the body rolls by φ = (dφ/da_y) a_y, which also moves the CG sideways: the roll moment is
+    # m (h − h_ra)(a_y + g φ) (docs/physics.md §4.2)
+    ay_roll = ay_prev * (1.0 + p[27])
+    dfz_f = (ay_prev * mf * hf + kf * arm * ay_roll) / tf
+    dfz_r = (ay_prev * mr * hr + (1.0 - kf) * arm * ay_roll) / tr
     dfx = m * ax_prev * h / L / 2.0
     # the wheels lean with the body (quasi-static roll, same inclination for all four)
     gamma = p[28] * p[27] * ay_prev / G0
