@@ -144,7 +144,9 @@ def test_figures_with_missing_channels_and_no_valid_mu(tmp_path):
     figs += [F.condition_figure(res.wheels, t0, t1) for t0, t1 in conds[:1]]
     assert all(f.axes for f in figs)
     p = write_report(res, tmp_path / "r.html", epochs=bare)
-    assert "no value" in p.read_text() and "the data prove μ ≥" in p.read_text()
+    text = p.read_text()
+    assert "no value" in text and "the data prove μ ≥" in text
+    assert ">True<" not in text and ">False<" not in text  # words, not booleans
     empty = res.wheels.iloc[:0]
     assert conditions(empty) == []
     F.mu_vs_utilisation(empty)

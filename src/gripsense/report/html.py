@@ -43,7 +43,8 @@ def _img(fig, alt: str) -> str:
 
 
 def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
-    """An HTML table of *df*, every cell escaped (NaN as —, ∞ for infinite values).
+    """An HTML table of *df*, every cell escaped (NaN as —, ∞ for infinite values, booleans as
+    yes/no; an ``observable`` column reads "value" / "no value — measured grip only").
 
     Parameters
     ----------
@@ -59,12 +60,21 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
     """
 
     def cell(v):
+        if isinstance(v, bool | np.bool_):  # words, not True/False
+            return "yes" if v else "no"
         if isinstance(v, float | np.floating):
             if not np.isfinite(v):
                 return "—" if np.isnan(v) else "∞"
             return floatfmt.format(v)
         return html.escape(str(v))
 
+    if "observable" in df.columns:
+        df = df.assign(
+            observable=[
+                "value" if bool(v) else "no value — measured grip only"
+                for v in df["observable"].fillna(False)
+            ]
+        ).rename(columns={"observable": "estimate"})
     head = "".join(
         f'<th class="{"l" if i == 0 else ""}">{html.escape(str(c))}</th>'
         for i, c in enumerate(df.columns)
