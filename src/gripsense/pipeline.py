@@ -210,6 +210,34 @@ class FrictionRun:
         )
         return self.run_motion(motion, meta=meta).replace(epochs=epochs, ingest=ingest)
 
+    def wheel_table(
+        self, epochs: pd.DataFrame, *, steer_rad: np.ndarray | None = None
+    ) -> tuple[pd.DataFrame, dict]:
+        """The per-sample wheel table of an epoch table, without the estimator (live mode feeds
+        it to :class:`~gripsense.estimate.axle_window.OnlineAxleWindow`).
+
+        Parameters
+        ----------
+        epochs : pandas.DataFrame
+            Epoch table.
+        steer_rad : numpy.ndarray, optional
+            Road-wheel angle per epoch row [rad].
+
+        Returns
+        -------
+        wheels : pandas.DataFrame
+            :func:`gripsense.estimate.friction.friction_from_motion`'s table.
+        meta : dict
+            Heading offset and counts.
+        """
+        motion, meta = motion_from_epochs(
+            epochs, self.vehicle, options=self.options, steer_rad=steer_rad
+        )
+        wheels, meta2 = friction_from_motion(
+            motion, self.vehicle, method=self.method, options=self.options
+        )
+        return wheels, {**meta, **meta2}
+
     def run_motion(self, motion: pd.DataFrame, *, meta: dict | None = None) -> FrictionResult:
         """Estimate μ from a motion table of the measurement point.
 

@@ -795,6 +795,7 @@ class OnlineAxleWindow:
         self._bins: deque = deque(maxlen=max(round(self.o.window_s / self.o.bin_s), 1))
         self._pri = _priors(vehicle, axle, self.noise)
         self._reuse = _Reuse()
+        self._tail: pd.DataFrame | None = None
         self._shapes = _shape_ids(vehicle.tyres[axle].shape)
 
     def push(self, rows: pd.DataFrame) -> None:
@@ -813,13 +814,18 @@ class OnlineAxleWindow:
             self._rows.append((k, g))
 
     def _close(self) -> None:
-        frame = pd.concat([g for _, g in self._rows], ignore_index=True)
+        rows = pd.concat([g for _, g in self._rows], ignore_index=True)
+        k = self._rows[-1][0]
         self._rows.clear()
-        ab = axle_bins(
-            frame, self.axle, self.vehicle, self.noise, self.o.bin_s * 1e6, self.o.min_samples
-        )
-        if ab.t0.size:
-            self._bins.append((ab.t0[0], ab.t1[0], ab.n[0], ab.data[0], ab.grip_sigma[0], ab.p0))
+        # the previous bin's samples give the relaxation-lag interpolation its context at the
+        # bin's start, as in the batch (they form their own bin, which is not kept here)
+        frame = rows if self._tail is None else pd.concat([self._tail, rows], ignore_index=True)
+        self._tail = rows
+        ab = axle_bins(frame, self.axle, self.vehicle, self.noise, self.o.bin_s, 1)
+        mine = np.flatnonzero(np.floor(ab.t0 / self.o.bin_s) == k)
+        if mine.size and ab.n[mine[-1]] >= self.o.min_samples:
+            i = mine[-1]
+            self._bins.append((ab.t0[i], ab.t1[i], ab.n[i], ab.data[i], ab.grip_sigma[i], ab.p0))
 
     def estimate(self) -> dict | None:
         """The newest complete window (None until there is one).

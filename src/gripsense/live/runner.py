@@ -45,9 +45,12 @@ RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", *UNIT_COLUMNS, "stale"]
 class LiveFriction:
     """Friction over the last ``window_s`` seconds of epochs, recomputed on demand.
 
-    Uses :class:`gripsense.pipeline.FrictionRun` on the window (per wheel for the per-sample
-    methods, per axle with ``axle-window``), so live results are the batch method's results on
-    the same recent data.
+    Per-sample methods: :class:`gripsense.pipeline.FrictionRun` on the window, so live results
+    are the batch method's results on the same recent data. ``axle-window``: the wheel table of
+    the window feeds, sample by sample, one :class:`~gripsense.estimate.axle_window.
+    OnlineAxleWindow` per axle (bins kept as running means), so an update costs the newest
+    window's profile whatever the window length; the row per axle is the newest window's
+    measured grip and estimate (the batch ``windows.parquet`` row of the same samples).
     """
 
     def __init__(self, vehicle, method: str = "axle-window", window_s: float = 30.0, receiver=None):
@@ -55,6 +58,9 @@ class LiveFriction:
 
         self.run = FrictionRun(vehicle, method=method, receiver=receiver)
         self.window_s = float(window_s)
+        self._online: dict = {}
+        self._pushed_t = -np.inf
+        self._last_rows: dict = {}
         self._epochs: deque[pd.DataFrame] = deque()
         self.last_t: float = float("nan")
         self.resets = 0  #: times the data's clock went backwards (window restarted)
@@ -72,6 +78,9 @@ class LiveFriction:
         if back.size:
             self.resets += 1
             self._epochs.clear()
+            self._online.clear()
+            self._last_rows.clear()
+            self._pushed_t = -np.inf
             epochs = epochs.iloc[back[-1] :]
             t = t[back[-1] :]
             self.last_t = float("nan")
@@ -97,11 +106,60 @@ class LiveFriction:
         ep = ep[ep["t_s"] >= self.last_t - self.window_s]
         if len(ep) < 5:
             return pd.DataFrame()
+        if self.run.method == "axle-window":
+            return self._online_estimate(ep)
         try:
             res = self.run.run(ep)
         except GripsenseError:
             return pd.DataFrame()  # e.g. too little data in the window yet
         return res.unit_table()
+
+    def _online_estimate(self, ep: pd.DataFrame) -> pd.DataFrame:
+        """Feed the samples that became final to the online estimators; the newest windows."""
+        from gripsense.estimate.axle_window import OnlineAxleWindow
+        from gripsense.physics.surface import surface_class_interval
+
+        try:
+            wheels, _ = self.run.wheel_table(ep)
+        except GripsenseError:
+            return pd.DataFrame()
+        if wheels.empty:
+            return pd.DataFrame()
+        # a sample is final once the ±0.5 s slopes around it are complete
+        t = wheels["t_s"].to_numpy(float)
+        final = (t > self._pushed_t) & (t <= self.last_t - 1.0)
+        new = wheels[final]
+        if len(new):
+            self._pushed_t = float(new["t_s"].max())
+            for axle in sorted({w.split("_")[0] for w in new["wheel"].astype(str)}):
+                est = self._online.get(axle)
+                if est is None:
+                    est = self._online[axle] = OnlineAxleWindow(
+                        self.run.vehicle, axle, noise=self.run.options.noise,
+                        options=self.run.window,
+                    )  # fmt: skip
+                est.push(new)
+                row = est.estimate()
+                if row is not None:
+                    self._last_rows[axle] = row
+        rows = []
+        for axle, r in sorted(self._last_rows.items()):
+            obs = bool(r.get("observable", False))
+            lo, hi = r.get("mu_low", np.nan), r.get("mu_high", np.nan)
+            rows.append(
+                {
+                    "unit": axle,
+                    "mu": r.get("mu", np.nan) if obs else np.nan,
+                    "mu_low": lo,
+                    "mu_high": hi,
+                    "surface": str(surface_class_interval(lo, hi)) if obs else "undetermined",
+                    "observable": obs,
+                    "grip_used": r.get("grip_used", np.nan),
+                    "grip_used_lower": r.get("grip_used_lower", np.nan),
+                    "n_valid": int(r.get("n", 0)),
+                }
+            )
+        return pd.DataFrame(rows, columns=UNIT_COLUMNS)
 
 
 @dataclass
