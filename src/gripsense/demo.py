@@ -64,7 +64,9 @@ def run_demo(
         if key not in runs:
             veh = Vehicle.from_toml(folder / vfile)
             runs[key] = FrictionRun(veh, method=method, noise=rec)
-        res = runs[key].run_log(folder / c["nmea"])
+        steer = c.get("steer")
+        steer_csv = folder / steer if isinstance(steer, str) and steer else None
+        res = runs[key].run_log(folder / c["nmea"], steer_csv=steer_csv)
         truth = axle_truth(pd.read_parquet(folder / c["truth"]), c["settle_s"]).set_index("axle")
         summ = res.unit_table().set_index("unit")
         for axle in truth.index:

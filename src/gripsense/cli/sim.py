@@ -84,25 +84,27 @@ def demo(
     from rich import box
 
     table = Table(
-        title="Rear axle: measured grip (model-free) and estimated μ, next to the truth",
+        title="Per axle: measured grip and estimated μ next to the truth (R 20 m)",
         box=box.SIMPLE_HEAD,
         pad_edge=False,
+        padding=(0, 1),
+        collapse_padding=True,
     )
     for col in (
         "case",
         "tyre",
         "rx",
         "km/h",
-        "R",
+        "axle",
         "μ true",
         "util",
-        "proven ≥",
-        "estimate [90 %]",
+        "μ ≥",
+        "estimate [90%]",
         "",
     ):
-        table.add_column(col, no_wrap=True)
+        table.add_column(col, no_wrap=True, min_width=len(col) if col != "estimate [90%]" else 17)
     for rec in df.to_dict("records"):
-        v, r = rec["name"].split()[1:3]
+        v = rec["name"].split()[1]
         if rec["observable"]:
             est = f"{rec['mu']:.2f} [{rec['mu_low']:.2f}, {rec['mu_high']:.2f}]"
             mark = "✓" if rec["covered"] else "✗"
@@ -111,11 +113,11 @@ def demo(
             est = "—" + (f" (≤ {hi:.2f})" if np.isfinite(hi) else "")
             mark = ""
         table.add_row(
-            rec["case"],
+            rec["case"].removeprefix("case"),
             "MF" if rec["tyre"] != "brush" else "brush",
             rec["receiver"],
             v[2:-4],
-            r[2:-1],
+            rec["axle"],
             f"{rec['mu_true']:.2f}",
             f"{rec['utilisation_true']:.2f}",
             f"{rec['grip_used_lower']:.2f}" + ("" if rec["bound_holds"] else " ✗"),
@@ -124,9 +126,9 @@ def demo(
         )
     console.print(table)
     console.print(
-        "proven ≥: the friction the axle used — the data prove μ ≥ this (model-free, level road "
+        "μ ≥: the friction the axle used — the data prove μ ≥ this (model-free, level road "
         "assumed); estimate: μ under a tyre model whose shape is uncertain, given only where "
-        "the data carry it (—: no value)."
+        "the data carry it (—: no value; ≤: the estimate's upper end)."
     )
     console.print(f"[bold]verdict:[/] {demo_verdict(df)}.")
     from gripsense.demo import write_demo_report

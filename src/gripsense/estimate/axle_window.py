@@ -168,7 +168,8 @@ class AxleBins:
         axle force [N] and its white 1σ [N], slip white 1σ [rad], measured grip [-], a_y/g
         [-], static wheel load [N], road-wheel steer angle [rad] (0 on the rear axle), the
         slip's spread within the bin beyond its white noise [rad], the 1σ of the force the
-        tyre model cannot represent [N] (:data:`FORCE_MODEL_REL` of it).
+        model cannot represent [N] (:data:`FORCE_MODEL_REL` of it, the steered axle's
+        (1 − cos δ), and the force's own spread within the bin beyond its noise — a transient).
     grip_sigma : numpy.ndarray
         1σ of the measured grip of each bin [-].
     p0 : float
@@ -284,6 +285,11 @@ def axle_bins(
     white = 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float)
     spread2 = np.add.reduceat(a_mid * a_mid, starts) / n - mean(a_mid) ** 2
     spread = np.sqrt(np.maximum(spread2 - np.add.reduceat(white * white, starts) / n, 0.0))
+    # the axle force's spread within the bin beyond its white noise: in a transient the
+    # yaw-acceleration term (ṙ from a ±0.5 s slope) and the tyre lag are resolved only roughly
+    f_white = b["force_sigma_N_L"].to_numpy(float) + b["force_sigma_N_R"].to_numpy(float)
+    f_spread2 = np.add.reduceat(force * force, starts) / n - mean(force) ** 2
+    f_spread = np.sqrt(np.maximum(f_spread2 - np.add.reduceat(f_white**2, starts) / n, 0.0))
     ay = b["lateral_accel_mps2_L"].to_numpy(float) / G0
     speed = b["speed_mps_L"].to_numpy(float)
     data = np.column_stack(
@@ -303,7 +309,10 @@ def axle_bins(
             np.full(starts.size, fzs),
             mean(steer),
             spread,
-            np.abs(mean(force)) * np.hypot(FORCE_MODEL_REL, 1.0 - np.cos(mean(steer))),
+            np.hypot(
+                np.abs(mean(force)) * np.hypot(FORCE_MODEL_REL, 1.0 - np.cos(mean(steer))),
+                f_spread,
+            ),
         ]
     )
     # the measured grip's noise: white a_y noise / √n, and the lateral-velocity rate (a_y =
@@ -524,6 +533,9 @@ def _profile(
     limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
     if not observable and fit == "ok" and not np.isfinite(hi):
         limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
+    if np.isfinite(grip_lower):
+        # the estimate never below what the data prove without a model
+        mu_hat = max(mu_hat, float(grip_lower))
     return {
         "mu": mu_hat if observable else np.nan,
         "mu_low": float(max(lo, grip_lower)) if fit != "inconsistent" else np.nan,
