@@ -141,9 +141,11 @@ def _prior_delta(rho, sd, pd, pe):
 
 
 @njit(cache=True, nogil=True)
-def _objective(
-    mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe, r, v, jg, jd
-):
+def _objective(mu, th, dl, ctx, r, v, jg, jd):
+    """−log L at (θ, δ); ``ctx`` = (shape, f table, f' table, 1/dx, bins, p0, prior mean,
+    prior sd, δ prior diagonal, δ prior off-diagonal); fills r, v and the Jacobians.
+    """
+    shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe = ctx
     _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r, v, jg, jd)
     n = b.shape[0]
     nll = 0.0
@@ -247,9 +249,8 @@ def profile_nll(
     r, v, jd, pd, pe = ws[1], ws[2], ws[3], ws[4], ws[5]
     jg = ws[6 : 6 + NG].T
     _prior_delta(rho, prior_d, pd, pe)
-    best = _objective(
-        mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe, r, v, jg, jd
-    )
+    ctx = (shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe)
+    best = _objective(mu, th, dl, ctx, r, v, jg, jd)
     th_out[:] = th
     dl_out[:] = dl
     lam = 1e-3
@@ -317,25 +318,7 @@ def profile_nll(
         trial_th[2] = max(trial_th[2], -0.95)
         trial_th[7] = min(max(trial_th[7], -0.5), 1.0)
         trial_th[8] = min(max(trial_th[8], -2.0), 2.0)
-        val = _objective(
-            mu,
-            trial_th,
-            trial_dl,
-            shape,
-            tab_f,
-            tab_df,
-            inv_dx,
-            b,
-            p0,
-            prior_m,
-            prior_s,
-            pd,
-            pe,
-            r,
-            v,
-            jg,
-            jd,
-        )
+        val = _objective(mu, trial_th, trial_dl, ctx, r, v, jg, jd)
         if val < best:
             improvement = best - val
             th[:] = trial_th
@@ -349,25 +332,7 @@ def profile_nll(
         else:
             lam *= 10.0
             # r, v, J hold the rejected trial: evaluate at the current point again
-            _objective(
-                mu,
-                th,
-                dl,
-                shape,
-                tab_f,
-                tab_df,
-                inv_dx,
-                b,
-                p0,
-                prior_m,
-                prior_s,
-                pd,
-                pe,
-                r,
-                v,
-                jg,
-                jd,
-            )
+            _objective(mu, th, dl, ctx, r, v, jg, jd)
     return best
 
 
