@@ -55,11 +55,16 @@ def _live(out: Path, *extra: str) -> subprocess.Popen:
 def test_live_rerun_after_sigkill_keeps_the_partial_and_the_raw_recording(tmp_path):
     out = tmp_path / "drive.parquet"
     p = _live(out)
-    time.sleep(6.0)
-    p.send_signal(signal.SIGKILL)
-    p.wait(timeout=30)
     part = tmp_path / "drive.parquet.partial.csv"
     raw = tmp_path / "drive.parquet.raw.nmea"
+    # kill once results were recorded (a header and at least one row flushed)
+    deadline = time.monotonic() + 60.0
+    while time.monotonic() < deadline and p.poll() is None:
+        if part.exists() and part.read_bytes().count(b"\n") >= 2:
+            break
+        time.sleep(0.2)
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=30)
     assert part.exists() and raw.stat().st_size > 0
     before = _hashes(tmp_path)
     # the natural next step — the same command again — must not truncate anything

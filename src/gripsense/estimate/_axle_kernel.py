@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 
 SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
+TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
 
 
@@ -318,6 +319,15 @@ def profile_nll(
         trial_th[2] = max(trial_th[2], -0.95)
         trial_th[7] = min(max(trial_th[7], -0.5), 1.0)
         trial_th[8] = min(max(trial_th[8], -2.0), 2.0)
+        # the decrease the quadratic model predicts for this step: at the minimum it is below
+        # the tolerance, and a step that rounding would reject is not tried again and again
+        pred = 0.0
+        for a in range(NG):
+            pred -= g_g[a] * (trial_th[a] - th[a])
+        for k in range(n):
+            pred -= g_d[k] * (trial_dl[k] - dl[k])
+        if 0.5 * pred < TOL_NLL:
+            break
         val = _objective(mu, trial_th, trial_dl, ctx, r, v, jg, jd)
         if val < best:
             improvement = best - val
@@ -327,7 +337,7 @@ def profile_nll(
             th_out[:] = th
             dl_out[:] = dl
             lam = max(lam * 0.1, 1e-6)
-            if improvement < 1e-4:
+            if improvement < TOL_NLL:
                 break
         else:
             lam *= 10.0

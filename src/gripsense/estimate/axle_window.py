@@ -27,6 +27,7 @@ otherwise the interval [mu_low, ∞) and the measured grip.
 
 from __future__ import annotations
 
+import itertools
 from collections import deque
 from dataclasses import dataclass
 from functools import cache
@@ -185,8 +186,59 @@ class AxleBins:
     p0: float
 
 
+_PAIR_COLUMNS = (
+    "t_s",
+    "slip_angle_rad",
+    "load_N",
+    "cornering_stiffness_N_per_rad",
+    "force_sigma_N",
+    "slip_sigma_rad",
+    "speed_mps",
+    "axle_force_N",
+    "grip_used",
+    "grip_sigma",
+    "lateral_accel_mps2",
+)
+
+
+def axle_pairs(wheels: pd.DataFrame, axle: str) -> dict[str, np.ndarray]:
+    """The usable samples of one axle: left and right wheel joined on the epoch (both present,
+    cornering, positive loads, every number finite), in time order.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`).
+    axle : str
+        ``front`` or ``rear``.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``<column>_L`` and ``<column>_R`` for the columns the bins use (``steer_rad_L`` on a
+        front axle whose table has a steering channel), all of one length.
+    """
+    cols = list(_PAIR_COLUMNS)
+    if "steer_rad" in wheels.columns and axle == "front":
+        cols.append("steer_rad")
+    wheel = wheels["wheel"]
+    m_l = (wheel == f"{axle}_left").to_numpy()
+    m_r = (wheel == f"{axle}_right").to_numpy()
+    epoch = wheels["epoch"].to_numpy()
+    _, i_l, i_r = np.intersect1d(epoch[m_l], epoch[m_r], return_indices=True)
+    flag = wheels["flag"].to_numpy()
+    ok = ~np.isin(flag[m_l][i_l], _OUT) & ~np.isin(flag[m_r][i_r], _OUT)
+    out: dict[str, np.ndarray] = {}
+    for c in cols:
+        x = wheels[c].to_numpy(float)
+        out[c + "_L"], out[c + "_R"] = x[m_l][i_l], x[m_r][i_r]
+        ok &= np.isfinite(out[c + "_L"]) & np.isfinite(out[c + "_R"])
+    order = np.argsort(out["t_s_L"][ok], kind="stable")
+    return {c: x[ok][order] for c, x in out.items()}
+
+
 def axle_bins(
-    wheels: pd.DataFrame,
+    wheels: pd.DataFrame | dict[str, np.ndarray],
     axle: str,
     vehicle: Vehicle,
     noise: NoiseModel,
@@ -197,8 +249,9 @@ def axle_bins(
 
     Parameters
     ----------
-    wheels : pandas.DataFrame
-        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`).
+    wheels : pandas.DataFrame or dict of numpy.ndarray
+        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`), or its usable
+        samples of this axle from :func:`axle_pairs`.
     axle : str
         ``front`` or ``rear``.
     vehicle : Vehicle
@@ -215,31 +268,7 @@ def axle_bins(
     AxleBins
         The bins.
     """
-    cols = [
-        "epoch",
-        "t_s",
-        "slip_angle_rad",
-        "load_N",
-        "cornering_stiffness_N_per_rad",
-        "force_sigma_N",
-        "slip_sigma_rad",
-        "flag",
-        "speed_mps",
-        "axle_force_N",
-        "grip_used",
-        "grip_sigma",
-        "lateral_accel_mps2",
-    ]
-    has_steer = "steer_rad" in wheels.columns and axle == "front"
-    if has_steer:
-        cols.append("steer_rad")
-    L = wheels.loc[wheels["wheel"] == f"{axle}_left", cols].set_index("epoch")
-    R = wheels.loc[wheels["wheel"] == f"{axle}_right", cols].set_index("epoch")
-    both = L.add_suffix("_L").join(R.add_suffix("_R"), how="inner").sort_values("t_s_L")
-    ok = ~both["flag_L"].isin(_OUT) & ~both["flag_R"].isin(_OUT)
-    num = both[[c for c in both.columns if not c.startswith("flag")]].to_numpy(float)
-    ok &= np.isfinite(num).all(axis=1)
-    b = both[ok.to_numpy()]
+    b = axle_pairs(wheels, axle) if isinstance(wheels, pd.DataFrame) else wheels
     tyre = vehicle.tyres[axle]
     fzs = vehicle.static_load(axle)
     p0 = float(
@@ -249,22 +278,22 @@ def axle_bins(
         )
         / np.log(1.1 / 0.9)
     )
-    t = b["t_s_L"].to_numpy(float)
-    empty = AxleBins(
-        axle,
-        np.zeros(0),
-        np.zeros(0),
-        np.zeros(0, int),
-        np.zeros((0, len(BIN_COLUMNS))),
-        np.zeros(0),
-        p0,
-    )
+    t = b["t_s_L"]
     if t.size == 0:
-        return empty
+        return AxleBins(
+            axle,
+            np.zeros(0),
+            np.zeros(0),
+            np.zeros(0, int),
+            np.zeros((0, len(BIN_COLUMNS))),
+            np.zeros(0),
+            p0,
+        )
     # the tyre force lags the slip by σ/U: compare the force with the slip of σ/U earlier
-    lag = tyre.relaxation_length_m / np.maximum(b["speed_mps_L"].to_numpy(float), 1.0)
-    aL = np.interp(t - lag, t, b["slip_angle_rad_L"].to_numpy(float))
-    aR = np.interp(t - lag, t, b["slip_angle_rad_R"].to_numpy(float))
+    speed = b["speed_mps_L"]
+    lag = tyre.relaxation_length_m / np.maximum(speed, 1.0)
+    aL = np.interp(t - lag, t, b["slip_angle_rad_L"])
+    aR = np.interp(t - lag, t, b["slip_angle_rad_R"])
     # bins on the data clock (not from the first sample): the live estimator forms the same
     k = np.floor(t / bin_s).astype(np.int64)
     # a gap in the data ends a bin
@@ -279,32 +308,31 @@ def axle_bins(
     def rms_over_n(x):
         return np.sqrt(np.add.reduceat(x * x, starts) / n / n)
 
-    force = b["axle_force_N_L"].to_numpy(float)
-    steer = b["steer_rad_L"].to_numpy(float) if has_steer else np.zeros(t.size)
+    force = b["axle_force_N_L"]
+    steer = b["steer_rad_L"] if "steer_rad_L" in b else np.zeros(t.size)
     a_mid = 0.5 * (aL + aR)
-    white = 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float)
+    white = 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"])
     spread2 = np.add.reduceat(a_mid * a_mid, starts) / n - mean(a_mid) ** 2
     spread = np.sqrt(np.maximum(spread2 - np.add.reduceat(white * white, starts) / n, 0.0))
     # the axle force's spread within the bin beyond its white noise: in a transient the
     # yaw-acceleration term (ṙ from a ±0.5 s slope) and the tyre lag are resolved only roughly
-    f_white = b["force_sigma_N_L"].to_numpy(float) + b["force_sigma_N_R"].to_numpy(float)
+    f_white = b["force_sigma_N_L"] + b["force_sigma_N_R"]
     f_spread2 = np.add.reduceat(force * force, starts) / n - mean(force) ** 2
     f_spread = np.sqrt(np.maximum(f_spread2 - np.add.reduceat(f_white**2, starts) / n, 0.0))
-    ay = b["lateral_accel_mps2_L"].to_numpy(float) / G0
-    speed = b["speed_mps_L"].to_numpy(float)
+    ay = b["lateral_accel_mps2_L"] / G0
     data = np.column_stack(
         [
             mean(aL),
             mean(aR),
-            mean(b["load_N_L"].to_numpy(float)),
-            mean(b["load_N_R"].to_numpy(float)),
-            mean(b["cornering_stiffness_N_per_rad_L"].to_numpy(float)),
-            mean(b["cornering_stiffness_N_per_rad_R"].to_numpy(float)),
+            mean(b["load_N_L"]),
+            mean(b["load_N_R"]),
+            mean(b["cornering_stiffness_N_per_rad_L"]),
+            mean(b["cornering_stiffness_N_per_rad_R"]),
             mean(force),
             # white force noise only: the systematic axle-force error is the nuisance ε
-            rms_over_n(b["force_sigma_N_L"].to_numpy(float) + b["force_sigma_N_R"].to_numpy(float)),
-            rms_over_n(0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"]).to_numpy(float)),
-            mean(b["grip_used_L"].to_numpy(float)),
+            rms_over_n(f_white),
+            rms_over_n(white),
+            mean(b["grip_used_L"]),
             mean(ay),
             np.full(starts.size, fzs),
             mean(steer),
@@ -320,7 +348,7 @@ def axle_bins(
     t_bin = np.maximum(np.maximum.reduceat(t, starts) - t[starts], 0.5 * bin_s)
     sig_v_lat = mean(speed) * np.deg2rad(noise.heading_white_deg)
     grip_sigma = np.hypot(
-        rms_over_n(b["grip_sigma_L"].to_numpy(float)),
+        rms_over_n(b["grip_sigma_L"]),
         2.0 * sig_v_lat / (t_bin + 1.0) / np.sqrt(np.maximum(n / 2, 1)) / G0,
     )
     keep = n >= min_samples
@@ -803,11 +831,12 @@ class OnlineAxleWindow:
         self.axle = axle
         self.noise = noise or NoiseModel()
         self.o = options or WindowOptions()
-        self._rows: deque = deque()  # wheel-table rows of the current and recent bins
+        self._rows: list[dict[str, np.ndarray]] = []  # usable samples of the current bin
+        self._k: int | None = None  # the current bin's index on the data clock
         self._bins: deque = deque(maxlen=max(round(self.o.window_s / self.o.bin_s), 1))
         self._pri = _priors(vehicle, axle, self.noise)
         self._reuse = _Reuse()
-        self._tail: pd.DataFrame | None = None
+        self._tail: dict[str, np.ndarray] | None = None
         self._shapes = _shape_ids(vehicle.tyres[axle].shape)
 
     def push(self, rows: pd.DataFrame) -> None:
@@ -818,20 +847,28 @@ class OnlineAxleWindow:
         rows : pandas.DataFrame
             Rows of :func:`gripsense.estimate.friction.friction_from_motion`.
         """
-        mine = rows[rows["wheel"].astype(str).str.startswith(self.axle + "_")]
-        for t, g in mine.groupby("t_s", sort=True):
-            k = int(np.floor(float(t) / self.o.bin_s))
-            if self._rows and k != self._rows[-1][0]:
+        p = axle_pairs(rows, self.axle)
+        k = np.floor(p["t_s_L"] / self.o.bin_s).astype(np.int64)
+        cuts = np.concatenate([[0], np.flatnonzero(np.diff(k)) + 1, [k.size]])
+        for i0, i1 in itertools.pairwise(cuts):
+            if i1 <= i0:
+                continue
+            if self._k is not None and k[i0] != self._k:
                 self._close()
-            self._rows.append((k, g))
+            self._k = int(k[i0])
+            self._rows.append({c: x[i0:i1] for c, x in p.items()})
 
     def _close(self) -> None:
-        rows = pd.concat([g for _, g in self._rows], ignore_index=True)
-        k = self._rows[-1][0]
-        self._rows.clear()
+        rows = {c: np.concatenate([r[c] for r in self._rows]) for c in self._rows[0]}
+        k = self._k
+        self._rows = []
         # the previous bin's samples give the relaxation-lag interpolation its context at the
         # bin's start, as in the batch (they form their own bin, which is not kept here)
-        frame = rows if self._tail is None else pd.concat([self._tail, rows], ignore_index=True)
+        frame = (
+            rows
+            if self._tail is None or self._tail.keys() != rows.keys()
+            else {c: np.concatenate([self._tail[c], x]) for c, x in rows.items()}
+        )
         self._tail = rows
         ab = axle_bins(frame, self.axle, self.vehicle, self.noise, self.o.bin_s, 1)
         mine = np.flatnonzero(np.floor(ab.t0 / self.o.bin_s) == k)

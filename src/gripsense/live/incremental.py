@@ -30,6 +30,9 @@ from gripsense.io import read_nmea
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 
+ACCOUNT_BATCH = 20_000
+"""Received lines are counted in batches of at most this many (or when the report is read)."""
+
 __all__ = ["LiveIngest"]
 
 
@@ -71,6 +74,8 @@ class LiveIngest:
         self._rejected: Counter = Counter()
         self._junk = 0
         self._first_rejects: list = []
+        self._pending: list[bytes] = []  # received lines not yet counted (see _account)
+        self._pending_start = 0  # global index of the first pending line
         self._n_epochs = 0
         self._no_time = 0
         self._has_date = False
@@ -99,10 +104,11 @@ class LiveIngest:
             self._dropping = False
         if parts:
             lines = [p + b"\n" for p in parts]
-            self._account(lines)
+            self._queue(lines)
             self._tail.extend(lines)
             self._n_lines += len(lines)
         if len(self._partial) > self.max_line_bytes and not self._dropping:
+            self._account()
             # a line that never ends (binary data, a stuck device) must not grow without bound:
             # it is counted once as rejected and its bytes are dropped up to its line end
             self._n_lines += 1
@@ -125,13 +131,29 @@ class LiveIngest:
         if self._partial:
             line = [self._partial]
             self._partial = b""
-            self._account(line)
+            self._queue(line)
             self._tail.extend(line)
             self._n_lines += 1
+        self._account()
         return self._emit(final=True)
 
     # ------------------------------------------------------------------ accounting
-    def _account(self, lines: list[bytes]) -> None:
+    def _queue(self, lines: list[bytes]) -> None:
+        """Lines to count: counted in batches (one read per ``ACCOUNT_BATCH`` lines or when
+        the report is asked for), as a read has a fixed cost that small pieces would repeat.
+        """
+        if not self._pending:
+            self._pending_start = self._n_lines
+        self._pending.extend(lines)
+        if len(self._pending) >= ACCOUNT_BATCH:
+            self._account()
+
+    def _account(self) -> None:
+        """Count the pending lines (parsed, ignored, rejected with a reason)."""
+        if not self._pending:
+            return
+        lines, start = self._pending, self._pending_start
+        self._pending = []
         rep = read_nmea(b"".join(lines), decompress=False).report
         self._parsed.update(rep.parsed)
         self._ignored.update(rep.ignored)
@@ -139,11 +161,12 @@ class LiveIngest:
         self._junk += rep.junk_prefix_lines
         for r in rep.first_rejects:
             if len(self._first_rejects) < 20:
-                self._first_rejects.append(type(r)(r.line + self._n_lines, r.reason, r.detail))
+                self._first_rejects.append(type(r)(r.line + start, r.reason, r.detail))
 
     @property
     def report(self) -> IngestReport:
         """Line accounting so far (equals the batch report once :meth:`finish` was called)."""
+        self._account()
         return IngestReport(
             source=self.source,
             total_lines=self._n_lines,
