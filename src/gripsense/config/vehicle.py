@@ -142,10 +142,11 @@ class Tyre:
         Relative 1σ of the cornering stiffness as declared (G or C) [-]; 0.2 by default, 0.05
         for a tyre calibrated on this car (``gripsense stiffness``).
     load_sensitivity : float
-        Exponent p of C ∝ Fz^p for a declared C (typical Magic Formula tyres: 0.4–0.8) [-];
+        Exponent p of C ∝ Fz^p for a declared C (published Magic Formula files between their
+        nominal load and 1.9 times it: −0.8 to 1.4; default 0.5) [-];
         with G and an l–m model the load dependence follows from the contact length instead.
     load_sensitivity_uncertainty : float
-        1σ of p [-].
+        1σ of p [-] (default 0.5).
     shape : str
         What is known of the curve's shape: ``any`` (brush or Magic Formula, the default),
         ``brush`` or ``magic-formula`` (``docs/physics.md`` §14).
@@ -155,9 +156,10 @@ class Tyre:
         Camber stiffness over cornering stiffness, |C_γ/C_α| [-] (0.05–0.2 for car tyres).
     friction_load_sensitivity : float
         Exponent η of the peak friction's fall with load, μ ∝ Fz^−η [-]: 0 for a brush tyre;
-        the shipped Magic Formula files show 0.05–0.25 (default 0.1).
+        published Magic Formula files show 0.08–0.6 between their nominal load and 1.9 times
+        it (default 0.2).
     friction_load_sensitivity_uncertainty : float
-        1σ of η [-] (default 0.1).
+        1σ of η [-] (default 0.15).
     """
 
     width_m: float
@@ -168,13 +170,13 @@ class Tyre:
     contact_length_m: float | None = None
     pressure: str = "parabolic"
     stiffness_uncertainty: float = 0.2
-    load_sensitivity: float = 0.6
-    load_sensitivity_uncertainty: float = 0.25
+    load_sensitivity: float = 0.5
+    load_sensitivity_uncertainty: float = 0.5
     shape: str = "any"
     relaxation_length_m: float = 0.5
     camber_thrust_ratio: float = 0.1
-    friction_load_sensitivity: float = 0.1
-    friction_load_sensitivity_uncertainty: float = 0.1
+    friction_load_sensitivity: float = 0.2
+    friction_load_sensitivity_uncertainty: float = 0.15
 
     def contact_length(self, mass_kg) -> np.ndarray:
         """Contact length [m] for the mass the wheel carries [kg].
