@@ -134,6 +134,24 @@ def test_low_excitation_not_observable_with_a_sound_bound():
         assert "the data prove μ ≥" in text and "model-free" in text and "μ ≈" not in text
 
 
+def test_no_value_far_from_the_limit():
+    """A benchmark case (PAC89 truth tyre, sports car, μ 0.3, V100 receiver) where the front
+    axle's nuisances once explained the data with μ ≈ 2.2 [2.1, 2.3] while the measured grip was
+    0.25: a value, and a model-based lower end, need data near the limit (the measured grip at
+    least half the interval's upper end)."""
+    d = simulate_drive(
+        "sports", "pac89", None, 0.3, receiver="v100", seed=2749, circle=(40 / 3.6, 20.0)
+    )
+    uv = user_vehicle(truth_vehicle("sports"), "pac89", stiffness_error=-0.0177)
+    truth = d.axles.set_index("axle")["mu_true"]
+    for rec in estimate(d, uv, "v100").summary.to_dict("records"):
+        t = truth[rec["axle"]]
+        assert rec["mu_low"] <= t + 0.01, rec
+        if rec["observable"]:
+            assert abs(rec["mu"] - t) <= 0.1, rec
+            assert rec["grip_used_lower"] >= 0.5 * rec["mu_high"], rec
+
+
 def test_explain_says_which_statement_it_makes():
     mu = 0.5
     d = simulate_drive(

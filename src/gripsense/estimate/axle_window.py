@@ -106,6 +106,9 @@ class WindowOptions:
     bound_level : float
         One-sided confidence of the measured-grip bound (per window; the summary's bound holds
         at this level over all windows of the drive together).
+    min_utilisation : float
+        A value is given only when the measured-grip bound is at least this fraction of the
+        interval's upper end (data near the limit) [-].
     """
 
     window_s: float = 3.0
@@ -121,6 +124,7 @@ class WindowOptions:
     n_mu: int = 48
     iterations: int = 3
     bound_level: float = 0.99
+    min_utilisation: float = 0.5
 
 
 @cache
@@ -544,6 +548,15 @@ def _profile(
     elif im == 0 or np.max(np.abs(z)) > 3.0 or np.max(np.abs(dl[im])) > 3.5 * pri.delta:
         fit = "edge"  # the data are explained only at the edge of what the priors allow
     observable = bool(fit == "ok" and np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    # a value needs data near the limit: below utilisation ~0.5 every curve of the family is
+    # nearly linear, so an interval bounded far above the measured grip comes from the model's
+    # form (a nuisance degeneracy), not from the data
+    far_from_limit = bool(
+        np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
+    )
+    if far_from_limit:
+        # the model's interval is not trusted: say only what the data prove
+        lo, hi, observable = (grip_lower if np.isfinite(grip_lower) else 0.0), np.inf, False
     # a model interval that lies below what the data prove without a model contradicts itself
     if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
         fit, observable = "inconsistent", False
@@ -559,7 +572,12 @@ def _profile(
         "drive force on the steered axle",
     )
     limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
-    if not observable and fit == "ok" and not np.isfinite(hi):
+    if not observable and fit == "ok" and far_from_limit:
+        limited = (
+            "too little lateral acceleration (the measured grip is below half of what the "
+            "model would say: not near the limit)"
+        )
+    elif not observable and fit == "ok" and not np.isfinite(hi):
         limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
     if np.isfinite(grip_lower):
         # the estimate never below what the data prove without a model
