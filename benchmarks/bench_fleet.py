@@ -89,6 +89,50 @@ def main() -> None:
                 f"{len(res.cells)} cell-buckets, {int((res.logs['problem'] != '').sum())} problems"
             )
         print(f"speed-up 1 → 2 workers: {rates[2] / rates[1]:.2f}x")
+        breakdown(drives, tmp, args.method, len(drives) * args.copies, dt_total=dt)
+
+
+def breakdown(drives: list[Path], tmp: Path, method: str, n_logs: int, dt_total: float) -> None:
+    """Where the time goes: the steps of one task timed in this process on the distinct drives
+    (scaled to the run's number of logs), DuckDB aggregation on the 2-worker result, and the
+    rest of the 2-worker run (cluster start, scheduling, map page) as the remainder."""
+    from gripsense.config import Vehicle
+    from gripsense.fleet.aggregate import aggregate_cells
+    from gripsense.fleet.tasks import _cells
+    from gripsense.pipeline import FrictionRun
+
+    veh = Vehicle.from_toml(VEHICLE)
+    run = FrictionRun(veh, method=method, receiver="rtk")
+    t = dict.fromkeys(("ingest", "estimation", "rows + H3", "Parquet"), 0.0)
+    for p in drives:
+        t0 = time.perf_counter()
+        ep = read_nmea(p).epochs
+        t1 = time.perf_counter()
+        res = run.run(ep)
+        t2 = time.perf_counter()
+        est = res.estimates()
+        e = est["epoch"].to_numpy(int)
+        rows = est.assign(
+            lat_deg=ep["lat_deg"].to_numpy(float)[e], lon_deg=ep["lon_deg"].to_numpy(float)[e]
+        )
+        rows["cell"] = _cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), 11)
+        t3 = time.perf_counter()
+        rows.to_parquet(tmp / f"{p.stem}.parquet")
+        t4 = time.perf_counter()
+        for k, dt in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
+            t[k] += dt * n_logs / len(drives)
+    t0 = time.perf_counter()
+    aggregate_cells(tmp / "out2")
+    t["DuckDB aggregation"] = time.perf_counter() - t0
+    work = sum(t.values())
+    print("where the time goes (CPU seconds for the run's logs, one core):")
+    for k, v in t.items():
+        print(f"  {k:<20} {v:6.2f} s")
+    print(
+        f"  2-worker run {dt_total:.2f} s wall for {work:.2f} s of work: the rest (cluster "
+        f"start, scheduling, serialisation, map page, two workers sharing 2 cores with the "
+        f"client) {max(dt_total - work / 2, 0):.2f} s"
+    )
 
 
 if __name__ == "__main__":
