@@ -79,6 +79,47 @@ def test_bad_logs_are_listed_not_fatal(fleet_run):
     assert len(gj["features"]) == fleet_run.cells["cell"].nunique()
 
 
+def _with_external_cluster(tmp: Path, fn):
+    """Run fn(scheduler address) against `dask scheduler` + 2 `dask worker` processes."""
+    import subprocess
+    import sys
+    import time
+
+    dask_cli = [sys.executable, "-m", "dask"]
+    sched_file = tmp / "scheduler.json"
+    procs = [
+        subprocess.Popen(
+            [*dask_cli, "scheduler", "--host", "127.0.0.1", "--port", "0",
+             "--dashboard-address", ":0", "--scheduler-file", str(sched_file)],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        )
+    ]  # fmt: skip
+    try:
+        deadline = time.monotonic() + 60
+        while not sched_file.exists() and time.monotonic() < deadline:
+            time.sleep(0.2)
+        address = json.loads(sched_file.read_text())["address"]
+        assert address.startswith("tcp://127.0.0.1:")
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [*dask_cli, "worker", address, "--nthreads", "1", "--host", "127.0.0.1",
+                     "--dashboard-address", ":0"],
+                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                )
+            )  # fmt: skip
+        from dask.distributed import Client
+
+        with Client(address, timeout=60) as c:
+            c.wait_for_workers(2, timeout=60)
+        return fn(address)
+    finally:
+        for p in procs[::-1]:
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=30)
+
+
 def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_run):
     from dask.distributed import LocalCluster
 
@@ -96,9 +137,16 @@ def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_
             receiver="rtk",
             scheduler=cl.scheduler_address,
         )
+    # an explicitly started `dask scheduler` and two `dask worker` processes on loopback
+    ext = _with_external_cluster(
+        fleet_logs,
+        lambda address: run_fleet(
+            pattern, fleet_logs / "out4", vehicle=veh, receiver="rtk", scheduler=address
+        ),
+    )
     cols = ["mu", "mu_sigma", "grip_used_lower", "n_estimates", "n_passes"]
     ref = fleet_run.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
-    for other in (one, sch):
+    for other in (one, sch, ext):
         o = other.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
         assert list(o["cell"]) == list(ref["cell"])
         np.testing.assert_allclose(
