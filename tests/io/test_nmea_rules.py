@@ -43,6 +43,25 @@ def test_pashr_fields():
     assert ep["heading_source"].iloc[0] == "PASHR"
 
 
+@pytest.mark.parametrize("engine", ["fast", "reference"])
+def test_psti_036_fields(engine):
+    """SkyTraq heading receivers (PX1172RH): GPSD's own example sentence (its checksum 4D is
+    the one GPSD prints); heading, pitch and roll only with a fixed-RTK baseline (mode R)."""
+    lines = [
+        "$PSTI,036,054314.000,030521,191.69,-16.35,0.00,R*4D",
+        sentence("PSTI,036,054314.100,030521,191.89,-16.30,0.10,F"),
+        sentence("PSTI,030,054314.100,A,2447.0,N,12100.0,E,1,0,0,0,030521,R,1,2"),
+    ]
+    log = read_nmea(lines, engine=engine)
+    assert log.report.parsed == {"PSTI,036": 2}
+    assert log.report.ignored == {"PSTI,030": 1}
+    ep = log.epochs
+    assert ep["heading_deg"].iloc[0] == 191.69 and ep["heading_source"].iloc[0] == "PSTI"
+    assert ep["pitch_deg"].iloc[0] == -16.35 and ep["roll_deg"].iloc[0] == 0.0
+    assert ep["time_utc"].iloc[0].isoformat().startswith("2021-05-03T05:43:14")
+    assert np.isnan(ep["heading_deg"].iloc[1])  # float RTK: not used
+
+
 def _left_turn(with_rot: bool):
     """A vehicle turning left at 10 deg/s: compass heading falls, NMEA ROT is negative (port)."""
     lines = []
@@ -129,7 +148,7 @@ def test_vtg_kmh_fallback():
         (sentence("GPZDA,120000.00,29,02,2021,00,00"), "rejected", "malformed field"),
         (sentence("GPGGA,120000.00,3500.0,N"), "rejected", "truncated"),
         (sentence("GPGSV,1,1,00"), "ignored", "GSV"),
-        (sentence("PSTI,030,1"), "ignored", "PSTI"),
+        (sentence("PSTI,030,1"), "ignored", "PSTI,030"),
         (sentence("PSAT,GBS,1"), "ignored", "PSAT,GBS"),
         (sentence("AIVDM,1,1,,B,13aGhtw0R", "!"), "ignored", "VDM"),
         ("\x00\xff" + sentence("GPHDT,274.07,T"), "parsed", "HDT"),

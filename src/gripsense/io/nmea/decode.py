@@ -144,6 +144,15 @@ def _decode_one(
         c["roll_deg"] = r["roll"]
         if key == "PSAT,HPR":
             c["type"] = _char(r["type"])
+    elif key == "PSTI,036":
+        # attitude valid only with a fixed-RTK baseline (mode R), as GPSD reads it
+        invalid = r["mode"] != ord("R")
+        c["heading_deg"] = np.where(invalid, np.nan, _wrap360(r["heading"]))
+        c["pitch_deg"] = np.where(invalid, np.nan, r["pitch"])
+        c["roll_deg"] = np.where(invalid, np.nan, r["roll"])
+        c["mode"] = _char(r["mode"])
+        c["day"], b = _ddmmyy(r["date"])
+        flag(b, "date")
     return c, bad, why.tolist()
 
 

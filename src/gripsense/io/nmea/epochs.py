@@ -3,10 +3,11 @@
 The grouping rule
 -----------------
 A receiver sends a burst of sentences per measurement epoch. Sentences with a UTC time (GGA,
-RMC, ZDA, ``$PSAT,HPR``, ``$PASHR``) say which epoch they belong to; HDT, THS, ROT and VTG (and
-a timed sentence whose time field is empty) do not. Receivers order their bursts differently:
-Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the position), Saab and SkyTraq send
-the heading *after* RMC. gripsense therefore reads the log in order and starts a new epoch when
+RMC, ZDA, ``$PSAT,HPR``, ``$PASHR``, ``$PSTI,036``) say which epoch they belong to; HDT, THS, ROT
+and VTG (and a timed sentence whose time field is empty) do not. Receivers order their bursts
+differently: Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the position), Saab and
+SkyTraq send the heading *after* RMC. gripsense therefore reads the log in order and starts a new
+epoch when
 
 (a) a sentence carries a time different from the current epoch's time (an epoch with no time yet
     takes the first time that arrives), or
@@ -27,8 +28,9 @@ Merging an epoch's sentences
 * position, altitude, fix quality, satellites, HDOP: GGA (if its fix quality is not 0), else RMC
   (if its status is ``A``);
 * speed and course over ground: RMC (status ``A``), else VTG (mode not ``N``);
-* heading: ``$PSAT,HPR`` > ``$PASHR`` > THS (mode not ``V``) > HDT — ``heading_source`` says which;
-* pitch and roll: ``$PSAT,HPR`` > ``$PASHR`` (degrees, as the receiver sends them);
+* heading: ``$PSAT,HPR`` > ``$PASHR`` > ``$PSTI,036`` (mode ``R``) > THS (mode not ``V``) > HDT —
+  ``heading_source`` says which;
+* pitch and roll: ``$PSAT,HPR`` > ``$PASHR`` > ``$PSTI,036`` (degrees, as the receiver sends them);
 * date: RMC or ZDA in the epoch, else carried from the nearest dated epoch, counting midnight
   roll-overs of the time of day.
 """
@@ -64,8 +66,9 @@ EPOCH_COLUMNS = [
 ]
 
 ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
-HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "THS", "HDT")
-HEADING_SOURCES = ["HPR", "PASHR", "THS", "HDT"]  # categories of ``heading_source``, by priority
+HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "PSTI,036", "THS", "HDT")
+# categories of ``heading_source``, by priority
+HEADING_SOURCES = ["HPR", "PASHR", "PSTI", "THS", "HDT"]
 YAW_RATE_SOURCES = ["ROT", "heading"]  # categories of ``yaw_rate_source``
 
 
@@ -301,13 +304,17 @@ def assemble_epochs(
         source[take] = code
     ep["heading_deg"] = heading
     ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)
-    ep["pitch_deg"] = first_of(col("PSAT,HPR", "pitch_deg"), col("PASHR", "pitch_deg"))
-    ep["roll_deg"] = first_of(col("PSAT,HPR", "roll_deg"), col("PASHR", "roll_deg"))
+    ep["pitch_deg"] = first_of(
+        col("PSAT,HPR", "pitch_deg"), col("PASHR", "pitch_deg"), col("PSTI,036", "pitch_deg")
+    )
+    ep["roll_deg"] = first_of(
+        col("PSAT,HPR", "roll_deg"), col("PASHR", "roll_deg"), col("PSTI,036", "roll_deg")
+    )
     rot = first_of(col("ROT", "rot_deg_per_min"))
     ep["rot_deg_per_min"] = rot
 
     # dates and times
-    day = first_of(col("RMC", "day"), col("ZDA", "day"))
+    day = first_of(col("RMC", "day"), col("ZDA", "day"), col("PSTI,036", "day"))
     timed = ~np.isnan(tod_e)
     day = np.where(timed, day, np.nan)
     rc = _rollovers(tod_e).astype(float)

@@ -26,7 +26,7 @@ import pyarrow.compute as pc
 
 from gripsense.io.nmea import kernels as K
 from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.reference import MAX_ADDRESS, _type_key, classify_line
+from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, _type_key, classify_line
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, split_lines
 
 __all__ = ["tokenize_fast"]
@@ -34,7 +34,7 @@ __all__ = ["tokenize_fast"]
 _BYTE_MASK = np.array(
     [(1 << (8 * k)) - 1 if k < 8 else (1 << 64) - 1 for k in range(9)], dtype=np.uint64
 )
-_PSAT = int.from_bytes(b"PSAT".ljust(8, b"\0"), "little")
+_SUBTYPED = {int.from_bytes(a.encode().ljust(8, b"\0"), "little"): a.encode() for a in SUBTYPED}
 
 
 def _spec_arrays(spec: S.SentenceSpec):
@@ -120,15 +120,17 @@ def _tokenize_array(data) -> Tokens:
             key = _type_key(a, b"") if a[:1] == b"P" else a[2:].decode()
             ucode[j] = NAME.setdefault(key, len(NAME))
         key_code[typed] = ucode[inv]
-        sel = typed[addr == _PSAT]
-        if sel.size:
+        for word, name in _SUBTYPED.items():
+            sel = typed[addr == word]
+            if not sel.size:
+                continue
             sl = f1b[sel] - f1a[sel]
             fit = (sl >= 1) & (sl <= MAX_ADDRESS)
             sub = words[f1a[sel]] & _BYTE_MASK[np.where(fit, sl, 0)]
             sinv, su = pd.factorize(sub, sort=False)
             scode = np.empty(len(su), dtype=np.int32)
             for j, u in enumerate(su.tolist()):
-                key = _type_key(b"PSAT", int(u).to_bytes(8, "little").rstrip(b"\0")) or "PSAT"
+                key = _type_key(name, int(u).to_bytes(8, "little").rstrip(b"\0")) or name.decode()
                 scode[j] = NAME.setdefault(key, len(NAME))
             key_code[sel] = scode[sinv]
     minf = np.full(n, -1, dtype=np.int64)

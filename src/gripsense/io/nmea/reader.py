@@ -14,10 +14,10 @@ fix_quality        GGA fix quality (0 none, 1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK fl
 n_sats, hdop       satellites used, horizontal dilution of precision (GGA)
 speed_mps          speed over ground [m/s]
 course_deg         course over ground, clockwise from true north [deg]
-heading_deg        true heading, clockwise from true north [deg] (HDT, THS, HPR or PASHR)
-heading_source     which sentence gave the heading: ``HPR``, ``PASHR``, ``THS``, ``HDT``
-pitch_deg          pitch [deg] as sent by the receiver (HPR, PASHR)
-roll_deg           roll [deg] as sent by the receiver (HPR, PASHR)
+heading_deg        true heading, clockwise from true north [deg] (HDT, THS, HPR, PASHR, PSTI,036)
+heading_source     which sentence gave the heading: ``HPR``, ``PASHR``, ``PSTI``, ``THS``, ``HDT``
+pitch_deg          pitch [deg] as sent by the receiver (HPR, PASHR, PSTI,036)
+roll_deg           roll [deg] as sent by the receiver (HPR, PASHR, PSTI,036)
 rot_deg_per_min    rate of turn as NMEA sends it: [deg/min], positive = turning to starboard
 yaw_rate_rps       ISO 8855 yaw rate [rad/s], positive counter-clockwise seen from above:
                    -ROT·π/10800 when ROT is present, else -d(heading)/dt

@@ -48,7 +48,8 @@ _PATTERNS = {
     S.DATE: re.compile(rb"[0-9]{6}"),
 }
 _ADDR = re.compile(rb"[A-Z0-9]+")
-MAX_ADDRESS = 8  # longest address (and $PSAT sub-type) accepted [characters]
+MAX_ADDRESS = 8  # longest address (and $PSAT/$PSTI sub-type) accepted [characters]
+SUBTYPED = ("PSAT", "PSTI")  # proprietary addresses whose type includes field 1 (HPR, 036)
 _HEX = re.compile(rb"[0-9A-Fa-f]{2}")
 
 
@@ -60,10 +61,10 @@ def _type_key(addr: bytes, rest: bytes) -> str | None:
         if len(addr) < 3:
             return None
         key = addr.decode()
-        if key == "PSAT":
+        if key in SUBTYPED:
             sub = rest.split(b",", 1)[0]
             if sub and len(sub) <= MAX_ADDRESS and _ADDR.fullmatch(sub):
-                return "PSAT," + sub.decode()
+                return key + "," + sub.decode()
         return key
     if len(addr) != 5:
         return None

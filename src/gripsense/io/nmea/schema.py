@@ -5,7 +5,7 @@ production path in :mod:`gripsense.io.nmea.fast`) read this one table, so they c
 which field holds what.
 
 Field numbers count the comma-separated fields after the address field (``$GPGGA`` is field 0,
-the UTC time is field 1). For ``$PSAT,HPR`` the sub-type ``HPR`` is field 1.
+the UTC time is field 1). For ``$PSAT,HPR`` and ``$PSTI,036`` the sub-type is field 1.
 """
 
 from __future__ import annotations
@@ -75,7 +75,7 @@ class SentenceSpec:
     ----------
     key : str
         Type key: the formatter (``GGA``) for standard sentences, whatever the talker; the address
-        for proprietary ones (``PASHR``), or address plus sub-type (``PSAT,HPR``).
+        for proprietary ones (``PASHR``), or address plus sub-type (``PSAT,HPR``, ``PSTI,036``).
     fields : tuple of FieldSpec
         Fields read.
     min_fields : int
@@ -162,6 +162,19 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(5, "roll", NUM),
             F(6, "type", CHAR),
             min_fields=5,
+        ),
+        # SkyTraq $PSTI,036 (PX1172RH heading receivers): time, date ddmmyy, heading, pitch,
+        # roll, mode (heading valid only with mode R = fixed RTK, as GPSD reads it)
+        _spec(
+            "PSTI,036",
+            True,
+            F(2, "time", TIME),
+            F(3, "date", DATE),
+            F(4, "heading", NUM),
+            F(5, "pitch", NUM),
+            F(6, "roll", NUM),
+            F(7, "mode", CHAR),
+            min_fields=7,
         ),
         # $PASHR (Ashtech / OxTS / Trimble): time, heading, T, roll, pitch, heave, roll acc,
         # pitch acc, heading acc, GNSS quality, INS status
