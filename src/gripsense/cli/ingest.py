@@ -13,6 +13,7 @@ from rich.text import Text
 from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.errors import GripsenseError
 from gripsense.io import NmeaLog, read_nmea
+from gripsense.io.nmea.align import align_channels
 from gripsense.io.nmea.epochs import EPOCH_COLUMNS
 from gripsense.io.nmea.reader import MAX_LINES
 from gripsense.io.results import check_output_file, parquet_with_kind, write_file_atomic
@@ -83,6 +84,8 @@ def print_ingest(log: NmeaLog) -> None:
         vc = vc[vc > 0]
         if len(vc):
             say(f"{col}: " + ", ".join(f"{k} {v}" for k, v in vc.items()))
+    if len(ep):
+        say(align_channels(ep)[1].describe())
 
 
 TABLE_WRITERS = {

@@ -34,6 +34,7 @@ from gripsense.config import AXLE_OF, Vehicle
 from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.estimate.noise import NoiseModel
+from gripsense.io.nmea.align import align_channels
 from gripsense.physics import brush
 from gripsense.physics.kinematics import (
     antenna_sideslip,
@@ -310,6 +311,9 @@ def motion_from_epochs(
         raise InputError(
             f"epochs: missing columns {missing}; read the log with gripsense.io.read_nmea"
         )
+    # course/speed and heading at different rates (OxTS: PASHR 25 Hz, RMC 1 Hz): the course
+    # and speed are interpolated onto the heading epochs by the side slip where that is safe
+    epochs, alignment = align_channels(epochs)
     have = np.ones(len(epochs), dtype=bool)
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
@@ -333,6 +337,7 @@ def motion_from_epochs(
         "epochs_total": len(epochs),
         "epochs_used": int(rows.size),
         "epochs_missing_inputs": int(len(epochs) - rows.size),
+        "epochs_aligned": alignment.n_aligned,
     }
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"

@@ -6,7 +6,14 @@ Nothing here imports the physics: io sits at the bottom of the one-way flow
 
 from gripsense.io.accel import read_accel_csv
 from gripsense.io.laser import read_laser_csv
-from gripsense.io.nmea import IngestReport, NmeaLog, RejectedLine, read_nmea
+from gripsense.io.nmea import (
+    Alignment,
+    IngestReport,
+    NmeaLog,
+    RejectedLine,
+    align_channels,
+    read_nmea,
+)
 from gripsense.io.pac89 import read_pac89_json
 from gripsense.io.results import read_result_folder, write_result_folder
 from gripsense.io.steer import read_steer_csv, steer_at
@@ -16,11 +23,13 @@ from gripsense.io.tir import TirError, TirFile, read_tir, write_tir
 from gripsense.io.tyre_table import read_tyre_table
 
 __all__ = [
+    "Alignment",
     "IngestReport",
     "NmeaLog",
     "RejectedLine",
     "TirError",
     "TirFile",
+    "align_channels",
     "numeric_column",
     "parse_columns",
     "read_accel_csv",

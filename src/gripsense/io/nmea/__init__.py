@@ -5,6 +5,7 @@ the grouping rule.
 """
 
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.align import Alignment, align_channels
 from gripsense.io.nmea.reader import NmeaLog, read_nmea
 
-__all__ = ["IngestReport", "NmeaLog", "RejectedLine", "read_nmea"]
+__all__ = ["Alignment", "IngestReport", "NmeaLog", "RejectedLine", "align_channels", "read_nmea"]
