@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from gripsense.config import Receiver, Vehicle
+from gripsense.config import Receiver, Vehicle, receiver_from
 from gripsense.errors import InputError
 from gripsense.estimate.axle_window import WindowOptions, estimate_windows, measured_grip
 from gripsense.estimate.friction import FrictionOptions, friction_from_motion, motion_from_epochs
@@ -135,6 +135,10 @@ class FrictionRun:
         if noise is None and (receiver is not None or method == "axle-window"):
             # the receiver as the user describes it, the vehicle file's tyre and CG ranges
             noise = NoiseModel.for_vehicle(self.vehicle, receiver)
+            spec = receiver if receiver is not None else (self.vehicle.receiver or "v100")
+            self.receiver = receiver_from(spec).name
+        else:
+            self.receiver = "noise model given" if noise is not None else "thesis noise model"
         self.options = replace(opts, noise=noise) if noise is not None else opts
         self.window = window or WindowOptions()
 
@@ -257,4 +261,5 @@ class FrictionRun:
         wheels, meta2 = friction_from_motion(
             motion, self.vehicle, method=self.method, options=self.options
         )
+        meta2 = {**meta2, "receiver": self.receiver}
         return ESTIMATORS[self.method](self, wheels, {**(meta or {}), **meta2})

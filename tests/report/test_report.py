@@ -91,6 +91,32 @@ def test_report_in_browser(tmp_path):
     assert "rear_left" in html and "Steady conditions" in html and "Data quality" in html
 
 
+@pytest.mark.parametrize("method", ["brush-2", "axle-window"])
+def test_summary_first_words_not_booleans_in_browser(tmp_path, method):
+    """What the page shows first is the compact summary (estimate, measured grip, surface),
+    the method and receiver are in the header, details are folded, and no cell says True/False
+    — checked on the rendered page, for each kind of result."""
+    res, epochs = _result(method=method)
+    p = write_report(res, tmp_path / "report.html", epochs=epochs)
+    drv = _open(p)
+    try:
+        first = drv.execute_script(
+            "return Array.from(document.querySelectorAll('table')[0].querySelectorAll('th'))"
+            ".map(h => h.textContent)"
+        )
+        cells = drv.execute_script(
+            "return Array.from(document.querySelectorAll('td')).map(c => c.textContent.trim())"
+        )
+        header = drv.execute_script("return document.querySelector('p.meta').textContent")
+        folded = drv.execute_script("return document.querySelectorAll('details').length")
+    finally:
+        drv.quit()
+    assert any("estimate" in h for h in first) and any("measured" in h for h in first), first
+    assert "True" not in cells and "False" not in cells
+    assert f"method {method}" in header and "receiver" in header, header
+    assert folded >= 1
+
+
 def test_demo_report_in_browser(tmp_path):
     from gripsense.demo import run_demo, write_demo_report
 

@@ -5,6 +5,7 @@ consumes results; computes nothing that an estimator should.
 from gripsense.report.figures import (
     condition_figure,
     g_sweep_figure,
+    interval_bars,
     mu_vs_radius,
     mu_vs_utilisation,
     mu_vs_yaw_rate,
@@ -20,6 +21,7 @@ __all__ = [
     "condition_figure",
     "fit_figure",
     "g_sweep_figure",
+    "interval_bars",
     "mu_vs_radius",
     "mu_vs_utilisation",
     "mu_vs_yaw_rate",

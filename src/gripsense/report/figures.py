@@ -23,6 +23,7 @@ from gripsense.physics.surface import SURFACE_BANDS
 __all__ = [
     "condition_figure",
     "g_sweep_figure",
+    "interval_bars",
     "mu_vs_radius",
     "mu_vs_utilisation",
     "mu_vs_yaw_rate",
@@ -53,6 +54,58 @@ def _bands(ax, ymax: float) -> None:
                 fontsize=7,
                 color="0.45",
             )
+
+
+def interval_bars(summary: pd.DataFrame, unit: str, *, mu_max: float = 1.4) -> Figure:
+    """Per unit (axle or wheel), the two statements against the surface bands (Table 4): the
+    estimate's 90 % interval as a bar with its value, or — without a value — the measured-grip
+    bound as an arrow pointing right (the data prove μ ≥ it).
+
+    Parameters
+    ----------
+    summary : pandas.DataFrame
+        A result's summary: *unit*, ``mu``, ``mu_low``, ``mu_high``, ``observable``, and
+        ``grip_used_lower`` where the method has it.
+    unit : str
+        Name of the unit column (``axle`` or ``wheel``).
+    mu_max : float
+        Right end of the axis [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
+    n = len(summary)
+    fig, ax = plt.subplots(figsize=(9.0, 1.2 + 0.45 * max(n, 1)))
+    for name, lo, hi in SURFACE_BANDS:
+        ax.axvspan(lo, min(hi, mu_max), color=BAND_COLOURS[name], zorder=0)
+        ax.text((lo + min(hi, mu_max)) / 2, 1.0, name, transform=ax.get_xaxis_transform(),
+                ha="center", va="bottom", fontsize=8, color="0.4")  # fmt: skip
+    labels = []
+    for i, r in enumerate(summary.to_dict("records")):
+        y = n - 1 - i
+        labels.append(str(r.get(unit, i)))
+        bound = r.get("grip_used_lower", np.nan)
+        if bool(r.get("observable", False)) and np.isfinite(r.get("mu", np.nan)):
+            lo, hi = r.get("mu_low", np.nan), r.get("mu_high", np.nan)
+            lab = "estimate: 90 % interval" if i == 0 else None
+            ax.plot([lo, min(hi, mu_max)], [y, y], color="tab:blue", lw=6, alpha=0.6,
+                    solid_capstyle="butt", label=lab)  # fmt: skip
+            ax.plot(r["mu"], y, "o", color="navy", ms=6)
+        if bound is not None and np.isfinite(bound):
+            ax.annotate("", xy=(min(bound + 0.12, mu_max), y - 0.18), xytext=(bound, y - 0.18),
+                        arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.5})  # fmt: skip
+            ax.plot(bound, y - 0.18, "|", color="tab:red", ms=12, mew=2)
+    ax.plot([], [], "|", color="tab:red", ms=10, mew=2, label="measured: the data prove μ ≥")
+    ax.set_yticks(range(n))
+    ax.set_yticklabels(labels[::-1])
+    ax.set_ylim(-0.7, n - 0.3)
+    ax.set_xlim(0, mu_max)
+    ax.set_xlabel("μ")
+    ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=7, frameon=False)
+    fig.tight_layout()
+    return fig
 
 
 def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str = "") -> Figure:

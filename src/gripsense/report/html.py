@@ -88,6 +88,32 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
     return f"<table><tr>{head}</tr>{rows}</table>"
 
 
+def _compact(summary: pd.DataFrame, unit: str) -> str:
+    """The summary an engineer reads first: per unit the estimate (or that there is none),
+    the measured grip, the surface class and what limits the estimate.
+    """
+    rows = []
+    for r in summary.to_dict("records"):
+        mu = r.get("mu", np.nan)
+        obs = bool(r.get("observable", False)) and mu is not None and np.isfinite(mu)
+        est = (
+            f"μ ≈ {mu:.2f} [{r.get('mu_low', np.nan):.2f}, {r.get('mu_high', np.nan):.2f}]"
+            if obs
+            else "no value — measured grip only"
+        )
+        b = r.get("grip_used_lower", np.nan)
+        row = {
+            unit: r.get(unit, ""),
+            "estimate (model-based, 90 %)": est,
+            "measured: the data prove": f"μ ≥ {b:.2f}" if b is not None and np.isfinite(b) else "—",
+            "surface": r.get("surface", "") if obs else "undetermined",
+        }
+        if "limited_by" in r:
+            row["what limits the estimate"] = r.get("limited_by") or ""
+        rows.append(row)
+    return "<div class='summary'>" + html_table(pd.DataFrame(rows)) + "</div>"
+
+
 def _quality(epochs: pd.DataFrame | None, ingest: dict | None) -> str:
     parts = []
     if ingest:
@@ -256,7 +282,8 @@ def render_report(
         "</head><body>",
         f"<h1>{html.escape(title or 'Tyre-road friction report')}</h1>",
         f"<p class='meta'>gripsense · {html.escape(str(m.get('vehicle', '')))} · method "
-        f"<code>{html.escape(method)}</code> · written "
+        f"<code>{html.escape(method)}</code> · receiver "
+        f"<code>{html.escape(str(m.get('receiver', 'not stated')))}</code> · written "
         f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC</p>",
     ]
     out.append(intro_html)
@@ -284,6 +311,8 @@ def render_report(
         )
     out.append(f"<p class='{box}'>{text}</p>")
     if len(s):
+        out.append(_compact(s, result.unit))
+        out.append(_img(F.interval_bars(s, result.unit), "estimates and measured grip"))
         cols = [
             c
             for c in (
@@ -305,7 +334,11 @@ def render_report(
             )
             if c in s.columns
         ]
-        out.append(html_table(s[cols]))
+        out.append(
+            "<details><summary>All columns of the summary</summary>"
+            + html_table(s[cols])
+            + "</details>"
+        )
     out.append("<h2>Figures</h2>")
     if epochs is not None:
         out.append(_img(F.trajectory(epochs, conds), "trajectory"))
@@ -314,6 +347,7 @@ def render_report(
         out.append(_img(F.mu_vs_radius(ct), "mu vs radius"))
         out.append(_img(F.mu_vs_yaw_rate(ct), "mu vs yaw rate"))
         out.append("<h2>Steady conditions</h2>")
+        out.append(f"<details><summary>{len(conds)} steady conditions: table and figures</summary>")
         out.append(
             html_table(
                 ct[["condition", "wheel", "speed_kmh", "radius_m", "ay_g", "mu", "n_valid", "n"]]
@@ -331,6 +365,7 @@ def render_report(
                 f"<p class='meta'>{len(conds) - max_conditions} more conditions are in "
                 "the table above.</p>"
             )
+        out.append("</details>")
     else:
         out.append("<p>No steady cornering condition of 3 s or more in this drive.</p>")
     out.append("<h2>Data quality</h2>")
@@ -349,10 +384,18 @@ def render_report(
         method=html.escape(method),
     )
     out.append(f"<p>{text}</p>")
+    tyre = (
+        "a family of tyre-curve shapes (brush and Magic Formula) with uncertain stiffness, "
+        "load sensitivity, camber and load transfer; transients through the yaw-acceleration "
+        "term and the relaxation length"
+        if method == "axle-window"
+        else "steady cornering, quasi-static load transfer, brush (Fiala) tyre with the stated "
+        "pressure shape"
+    )
     out.append(
-        "<p class='meta'>Assumptions: steady cornering, quasi-static load transfer, "
-        "brush (Fiala) tyre with the stated pressure shape; see the gripsense docs "
-        "(friction.md) for the equations and their sources.</p>"
+        f"<p class='meta'>Assumptions: {tyre}; level road without downforce for the measured "
+        "grip; see the gripsense docs (friction.md, physics.md) for the equations and their "
+        "sources.</p>"
     )
     out.append("</body></html>")
     return "\n".join(out)
