@@ -11,7 +11,7 @@ from rich.table import Table
 from rich.text import Text
 
 from gripsense.cli._common import Overwrite, console, fail, say
-from gripsense.errors import GripsenseError
+from gripsense.errors import GripsenseError, InputError
 from gripsense.io.results import check_output_file, write_file_atomic
 from gripsense.report.figures import save_png
 
@@ -31,16 +31,47 @@ def brake_mu(
     ] = 1.0,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
     overwrite: Overwrite = False,
+    columns: Annotated[
+        str | None,
+        typer.Option(
+            "--columns",
+            help="t=HEADER[:unit],ax=…,ay=…,az=… (units s, ms, g, mps2; '-' flips a sign); "
+            "default: headers named like time_s, ax_mps2, ay_g",
+        ),
+    ] = None,
 ) -> None:
     """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
     import pandas as pd
 
     from gripsense.estimate.braking import EVENT_COLUMNS, estimate_braking
     from gripsense.io.accel import read_accel_csv
+    from gripsense.io.table import describe_columns
 
     frames = []
     header = [*EVENT_COLUMNS, "file"]
+    old = {
+        "--t-col": t_col != "t_s",
+        "--ax-col": ax_col != "ax_g",
+        "--ay-col": ay_col != "ay_g",
+        "--az-col": az_col != "az_g",
+        "--units": units != "g",
+        "--ax-sign": ax_sign != 1.0,
+        "--time-scale": time_scale != 1.0,
+    }
+    used_old = [k for k, v in old.items() if v]
     try:
+        if used_old and columns:
+            raise InputError(
+                f"give either --columns or the old flags ({', '.join(used_old)}), not both; "
+                "e.g. --columns t=time:ms,ax=-acc_x:g"
+            )
+        if used_old:
+            console.print(
+                f"note: {', '.join(used_old)} are deprecated and go in the next release; use "
+                "--columns t=HEADER:unit,ax=… (or name the headers time_s, ax_g …)",
+                markup=False,
+                highlight=False,
+            )
         if output:
             check_output_file(output, "braking", overwrite=overwrite, inputs=accel, header=header)
         for f in accel:
@@ -53,7 +84,9 @@ def brake_mu(
                 units=units,
                 ax_sign=ax_sign,
                 time_scale=time_scale,
+                columns=None if used_old else (columns or "auto"),
             )
+            say(f"{f.name}: columns {describe_columns(acc.attrs['columns'])}")
             res = estimate_braking(acc, source=str(f))
             frames.append(res.events.assign(file=f.name))
     except GripsenseError as e:

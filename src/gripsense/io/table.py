@@ -36,7 +36,15 @@ from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.io.text import read_bytes, read_text
 
-__all__ = ["TABLE_READERS", "numeric_column", "parse_columns", "read_motion_table", "read_table"]
+__all__ = [
+    "TABLE_READERS",
+    "auto_columns",
+    "describe_columns",
+    "numeric_column",
+    "parse_columns",
+    "read_motion_table",
+    "read_table",
+]
 
 UNITS = {
     "deg": np.pi / 180,
@@ -52,7 +60,64 @@ UNITS = {
     "s": 1.0,
     "ms": 1e-3,
 }
+UNITS.update({"m/s": 1.0, "km/h": 1 / 3.6, "N": 1.0, "kN": 1e3, "mm": 1e-3, "m": 1.0})
+UNIT_LABELS = {"mps2": "m/s²", "mps": "m/s", "kmh": "km/h", "dps": "deg/s", "rps": "rad/s"}
 KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
+
+
+def auto_columns(headers, aliases: dict[str, tuple[str, ...]]) -> dict[str, str]:
+    """A column mapping from headers that carry a known name and a unit suffix (``time_s``,
+    ``t_ms``, ``ax_mps2``, ``ay_g``, ``speed_kmh``, ``yaw_rate_dps``, ``fz_kN`` …).
+
+    Parameters
+    ----------
+    headers : iterable of str
+        The table's column names.
+    aliases : dict
+        Key -> the names (lower case, without unit) that mean it, e.g. ``{"t": ("t", "time")}``.
+
+    Returns
+    -------
+    dict
+        Key -> ``"HEADER:unit"`` for every key found (the first matching header wins).
+    """
+    out: dict[str, str] = {}
+    for h in headers:
+        name, _, unit = str(h).rpartition("_")
+        if not name or unit not in UNITS:
+            continue
+        for key, names in aliases.items():
+            if key not in out and name.lower() in names:
+                out[key] = f"{h}:{unit}"
+    return out
+
+
+def describe_columns(mapping: dict[str, tuple[str, float]] | dict[str, str]) -> str:
+    """One line saying which column gave which quantity, for the command's output.
+
+    Parameters
+    ----------
+    mapping : dict
+        Key -> ``(column, factor)`` (:func:`parse_columns`) or ``"column[:unit]"``.
+
+    Returns
+    -------
+    str
+        E.g. ``t ← time_s [s], ax ← ax_mps2 [m/s²]``.
+    """
+    parts = []
+    for key, v in mapping.items():
+        if isinstance(v, str):
+            col, _, unit = v.lstrip("-").rpartition(":") if ":" in v else ("", "", "")
+            col = col or v.lstrip("-")
+            sign = "−" if v.startswith("-") else ""
+            parts.append(
+                f"{key} ← {sign}{col}" + (f" [{UNIT_LABELS.get(unit, unit)}]" if unit else "")
+            )
+        else:
+            col, factor = v
+            parts.append(f"{key} ← {col} (× {factor:g})")
+    return ", ".join(parts)
 
 
 def _read_csv(path: Path) -> pd.DataFrame:
