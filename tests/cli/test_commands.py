@@ -215,4 +215,24 @@ def test_friction_axle_window_and_table(tmp_path):
     )
     assert r.returncode == 2 and "column 'Nope' for vy not found" in r.stderr
     r = run("friction", "--table", str(csv), "--columns", "t=Time,vx=VelX", "--vehicle", veh)
-    assert r.returncode == 2 and "--columns needs yaw_rate=" in r.stderr
+    assert r.returncode == 2 and "no column for yaw_rate" in r.stderr, r.stderr
+    # headers that carry a name and a unit need no --columns; the mapping is printed
+    sp = np.hypot(tab["VelX"], tab["VelY"])
+    auto = pd.DataFrame(
+        {
+            "time_s": tab["Time"],
+            "speed_kmh": sp,
+            "slip_deg": np.rad2deg(np.arctan2(tab["VelY"], tab["VelX"])),
+            "yaw_rate_dps": -tab["YawRateCW"],
+        }
+    )
+    csv2 = tmp_path / "named.csv"
+    auto.to_csv(csv2, index=False)
+    out3 = tmp_path / "c"
+    r = run("friction", "--table", str(csv2), "--vehicle", veh, "-o", str(out3))
+    assert r.returncode == 0, r.stderr
+    assert "t ← time_s [s], speed ← speed_kmh [km/h], slip ← slip_deg [deg]" in r.stdout
+    w3 = pd.read_parquet(out3 / "wheels.parquet").query("wheel == 'rear_left'")
+    np.testing.assert_allclose(w3["slip_angle_rad"], truth["alpha_rear_left"], rtol=1e-9)
+    r = run("friction", "--table", str(csv), "--vehicle", veh)
+    assert r.returncode == 2 and "unit suffix" in r.stderr, r.stderr

@@ -50,8 +50,9 @@ def friction(
         str | None,
         typer.Option(
             "--columns",
-            help="mapping for --table: t=...,vx=...,vy=...,yaw_rate=..."
-            ",ay=...,steer=... (units after ':', e.g. yaw_rate=YawRate:dps)",
+            help="mapping for --table: t=...,vx=...,vy=...,yaw_rate=...,ay=...,steer=... "
+            "(units after ':', e.g. yaw_rate=YawRate:dps; default: headers named like "
+            "time_s, speed_kmh, slip_deg, yaw_rate_dps)",
         ),
     ] = None,
     outdir: Annotated[
@@ -63,7 +64,7 @@ def friction(
     """Tyre-road friction per axle (or per wheel with a per-sample --method) during cornering:
     the grip the data prove (model-free) and an estimate of μ with its interval.
     """
-    from gripsense.io.table import read_motion_table
+    from gripsense.io.table import describe_columns, read_motion_table
     from gripsense.pipeline import FrictionRun
 
     try:
@@ -75,13 +76,9 @@ def friction(
         run = FrictionRun(vehicle, method=method, receiver=receiver)
         veh = run.vehicle
         if table is not None:
-            if not columns:
-                raise GripsenseError(
-                    "--table needs --columns (e.g. t=Time,vx=Vx,vy=Vy,yaw_rate=YawRate:dps)"
-                )
-            result = run.run_motion(
-                read_motion_table(table, columns), meta={"vehicle": veh.name, "source": str(table)}
-            )
+            motion = read_motion_table(table, columns or "auto")
+            say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")
+            result = run.run_motion(motion, meta={"vehicle": veh.name, "source": str(table)})
         else:
             result = run.run_log(log, steer_csv=steer_csv)
     except GripsenseError as e:

@@ -37,6 +37,7 @@ from gripsense.errors import InputError
 from gripsense.io.text import read_bytes, read_text
 
 __all__ = [
+    "MOTION_ALIASES",
     "TABLE_READERS",
     "auto_columns",
     "describe_columns",
@@ -242,7 +243,20 @@ def parse_columns(
     return out
 
 
-def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
+MOTION_ALIASES = {
+    "t": ("t", "time"),
+    "vx": ("vx", "v_x", "vel_x", "velforward"),
+    "vy": ("vy", "v_y", "vel_y", "vellateral"),
+    "speed": ("speed", "v", "vel"),
+    "slip": ("slip", "beta", "sideslip", "slip_angle"),
+    "yaw_rate": ("yaw_rate", "yawrate"),
+    "ay": ("ay", "a_y", "acc_y", "accel_y"),
+    "steer": ("steer", "delta", "steer_angle", "road_wheel"),
+}
+"""Header names (before the unit suffix) that ``read_motion_table`` maps without being told."""
+
+
+def read_motion_table(path: str | Path, columns: str | dict = "auto") -> pd.DataFrame:
     """Read a CSV/Parquet table into a motion table.
 
     Parameters
@@ -251,13 +265,15 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
         ``.csv`` (comment lines ``#``) or ``.parquet``.
     columns : str or dict
         Column mapping (see the module documentation). Needs ``t``, ``yaw_rate`` and either
-        ``vx`` + ``vy`` or ``speed`` + ``slip``.
+        ``vx`` + ``vy`` or ``speed`` + ``slip``. ``"auto"`` (default): headers with a known name
+        and unit suffix (``time_s``, ``speed_kmh``, ``slip_deg``, ``yaw_rate_dps`` …;
+        :data:`MOTION_ALIASES`).
 
     Returns
     -------
     pandas.DataFrame
         ``t_s``, ``epoch`` (row), ``u_mps``, ``v_mps``, ``yaw_rate_rps``, ``ay_mps2``,
-        ``steer_rad`` (NaN where not given).
+        ``steer_rad`` (NaN where not given); ``attrs["columns"]`` holds the mapping used.
 
     Raises
     ------
@@ -265,12 +281,20 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
         Naming the file, key and column when something is missing or not numeric.
     """
     path = Path(path)
-    m = parse_columns(columns)
     df = read_table(path)
+    auto = isinstance(columns, str) and columns == "auto"
+    spec = auto_columns(df.columns, MOTION_ALIASES) if auto else columns
+    m = parse_columns(spec)
     need = ["t", "yaw_rate"] + (["vx", "vy"] if "vx" in m or "vy" in m else ["speed", "slip"])
     for key in need:
         if key not in m:
-            raise InputError(f"{path}: --columns needs {key}= (have {sorted(m)})")
+            how = (
+                "name the headers with a unit suffix (time_s, speed_kmh, slip_deg, "
+                "yaw_rate_dps …) or give --columns"
+                if auto
+                else "add it to --columns"
+            )
+            raise InputError(f"{path}: no column for {key} (have {sorted(m)}); {how}")
 
     def col(key: str) -> np.ndarray:
         name, factor = m[key]
@@ -286,7 +310,7 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
         sp, sl = col("speed"), col("slip")
         u, v = sp * np.cos(sl), sp * np.sin(sl)
     n = len(df)
-    return (
+    out = (
         pd.DataFrame(
             {
                 "t_s": col("t"),
@@ -301,3 +325,9 @@ def read_motion_table(path: str | Path, columns: str | dict) -> pd.DataFrame:
         .dropna(subset=["t_s", "u_mps", "v_mps", "yaw_rate_rps"])
         .reset_index(drop=True)
     )
+    out.attrs["columns"] = (
+        spec
+        if isinstance(spec, dict)
+        else dict(p.split("=", 1) for p in str(spec).split(",") if "=" in p)
+    )
+    return out
