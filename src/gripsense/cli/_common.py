@@ -8,7 +8,16 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-__all__ = ["Overwrite", "command_line", "console", "err_console", "fail", "say"]
+__all__ = [
+    "Columns",
+    "Overwrite",
+    "command_line",
+    "console",
+    "err_console",
+    "fail",
+    "old_column_flags",
+    "say",
+]
 
 Overwrite = Annotated[
     bool,
@@ -17,6 +26,17 @@ Overwrite = Annotated[
         help="replace an earlier output of the same kind (only files gripsense wrote)",
     ),
 ]
+
+Columns = Annotated[
+    str | None,
+    typer.Option(
+        "--columns",
+        help="name=HEADER[:unit],… (units s, ms, m/s, km/h, mps2, g, deg, rad, dps, N, kN, "
+        "mm, kg; '-' before HEADER flips a sign); default: headers with a known name and "
+        "unit suffix (time_s, ax_mps2, slip_deg …)",
+    ),
+]
+"""The one ``--columns`` option of every command that reads a table."""
 
 console = Console()
 err_console = Console(stderr=True, soft_wrap=True)
@@ -52,3 +72,37 @@ def fail(err: Exception | str) -> NoReturn:
     """
     err_console.print(Text.assemble(("error: ", "bold red"), str(err)), highlight=False)
     raise typer.Exit(2)
+
+
+def old_column_flags(used: list[str], columns: str | None, example: str) -> bool:
+    """The deprecated per-command column flags: an error when mixed with ``--columns``, a
+    deprecation note otherwise.
+
+    Parameters
+    ----------
+    used : list of str
+        The old flags given on this command line (e.g. ``["--ax-col", "--units"]``).
+    columns : str or None
+        The ``--columns`` value.
+    example : str
+        The same mapping written with ``--columns``, for the messages.
+
+    Returns
+    -------
+    bool
+        Whether the old flags are in use.
+    """
+    from gripsense.errors import InputError
+
+    if used and columns:
+        raise InputError(
+            f"give either --columns or the old flags ({', '.join(used)}), not both; "
+            f"e.g. --columns {example}"
+        )
+    if used:
+        say(
+            f"note: {', '.join(used)} {'is' if len(used) == 1 else 'are'} deprecated and go "
+            f"in the next release; use --columns {example} (or name the headers with a unit "
+            "suffix)"
+        )
+    return bool(used)

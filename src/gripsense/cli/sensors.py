@@ -10,8 +10,8 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import Overwrite, console, fail, say
-from gripsense.errors import GripsenseError, InputError
+from gripsense.cli._common import Columns, Overwrite, console, fail, old_column_flags, say
+from gripsense.errors import GripsenseError
 from gripsense.io.results import check_output_file, write_file_atomic
 from gripsense.report.figures import save_png
 
@@ -31,14 +31,7 @@ def brake_mu(
     ] = 1.0,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
     overwrite: Overwrite = False,
-    columns: Annotated[
-        str | None,
-        typer.Option(
-            "--columns",
-            help="t=HEADER[:unit],ax=…,ay=…,az=… (units s, ms, g, mps2; '-' flips a sign); "
-            "default: headers named like time_s, ax_mps2, ay_g",
-        ),
-    ] = None,
+    columns: Columns = None,
 ) -> None:
     """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
     import pandas as pd
@@ -60,18 +53,7 @@ def brake_mu(
     }
     used_old = [k for k, v in old.items() if v]
     try:
-        if used_old and columns:
-            raise InputError(
-                f"give either --columns or the old flags ({', '.join(used_old)}), not both; "
-                "e.g. --columns t=time:ms,ax=-acc_x:g"
-            )
-        if used_old:
-            console.print(
-                f"note: {', '.join(used_old)} are deprecated and go in the next release; use "
-                "--columns t=HEADER:unit,ax=… (or name the headers time_s, ax_g …)",
-                markup=False,
-                highlight=False,
-            )
+        old_column_flags(used_old, columns, "t=time:ms,ax=-acc_x:g")
         if output:
             check_output_file(output, "braking", overwrite=overwrite, inputs=accel, header=header)
         for f in accel:
@@ -126,9 +108,16 @@ def _write_csv(df, output: Path) -> None:
 def camber(
     laser: Annotated[Path, typer.Argument(help="CSV with t_s and two laser distances")],
     spacing_m: Annotated[float, typer.Option("--spacing-m", help="sensor spacing [m]")],
-    outer_col: Annotated[str, typer.Option("--outer-col")] = "d_outer_mm",
-    inner_col: Annotated[str, typer.Option("--inner-col")] = "d_inner_mm",
-    scale_m: Annotated[float, typer.Option("--scale-m", help="metres per unit (1e-3: mm)")] = 1e-3,
+    outer_col: Annotated[
+        str | None, typer.Option("--outer-col", help="deprecated: use --columns outer=…")
+    ] = None,
+    inner_col: Annotated[
+        str | None, typer.Option("--inner-col", help="deprecated: use --columns inner=…")
+    ] = None,
+    scale_m: Annotated[
+        float | None, typer.Option("--scale-m", help="deprecated: use a unit in --columns")
+    ] = None,
+    columns: Columns = None,
     calibrate_s: Annotated[
         float,
         typer.Option(
@@ -142,6 +131,7 @@ def camber(
 ) -> None:
     """Camber to the ground from two laser displacement sensors (seed 002 Fig. 3)."""
     from gripsense.io.laser import read_laser_csv
+    from gripsense.io.table import describe_columns
     from gripsense.vision.camber_laser import (
         CAMBER_COLUMNS,
         calibration_offsets,
@@ -153,7 +143,18 @@ def camber(
             check_output_file(
                 output, "camber", overwrite=overwrite, inputs=[laser], header=CAMBER_COLUMNS
             )
-        d = read_laser_csv(laser, outer_col=outer_col, inner_col=inner_col, scale_m=scale_m)
+        old = {"--outer-col": outer_col, "--inner-col": inner_col, "--scale-m": scale_m}
+        used_old = [k for k, v in old.items() if v is not None]
+        if old_column_flags(used_old, columns, "t=t_s:s,outer=d_outer_mm:mm,inner=d_inner_mm:mm"):
+            d = read_laser_csv(
+                laser,
+                outer_col=outer_col or "d_outer_mm",
+                inner_col=inner_col or "d_inner_mm",
+                scale_m=1e-3 if scale_m is None else scale_m,
+            )
+        else:
+            d = read_laser_csv(laser, columns=columns)
+        say(f"{laser.name}: columns {describe_columns(d.attrs['columns'])}")
         off_o, off_i = calibration_offsets(d, calibrate_s) if calibrate_s > 0 else (0.0, 0.0)
         d["camber_deg"] = np.rad2deg(
             camber_from_lasers(

@@ -10,24 +10,48 @@ import numpy as np
 import pandas as pd
 import typer
 
-from gripsense.cli._common import Overwrite, command_line, console, fail, say
+from gripsense.cli._common import Columns, Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError, InputError
 from gripsense.io.results import ResultWriter, check_output_folder
+from gripsense.io.table import Quantity
 
 steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
 
 
-def _read_csv(path: Path, need: tuple[str, ...]) -> pd.DataFrame:
-    from gripsense.io.table import numeric_column, read_table
+STEERING_QUANTITIES = {
+    "t": Quantity("time", ("t", "time")),
+    "steer": Quantity("angle", ("steer", "steering_wheel", "handwheel", "swa")),
+    "yaw_rate": Quantity("angular rate", ("yaw_rate", "yawrate")),
+    "force": Quantity("force", ("force", "fy")),
+    "deflection": Quantity("length", ("deflection", "y")),
+}
+"""Keys of the steering recordings (release, step-steer, tyre deflection) and the header names
+mapped without being told; one ``--columns`` serves all of them."""
 
+
+def _read_csv(path: Path, need: tuple[str, ...], columns: str | None) -> dict[str, np.ndarray]:
+    """Values in SI of the keys *need* (rows with a missing value dropped)."""
+    from gripsense.io.table import describe_columns, map_table, read_table
+
+    spec = None
+    if columns:
+        pairs = [p for p in columns.split(",") if p.strip()]
+        for p in pairs:
+            if p.split("=", 1)[0].strip() not in STEERING_QUANTITIES:
+                map_table(pd.DataFrame(), path, STEERING_QUANTITIES, p)  # the error, worded once
+        spec = ",".join(p for p in pairs if p.split("=", 1)[0].strip() in need)
     df = read_table(path)
-    for c in need:
-        if c not in df.columns:
-            raise InputError(
-                f"{path}: no column {c!r} (columns: {list(df.columns)}); expected {', '.join(need)}"
-            )
-        df[c] = numeric_column(df, c, path)
-    return df.dropna(subset=list(need))
+    v, used = map_table(
+        df,
+        path,
+        {k: STEERING_QUANTITIES[k] for k in need},
+        spec if spec else None,
+        required=need,
+        example=",".join(f"{k}=HEADER:unit" for k in need),
+    )
+    say(f"{path.name}: columns {describe_columns(used)}")
+    ok = np.all([np.isfinite(v[k]) for k in need], axis=0)
+    return {k: v[k][ok] for k in need}
 
 
 def _floats(text: str, what: str) -> list[float]:
@@ -75,6 +99,7 @@ def identify(
         Path | None, typer.Option(help="CSV force_N, deflection_mm: sets k_y from the slope")
     ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output folder")] = None,
+    columns: Columns = None,
     overwrite: Overwrite = False,
 ) -> None:
     """Identify kingpin damping C_s and steering stiffness k_s (k_s2) by alternating the
@@ -107,22 +132,21 @@ def identify(
         stop = np.deg2rad(car.step_stop_deg) / n
         alpha0 = np.deg2rad(car.release_angle_deg) / n
         if tyre_deflection is not None:
-            td = _read_csv(tyre_deflection, ("force_N", "deflection_mm"))
-            ky, ky_sig = tyre_lateral_stiffness(td["force_N"], td["deflection_mm"] / 1000.0)
+            td = _read_csv(tyre_deflection, ("force", "deflection"), columns)
+            ky, ky_sig = tyre_lateral_stiffness(td["force"], td["deflection"])
             car = replace(car, tyre_lateral_stiffness_N_per_m=ky)
             console.print(
                 f"k_y = {ky / 1000:.1f} ± {ky_sig / 1000:.1f} N/mm from "
-                f"{tyre_deflection.name} ({len(td)} points)"
+                f"{tyre_deflection.name} ({len(td['force'])} points)"
             )
         times = _floats(settling, "settling") if settling else []
         traces = []
         for p in release or []:
-            df = _read_csv(p, ("t_s", "steer_deg"))
-            ts = release_settling_time(df["t_s"], df["steer_deg"], reference=reference)
+            df = _read_csv(p, ("t", "steer"), columns)
+            t, a = df["t"], np.rad2deg(df["steer"])
+            ts = release_settling_time(t, a, reference=reference)
             times.append(ts)
             say(f"{p.name}: settling time {ts:.3f} s")
-            a = df["steer_deg"].to_numpy()
-            t = df["t_s"].to_numpy()
             on = t >= release_onset(t, a)
             traces.append((t[on] - t[on][0], a[on]))
         if not times:
@@ -131,8 +155,10 @@ def identify(
         if step:
             rates, gains = [], []
             for p in step:
-                df = _read_csv(p, ("t_s", "steer_deg", "yaw_rate_dps"))
-                m = step_metrics(df["t_s"], df["steer_deg"], df["yaw_rate_dps"], method=method)
+                df = _read_csv(p, ("t", "steer", "yaw_rate"), columns)
+                m = step_metrics(
+                    df["t"], np.rad2deg(df["steer"]), np.rad2deg(df["yaw_rate"]), method=method
+                )
                 rates.append(m["steer_rate"])
                 gains.append(m["yaw_gain"])
                 console.print(

@@ -11,9 +11,10 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import Overwrite, console, fail, say
+from gripsense.cli._common import Columns, Overwrite, console, fail, say
 from gripsense.errors import GripsenseError, InputError
 from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.io.table import Quantity
 from gripsense.report.figures import save_png
 
 EVAL_COLUMNS = ["fz_N", "kappa", "gamma_deg", "alpha_deg", "fx_N", "fy_N"]
@@ -132,9 +133,7 @@ def tyre_fit(
         Path | None, typer.Option("-o", "--output", help="fit.json, or fit.tir for mf61")
     ] = None,
     plot: Annotated[Path | None, typer.Option(help="PNG of measured vs identified curves")] = None,
-    columns: Annotated[
-        str | None, typer.Option(help="Column mapping, e.g. alpha=SA:deg,gamma=IA:deg,fz=-FZ,fy=FY")
-    ] = None,
+    columns: Columns = None,
     variant: Annotated[str, typer.Option(help="PAC94 shifts: published or seed")] = "published",
     loss: Annotated[str, typer.Option(help="linear, soft_l1, huber or cauchy")] = "linear",
     fnomin: Annotated[
@@ -152,6 +151,7 @@ def tyre_fit(
 ) -> None:
     """Fit Magic Formula lateral coefficients in one step (seed 002), with constraints."""
     from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
+    from gripsense.io.table import describe_columns
     from gripsense.io.tyre_table import read_tyre_table
 
     try:
@@ -164,6 +164,8 @@ def tyre_fit(
             if out is not None:
                 check_output_file(out, "tyre-fit", overwrite=overwrite, inputs=ins)
         table, info = read_tyre_table(data, columns)
+        if "columns" in info:
+            say(f"{data.name}: columns {describe_columns(info['columns'])}")
         kw = {"constraints": constraints, "loss": loss}
         if model == "pac94":
             kw["variant"] = variant
@@ -260,24 +262,35 @@ def _print_fit(fit, info, data, free_fit) -> None:
         )
 
 
+CONTACT_QUANTITIES = {
+    "mass": Quantity("mass", ("mass", "m", "wheel_mass")),
+    "length": Quantity("length", ("length", "l", "contact_length")),
+}
+"""Keys of a contact-length table (mass on the wheel, contact-patch length)."""
+
+
 def fit_contact(
-    table: Annotated[Path, typer.Argument(help="CSV with mass_kg and length_m (or length_cm)")],
+    table: Annotated[
+        Path, typer.Argument(help="CSV with mass_kg and length_m (or length_cm, length_mm)")
+    ],
+    columns: Columns = None,
 ) -> None:
     """Fit the contact-length model l = a·√m + b·m (thesis eq. 6.23) to measurements."""
     from gripsense.identify import fit_contact_length
-    from gripsense.io.table import numeric_column, read_table
+    from gripsense.io.table import describe_columns, map_table, read_table
 
     try:
         df = read_table(table)
-        if "mass_kg" not in df.columns:
-            raise GripsenseError(f"{table}: no column 'mass_kg' (columns: {list(df.columns)})")
-        if "length_m" in df.columns:
-            length = numeric_column(df, "length_m", table)
-        elif "length_cm" in df.columns:
-            length = numeric_column(df, "length_cm", table) / 100.0
-        else:
-            raise GripsenseError(f"{table}: needs a column 'length_m' or 'length_cm'")
-        params, stats = fit_contact_length(numeric_column(df, "mass_kg", table), length)
+        v, used = map_table(
+            df,
+            table,
+            CONTACT_QUANTITIES,
+            columns,
+            required=("mass", "length"),
+            example="mass=Mass:kg,length=Length:cm",
+        )
+        say(f"{table.name}: columns {describe_columns(used)}")
+        params, stats = fit_contact_length(v["mass"], v["length"])
     except GripsenseError as e:
         fail(e)
     say(f"l = a·√m + b·m fitted to {stats['n']} rows of {table.name}:")

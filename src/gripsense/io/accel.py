@@ -9,15 +9,15 @@ import pandas as pd
 
 from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.io.table import auto_columns, numeric_column, parse_columns, read_table
+from gripsense.io.table import Quantity, map_table, numeric_column, read_table
 
-__all__ = ["ACCEL_ALIASES", "read_accel_csv"]
+__all__ = ["ACCEL_QUANTITIES", "read_accel_csv"]
 
-ACCEL_ALIASES = {
-    "t": ("t", "time", "timestamp"),
-    "ax": ("ax", "a_x", "acc_x", "accel_x"),
-    "ay": ("ay", "a_y", "acc_y", "accel_y"),
-    "az": ("az", "a_z", "acc_z", "accel_z"),
+ACCEL_QUANTITIES = {
+    "t": Quantity("time", ("t", "time", "timestamp")),
+    "ax": Quantity("acceleration", ("ax", "a_x", "acc_x", "accel_x")),
+    "ay": Quantity("acceleration", ("ay", "a_y", "acc_y", "accel_y")),
+    "az": Quantity("acceleration", ("az", "a_z", "acc_z", "accel_z")),
 }
 """Header names (before the unit suffix) that ``read_accel_csv`` maps without being told."""
 
@@ -49,9 +49,9 @@ def read_accel_csv(
     time_scale : float
         Seconds per time unit (1e-3 for milliseconds, as Arduino ``millis()``).
     columns : str or dict, optional
-        ``t=HEADER[:unit],ax=…,ay=…,az=…`` (:func:`gripsense.io.table.parse_columns`; ``-``
+        ``t=HEADER[:unit],ax=…,ay=…,az=…`` (:func:`gripsense.io.table.map_table`; ``-``
         flips a sign), or ``"auto"``: headers with a known name and unit suffix (``time_s``,
-        ``ax_mps2``, ``ay_g`` …; :data:`ACCEL_ALIASES`). Replaces the ``*_col``, ``units``,
+        ``ax_mps2``, ``ay_g`` …; :data:`ACCEL_QUANTITIES`). Replaces the ``*_col``, ``units``,
         ``ax_sign`` and ``time_scale`` arguments.
 
     Returns
@@ -63,33 +63,20 @@ def read_accel_csv(
     path = Path(path)
     if columns is not None:
         df = read_table(path)
-        spec = auto_columns(df.columns, ACCEL_ALIASES) if columns == "auto" else columns
-        if columns == "auto" and not {"t", "ax"} <= set(spec):
-            raise InputError(
-                f"{path}: no time and forward-acceleration columns recognised by name and unit "
-                f"(columns: {list(df.columns)[:20]}); name them like time_s, ax_mps2, ay_g or "
-                "give --columns t=HEADER:s,ax=HEADER:g"
-            )
-        m = parse_columns(spec, keys=("t", "ax", "ay", "az"))
-        for key in ("t", "ax"):
-            if key not in m:
-                raise InputError(
-                    f"--columns: {key}= is required (the time and forward acceleration)"
-                )
-        out = {}
-        for key, name in (("t", "t_s"), ("ax", "ax"), ("ay", "ay"), ("az", "az")):
-            if key in m:
-                col, factor = m[key]
-                out[name] = numeric_column(df, col, path) * factor
-            else:
-                out[name] = np.full(len(df), np.nan)
-        res = pd.DataFrame(out).dropna(subset=["t_s", "ax"])
-        res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
-        res.attrs["columns"] = (
-            spec
-            if isinstance(spec, dict)
-            else dict(p.split("=", 1) for p in str(spec).split(",") if "=" in p)
+        v, spec = map_table(
+            df,
+            path,
+            ACCEL_QUANTITIES,
+            columns,
+            required=("t", "ax"),
+            example="t=HEADER:s,ax=HEADER:g",
         )
+        nan = np.full(len(df), np.nan)
+        res = pd.DataFrame(
+            {"t_s": v["t"], "ax": v["ax"], "ay": v.get("ay", nan), "az": v.get("az", nan)}
+        ).dropna(subset=["t_s", "ax"])
+        res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
+        res.attrs["columns"] = spec
         return res
     if units not in ("g", "mps2"):
         raise InputError(f"units={units!r}; use 'g' or 'mps2'")

@@ -8,9 +8,16 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import numeric_column, read_table
+from gripsense.io.table import Quantity, map_table, numeric_column, read_table
 
-__all__ = ["read_laser_csv"]
+__all__ = ["LASER_QUANTITIES", "read_laser_csv"]
+
+LASER_QUANTITIES = {
+    "t": Quantity("time", ("t", "time")),
+    "outer": Quantity("length", ("d_outer", "outer", "outer_distance")),
+    "inner": Quantity("length", ("d_inner", "inner", "inner_distance")),
+}
+"""The keys of a laser recording and the header names mapped without being told."""
 
 
 def read_laser_csv(
@@ -20,6 +27,7 @@ def read_laser_csv(
     inner_col: str = "d_inner_mm",
     scale_m: float = 1e-3,
     t_col: str = "t_s",
+    columns: str | dict | None = None,
 ) -> pd.DataFrame:
     """Read two laser channels (default in mm) into ``t_s``, ``d_outer_m``, ``d_inner_m``.
 
@@ -35,9 +43,32 @@ def read_laser_csv(
         Metres per unit of the distance columns (1e-3: mm) [m].
     t_col : str
         Time column [s].
+    columns : str or dict, optional
+        ``t=HEADER[:unit],outer=…,inner=…`` or ``"auto"``
+        (:func:`gripsense.io.table.map_table`): replaces the ``*_col`` and ``scale_m``
+        arguments. ``None`` with the default arguments is the same as ``"auto"``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``t_s`` [s], ``d_outer_m``, ``d_inner_m`` [m]; ``attrs["columns"]`` the mapping used.
     """
     path = Path(path)
     df = read_table(path)
+    legacy = (outer_col, inner_col, scale_m, t_col) != ("d_outer_mm", "d_inner_mm", 1e-3, "t_s")
+    if columns is not None or not legacy:
+        v, spec = map_table(
+            df,
+            path,
+            LASER_QUANTITIES,
+            columns,
+            required=("t", "outer", "inner"),
+            example="t=t_s:s,outer=d_outer_mm:mm,inner=d_inner_mm:mm",
+        )
+        out = pd.DataFrame({"t_s": v["t"], "d_outer_m": v["outer"], "d_inner_m": v["inner"]})
+        _check_complete(out, df, path)
+        out.attrs["columns"] = spec
+        return out
     for c in (t_col, outer_col, inner_col):
         if c not in df.columns:
             raise InputError(f"{path}: no column {c!r} (columns: {list(df.columns)})")
@@ -48,8 +79,19 @@ def read_laser_csv(
             "d_inner_m": numeric_column(df, inner_col, path) * scale_m,
         }
     )
+    _check_complete(out, df, path)
+    out.attrs["columns"] = {
+        "t": (t_col, 1.0),
+        "outer": (outer_col, scale_m),
+        "inner": (inner_col, scale_m),
+    }
+    return out
+
+
+def _check_complete(out: pd.DataFrame, df: pd.DataFrame, path: Path) -> None:
     bad = out.isna().any(axis=1)
     if bad.any():
         row = int(np.flatnonzero(bad.to_numpy())[0])
-        raise InputError(f"{path}: line {row + 2}: a value is missing")
-    return out
+        lines = df.attrs.get("line")
+        where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
+        raise InputError(f"{path}: {where}: a value is missing")

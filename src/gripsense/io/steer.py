@@ -8,54 +8,75 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import numeric_column, read_table
+from gripsense.io.table import Quantity, map_table, read_table
 
-__all__ = ["read_steer_csv", "steer_at"]
+__all__ = ["STEER_QUANTITIES", "read_steer_csv", "steer_at"]
 
 
-def read_steer_csv(path: str | Path, *, steering_ratio: float | None = None) -> pd.DataFrame:
+STEER_QUANTITIES = {
+    "t": Quantity("time", ("t", "time")),
+    "road_wheel": Quantity("angle", ("road_wheel", "steer", "delta")),
+    "steering_wheel": Quantity("angle", ("steering_wheel", "handwheel", "swa")),
+}
+"""The keys of a steering channel and the header names mapped without being told."""
+
+
+def read_steer_csv(
+    path: str | Path, *, steering_ratio: float | None = None, columns: str | dict | None = None
+) -> pd.DataFrame:
     """Read a steering channel.
 
-    The CSV needs a column ``t_s`` (seconds on the same clock as the epoch table's ``t_s``) and
-    one of ``road_wheel_deg`` (road-wheel steer angle, ISO: positive to the left) or
-    ``steering_wheel_deg`` (divided by the vehicle's ``steering_ratio``).
+    The table needs a time column (seconds on the same clock as the epoch table's ``t_s``)
+    and either the road-wheel steer angle (ISO: positive to the left) or the steering-wheel
+    angle (divided by the vehicle's ``steering_ratio``). Headers with a unit suffix are mapped
+    by themselves (``t_s``, ``road_wheel_deg``, ``steering_wheel_deg``; the one column
+    convention, :func:`gripsense.io.table.map_table`).
 
     Parameters
     ----------
     path : str or Path
         Steering channel CSV.
     steering_ratio : float, optional
-        Steering-wheel angle / road-wheel angle [-], needed for ``steering_wheel_deg``.
+        Steering-wheel angle / road-wheel angle [-], needed for a steering-wheel angle.
+    columns : str or dict, optional
+        ``t=HEADER[:unit],road_wheel=…`` or ``steering_wheel=…``; default by header names.
 
     Returns
     -------
     pandas.DataFrame
-        ``t_s`` [s] and ``steer_rad`` (road-wheel angle) [rad], sorted by time.
+        ``t_s`` [s] and ``steer_rad`` (road-wheel angle) [rad], sorted by time;
+        ``attrs["columns"]`` the mapping used.
     """
     path = Path(path)
     df = read_table(path)
-    if "t_s" not in df.columns:
-        raise InputError(f"{path}: no column 't_s' (columns: {list(df.columns)})")
-    if "road_wheel_deg" in df.columns:
-        deg = numeric_column(df, "road_wheel_deg", path)
-    elif "steering_wheel_deg" in df.columns:
+    v, spec = map_table(
+        df,
+        path,
+        STEER_QUANTITIES,
+        columns,
+        required=("t", (("road_wheel",), ("steering_wheel",))),
+        example="t=time:s,road_wheel=delta:deg",
+    )
+    if "road_wheel" in v:
+        angle = v["road_wheel"]
+    else:
         if not steering_ratio:
             raise InputError(
-                f"{path}: 'steering_wheel_deg' needs [vehicle] steering_ratio in the "
-                "vehicle file (or give road_wheel_deg)"
+                f"{path}: a steering-wheel angle needs [vehicle] steering_ratio in the "
+                "vehicle file (or give the road-wheel angle, e.g. road_wheel_deg)"
             )
-        deg = numeric_column(df, "steering_wheel_deg", path) / steering_ratio
-    else:
-        raise InputError(f"{path}: needs a column 'road_wheel_deg' or 'steering_wheel_deg'")
-    t = numeric_column(df, "t_s", path)
-    bad = ~(np.isfinite(t) & np.isfinite(deg))
+        angle = v["steering_wheel"] / steering_ratio
+    t = v["t"]
+    bad = ~(np.isfinite(t) & np.isfinite(angle))
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
         lines = df.attrs.get("line")
         where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
-        raise InputError(f"{path}: {where}: t_s or angle is missing")
-    out = pd.DataFrame({"t_s": t, "steer_rad": np.deg2rad(deg)})
-    return out.sort_values("t_s", kind="stable").reset_index(drop=True)
+        raise InputError(f"{path}: {where}: time or angle is missing")
+    out = pd.DataFrame({"t_s": t, "steer_rad": angle})
+    out = out.sort_values("t_s", kind="stable").reset_index(drop=True)
+    out.attrs["columns"] = spec
+    return out
 
 
 def steer_at(steer: pd.DataFrame, t_s: np.ndarray) -> np.ndarray:

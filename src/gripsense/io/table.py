@@ -19,14 +19,21 @@ ay          lateral acceleration of the CG, ISO (left positive)           m/s²
 steer       road-wheel steer angle, ISO (left positive)                   rad
 ==========  ============================================================  ==============
 
-A unit after a colon converts: ``deg``, ``rad``, ``dps`` (deg/s), ``rps``, ``mps``, ``kmh``,
-``mph``, ``kn``, ``g``, ``mps2``, ``s``, ``ms``. A leading ``-`` flips the sign
-(``yaw_rate=-YawRate:dps`` for a clockwise-positive source).
+A unit after a colon converts, with the same words in every command that reads a table
+(``friction --table``, ``brake-mu``, ``tyre fit``, ``camber``, ``fit-contact``, ``steering
+identify``, ``--steer``): ``s``, ``ms``; ``m/s`` (``mps``), ``km/h`` (``kmh``), ``mph``, ``kn``;
+``mps2``, ``g``; ``deg``, ``rad``; ``dps``, ``rps``; ``N``, ``kN``, ``lbf``; ``m``, ``cm``,
+``mm``; ``kg``. A unit must be of the quantity's kind (``slip=beta:kmh`` is an error). A leading
+``-`` flips the sign (``yaw_rate=-YawRate:dps`` for a clockwise-positive source). Without
+``--columns``, headers that carry a known name and a unit suffix are mapped by themselves
+(``time_s``, ``speed_kmh``, ``slip_deg``, ``yaw_rate_dps``, ``ax_mps2``, ``fz_kN`` …;
+:func:`map_table`); every command prints the mapping it used.
 """
 
 from __future__ import annotations
 
 import io
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,10 +44,15 @@ from gripsense.errors import InputError
 from gripsense.io.text import read_bytes, read_text
 
 __all__ = [
-    "MOTION_ALIASES",
+    "MOTION_QUANTITIES",
+    "SI_UNITS",
     "TABLE_READERS",
+    "UNITS",
+    "UNIT_DIMENSIONS",
+    "Quantity",
     "auto_columns",
     "describe_columns",
+    "map_table",
     "numeric_column",
     "parse_columns",
     "read_motion_table",
@@ -53,20 +65,78 @@ UNITS = {
     "dps": np.pi / 180,
     "rps": 1.0,
     "mps": 1.0,
+    "m/s": 1.0,
     "kmh": 1 / 3.6,
+    "km/h": 1 / 3.6,
     "mph": 0.44704,
     "kn": 1852 / 3600,
     "g": G0,
     "mps2": 1.0,
     "s": 1.0,
     "ms": 1e-3,
+    "N": 1.0,
+    "kN": 1e3,
+    "lbf": 4.4482216152605,
+    "m": 1.0,
+    "cm": 1e-2,
+    "mm": 1e-3,
+    "kg": 1.0,
 }
-UNITS.update({"m/s": 1.0, "km/h": 1 / 3.6, "N": 1.0, "kN": 1e3, "mm": 1e-3, "m": 1.0})
+"""Unit word -> factor to SI; the same words in every command's ``--columns``."""
+
+UNIT_DIMENSIONS = {
+    **dict.fromkeys(("deg", "rad"), "angle"),
+    **dict.fromkeys(("dps", "rps"), "angular rate"),
+    **dict.fromkeys(("mps", "m/s", "kmh", "km/h", "mph", "kn"), "speed"),
+    **dict.fromkeys(("g", "mps2"), "acceleration"),
+    **dict.fromkeys(("s", "ms"), "time"),
+    **dict.fromkeys(("N", "kN", "lbf"), "force"),
+    **dict.fromkeys(("m", "cm", "mm"), "length"),
+    "kg": "mass",
+}
+"""Unit word -> what it measures; a unit is accepted only for a quantity of its kind."""
+
 UNIT_LABELS = {"mps2": "m/s²", "mps": "m/s", "kmh": "km/h", "dps": "deg/s", "rps": "rad/s"}
-KEYS = ("t", "vx", "vy", "speed", "slip", "yaw_rate", "ay", "steer")
+SI_UNITS = {
+    "angle": "rad",
+    "angular rate": "rad/s",
+    "speed": "m/s",
+    "acceleration": "m/s²",
+    "time": "s",
+    "force": "N",
+    "length": "m",
+    "mass": "kg",
+}
+"""What a value without a unit word is taken to be."""
+_SUFFIX_EXAMPLE = {
+    "angle": "deg",
+    "angular rate": "dps",
+    "speed": "kmh",
+    "acceleration": "mps2",
+    "time": "s",
+    "force": "N",
+    "length": "mm",
+    "mass": "kg",
+}
 
 
-def auto_columns(headers, aliases: dict[str, tuple[str, ...]]) -> dict[str, str]:
+@dataclass(frozen=True)
+class Quantity:
+    """A quantity a command reads from a table column.
+
+    Parameters
+    ----------
+    dimension : str
+        What it measures (a value of :data:`SI_UNITS`' keys): ``"time"``, ``"speed"`` ….
+    names : tuple of str
+        Header names (lower case, before the unit suffix) mapped without being told.
+    """
+
+    dimension: str
+    names: tuple[str, ...]
+
+
+def auto_columns(headers, aliases: dict[str, tuple[str, ...]] | dict[str, Quantity]) -> dict:
     """A column mapping from headers that carry a known name and a unit suffix (``time_s``,
     ``t_ms``, ``ax_mps2``, ``ay_g``, ``speed_kmh``, ``yaw_rate_dps``, ``fz_kN`` …).
 
@@ -75,7 +145,8 @@ def auto_columns(headers, aliases: dict[str, tuple[str, ...]]) -> dict[str, str]
     headers : iterable of str
         The table's column names.
     aliases : dict
-        Key -> the names (lower case, without unit) that mean it, e.g. ``{"t": ("t", "time")}``.
+        Key -> the names (lower case, without unit) that mean it, e.g. ``{"t": ("t", "time")}``,
+        or key -> :class:`Quantity` (then the unit must also be of the quantity's kind).
 
     Returns
     -------
@@ -87,8 +158,10 @@ def auto_columns(headers, aliases: dict[str, tuple[str, ...]]) -> dict[str, str]
         name, _, unit = str(h).rpartition("_")
         if not name or unit not in UNITS:
             continue
-        for key, names in aliases.items():
-            if key not in out and name.lower() in names:
+        for key, q in aliases.items():
+            names = q.names if isinstance(q, Quantity) else q
+            kind_ok = not isinstance(q, Quantity) or UNIT_DIMENSIONS[unit] == q.dimension
+            if key not in out and name.lower() in names and kind_ok:
                 out[key] = f"{h}:{unit}"
     return out
 
@@ -205,7 +278,9 @@ def numeric_column(df: pd.DataFrame, name: str, path: str | Path) -> np.ndarray:
 
 
 def parse_columns(
-    spec: str | dict, keys: tuple[str, ...] = KEYS, units: dict[str, float] | None = None
+    spec: str | dict,
+    keys: tuple[str, ...] | dict[str, Quantity],
+    units: dict[str, float] | None = None,
 ) -> dict[str, tuple[str, float]]:
     """Column mapping -> {key: (column, factor)} (see the module documentation).
 
@@ -213,10 +288,15 @@ def parse_columns(
     ----------
     spec : str or dict
         ``key=column[:unit]`` pairs (a leading ``-`` on the column flips the sign).
-    keys : tuple of str
-        Allowed keys.
+    keys : tuple of str or dict
+        Allowed keys, or key -> :class:`Quantity` (then a unit must be of the quantity's kind).
     units : dict, optional
-        Unit name -> factor to SI; default the motion-table units.
+        Unit name -> factor to SI; default :data:`UNITS`.
+
+    Returns
+    -------
+    dict
+        Key -> (column, factor to SI including the sign).
     """
     units = UNITS if units is None else units
     items = (
@@ -238,22 +318,118 @@ def parse_columns(
             col, unit = col.rsplit(":", 1)
             if unit not in units:
                 raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(units)}")
+            q = keys[key] if isinstance(keys, dict) else None
+            if q is not None and UNIT_DIMENSIONS.get(unit, q.dimension) != q.dimension:
+                fits = sorted(u for u, d in UNIT_DIMENSIONS.items() if d == q.dimension)
+                raise InputError(
+                    f"--columns: {key}={col}:{unit}: {unit} is a unit of "
+                    f"{UNIT_DIMENSIONS[unit]}, but {key} needs a unit of {q.dimension}; use "
+                    f"{', '.join(fits)}"
+                )
             factor = units[unit]
         out[key] = (col, sign * factor)
     return out
 
 
-MOTION_ALIASES = {
-    "t": ("t", "time"),
-    "vx": ("vx", "v_x", "vel_x", "velforward"),
-    "vy": ("vy", "v_y", "vel_y", "vellateral"),
-    "speed": ("speed", "v", "vel"),
-    "slip": ("slip", "beta", "sideslip", "slip_angle"),
-    "yaw_rate": ("yaw_rate", "yawrate"),
-    "ay": ("ay", "a_y", "acc_y", "accel_y"),
-    "steer": ("steer", "delta", "steer_angle", "road_wheel"),
+def _spec_dict(spec: str | dict) -> dict[str, str]:
+    if isinstance(spec, dict):
+        return dict(spec)
+    return {k.strip(): v.strip() for k, v in (p.split("=", 1) for p in spec.split(",") if "=" in p)}
+
+
+def map_table(
+    df: pd.DataFrame,
+    path: str | Path,
+    quantities: dict[str, Quantity],
+    columns: str | dict | None = None,
+    *,
+    required: tuple[str | tuple[str, ...], ...] = (),
+    example: str = "",
+    non_numeric: str = "error",
+) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """The one column-mapping convention: values in SI for the quantities a command reads.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table (:func:`read_table`).
+    path : str or Path
+        The file, for messages.
+    quantities : dict
+        Key -> :class:`Quantity` the command knows.
+    columns : str or dict, optional
+        ``key=HEADER[:unit],…`` (``-`` before the header flips the sign), or ``None`` /
+        ``"auto"``: headers with a known name and a unit suffix (``time_s``, ``ax_mps2`` …).
+    required : tuple
+        Keys that must be mapped; a tuple inside is a group of alternatives (one complete
+        group is enough, e.g. ``(("vx", "vy"), ("speed", "slip"))`` as a single entry).
+    example : str
+        A ``--columns`` example for the message when something is missing.
+    non_numeric : {"error", "nan"}
+        A cell that is not a number: an error naming file, line and column, or NaN (for a
+        caller that counts such rows as rejected).
+
+    Returns
+    -------
+    values : dict
+        Key -> values in SI units [SI] (empty cells NaN).
+    mapping : dict
+        Key -> ``"HEADER:unit"`` as used (for :func:`describe_columns`).
+
+    Raises
+    ------
+    InputError
+        Naming the file and the key, with how to map it.
+    """
+    auto = columns is None or (isinstance(columns, str) and columns == "auto")
+    spec = auto_columns(df.columns, quantities) if auto else columns
+    m = parse_columns(spec, quantities)
+    for need in required:
+        groups = need if isinstance(need, tuple) and isinstance(need[0], tuple) else (need,)
+        groups = tuple((g,) if isinstance(g, str) else g for g in groups)
+        if any(all(k in m for k in g) for g in groups):
+            continue
+        missing = [k for k in groups[0] if k not in m]
+        if auto:
+            names = ", ".join(
+                f"{quantities[k].names[0]}_{_SUFFIX_EXAMPLE[quantities[k].dimension]}"
+                for k in missing
+            )
+            how = (
+                f"name the header{'s' if len(missing) > 1 else ''} with a unit suffix "
+                f"(e.g. {names}) or give --columns {example or missing[0] + '=HEADER:unit'}"
+            )
+        else:
+            how = f"add {', '.join(k + '=HEADER:unit' for k in missing)} to --columns"
+        raise InputError(
+            f"{path}: no column for {' and '.join(missing)} "
+            f"(columns: {list(df.columns)[:20]}); {how}"
+        )
+    values = {}
+    for key, (name, factor) in m.items():
+        if name not in df.columns:
+            raise InputError(
+                f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
+            )
+        if non_numeric == "nan":
+            col = pd.to_numeric(df[name], errors="coerce").to_numpy(float)
+        else:
+            col = numeric_column(df, name, path)
+        values[key] = col * factor
+    return values, _spec_dict(spec)
+
+
+MOTION_QUANTITIES = {
+    "t": Quantity("time", ("t", "time")),
+    "vx": Quantity("speed", ("vx", "v_x", "vel_x", "velforward")),
+    "vy": Quantity("speed", ("vy", "v_y", "vel_y", "vellateral")),
+    "speed": Quantity("speed", ("speed", "v", "vel")),
+    "slip": Quantity("angle", ("slip", "beta", "sideslip", "slip_angle")),
+    "yaw_rate": Quantity("angular rate", ("yaw_rate", "yawrate")),
+    "ay": Quantity("acceleration", ("ay", "a_y", "acc_y", "accel_y")),
+    "steer": Quantity("angle", ("steer", "delta", "steer_angle", "road_wheel")),
 }
-"""Header names (before the unit suffix) that ``read_motion_table`` maps without being told."""
+"""The motion table's keys, and the header names ``read_motion_table`` maps without being told."""
 
 
 def read_motion_table(path: str | Path, columns: str | dict = "auto") -> pd.DataFrame:
@@ -267,7 +443,7 @@ def read_motion_table(path: str | Path, columns: str | dict = "auto") -> pd.Data
         Column mapping (see the module documentation). Needs ``t``, ``yaw_rate`` and either
         ``vx`` + ``vy`` or ``speed`` + ``slip``. ``"auto"`` (default): headers with a known name
         and unit suffix (``time_s``, ``speed_kmh``, ``slip_deg``, ``yaw_rate_dps`` …;
-        :data:`MOTION_ALIASES`).
+        :data:`MOTION_QUANTITIES`).
 
     Returns
     -------
@@ -282,52 +458,34 @@ def read_motion_table(path: str | Path, columns: str | dict = "auto") -> pd.Data
     """
     path = Path(path)
     df = read_table(path)
-    auto = isinstance(columns, str) and columns == "auto"
-    spec = auto_columns(df.columns, MOTION_ALIASES) if auto else columns
-    m = parse_columns(spec)
-    need = ["t", "yaw_rate"] + (["vx", "vy"] if "vx" in m or "vy" in m else ["speed", "slip"])
-    for key in need:
-        if key not in m:
-            how = (
-                "name the headers with a unit suffix (time_s, speed_kmh, slip_deg, "
-                "yaw_rate_dps …) or give --columns"
-                if auto
-                else "add it to --columns"
-            )
-            raise InputError(f"{path}: no column for {key} (have {sorted(m)}); {how}")
-
-    def col(key: str) -> np.ndarray:
-        name, factor = m[key]
-        if name not in df.columns:
-            raise InputError(
-                f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
-            )
-        return numeric_column(df, name, path) * factor
-
-    if "vx" in m:
-        u, v = col("vx"), col("vy")
+    v, spec = map_table(
+        df,
+        path,
+        MOTION_QUANTITIES,
+        columns,
+        required=("t", "yaw_rate", (("vx", "vy"), ("speed", "slip"))),
+        example="t=Time:s,vx=VelForward:kmh,vy=VelLateral:kmh,yaw_rate=AngRateZ:dps",
+    )
+    if "vx" in v and "vy" in v:
+        u, w = v["vx"], v["vy"]
     else:
-        sp, sl = col("speed"), col("slip")
-        u, v = sp * np.cos(sl), sp * np.sin(sl)
+        u, w = v["speed"] * np.cos(v["slip"]), v["speed"] * np.sin(v["slip"])
     n = len(df)
+    nan = np.full(n, np.nan)
     out = (
         pd.DataFrame(
             {
-                "t_s": col("t"),
+                "t_s": v["t"],
                 "epoch": np.arange(n),
                 "u_mps": u,
-                "v_mps": v,
-                "yaw_rate_rps": col("yaw_rate"),
-                "ay_mps2": col("ay") if "ay" in m else np.full(n, np.nan),
-                "steer_rad": col("steer") if "steer" in m else np.full(n, np.nan),
+                "v_mps": w,
+                "yaw_rate_rps": v["yaw_rate"],
+                "ay_mps2": v.get("ay", nan),
+                "steer_rad": v.get("steer", nan),
             }
         )
         .dropna(subset=["t_s", "u_mps", "v_mps", "yaw_rate_rps"])
         .reset_index(drop=True)
     )
-    out.attrs["columns"] = (
-        spec
-        if isinstance(spec, dict)
-        else dict(p.split("=", 1) for p in str(spec).split(",") if "=" in p)
-    )
+    out.attrs["columns"] = spec
     return out
