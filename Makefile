@@ -3,7 +3,7 @@ PYTHON ?= $(shell command -v python3.11 || command -v python3)
 VENV   := .venv
 BIN    := $(VENV)/bin
 
-.PHONY: demo test lint clean browser
+.PHONY: demo test lint clean browser examples
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,8 +35,14 @@ test: $(VENV)/.installed-test browser
 	$(BIN)/python -m pytest -q
 
 lint: $(VENV)/.installed-test
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff format --check src tests benchmarks examples
+
+# the examples gallery in full: figures into docs/examples/, notebooks regenerated from the
+# scripts (the tests run both in a reduced form)
+examples: $(VENV)/.installed-test
+	@for f in examples/*.py; do echo "== $$f"; GRIPSENSE_EXAMPLES_OUT=docs/examples $(BIN)/python $$f || exit 1; done
+	$(BIN)/jupytext --quiet --to ipynb examples/*.py
 
 clean:
 	rm -rf $(VENV) demo-report build dist .pytest_cache

@@ -76,10 +76,11 @@ def test_brake_mu_command(tmp_path):
     ax = np.where((t > 2.0) & (t < 4.5), -0.8, 0.0) + noise
     f = tmp_path / "accel.csv"
     pd.DataFrame({"t_s": t, "ax_g": ax, "ay_g": 0.0, "az_g": 1.0}).to_csv(f, index=False)
-    out = tmp_path / "events.csv"
-    invoke("brake-mu", f, "-o", out)
+    out, png = tmp_path / "events.csv", tmp_path / "brake.png"
+    r = invoke("brake-mu", f, "-o", out, "--plot", png)
     ev = pd.read_csv(out)
     assert len(ev) == 1 and ev["mu"].iloc[0] == pytest.approx(0.8, abs=0.01)
+    assert "columns t ← t_s [s], ax ← ax_g [g]" in r.output and png.stat().st_size > 10_000
 
 
 def test_camber_command(tmp_path):

@@ -30,6 +30,9 @@ def brake_mu(
         float, typer.Option("--time-scale", help="seconds per time unit (0.001 for ms)")
     ] = 1.0,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="events CSV")] = None,
+    plot: Annotated[
+        Path | None, typer.Option("--plot", help="PNG: the traces with each plateau (Fig. 110)")
+    ] = None,
     overwrite: Overwrite = False,
     columns: Columns = None,
 ) -> None:
@@ -56,6 +59,9 @@ def brake_mu(
         old_column_flags(used_old, columns, "t=time:ms,ax=-acc_x:g")
         if output:
             check_output_file(output, "braking", overwrite=overwrite, inputs=accel, header=header)
+        if plot:
+            check_output_file(plot, "braking", overwrite=overwrite, inputs=accel)
+        runs = []
         for f in accel:
             acc = read_accel_csv(
                 f,
@@ -71,6 +77,12 @@ def brake_mu(
             say(f"{f.name}: columns {describe_columns(acc.attrs['columns'])}")
             res = estimate_braking(acc, source=str(f))
             frames.append(res.events.assign(file=f.name))
+            runs.append((acc, res))
+        if plot:
+            from gripsense.report.sensor_figures import braking_figure
+
+            fig = braking_figure(runs)
+            write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "braking", dpi=100))
     except GripsenseError as e:
         fail(e)
     ev = pd.concat(frames, ignore_index=True)
@@ -95,6 +107,8 @@ def brake_mu(
     )
     if output:
         _write_csv(ev[header], output)
+    if plot:
+        say(f"wrote {plot}")
 
 
 def _write_csv(df, output: Path) -> None:
