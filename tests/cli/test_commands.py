@@ -213,7 +213,7 @@ def test_friction_axle_window_and_table(tmp_path):
         "--vehicle",
         veh,
     )
-    assert r.returncode == 2 and "column 'Nope' for vy not found" in r.stderr
+    assert r.returncode == 2 and "no column 'Nope' for vy" in r.stderr
     r = run("friction", "--table", str(csv), "--columns", "t=Time,vx=VelX", "--vehicle", veh)
     assert r.returncode == 2 and "no column for yaw_rate" in r.stderr, r.stderr
     # headers that carry a name and a unit need no --columns; the mapping is printed

@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import Annotated
 
 import numpy as np
-import pandas as pd
 import typer
 
 from gripsense.cli._common import Columns, Overwrite, command_line, console, fail, say
@@ -31,15 +30,12 @@ mapped without being told; one ``--columns`` serves all of them."""
 
 def _read_csv(path: Path, need: tuple[str, ...], columns: str | None) -> dict[str, np.ndarray]:
     """Values in SI of the keys *need* (rows with a missing value dropped)."""
-    from gripsense.io.table import describe_columns, map_table, read_table
+    from gripsense.io.table import describe_columns, map_table, parse_columns, read_table
 
     spec = None
     if columns:
-        pairs = [p for p in columns.split(",") if p.strip()]
-        for p in pairs:
-            if p.split("=", 1)[0].strip() not in STEERING_QUANTITIES:
-                map_table(pd.DataFrame(), path, STEERING_QUANTITIES, p)  # the error, worded once
-        spec = ",".join(p for p in pairs if p.split("=", 1)[0].strip() in need)
+        parse_columns(columns, STEERING_QUANTITIES)  # every key and unit checked, for any file
+        spec = ",".join(p for p in columns.split(",") if p.split("=", 1)[0].strip() in need)
     df = read_table(path)
     v, used = map_table(
         df,

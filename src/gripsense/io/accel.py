@@ -9,7 +9,7 @@ import pandas as pd
 
 from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, map_table, numeric_column, read_table
+from gripsense.io.table import Quantity, map_table, read_table
 
 __all__ = ["ACCEL_QUANTITIES", "read_accel_csv"]
 
@@ -52,7 +52,7 @@ def read_accel_csv(
         ``t=HEADER[:unit],ax=…,ay=…,az=…`` (:func:`gripsense.io.table.map_table`; ``-``
         flips a sign), or ``"auto"``: headers with a known name and unit suffix (``time_s``,
         ``ax_mps2``, ``ay_g`` …; :data:`ACCEL_QUANTITIES`). Replaces the ``*_col``, ``units``,
-        ``ax_sign`` and ``time_scale`` arguments.
+        ``ax_sign`` and ``time_scale`` arguments (which are used when it is None).
 
     Returns
     -------
@@ -61,50 +61,20 @@ def read_accel_csv(
         ``attrs["columns"]`` holds the mapping used.
     """
     path = Path(path)
-    if columns is not None:
-        df = read_table(path)
-        v, spec = map_table(
-            df,
-            path,
-            ACCEL_QUANTITIES,
-            columns,
-            required=("t", "ax"),
-            example="t=HEADER:s,ax=HEADER:g",
-        )
-        nan = np.full(len(df), np.nan)
-        res = pd.DataFrame(
-            {"t_s": v["t"], "ax": v["ax"], "ay": v.get("ay", nan), "az": v.get("az", nan)}
-        ).dropna(subset=["t_s", "ax"])
-        res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
-        res.attrs["columns"] = spec
-        return res
-    if units not in ("g", "mps2"):
-        raise InputError(f"units={units!r}; use 'g' or 'mps2'")
+    if columns is None:  # the old per-column arguments, as a mapping with factors to SI
+        if units not in ("g", "mps2"):
+            raise InputError(f"units={units!r}; use 'g' or 'mps2'")
+        k = G0 if units == "g" else 1.0
+        old = {"t": (t_col, time_scale), "ax": (ax_col, k * ax_sign), "ay": (ay_col, k)}
+        columns = {key: cf for key, cf in {**old, "az": (az_col, k)}.items() if cf[0] is not None}
     df = read_table(path)
-    k = G0 if units == "g" else 1.0
-    out = {}
-    for key, col, scale in (
-        ("t_s", t_col, time_scale),
-        ("ax", ax_col, k * ax_sign),
-        ("ay", ay_col, k),
-        ("az", az_col, k),
-    ):
-        if col is None:
-            out[key] = np.full(len(df), np.nan)
-            continue
-        if col not in df.columns:
-            raise InputError(
-                f"{path}: no column {col!r} (columns: {list(df.columns)}); set it "
-                f"with --{key.rstrip('_s')}-col"
-            )
-        out[key] = numeric_column(df, col, path) * scale
-    res = pd.DataFrame(out).dropna(subset=["t_s", "ax"])
-    res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
-    legacy = (
-        ("t", t_col, time_scale),
-        ("ax", ax_col, k * ax_sign),
-        ("ay", ay_col, k),
-        ("az", az_col, k),
+    v, spec = map_table(
+        df, path, ACCEL_QUANTITIES, columns, required=("t", "ax"), example="t=HEADER:s,ax=HEADER:g"
     )
-    res.attrs["columns"] = {key: (c, f) for key, c, f in legacy if c is not None}
+    nan = np.full(len(df), np.nan)
+    res = pd.DataFrame(
+        {"t_s": v["t"], "ax": v["ax"], "ay": v.get("ay", nan), "az": v.get("az", nan)}
+    ).dropna(subset=["t_s", "ax"])
+    res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
+    res.attrs["columns"] = spec
     return res

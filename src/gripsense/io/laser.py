@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, map_table, numeric_column, read_table
+from gripsense.io.table import Quantity, map_table, read_table
 
 __all__ = ["LASER_QUANTITIES", "read_laser_csv"]
 
@@ -56,42 +56,22 @@ def read_laser_csv(
     path = Path(path)
     df = read_table(path)
     legacy = (outer_col, inner_col, scale_m, t_col) != ("d_outer_mm", "d_inner_mm", 1e-3, "t_s")
-    if columns is not None or not legacy:
-        v, spec = map_table(
-            df,
-            path,
-            LASER_QUANTITIES,
-            columns,
-            required=("t", "outer", "inner"),
-            example="t=t_s:s,outer=d_outer_mm:mm,inner=d_inner_mm:mm",
-        )
-        out = pd.DataFrame({"t_s": v["t"], "d_outer_m": v["outer"], "d_inner_m": v["inner"]})
-        _check_complete(out, df, path)
-        out.attrs["columns"] = spec
-        return out
-    for c in (t_col, outer_col, inner_col):
-        if c not in df.columns:
-            raise InputError(f"{path}: no column {c!r} (columns: {list(df.columns)})")
-    out = pd.DataFrame(
-        {
-            "t_s": numeric_column(df, t_col, path),
-            "d_outer_m": numeric_column(df, outer_col, path) * scale_m,
-            "d_inner_m": numeric_column(df, inner_col, path) * scale_m,
-        }
+    if columns is None and legacy:
+        columns = {"t": (t_col, 1.0), "outer": (outer_col, scale_m), "inner": (inner_col, scale_m)}
+    v, spec = map_table(
+        df,
+        path,
+        LASER_QUANTITIES,
+        columns,
+        required=("t", "outer", "inner"),
+        example="t=t_s:s,outer=d_outer_mm:mm,inner=d_inner_mm:mm",
     )
-    _check_complete(out, df, path)
-    out.attrs["columns"] = {
-        "t": (t_col, 1.0),
-        "outer": (outer_col, scale_m),
-        "inner": (inner_col, scale_m),
-    }
-    return out
-
-
-def _check_complete(out: pd.DataFrame, df: pd.DataFrame, path: Path) -> None:
+    out = pd.DataFrame({"t_s": v["t"], "d_outer_m": v["outer"], "d_inner_m": v["inner"]})
     bad = out.isna().any(axis=1)
     if bad.any():
         row = int(np.flatnonzero(bad.to_numpy())[0])
         lines = df.attrs.get("line")
         where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
         raise InputError(f"{path}: {where}: a value is missing")
+    out.attrs["columns"] = spec
+    return out

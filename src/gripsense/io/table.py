@@ -45,7 +45,6 @@ from gripsense.io.text import read_bytes, read_text
 
 __all__ = [
     "MOTION_QUANTITIES",
-    "SI_UNITS",
     "TABLE_READERS",
     "UNITS",
     "UNIT_DIMENSIONS",
@@ -97,17 +96,6 @@ UNIT_DIMENSIONS = {
 """Unit word -> what it measures; a unit is accepted only for a quantity of its kind."""
 
 UNIT_LABELS = {"mps2": "m/s²", "mps": "m/s", "kmh": "km/h", "dps": "deg/s", "rps": "rad/s"}
-SI_UNITS = {
-    "angle": "rad",
-    "angular rate": "rad/s",
-    "speed": "m/s",
-    "acceleration": "m/s²",
-    "time": "s",
-    "force": "N",
-    "length": "m",
-    "mass": "kg",
-}
-"""What a value without a unit word is taken to be."""
 _SUFFIX_EXAMPLE = {
     "angle": "deg",
     "angular rate": "dps",
@@ -127,7 +115,8 @@ class Quantity:
     Parameters
     ----------
     dimension : str
-        What it measures (a value of :data:`SI_UNITS`' keys): ``"time"``, ``"speed"`` ….
+        What it measures (a value of :data:`UNIT_DIMENSIONS`): ``"time"``, ``"speed"``,
+        ``"angle"`` …; a value without a unit word is in SI (s, m/s, rad …).
     names : tuple of str
         Header names (lower case, before the unit suffix) mapped without being told.
     """
@@ -136,7 +125,7 @@ class Quantity:
     names: tuple[str, ...]
 
 
-def auto_columns(headers, aliases: dict[str, tuple[str, ...]] | dict[str, Quantity]) -> dict:
+def auto_columns(headers, quantities: dict[str, Quantity]) -> dict[str, str]:
     """A column mapping from headers that carry a known name and a unit suffix (``time_s``,
     ``t_ms``, ``ax_mps2``, ``ay_g``, ``speed_kmh``, ``yaw_rate_dps``, ``fz_kN`` …).
 
@@ -144,9 +133,9 @@ def auto_columns(headers, aliases: dict[str, tuple[str, ...]] | dict[str, Quanti
     ----------
     headers : iterable of str
         The table's column names.
-    aliases : dict
-        Key -> the names (lower case, without unit) that mean it, e.g. ``{"t": ("t", "time")}``,
-        or key -> :class:`Quantity` (then the unit must also be of the quantity's kind).
+    quantities : dict
+        Key -> :class:`Quantity`: the names (lower case, without unit) that mean it; the unit
+        suffix must be of the quantity's kind.
 
     Returns
     -------
@@ -158,10 +147,8 @@ def auto_columns(headers, aliases: dict[str, tuple[str, ...]] | dict[str, Quanti
         name, _, unit = str(h).rpartition("_")
         if not name or unit not in UNITS:
             continue
-        for key, q in aliases.items():
-            names = q.names if isinstance(q, Quantity) else q
-            kind_ok = not isinstance(q, Quantity) or UNIT_DIMENSIONS[unit] == q.dimension
-            if key not in out and name.lower() in names and kind_ok:
+        for key, q in quantities.items():
+            if key not in out and name.lower() in q.names and UNIT_DIMENSIONS[unit] == q.dimension:
                 out[key] = f"{h}:{unit}"
     return out
 
@@ -277,28 +264,22 @@ def numeric_column(df: pd.DataFrame, name: str, path: str | Path) -> np.ndarray:
     return v.to_numpy(float)
 
 
-def parse_columns(
-    spec: str | dict,
-    keys: tuple[str, ...] | dict[str, Quantity],
-    units: dict[str, float] | None = None,
-) -> dict[str, tuple[str, float]]:
+def parse_columns(spec: str | dict, keys: dict[str, Quantity]) -> dict[str, tuple[str, float]]:
     """Column mapping -> {key: (column, factor)} (see the module documentation).
 
     Parameters
     ----------
     spec : str or dict
-        ``key=column[:unit]`` pairs (a leading ``-`` on the column flips the sign).
-    keys : tuple of str or dict
-        Allowed keys, or key -> :class:`Quantity` (then a unit must be of the quantity's kind).
-    units : dict, optional
-        Unit name -> factor to SI; default :data:`UNITS`.
+        ``key=column[:unit]`` pairs (a leading ``-`` on the column flips the sign); in a dict a
+        value may also be ``(column, factor)`` with the factor to SI given directly.
+    keys : dict
+        Key -> :class:`Quantity`: the allowed keys; a unit must be of the quantity's kind.
 
     Returns
     -------
     dict
         Key -> (column, factor to SI including the sign).
     """
-    units = UNITS if units is None else units
     items = (
         spec.items()
         if isinstance(spec, dict)
@@ -308,25 +289,29 @@ def parse_columns(
     for item in items:
         if len(item) != 2:
             raise InputError(f"--columns: {item!r} is not key=column")
-        key, col = (x.strip() for x in item)
+        key, col = item[0].strip(), item[1]
         if key not in keys:
             raise InputError(f"--columns: unknown key {key!r}; use {', '.join(keys)}")
+        if isinstance(col, tuple):
+            out[key] = (col[0], float(col[1]))
+            continue
+        col = col.strip()
         sign = -1.0 if col.startswith("-") else 1.0
         col = col.lstrip("-")
         factor = 1.0
         if ":" in col:
             col, unit = col.rsplit(":", 1)
-            if unit not in units:
-                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(units)}")
-            q = keys[key] if isinstance(keys, dict) else None
-            if q is not None and UNIT_DIMENSIONS.get(unit, q.dimension) != q.dimension:
-                fits = sorted(u for u, d in UNIT_DIMENSIONS.items() if d == q.dimension)
+            if unit not in UNITS:
+                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(UNITS)}")
+            dim = keys[key].dimension
+            if UNIT_DIMENSIONS[unit] != dim:
+                fits = sorted(u for u, d in UNIT_DIMENSIONS.items() if d == dim)
                 raise InputError(
                     f"--columns: {key}={col}:{unit}: {unit} is a unit of "
-                    f"{UNIT_DIMENSIONS[unit]}, but {key} needs a unit of {q.dimension}; use "
+                    f"{UNIT_DIMENSIONS[unit]}, but {key} needs a unit of {dim}; use "
                     f"{', '.join(fits)}"
                 )
-            factor = units[unit]
+            factor = UNITS[unit]
         out[key] = (col, sign * factor)
     return out
 
@@ -409,7 +394,7 @@ def map_table(
     for key, (name, factor) in m.items():
         if name not in df.columns:
             raise InputError(
-                f"{path}: column {name!r} for {key} not found; columns: {list(df.columns)[:20]}"
+                f"{path}: no column {name!r} for {key} (columns: {list(df.columns)[:20]})"
             )
         if non_numeric == "nan":
             col = pd.to_numeric(df[name], errors="coerce").to_numpy(float)
