@@ -42,7 +42,7 @@ lint: $(VENV)/.installed-test
 # scripts (the tests run both in a reduced form)
 examples: $(VENV)/.installed-test
 	@for f in examples/*.py; do echo "== $$f"; GRIPSENSE_EXAMPLES_OUT=docs/examples $(BIN)/python $$f || exit 1; done
-	$(BIN)/jupytext --quiet --to ipynb examples/*.py
+	$(BIN)/jupytext --quiet --update --to ipynb examples/*.py
 
 clean:
 	rm -rf $(VENV) demo-report build dist .pytest_cache

@@ -43,7 +43,10 @@ for k in range(2 if QUICK else 6):  # Table 24: six stops from 40 km/h, 50 Hz
 mus = np.array([r.events["mu"].iloc[0] for _, r in runs])
 print(f"mean μ = {mus.mean():.3f} over {len(mus)} stops (road μ {MU}; locked wheels slide)")
 
-REPRODUCED = {"mean braking μ (thesis: about 0.9)": (mus.mean(), 0.9, 0.05)}
+# the road is set to the thesis's result, so this recovers a known truth (a/g needs no tyre
+# model: the sliding tyre's force is μ·Fz whatever its curve); it reproduces no source number
+REPRODUCED = {}
+CHECKS = {"every stop's μ within 0.02 of the simulated road's": bool(np.all(abs(mus - MU) < 0.02))}
 
 # %%
 fig = braking_figure(runs)

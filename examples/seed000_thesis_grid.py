@@ -66,7 +66,10 @@ print(f"mean G in the linear range: {g_lin:.3g} N/m³ (the thesis's eq. 9.5: 5e7
 mu_rear = ct["mu"].median()
 print(f"median μ over the conditions: {mu_rear:.3f} (road μ {MU})")
 
-REPRODUCED = {"G in the linear range [N/m³] (eq. 9.5)": (g_lin, 5e7, 0.2 * 5e7)}
+# brush tyre in, brush-model G out: this shows the thesis's procedure and its bias, not its
+# accuracy on real tyres (the truth is the estimator's own model); no source number reproduced
+REPRODUCED = {}
+CHECKS = {"G in the linear range within 20 % of the simulated 5e7": abs(g_lin - 5e7) < 0.2 * 5e7}
 
 # %%
 wheels, (t0, t1), ct0 = shown
