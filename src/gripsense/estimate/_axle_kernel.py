@@ -25,6 +25,12 @@ correlation ρ_k = exp(−Δt/τ) to the next bin, 0 across gaps), whose precisi
 tridiagonal. The normal equations are solved with the δ block eliminated by a tridiagonal
 (Thomas) solve, so the cost is O(bins) whatever the number of bins or nuisances. The profile
 over the curve's shape is the minimum over the shapes allowed.
+
+Speed: the functions that run once per Levenberg–Marquardt step or per (μ, shape) never
+allocate (work arrays come from :func:`workspace`) and are compiled with numba's ``_nrt=False``:
+without the runtime, taking a row of a work array or passing an array to a function costs no
+atomic reference-count update (with it, ``NRT_incref``/``NRT_decref`` took a quarter of the
+profile's time). A rejected step keeps the current point's residuals (no second evaluation).
 """
 
 from __future__ import annotations
@@ -38,18 +44,22 @@ NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load se
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _lookup(tab_f, tab_df, inv_dx, x):
-    """Table lookup: f and f' of one shape at x ≥ 0 (linear interpolation)."""
+def _lookup(tab_f, tab_df, shape, inv_dx, x):
+    """Table lookup: f and f' of shape ``shape`` at x ≥ 0 (linear interpolation; the tables
+    are indexed in place — a row view would cost two reference-count updates per lookup).
+    """
     u = x * inv_dx
-    n = tab_f.size
+    n = tab_f.shape[1]
     if u >= n - 1:
-        return tab_f[n - 1], 0.0
+        return tab_f[shape, n - 1], 0.0
     i = int(u)
     w = u - i
-    return tab_f[i] + w * (tab_f[i + 1] - tab_f[i]), tab_df[i] + w * (tab_df[i + 1] - tab_df[i])
+    f0 = tab_f[shape, i]
+    d0 = tab_df[shape, i]
+    return f0 + w * (tab_f[shape, i + 1] - f0), d0 + w * (tab_df[shape, i + 1] - d0)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_out, jd_out):
     """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin."""
     ln_s, kap, lam, q, eps, c_off, st_sc, eta = (
@@ -64,28 +74,24 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
     )
     d_drive = th[8]
     n = b.shape[0]
-    fzp = np.empty(2)
-    lr = np.empty(2)
-    mw = np.empty(2)
     for k in range(n):
         ay = b[k, 10]
         dfz = 0.5 * (b[k, 3] - b[k, 2])
         fzs = b[k, 11]
         # loads after the load-transfer error; the friction of each wheel falls with its load
-        # (Fz/F̄z)^−η, normalised so that μ stays the axle's load-weighted friction
-        for w in range(2):
-            sgn_load = -1.0 if w == 0 else 1.0
-            fzp[w] = max(b[k, 2 + w] + sgn_load * lam * dfz, 1.0)
-        fbar = 0.5 * (fzp[0] + fzp[1])
-        den = 0.0
-        dden = 0.0
-        for w in range(2):
-            lr[w] = np.log(fzp[w] / fbar)
-            g = np.exp(-eta * lr[w])
-            den += fzp[w] * g
-            dden += fzp[w] * g * lr[w]
-        for w in range(2):
-            mw[w] = mu * np.exp(-eta * lr[w]) * (fzp[0] + fzp[1]) / den
+        # (Fz/F̄z)^−η, normalised so that μ stays the axle's load-weighted friction (two
+        # wheels: scalars, no arrays, so a call allocates nothing)
+        fzp0 = max(b[k, 2] - lam * dfz, 1.0)
+        fzp1 = max(b[k, 3] + lam * dfz, 1.0)
+        fbar = 0.5 * (fzp0 + fzp1)
+        lr0 = np.log(fzp0 / fbar)
+        lr1 = np.log(fzp1 / fbar)
+        g0 = np.exp(-eta * lr0)
+        g1 = np.exp(-eta * lr1)
+        den = fzp0 * g0 + fzp1 * g1
+        dden = fzp0 * g0 * lr0 + fzp1 * g1 * lr1
+        mw0 = mu * g0 * (fzp0 + fzp1) / den
+        mw1 = mu * g1 * (fzp0 + fzp1) / den
         fm = 0.0
         g_sum = 0.0
         d_lns = 0.0
@@ -95,21 +101,24 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         for w in range(2):
             fz = b[k, 2 + w]
             sgn_load = -1.0 if w == 0 else 1.0
+            fzw = fzp0 if w == 0 else fzp1
+            lrw = lr0 if w == 0 else lr1
+            m_w = mw0 if w == 0 else mw1
             ae = b[k, w] - dl[k] - c_off + kap * ay + st_sc * b[k, 12]
             t = abs(np.tan(ae))
-            lnc = ln_s + np.log(b[k, 4 + w]) + p0 * np.log(fzp[w] / fz) + q * np.log(fzp[w] / fzs)
+            ln_fs = np.log(fzw / fzs)
+            lnc = ln_s + np.log(b[k, 4 + w]) + p0 * np.log(fzw / fz) + q * ln_fs
             cp = np.exp(lnc)
-            m_w = mw[w]
-            x = cp * t / (m_w * fzp[w])
-            f, df = _lookup(tab_f[shape], tab_df[shape], inv_dx, x)
+            x = cp * t / (m_w * fzw)
+            f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
             sg = -1.0 if ae > 0 else 1.0
-            fm += sg * m_w * fzp[w] * f
+            fm += sg * m_w * fzw * f
             g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
-            d_lns += sg * m_w * fzp[w] * df * x
+            d_lns += sg * m_w * fzw * df * x
             d_lam += sg * m_w * (f + df * x * (p0 + q - 1.0)) * sgn_load * dfz
-            d_q += sg * m_w * fzp[w] * df * x * np.log(fzp[w] / fzs)
+            d_q += sg * m_w * fzw * df * x * ln_fs
             # ∂F/∂μ_w = Fz (f − x f'),  ∂ln μ_w/∂η = −ln(Fz/F̄z) + Σ Fz g ln(Fz/F̄z) / Σ Fz g
-            d_eta += sg * fzp[w] * (f - x * df) * m_w * (-lr[w] + dden / den)
+            d_eta += sg * fzw * (f - x * df) * m_w * (-lrw + dden / den)
         cosd = np.cos(b[k, 12])
         fk = b[k, 6] * cosd**d_drive
         r_out[k] = fk * (1.0 + eps) - fm
@@ -127,7 +136,7 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
     return 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _prior_delta(rho, sd, pd, pe):
     """Tridiagonal precision of a Gauss–Markov sequence: diagonal pd, off-diagonal pe."""
     n = pd.size
@@ -141,7 +150,7 @@ def _prior_delta(rho, sd, pd, pe):
     return 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _objective(mu, th, dl, ctx, r, v, jg, jd):
     """−log L at (θ, δ); ``ctx`` = (shape, f table, f' table, 1/dx, bins, p0, prior mean,
     prior sd, δ prior diagonal, δ prior off-diagonal); fills r, v and the Jacobians.
@@ -161,10 +170,11 @@ def _objective(mu, th, dl, ctx, r, v, jg, jd):
     return nll
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def _cholesky_solve(a, x):
     """Solve a y = x in place (x ← y) for a small symmetric positive-definite a (overwritten
-    by its Cholesky factor); a tiny ridge keeps a numerically semi-definite a solvable.
+    by its Cholesky factor); a tiny ridge keeps a numerically semi-definite a solvable. Only
+    the lower triangle of a is read.
     """
     m = a.shape[0]
     for j in range(m):
@@ -193,27 +203,49 @@ def _cholesky_solve(a, x):
 
 @njit(cache=True, nogil=True)
 def workspace(n):
-    """Work arrays of :func:`profile_nll` for n bins."""
-    return np.zeros((15 + 3 * NG, max(n, 1))), np.zeros((4 + 2 * NG, NG + 1))
+    """Work arrays of :func:`profile_nll` for n bins (per-bin rows, small matrices, and the
+    Jacobians with their bins along the first axis, C-contiguous for the inner loops).
+    """
+    m = max(n, 1)
+    return np.zeros((16 + 2 * NG, m)), np.zeros((4 + 2 * NG, NG + 1)), np.zeros((3, m, NG))
 
 
-@njit(cache=True, nogil=True)
-def _thomas(lo, di, up, rhs, out, cp, dp):
-    """Solve a tridiagonal system (sub-diagonal lo[k] = A[k+1, k], super up[k] = A[k, k+1])."""
+@njit(cache=True, nogil=True, inline="always", _nrt=False)
+def _copy(dst, src):
+    """Copy src into dst (1-D), element by element: no temporary, no reference counting."""
+    for i in range(dst.shape[0]):
+        dst[i] = src[i]
+    return 0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _thomas_factor(lo, di, up, cp, den):
+    """Factor a tridiagonal matrix (sub-diagonal lo[k] = A[k+1, k], super up[k] = A[k, k+1])
+    once for :func:`_thomas_solve` (Thomas algorithm: the pivots den and the ratios cp).
+    """
     n = di.size
+    den[0] = di[0]
     cp[0] = up[0] / di[0] if n > 1 else 0.0
-    dp[0] = rhs[0] / di[0]
     for k in range(1, n):
-        den = di[k] - lo[k - 1] * cp[k - 1]
-        cp[k] = up[k] / den if k < n - 1 else 0.0
-        dp[k] = (rhs[k] - lo[k - 1] * dp[k - 1]) / den
+        den[k] = di[k] - lo[k - 1] * cp[k - 1]
+        cp[k] = up[k] / den[k] if k < n - 1 else 0.0
+    return 0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _thomas_solve(lo, cp, den, rhs, out, dp):
+    """Solve the factored tridiagonal system for one right-hand side (O(n))."""
+    n = den.size
+    dp[0] = rhs[0] / den[0]
+    for k in range(1, n):
+        dp[k] = (rhs[k] - lo[k - 1] * dp[k - 1]) / den[k]
     out[n - 1] = dp[n - 1]
     for k in range(n - 2, -1, -1):
         out[k] = dp[k] - cp[k] * out[k + 1]
     return 0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, _nrt=False)
 def profile_nll(
     mu,
     shape,
@@ -233,27 +265,28 @@ def profile_nll(
     dl_out,
     ws,
     wm,
+    wj,
 ):
     """Minimise ½Σr²/v + ½ priors over the nuisances for one (μ, shape) by Levenberg–Marquardt
     (Gauss–Newton steps, damped when a step does not lower the objective).
 
     Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
-    method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``
-    (20, n) and ``wm`` (3·NG + 2, NG + 1) are work arrays (:func:`workspace`), so a call
+    method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``,
+    ``wm`` and ``wj`` are work arrays (:func:`workspace`), so a call
     allocates nothing.
     """
     n = b.shape[0]
     th = wm[0, :NG]
     dl = ws[0]
-    th[:] = th0
-    dl[:] = dl0
+    _copy(th, th0)
+    _copy(dl, dl0)
     r, v, jd, pd, pe = ws[1], ws[2], ws[3], ws[4], ws[5]
-    jg = ws[6 : 6 + NG].T
+    jg, jg_t, h_gd = wj[0, :n], wj[1, :n], wj[2, :n]
     _prior_delta(rho, prior_d, pd, pe)
     ctx = (shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe)
     best = _objective(mu, th, dl, ctx, r, v, jg, jd)
-    th_out[:] = th
-    dl_out[:] = dl
+    _copy(th_out, th)
+    _copy(dl_out, dl)
     lam = 1e-3
     trial_th = wm[1, :NG]
     g_g = wm[2, :NG]
@@ -264,8 +297,10 @@ def profile_nll(
         ws[6 + NG], ws[7 + NG], ws[8 + NG], ws[9 + NG], ws[10 + NG], ws[11 + NG], ws[12 + NG],
         ws[13 + NG],
     )  # fmt: skip
-    h_gd = ws[14 + NG : 14 + 2 * NG].T  # column a: ∂²/∂θ_a∂δ_k
-    sol = ws[14 + 2 * NG : 15 + 3 * NG]
+    sol = ws[14 + NG : 15 + 2 * NG]
+    # the trial point's residuals, variances and Jacobians: kept apart from the current
+    # point's, so a rejected step needs no second evaluation at the current point
+    r_t, v_t, jd_t, piv = ws[15 + 2 * NG], ws[6], ws[7], ws[8]
     for _ in range(2 * iters):
         h_gg[:, :] = 0.0
         g_g[:] = 0.0
@@ -274,7 +309,7 @@ def profile_nll(
             for a in range(NG):
                 g_g[a] += jg[k, a] * r[k] * wk
                 h_gd[k, a] = jg[k, a] * jd[k] * wk
-                for c in range(NG):
+                for c in range(a + 1):  # lower triangle: all the Cholesky factor reads
                     h_gg[a, c] += jg[k, a] * jg[k, c] * wk
             dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
             g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
@@ -288,20 +323,22 @@ def profile_nll(
             g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
             h_gg[a, a] *= 1.0 + lam
         # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
+        _thomas_factor(ud, dd, ud, cp, piv)  # one factorisation for the NG + 1 solves
         for a in range(NG):
             for k in range(n):
                 rhs_tmp[k] = h_gd[k, a]
-            _thomas(ud, dd, ud, rhs_tmp, out_tmp, cp, dp)
-            sol[a, :] = out_tmp
-        _thomas(ud, dd, ud, g_d, out_tmp, cp, dp)
-        sol[NG, :] = out_tmp
-        a_mat[:, :] = h_gg
+            _thomas_solve(ud, cp, piv, rhs_tmp, out_tmp, dp)
+            _copy(sol[a], out_tmp)
+        _thomas_solve(ud, cp, piv, g_d, out_tmp, dp)
+        _copy(sol[NG], out_tmp)
+        for a in range(NG):
+            _copy(a_mat[a], h_gg[a])
         for a in range(NG):
             rhs[a] = -g_g[a]
         for a in range(NG):
             for k in range(n):
                 rhs[a] += h_gd[k, a] * sol[NG, k]
-            for c in range(NG):
+            for c in range(a + 1):
                 acc = 0.0
                 for k in range(n):
                     acc += h_gd[k, a] * sol[c, k]
@@ -328,21 +365,24 @@ def profile_nll(
             pred -= g_d[k] * (trial_dl[k] - dl[k])
         if 0.5 * pred < TOL_NLL:
             break
-        val = _objective(mu, trial_th, trial_dl, ctx, r, v, jg, jd)
+        val = _objective(mu, trial_th, trial_dl, ctx, r_t, v_t, jg_t, jd_t)
         if val < best:
             improvement = best - val
-            th[:] = trial_th
-            dl[:] = trial_dl
+            _copy(th, trial_th)
+            _copy(dl, trial_dl)
+            _copy(r, r_t)
+            _copy(v, v_t)
+            _copy(jd, jd_t)
+            for k in range(n):
+                _copy(jg[k], jg_t[k])
             best = val
-            th_out[:] = th
-            dl_out[:] = dl
+            _copy(th_out, th)
+            _copy(dl_out, dl)
             lam = max(lam * 0.1, 1e-6)
             if improvement < TOL_NLL:
                 break
         else:
             lam *= 10.0
-            # r, v, J hold the rejected trial: evaluate at the current point again
-            _objective(mu, th, dl, ctx, r, v, jg, jd)
     return best
 
 
@@ -371,17 +411,55 @@ def profile_grid(
     best by more than ``SKIP_MARGIN`` at the previous μ is not refitted at the next one (the
     profile moves smoothly in μ), except at every fourth μ.
     """
-    n_mu = mu_grid.size
     n = b.shape[0]
-    th = np.empty(NG)
-    dl = np.zeros(n)
-    ws, wm = workspace(n)
+    ws, wm, wj = workspace(n)
     warm = np.empty((shapes.size, NG))
     warm_d = np.zeros((shapes.size, n))
     last = np.zeros(shapes.size)
+    th = np.empty(NG)
+    dl = np.zeros(n)
+    _grid(
+        mu_grid, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df, inv_dx,
+        p0, iters, out_nll, out_th, out_dl, out_shape, ws, wm, wj, warm, warm_d, last, th, dl,
+    )  # fmt: skip
+    return 0
+
+
+@njit(cache=True, nogil=True, _nrt=False)
+def _grid(
+    mu_grid,
+    shapes,
+    shape_pen,
+    b,
+    rho,
+    prior_m,
+    prior_s,
+    prior_d,
+    tab_f,
+    tab_df,
+    inv_dx,
+    p0,
+    iters,
+    out_nll,
+    out_th,
+    out_dl,
+    out_shape,
+    ws,
+    wm,
+    wj,
+    warm,
+    warm_d,
+    last,
+    th,
+    dl,
+):
+    """The loops of :func:`profile_grid` on its preallocated work arrays (compiled without
+    reference counting: the views taken per (μ, shape) cost no atomic updates).
+    """
+    n_mu = mu_grid.size
     last_best = 0.0
     for si in range(shapes.size):
-        warm[si] = prior_m
+        _copy(warm[si], prior_m)
     for im in range(n_mu):
         best = 1e300
         for si in range(shapes.size):
@@ -406,15 +484,16 @@ def profile_grid(
                 dl,
                 ws,
                 wm,
+                wj,
             )
-            warm[si] = th
-            warm_d[si] = dl
+            _copy(warm[si], th)
+            _copy(warm_d[si], dl)
             nll += shape_pen[si]
             last[si] = nll
             if nll < best:
                 best = nll
-                out_th[im] = th
-                out_dl[im] = dl
+                _copy(out_th[im], th)
+                _copy(out_dl[im], dl)
                 out_shape[im] = shapes[si]
         out_nll[im] = best
         last_best = best
