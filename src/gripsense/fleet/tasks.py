@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import GripsenseError
+from gripsense.io.results import write_parquet
 
 __all__ = ["ROW_COLUMNS", "process_batch", "process_log"]
 
@@ -187,9 +188,7 @@ def process_batch(
                 d = Path(outdir) / "epochs" / f"vehicle={vid}"
                 d.mkdir(parents=True, exist_ok=True)
                 tag = hashlib.sha1(str(Path(path).resolve()).encode()).hexdigest()[:8]
-                rows.drop(columns="vehicle").to_parquet(
-                    d / f"{Path(path).name}-{tag}.parquet", index=False
-                )
+                write_parquet(rows.drop(columns="vehicle"), d / f"{Path(path).name}-{tag}.parquet")
             rec["rows"] = len(rows)
             rec["observable"] = int(rows["observable"].sum()) if len(rows) else 0
         except GripsenseError as e:

@@ -41,6 +41,7 @@ __all__ = [
     "read_manifest",
     "read_result_folder",
     "write_file_atomic",
+    "write_parquet",
     "write_result_folder",
 ]
 
@@ -280,6 +281,33 @@ def write_file_atomic(path: str | Path, write) -> Path:
     return path
 
 
+def write_parquet(df: pd.DataFrame, path: str | Path, kind: str | None = None) -> None:
+    """Write *df* to Parquet without its index; dictionary encoding only for the columns that
+    are not floating point (measured values are nearly all distinct: trying a dictionary on
+    them cost ~2/3 of the writing time of a wheel table and saved no space).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    path : str or Path
+        Output file.
+    kind : str, optional
+        Output kind recorded as ``gripsense_kind`` in the file's metadata
+        (see :func:`is_own_file`).
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pandas(df, preserve_index=False)
+    if kind is not None:
+        meta = dict(table.schema.metadata or {})
+        meta[b"gripsense_kind"] = kind.encode()
+        table = table.replace_schema_metadata(meta)
+    coded = [f.name for f in table.schema if not pa.types.is_floating(f.type)]
+    pq.write_table(table, path, use_dictionary=coded)
+
+
 def parquet_with_kind(df: pd.DataFrame, path: str | Path, kind: str) -> None:
     """Write *df* to Parquet with ``gripsense_kind`` in the file's metadata (see
     :func:`is_own_file`).
@@ -293,13 +321,7 @@ def parquet_with_kind(df: pd.DataFrame, path: str | Path, kind: str) -> None:
     kind : str
         Output kind recorded in the metadata.
     """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    table = pa.Table.from_pandas(df, preserve_index=False)
-    meta = dict(table.schema.metadata or {})
-    meta[b"gripsense_kind"] = kind.encode()
-    pq.write_table(table.replace_schema_metadata(meta), path)
+    write_parquet(df, path, kind)
 
 
 @dataclass
@@ -466,7 +488,7 @@ def write_result_folder(
         folder, kind, overwrite=overwrite, command=command, inputs=inputs, extra=extra
     ) as tmp:
         for stem, df in (tables or {}).items():
-            df.to_parquet(tmp / f"{stem}.parquet", index=False)
+            write_parquet(df, tmp / f"{stem}.parquet")
             written[stem] = f"{stem}.parquet"
         for stem, doc in (documents or {}).items():
             (tmp / f"{stem}.json").write_text(
