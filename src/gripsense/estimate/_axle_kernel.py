@@ -174,30 +174,31 @@ def _objective(mu, th, dl, ctx, r, v, jg, jd):
 def _cholesky_solve(a, x):
     """Solve a y = x in place (x ← y) for a small symmetric positive-definite a (overwritten
     by its Cholesky factor); a tiny ridge keeps a numerically semi-definite a solvable. Only
-    the lower triangle of a is read.
+    the lower triangle of a is read; the factor's diagonal is kept as its reciprocal (one
+    division per row instead of one per element).
     """
     m = a.shape[0]
     for j in range(m):
         d = a[j, j]
         for k in range(j):
             d -= a[j, k] * a[j, k]
-        d = np.sqrt(max(d, 1e-300))
-        a[j, j] = d
+        inv_d = 1.0 / np.sqrt(max(d, 1e-300))
+        a[j, j] = inv_d
         for i in range(j + 1, m):
             acc = a[i, j]
             for k in range(j):
                 acc -= a[i, k] * a[j, k]
-            a[i, j] = acc / d
+            a[i, j] = acc * inv_d
     for i in range(m):
         acc = x[i]
         for k in range(i):
             acc -= a[i, k] * x[k]
-        x[i] = acc / a[i, i]
+        x[i] = acc * a[i, i]
     for i in range(m - 1, -1, -1):
         acc = x[i]
         for k in range(i + 1, m):
             acc -= a[k, i] * x[k]
-        x[i] = acc / a[i, i]
+        x[i] = acc * a[i, i]
     return 0
 
 
@@ -219,26 +220,26 @@ def _copy(dst, src):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _thomas_factor(lo, di, up, cp, den):
+def _thomas_factor(lo, di, up, cp, inv_den):
     """Factor a tridiagonal matrix (sub-diagonal lo[k] = A[k+1, k], super up[k] = A[k, k+1])
-    once for :func:`_thomas_solve` (Thomas algorithm: the pivots den and the ratios cp).
+    once for :func:`_thomas_solve` (Thomas algorithm: the reciprocal pivots and the ratios cp).
     """
     n = di.size
-    den[0] = di[0]
-    cp[0] = up[0] / di[0] if n > 1 else 0.0
+    inv_den[0] = 1.0 / di[0]
+    cp[0] = up[0] * inv_den[0] if n > 1 else 0.0
     for k in range(1, n):
-        den[k] = di[k] - lo[k - 1] * cp[k - 1]
-        cp[k] = up[k] / den[k] if k < n - 1 else 0.0
+        inv_den[k] = 1.0 / (di[k] - lo[k - 1] * cp[k - 1])
+        cp[k] = up[k] * inv_den[k] if k < n - 1 else 0.0
     return 0
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _thomas_solve(lo, cp, den, rhs, out, dp):
-    """Solve the factored tridiagonal system for one right-hand side (O(n))."""
-    n = den.size
-    dp[0] = rhs[0] / den[0]
+def _thomas_solve(lo, cp, inv_den, rhs, out, dp):
+    """Solve the factored tridiagonal system for one right-hand side (O(n), no division)."""
+    n = inv_den.size
+    dp[0] = rhs[0] * inv_den[0]
     for k in range(1, n):
-        dp[k] = (rhs[k] - lo[k - 1] * dp[k - 1]) / den[k]
+        dp[k] = (rhs[k] - lo[k - 1] * dp[k - 1]) * inv_den[k]
     out[n - 1] = dp[n - 1]
     for k in range(n - 2, -1, -1):
         out[k] = dp[k] - cp[k] * out[k + 1]

@@ -527,15 +527,13 @@ def _profile(
     evaluate(coarse)
     dev_c = 2.0 * (nll_f[coarse] - np.nanmin(nll_f[coarse]))
     ic = int(np.argmin(dev_c))
-    add = []
-    for j in range(coarse.size - 1):
-        lo_c, hi_c = coarse[j], coarse[j + 1]
-        near_min = abs(j - ic) <= 1 or abs(j + 1 - ic) <= 1
-        crosses = any((dev_c[j] - lv) * (dev_c[j + 1] - lv) <= 0 for lv in (CHI2_1_90, level))
-        if near_min or crosses:
-            add.extend(range(lo_c + 1, hi_c))
-    if add:
-        evaluate(np.array(sorted(set(add)), dtype=np.int64))
+    lv = np.array([CHI2_1_90, level])
+    j = np.arange(coarse.size - 1)
+    crosses = ((dev_c[:-1, None] - lv) * (dev_c[1:, None] - lv) <= 0).any(axis=1)
+    near_min = (np.abs(j - ic) <= 1) | (np.abs(j + 1 - ic) <= 1)
+    refine = [np.arange(coarse[i] + 1, coarse[i + 1]) for i in np.flatnonzero(crosses | near_min)]
+    if refine:
+        evaluate(np.concatenate(refine).astype(np.int64))  # ascending, no repeats
     done = np.flatnonzero(np.isfinite(nll_f))
     mu_g, nll, th, dl, shp = fine[done], nll_f[done], th_f[done], dl_f[done], shp_f[done]
     n_mu = done.size
