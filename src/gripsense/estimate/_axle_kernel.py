@@ -38,6 +38,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+
+def _no_runtime() -> dict:
+    """Numba's ``_nrt=False`` where this numba has it (a private option, present since 0.4x;
+    without it the kernels run the same, only with reference counting).
+    """
+    try:
+        from numba.core.cpu import CPUTargetOptions
+    except ImportError:  # pragma: no cover - a numba without the module
+        return {}
+    return {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
+
+
+_NO_RT = _no_runtime()
 SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
 TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
@@ -59,7 +72,7 @@ def _lookup(tab_f, tab_df, shape, inv_dx, x):
     return f0 + w * (tab_f[shape, i + 1] - f0), d0 + w * (tab_df[shape, i + 1] - d0)
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_out, jd_out):
     """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin."""
     ln_s, kap, lam, q, eps, c_off, st_sc, eta = (
@@ -136,7 +149,7 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
     return 0
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def _prior_delta(rho, sd, pd, pe):
     """Tridiagonal precision of a Gauss–Markov sequence: diagonal pd, off-diagonal pe."""
     n = pd.size
@@ -150,7 +163,7 @@ def _prior_delta(rho, sd, pd, pe):
     return 0
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def _objective(mu, th, dl, ctx, r, v, jg, jd):
     """−log L at (θ, δ); ``ctx`` = (shape, f table, f' table, 1/dx, bins, p0, prior mean,
     prior sd, δ prior diagonal, δ prior off-diagonal); fills r, v and the Jacobians.
@@ -170,7 +183,7 @@ def _objective(mu, th, dl, ctx, r, v, jg, jd):
     return nll
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def _cholesky_solve(a, x):
     """Solve a y = x in place (x ← y) for a small symmetric positive-definite a (overwritten
     by its Cholesky factor); a tiny ridge keeps a numerically semi-definite a solvable. Only
@@ -211,7 +224,7 @@ def workspace(n):
     return np.zeros((16 + 2 * NG, m)), np.zeros((4 + 2 * NG, NG + 1)), np.zeros((3, m, NG))
 
 
-@njit(cache=True, nogil=True, inline="always", _nrt=False)
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
 def _copy(dst, src):
     """Copy src into dst (1-D), element by element: no temporary, no reference counting."""
     for i in range(dst.shape[0]):
@@ -246,7 +259,7 @@ def _thomas_solve(lo, cp, inv_den, rhs, out, dp):
     return 0
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def profile_nll(
     mu,
     shape,
@@ -426,7 +439,7 @@ def profile_grid(
     return 0
 
 
-@njit(cache=True, nogil=True, _nrt=False)
+@njit(cache=True, nogil=True, **_NO_RT)
 def _grid(
     mu_grid,
     shapes,
