@@ -401,6 +401,44 @@ def profile_nll(
 
 
 @njit(cache=True, nogil=True)
+def merge_runs(t0, t1, n, data, tol, noise_cols):
+    """The loop of :func:`gripsense.estimate.axle_window.merge_steady`: runs of bins whose
+    measured grip (column 9) stays within *tol* of the run's first bin, without a time gap, as
+    count-weighted means; the columns in *noise_cols* combine as white noise of a mean,
+    √(Σ nᵢ² σᵢ²) / Σ nᵢ. Sums in bin order, as ``np.bincount`` would. Returns (mid, merged).
+    """
+    nb, nc = data.shape
+    groups = np.zeros(nb, dtype=np.int64)
+    g = 0
+    first = data[0, 9]
+    for k in range(1, nb):
+        gap = t0[k] - t1[k - 1] > 1.5 * max(t1[k - 1] - t0[k - 1], 0.1)
+        if gap or abs(data[k, 9] - first) > tol:
+            g += 1
+            first = data[k, 9]
+        groups[k] = g
+    noisy = np.zeros(nc, dtype=np.bool_)
+    for c in noise_cols:
+        noisy[c] = True
+    sw = np.zeros(g + 1)
+    out = np.zeros((g + 1, nc))
+    mid = np.zeros(g + 1)
+    for k in range(nb):
+        w = n[k]
+        j = groups[k]
+        sw[j] += w
+        for c in range(nc):
+            x = w * data[k, c]
+            out[j, c] += x * x if noisy[c] else x
+        mid[j] += 0.5 * (t0[k] + t1[k]) * w
+    for j in range(g + 1):
+        for c in range(nc):
+            out[j, c] = (np.sqrt(out[j, c]) if noisy[c] else out[j, c]) / sw[j]
+        mid[j] /= sw[j]
+    return mid, out
+
+
+@njit(cache=True, nogil=True)
 def profile_grid(
     mu_grid,
     shapes,

@@ -415,6 +415,9 @@ def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int
     return float("inf") if step > 0 else float(x[0])
 
 
+_NOISE_COLS = np.array([7, 8], dtype=np.int64)  # white-noise σ of a bin's slip and force
+
+
 def merge_steady(
     t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, tol: float
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -446,25 +449,14 @@ def merge_steady(
     """
     if data.shape[0] == 0:
         return np.zeros(0), data
-    groups = np.zeros(data.shape[0], dtype=np.int64)
-    g = 0
-    first = data[0, 9]
-    for k in range(1, data.shape[0]):
-        gap = t0[k] - t1[k - 1] > 1.5 * max(t1[k - 1] - t0[k - 1], 0.1)
-        if gap or abs(data[k, 9] - first) > tol:
-            g += 1
-            first = data[k, 9]
-        groups[k] = g
-    w = n.astype(float)
-    sw = np.bincount(groups, weights=w)
-    out = np.empty((g + 1, data.shape[1]))
-    for c in range(data.shape[1]):
-        if c in (7, 8):  # white noise of a mean: √(Σ nᵢ² σᵢ²) / Σ nᵢ
-            out[:, c] = np.sqrt(np.bincount(groups, weights=(w * data[:, c]) ** 2)) / sw
-        else:
-            out[:, c] = np.bincount(groups, weights=w * data[:, c]) / sw
-    mid = np.bincount(groups, weights=0.5 * (t0 + t1) * w) / sw
-    return mid, out
+    return K.merge_runs(
+        np.ascontiguousarray(t0, dtype=float),
+        np.ascontiguousarray(t1, dtype=float),
+        np.ascontiguousarray(n, dtype=float),
+        np.ascontiguousarray(data, dtype=float),
+        float(tol),
+        _NOISE_COLS,
+    )
 
 
 def _rho(t0: np.ndarray, tau_s: float) -> np.ndarray:
@@ -487,6 +479,14 @@ def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
     g = np.geomspace(mu_min, mu_max, n)
     g.flags.writeable = False
     return g
+
+
+@cache
+def _coarse(n_mu: int) -> np.ndarray:
+    """Indices of the coarse pass: every third μ of the grid and the last (read-only)."""
+    c = np.unique(np.concatenate([np.arange(0, n_mu, 3), [n_mu - 1]]))
+    c.flags.writeable = False
+    return c
 
 
 def _profile(
@@ -523,7 +523,7 @@ def _profile(
     # coarse grid first (every third point); refine only where the profile's minimum is and
     # where it crosses the interval levels — a flat profile (μ unbounded) costs a third
     level = _chi2_ppf(float(o.point_level), 1)
-    coarse = np.unique(np.concatenate([np.arange(0, o.n_mu, 3), [o.n_mu - 1]]))
+    coarse = _coarse(int(o.n_mu))
     evaluate(coarse)
     dev_c = 2.0 * (nll_f[coarse] - np.nanmin(nll_f[coarse]))
     ic = int(np.argmin(dev_c))
