@@ -214,3 +214,32 @@ def test_cli(fleet_logs):
         str(out),
     )
     assert r.returncode == 2 and "no log matches" in r.stderr
+
+
+def test_a_batch_runs_numba_on_its_own_thread_and_restores_the_count(fleet_logs, tmp_path):
+    """A fleet task runs numba's parallel loops on its own thread only (two workers on two
+    cores would otherwise each wake a second thread on the other's core): it gives the
+    caller's thread count back, and the rows it writes equal ``process_log``'s run with
+    numba's threads."""
+    import numba
+
+    from gripsense.fleet.tasks import process_batch
+
+    log = max((fleet_logs / "logs" / "car01").glob("*.nmea*"), key=lambda p: p.stat().st_size)
+    item = [(str(log), str(fleet_logs / "vehicle.toml"), "car01")]
+    before = numba.get_num_threads()
+    kw = {"method": "axle-window", "h3_res": 11, "since": None, "receiver": "rtk"}
+    rec = process_batch(item, str(tmp_path / "a"), **kw)
+    assert numba.get_num_threads() == before
+    assert rec[0]["problem"] == "" and rec[0]["rows"] > 0
+    a = pd.read_parquet(next((tmp_path / "a").rglob("*.parquet")))
+    from gripsense.config import Vehicle
+    from gripsense.fleet.tasks import process_log
+
+    rows = process_log(
+        str(log), Vehicle.from_toml(fleet_logs / "vehicle.toml"), vehicle_id="car01",
+        method="axle-window", h3_res=11, since=None, receiver="rtk",
+    )  # fmt: skip
+    pd.testing.assert_frame_equal(
+        a.reset_index(drop=True), rows.drop(columns="vehicle").reset_index(drop=True)
+    )
