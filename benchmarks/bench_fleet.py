@@ -8,6 +8,7 @@ log is the same, copies only make the batch long enough to measure). Each run is
 ``--logs-per-task`` logs, per-estimate Parquet, DuckDB aggregation, map page).
 
 Usage: python benchmarks/bench_fleet.py [--copies 40] [--method axle-window|brush-2]
+(issue 15 measures at --copies 300: 2400 logs, 50 vehicle-hours)
 """
 
 from __future__ import annotations
