@@ -146,3 +146,36 @@ def test_coarse_to_fine_interval_equals_the_full_grid(window):
                    lo - 0.05)  # fmt: skip
     assert abs(est["mu_low"] - lo) <= 0.01, (est, lo)
     assert abs(est["mu_high"] - hi) <= 0.01, (est, hi)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_one_bin_step_equals_the_dense_solve(seed):
+    """A window of one bin takes its Levenberg–Marquardt step by Sherman–Morrison; it must be
+    the step of the full (θ, δ) normal equations with Marquardt's damping of the diagonal,
+    solved densely by numpy."""
+    rng = np.random.default_rng(seed)
+    ng = K.NG
+    th, dl = rng.normal(size=ng), rng.normal(size=1)
+    r, v = rng.normal(size=1) * 300, rng.uniform(50, 500, size=1) ** 2
+    jg, jd = rng.normal(size=(1, ng)) * 1e3, rng.normal(size=1) * 4e4
+    pd_ = np.array([1.0 / np.deg2rad(0.5) ** 2])
+    prior_m, prior_s = rng.normal(size=ng) * 0.1, rng.uniform(0.05, 0.6, size=ng)
+    lam = float(10.0 ** rng.uniform(-4, 1))
+    g_g, g_d, dth, t_th, t_dl, inv_e = (np.zeros(ng), np.zeros(1), np.zeros(ng), np.zeros(ng),
+                                        np.zeros(1), np.zeros(ng))  # fmt: skip
+    K._step_one_bin(th, dl, r, v, jg, jd, pd_, prior_m, prior_s, lam, g_g, g_d, dth, t_th,
+                    t_dl, inv_e)  # fmt: skip
+    # dense reference: the gradient and Hessian of ½r²/v + ½Σz² + ½ pd δ² in (θ, δ)
+    w = 1.0 / v[0]
+    j = np.concatenate([jg[0], jd])
+    h = w * np.outer(j, j)
+    h[np.arange(ng), np.arange(ng)] += 1.0 / prior_s**2
+    h[ng, ng] += pd_[0]
+    h[np.arange(ng + 1), np.arange(ng + 1)] *= 1.0 + lam
+    g = w * j * r[0]
+    g[:ng] += (th - prior_m) / prior_s**2
+    g[ng] += pd_[0] * dl[0]
+    step = np.linalg.solve(h, -g)
+    np.testing.assert_allclose(g_g, g[:ng], rtol=1e-12)
+    np.testing.assert_allclose(t_th - th, step[:ng], rtol=1e-8, atol=1e-12 * np.abs(step).max())
+    np.testing.assert_allclose(t_dl - dl, step[ng:], rtol=1e-8, atol=1e-12 * np.abs(step).max())

@@ -31,6 +31,9 @@ allocate (work arrays come from :func:`workspace`) and are compiled with numba's
 without the runtime, taking a row of a work array or passing an array to a function costs no
 atomic reference-count update (with it, ``NRT_incref``/``NRT_decref`` took a quarter of the
 profile's time). A rejected step keeps the current point's residuals (no second evaluation).
+A window of one bin — most windows of steady cornering, whose bins merge into one point —
+solves its step by Sherman–Morrison in O(NG) (:func:`_step_one_bin`) instead of the NG × NG
+Cholesky factorisation: the same step to rounding.
 """
 
 from __future__ import annotations
@@ -259,6 +262,42 @@ def _thomas_solve(lo, cp, inv_den, rhs, out, dp):
     return 0
 
 
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
+def _step_one_bin(th, dl, r, v, jg, jd, pd, prior_m, prior_s, lam, g_g, g_d, dth, trial_th,
+                  trial_dl, inv_e):  # fmt: skip
+    """The damped Gauss–Newton step of :func:`profile_nll` for a single bin, in O(NG).
+
+    With one residual the δ-eliminated normal matrix is a diagonal plus a rank-one term,
+    A = diag(e) + c j jᵀ with e_a = (1 + λ)/σ_a² + λ w j_a² and c = w − (w j_δ)²/d_δ (w = 1/v,
+    d_δ the damped δ diagonal), so Sherman–Morrison solves it exactly — the same step as the
+    general path's Cholesky factorisation (to rounding), without the NG³ work.
+    """
+    wk = 1.0 / v[0]
+    jd0 = jd[0]
+    dd0 = (jd0 * jd0 * wk + pd[0]) * (1.0 + lam)
+    gd0 = jd0 * r[0] * wk + pd[0] * dl[0]
+    g_d[0] = gd0
+    c = wk - (wk * jd0) * (wk * jd0) / dd0
+    s1 = 0.0
+    s2 = 0.0
+    for a in range(NG):
+        ja = jg[0, a]
+        ps = 1.0 / (prior_s[a] * prior_s[a])
+        g_g[a] = ja * r[0] * wk + (th[a] - prior_m[a]) * ps
+        inv_e[a] = 1.0 / ((1.0 + lam) * ps + lam * wk * ja * ja)
+        dth[a] = -g_g[a] + wk * ja * jd0 * gd0 / dd0  # right-hand side, then the step
+        s1 += ja * inv_e[a] * dth[a]
+        s2 += ja * ja * inv_e[a]
+    fac = c * s1 / (1.0 + c * s2)
+    acc = gd0
+    for a in range(NG):
+        dth[a] = inv_e[a] * (dth[a] - jg[0, a] * fac)
+        trial_th[a] = th[a] + dth[a]
+        acc += wk * jg[0, a] * jd0 * dth[a]
+    trial_dl[0] = dl[0] - acc / dd0
+    return 0
+
+
 @njit(cache=True, nogil=True, **_NO_RT)
 def profile_nll(
     mu,
@@ -316,55 +355,59 @@ def profile_nll(
     # point's, so a rejected step needs no second evaluation at the current point
     r_t, v_t, jd_t, piv = ws[15 + 2 * NG], ws[6], ws[7], ws[8]
     for _ in range(2 * iters):
-        h_gg[:, :] = 0.0
-        g_g[:] = 0.0
-        for k in range(n):
-            wk = 1.0 / v[k]
+        if n == 1:
+            _step_one_bin(th, dl, r, v, jg, jd, pd, prior_m, prior_s, lam, g_g, g_d, rhs,
+                          trial_th, trial_dl, wm[4])  # fmt: skip
+        else:
+            h_gg[:, :] = 0.0
+            g_g[:] = 0.0
+            for k in range(n):
+                wk = 1.0 / v[k]
+                for a in range(NG):
+                    g_g[a] += jg[k, a] * r[k] * wk
+                    h_gd[k, a] = jg[k, a] * jd[k] * wk
+                    for c in range(a + 1):  # lower triangle: all the Cholesky factor reads
+                        h_gg[a, c] += jg[k, a] * jg[k, c] * wk
+                dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
+                g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
+                if k > 0:
+                    g_d[k] += pe[k - 1] * dl[k - 1]
+                if k < n - 1:
+                    g_d[k] += pe[k] * dl[k + 1]
+                    ud[k] = pe[k]
             for a in range(NG):
-                g_g[a] += jg[k, a] * r[k] * wk
-                h_gd[k, a] = jg[k, a] * jd[k] * wk
-                for c in range(a + 1):  # lower triangle: all the Cholesky factor reads
-                    h_gg[a, c] += jg[k, a] * jg[k, c] * wk
-            dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
-            g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
-            if k > 0:
-                g_d[k] += pe[k - 1] * dl[k - 1]
-            if k < n - 1:
-                g_d[k] += pe[k] * dl[k + 1]
-                ud[k] = pe[k]
-        for a in range(NG):
-            h_gg[a, a] += 1.0 / prior_s[a] ** 2
-            g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
-            h_gg[a, a] *= 1.0 + lam
-        # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
-        _thomas_factor(ud, dd, ud, cp, piv)  # one factorisation for the NG + 1 solves
-        for a in range(NG):
-            for k in range(n):
-                rhs_tmp[k] = h_gd[k, a]
-            _thomas_solve(ud, cp, piv, rhs_tmp, out_tmp, dp)
-            _copy(sol[a], out_tmp)
-        _thomas_solve(ud, cp, piv, g_d, out_tmp, dp)
-        _copy(sol[NG], out_tmp)
-        for a in range(NG):
-            _copy(a_mat[a], h_gg[a])
-        for a in range(NG):
-            rhs[a] = -g_g[a]
-        for a in range(NG):
-            for k in range(n):
-                rhs[a] += h_gd[k, a] * sol[NG, k]
-            for c in range(a + 1):
-                acc = 0.0
+                h_gg[a, a] += 1.0 / prior_s[a] ** 2
+                g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
+                h_gg[a, a] *= 1.0 + lam
+            # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
+            _thomas_factor(ud, dd, ud, cp, piv)  # one factorisation for the NG + 1 solves
+            for a in range(NG):
                 for k in range(n):
-                    acc += h_gd[k, a] * sol[c, k]
-                a_mat[a, c] -= acc
-        _cholesky_solve(a_mat, rhs)  # the Schur complement is symmetric positive definite
-        for a in range(NG):
-            trial_th[a] = th[a] + rhs[a]
-        for k in range(n):
-            acc = sol[NG, k]
+                    rhs_tmp[k] = h_gd[k, a]
+                _thomas_solve(ud, cp, piv, rhs_tmp, out_tmp, dp)
+                _copy(sol[a], out_tmp)
+            _thomas_solve(ud, cp, piv, g_d, out_tmp, dp)
+            _copy(sol[NG], out_tmp)
             for a in range(NG):
-                acc += sol[a, k] * rhs[a]
-            trial_dl[k] = dl[k] - acc
+                _copy(a_mat[a], h_gg[a])
+            for a in range(NG):
+                rhs[a] = -g_g[a]
+            for a in range(NG):
+                for k in range(n):
+                    rhs[a] += h_gd[k, a] * sol[NG, k]
+                for c in range(a + 1):
+                    acc = 0.0
+                    for k in range(n):
+                        acc += h_gd[k, a] * sol[c, k]
+                    a_mat[a, c] -= acc
+            _cholesky_solve(a_mat, rhs)  # the Schur complement is symmetric positive definite
+            for a in range(NG):
+                trial_th[a] = th[a] + rhs[a]
+            for k in range(n):
+                acc = sol[NG, k]
+                for a in range(NG):
+                    acc += sol[a, k] * rhs[a]
+                trial_dl[k] = dl[k] - acc
         # keep the step physical: stiffness scale within e^±2, load-transfer error > −0.95
         trial_th[0] = min(max(trial_th[0], -2.0), 2.0)
         trial_th[2] = max(trial_th[2], -0.95)
