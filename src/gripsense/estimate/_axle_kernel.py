@@ -270,7 +270,8 @@ def _step_one_bin(th, dl, r, v, jg, jd, pd, prior_m, prior_s, lam, g_g, g_d, dth
     With one residual the δ-eliminated normal matrix is a diagonal plus a rank-one term,
     A = diag(e) + c j jᵀ with e_a = (1 + λ)/σ_a² + λ w j_a² and c = w − (w j_δ)²/d_δ (w = 1/v,
     d_δ the damped δ diagonal), so Sherman–Morrison solves it exactly — the same step as the
-    general path's Cholesky factorisation (to rounding), without the NG³ work.
+    general path's Cholesky factorisation (to rounding), without the NG³ work
+    (``docs/physics.md`` §15.3, "Why profile, not marginalise").
     """
     wk = 1.0 / v[0]
     jd0 = jd[0]
