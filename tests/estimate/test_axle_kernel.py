@@ -188,3 +188,43 @@ def test_one_bin_step_equals_the_dense_solve(seed):
     np.testing.assert_allclose(g_g, g[:ng], rtol=1e-12)
     np.testing.assert_allclose(t_th - th, step[:ng], rtol=1e-8, atol=1e-12 * np.abs(step).max())
     np.testing.assert_allclose(t_dl - dl, step[ng:], rtol=1e-8, atol=1e-12 * np.abs(step).max())
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+@pytest.mark.parametrize("seed", range(3))
+def test_few_bin_step_equals_the_dense_solve(n, seed):
+    """Windows of 2..NFEW bins step by Woodbury with n × n systems; the step must be that of
+    the full (θ, δ) normal equations — the δ block tridiagonal (Gauss–Markov prior) —
+    with Marquardt's damping of the diagonal, solved densely by numpy."""
+    rng = np.random.default_rng(100 + seed)
+    ng = K.NG
+    th, dl = rng.normal(size=ng), rng.normal(size=n) * 0.01
+    r, v = rng.normal(size=n) * 300, rng.uniform(50, 500, size=n) ** 2
+    jg, jd = rng.normal(size=(n, ng)) * 1e3, rng.normal(size=n) * 4e4
+    pd_, pe = np.zeros(n), np.zeros(n)
+    K._prior_delta(rng.uniform(0.2, 0.95, size=n), np.deg2rad(0.5), pd_, pe)
+    prior_m, prior_s = rng.normal(size=ng) * 0.1, rng.uniform(0.05, 0.6, size=ng)
+    lam = float(10.0 ** rng.uniform(-4, 1))
+    g_g, g_d, dth, t_th, t_dl = np.zeros(ng), np.zeros(n), np.zeros(ng), np.zeros(ng), np.zeros(n)
+    wm = np.zeros((4 + 2 * ng, ng + 1))
+    u, y, z, sv = (np.zeros(n) for _ in range(4))
+    K._step_few_bins(n, th, dl, r, v, jg, jd, pd_, pe, prior_m, prior_s, lam, g_g, g_d, dth,
+                     t_th, t_dl, wm, u, y, z, sv)  # fmt: skip
+    w = 1.0 / v
+    jf = np.hstack([jg, np.diag(jd)])  # residual k depends on θ and on its own δ_k
+    h = jf.T @ (w[:, None] * jf)
+    h[np.arange(ng), np.arange(ng)] += 1.0 / prior_s**2
+    h[ng + np.arange(n), ng + np.arange(n)] += pd_
+    h[ng + np.arange(n - 1), ng + 1 + np.arange(n - 1)] += pe[: n - 1]
+    h[ng + 1 + np.arange(n - 1), ng + np.arange(n - 1)] += pe[: n - 1]
+    h[np.arange(ng + n), np.arange(ng + n)] *= 1.0 + lam
+    g = jf.T @ (w * r)
+    g[:ng] += (th - prior_m) / prior_s**2
+    p_dd = np.diag(pd_) + np.diag(pe[: n - 1], 1) + np.diag(pe[: n - 1], -1)
+    g[ng:] += p_dd @ dl
+    step = np.linalg.solve(h, -g)
+    scale = np.abs(step).max()
+    np.testing.assert_allclose(g_g, g[:ng], rtol=1e-12)
+    np.testing.assert_allclose(g_d, g[ng:], rtol=1e-10, atol=1e-12 * np.abs(g).max())
+    np.testing.assert_allclose(t_th - th, step[:ng], rtol=1e-7, atol=1e-10 * scale)
+    np.testing.assert_allclose(t_dl - dl, step[ng:], rtol=1e-7, atol=1e-10 * scale)

@@ -32,8 +32,9 @@ without the runtime, taking a row of a work array or passing an array to a funct
 atomic reference-count update (with it, ``NRT_incref``/``NRT_decref`` took a quarter of the
 profile's time). A rejected step keeps the current point's residuals (no second evaluation).
 A window of one bin — most windows of steady cornering, whose bins merge into one point —
-solves its step by Sherman–Morrison in O(NG) (:func:`_step_one_bin`) instead of the NG × NG
-Cholesky factorisation: the same step to rounding.
+solves its step by Sherman–Morrison in O(NG) (:func:`_step_one_bin`), a window of 2..NFEW bins
+by Woodbury with n × n systems (:func:`_step_few_bins`), instead of the NG × NG Cholesky
+factorisation: the same step to rounding.
 """
 
 from __future__ import annotations
@@ -299,6 +300,144 @@ def _step_one_bin(th, dl, r, v, jg, jd, pd, prior_m, prior_s, lam, g_g, g_d, dth
     return 0
 
 
+NFEW = 4  # windows of 2..NFEW bins step by Woodbury (:func:`_step_few_bins`)
+
+
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
+def _gauss_solve(a, n, ncols):
+    """Solve a[:n, :n] x = a[:n, n:ncols] in place by Gaussian elimination with partial
+    pivoting (tiny dense systems: n ≤ NFEW); the solutions replace the right-hand sides.
+    """
+    for i in range(n):
+        p = i
+        for k in range(i + 1, n):
+            if abs(a[k, i]) > abs(a[p, i]):
+                p = k
+        if p != i:
+            for c in range(i, ncols):
+                t = a[i, c]
+                a[i, c] = a[p, c]
+                a[p, c] = t
+        inv = 1.0 / a[i, i]
+        for k in range(i + 1, n):
+            f = a[k, i] * inv
+            if f != 0.0:
+                for c in range(i, ncols):
+                    a[k, c] -= f * a[i, c]
+    for i in range(n - 1, -1, -1):
+        inv = 1.0 / a[i, i]
+        for c in range(n, ncols):
+            acc = a[i, c]
+            for k in range(i + 1, n):
+                acc -= a[i, k] * a[k, c]
+            a[i, c] = acc * inv
+    return 0
+
+
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
+def _step_few_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, g_d, dth,
+                   trial_th, trial_dl, wm, u, y, z, sv):  # fmt: skip
+    """The damped Gauss–Newton step of :func:`profile_nll` for 2 ≤ n ≤ NFEW bins, in
+    O(n² NG + n³).
+
+    With δ eliminated, the damped normal matrix of θ is A = diag(e) + Jᵀ C J: e_a =
+    (1 + λ)/σ_a² + λ Σ_k w_k j_ka², C = W − W J_δ T⁻¹ J_δ W (n × n; T the damped tridiagonal δ
+    block). Woodbury, A⁻¹ = E − E Jᵀ C (I + J E Jᵀ C)⁻¹ J E (E = diag(e)⁻¹), solves it with
+    n × n systems only — the same step as the general path's Cholesky factorisation, to
+    rounding (``docs/physics.md`` §15.3). Scratch: rows 4–20 of ``wm``; u, y, z, sv: n each.
+    """
+    inv_e = wm[4]
+    xm = wm[5 : 5 + NFEW]  # X = T⁻¹ diag(w j_δ)
+    cm = wm[9 : 9 + NFEW]  # C
+    mm = wm[13 : 13 + NFEW]  # M = J E Jᵀ
+    ga = wm[17 : 17 + NFEW]  # augmented systems
+    for a in range(NG):
+        ps = 1.0 / (prior_s[a] * prior_s[a])
+        g_g[a] = (th[a] - prior_m[a]) * ps
+        inv_e[a] = (1.0 + lam) * ps
+    for k in range(n):
+        wk = 1.0 / v[k]
+        for a in range(NG):
+            g_g[a] += jg[k, a] * r[k] * wk
+            inv_e[a] += lam * wk * jg[k, a] * jg[k, a]
+        g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
+        if k > 0:
+            g_d[k] += pe[k - 1] * dl[k - 1]
+        if k < n - 1:
+            g_d[k] += pe[k] * dl[k + 1]
+    for a in range(NG):
+        inv_e[a] = 1.0 / inv_e[a]
+    # T [X | u] = [diag(w j_δ) | g_δ]
+    for k in range(n):
+        wk = 1.0 / v[k]
+        for c in range(2 * n + 1):
+            ga[k, c] = 0.0
+        ga[k, k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
+        if k > 0:
+            ga[k, k - 1] = pe[k - 1]
+        if k < n - 1:
+            ga[k, k + 1] = pe[k]
+        ga[k, n + k] = wk * jd[k]
+        ga[k, 2 * n] = g_d[k]
+    _gauss_solve(ga, n, 2 * n + 1)
+    for k in range(n):
+        wk = 1.0 / v[k]
+        u[k] = ga[k, 2 * n]
+        for m in range(n):
+            xm[k, m] = ga[k, n + m]
+            cm[k, m] = -wk * jd[k] * ga[k, n + m]
+        cm[k, k] += wk
+    # right-hand side −g_θ + H_θδ T⁻¹ g_δ, then q = J E rhs and M = J E Jᵀ
+    for a in range(NG):
+        acc = -g_g[a]
+        for k in range(n):
+            acc += jg[k, a] * jd[k] * u[k] / v[k]
+        dth[a] = acc
+    for k in range(n):
+        acc = 0.0
+        for a in range(NG):
+            acc += jg[k, a] * inv_e[a] * dth[a]
+        y[k] = acc
+        for m in range(k + 1):
+            acc = 0.0
+            for a in range(NG):
+                acc += jg[k, a] * inv_e[a] * jg[m, a]
+            mm[k, m] = acc
+            mm[m, k] = acc
+    # (I + M C) y = q, z = C y
+    for k in range(n):
+        for m in range(n):
+            acc = 0.0
+            for i in range(n):
+                acc += mm[k, i] * cm[i, m]
+            ga[k, m] = acc + (1.0 if k == m else 0.0)
+        ga[k, n] = y[k]
+    _gauss_solve(ga, n, n + 1)
+    for k in range(n):
+        acc = 0.0
+        for m in range(n):
+            acc += cm[k, m] * ga[m, n]
+        z[k] = acc
+    for a in range(NG):
+        acc = dth[a]
+        for k in range(n):
+            acc -= jg[k, a] * z[k]
+        dth[a] = inv_e[a] * acc
+        trial_th[a] = th[a] + dth[a]
+    # δ step: −T⁻¹ (g_δ + H_δθ Δθ) = −(u + X J Δθ)
+    for k in range(n):
+        acc = 0.0
+        for a in range(NG):
+            acc += jg[k, a] * dth[a]
+        sv[k] = acc
+    for k in range(n):
+        acc = u[k]
+        for m in range(n):
+            acc += xm[k, m] * sv[m]
+        trial_dl[k] = dl[k] - acc
+    return 0
+
+
 @njit(cache=True, nogil=True, **_NO_RT)
 def profile_nll(
     mu,
@@ -359,6 +498,9 @@ def profile_nll(
         if n == 1:
             _step_one_bin(th, dl, r, v, jg, jd, pd, prior_m, prior_s, lam, g_g, g_d, rhs,
                           trial_th, trial_dl, wm[4])  # fmt: skip
+        elif n <= NFEW:
+            _step_few_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, g_d,
+                           rhs, trial_th, trial_dl, wm, cp, dp, rhs_tmp, out_tmp)  # fmt: skip
         else:
             h_gg[:, :] = 0.0
             g_g[:] = 0.0
