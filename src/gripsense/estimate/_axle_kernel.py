@@ -44,8 +44,9 @@ from numba import njit
 
 
 def _no_runtime() -> dict:
-    """Numba's ``_nrt=False`` where this numba has it (a private option, present since 0.4x;
-    without it the kernels run the same, only with reference counting).
+    """Numba's ``_nrt=False`` where the installed numba has it (a private option of its CPU
+    target, checked here rather than assumed; without it the kernels compute the same, only
+    with reference counting).
     """
     try:
         from numba.core.cpu import CPUTargetOptions
