@@ -513,7 +513,7 @@ def friction_from_motion(
             force_sigma = np.abs(force) * sig_f_rel
         with np.errstate(divide="ignore", invalid="ignore"):
             utilisation = np.where(fz > 0, np.abs(force) / fz, np.nan)
-        flag = np.full(t.size, "ok", dtype=object)
+        flag = np.zeros(t.size, dtype=np.int8)  # codes of FLAGS: 0 = "ok"
         sign_bad = force * alpha > 0  # ISO: F ≈ −C α
         conds = [
             ("ill_conditioned", ~(rel <= o.max_rel_sigma)),
@@ -529,40 +529,38 @@ def friction_from_motion(
             ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
         ]
         for name, m in conds:  # later entries take precedence
-            flag[m] = name
-        ok = flag == "ok"
+            flag[m] = FLAGS.index(name)
+        ok = flag == 0
         frames.append(
-            pd.DataFrame(
-                {
-                    "t_s": t,
-                    "epoch": rows,
-                    "wheel": wname,
-                    "speed_mps": spd,
-                    "slip_angle_rad": alpha,
-                    "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
-                    "radius_m": radius,
-                    "mass_kg": mass,
-                    "contact_length_m": length,
-                    "load_N": fz,
-                    "force_N": force,
-                    "slide_point_m": inv["xi"] * length,
-                    "force_ratio": inv["ratio"],
-                    "mu": np.where(ok, mu_raw, np.nan),
-                    "kappa_beta": kap,
-                    "mu_sigma": np.where(ok, mu_sigma, np.nan),
-                    "flag": flag,
-                    "lateral_accel_mps2": ay,
-                    "utilisation": utilisation,
-                    "steady": steady,
-                    "cornering_stiffness_N_per_rad": c,
-                    "slip_sigma_rad": sig_alpha_white,
-                    "force_sigma_N": force_sigma,
-                    "axle_force_N": axle_force[axle],
-                    "axle_load_N": axle_load[axle],
-                    "grip_used": grip[axle],
-                    "grip_sigma": grip_sig,
-                }
-            )
+            {
+                "t_s": t,
+                "epoch": rows,
+                "wheel": np.full(t.size, list(vehicle.wheel_offsets).index(wname), np.int8),
+                "speed_mps": spd,
+                "slip_angle_rad": alpha,
+                "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
+                "radius_m": radius,
+                "mass_kg": mass,
+                "contact_length_m": length,
+                "load_N": fz,
+                "force_N": force,
+                "slide_point_m": inv["xi"] * length,
+                "force_ratio": inv["ratio"],
+                "mu": np.where(ok, mu_raw, np.nan),
+                "kappa_beta": kap,
+                "mu_sigma": np.where(ok, mu_sigma, np.nan),
+                "flag": flag,
+                "lateral_accel_mps2": ay,
+                "utilisation": utilisation,
+                "steady": steady,
+                "cornering_stiffness_N_per_rad": c,
+                "slip_sigma_rad": sig_alpha_white,
+                "force_sigma_N": force_sigma,
+                "axle_force_N": axle_force[axle],
+                "axle_load_N": axle_load[axle],
+                "grip_used": grip[axle],
+                "grip_sigma": grip_sig,
+            }
         )
         wheels_done.append(wname)
     meta["wheels"] = wheels_done
@@ -570,11 +568,18 @@ def friction_from_motion(
         meta["note"] = "no wheel could be analysed (front wheels need a steering channel)"
     if steer is None and any(AXLE_OF[w] == "front" for w in vehicle.wheel_offsets):
         meta["front_wheels"] = "skipped: no steering channel (--steer-csv)"
-    wheels = (
-        pd.concat(frames, ignore_index=True)
-        if frames
-        else pd.DataFrame({c: [] for c in WHEEL_COLUMNS})
-    )
-    wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(vehicle.wheel_offsets))
-    wheels["flag"] = pd.Categorical(wheels["flag"], categories=list(FLAGS))
-    return wheels[WHEEL_COLUMNS], meta
+    if not frames:
+        wheels = pd.DataFrame({c: [] for c in WHEEL_COLUMNS})
+        wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(vehicle.wheel_offsets))
+        wheels["flag"] = pd.Categorical(wheels["flag"], categories=list(FLAGS))
+        return wheels[WHEEL_COLUMNS], meta
+    # one table from the wheels' columns (one DataFrame, categories from their codes: the
+    # per-wheel frames, their concatenation and the string → category conversion cost ~4 ms
+    # of a 75 s log)
+    cols = {
+        c: np.concatenate([np.broadcast_to(f[c], f["t_s"].shape) for f in frames])
+        for c in WHEEL_COLUMNS
+    }
+    cols["wheel"] = pd.Categorical.from_codes(cols["wheel"], categories=list(vehicle.wheel_offsets))
+    cols["flag"] = pd.Categorical.from_codes(cols["flag"], categories=list(FLAGS))
+    return pd.DataFrame(cols), meta
