@@ -16,7 +16,7 @@ from gripsense.io import NmeaLog, read_nmea
 from gripsense.io.nmea.align import align_channels
 from gripsense.io.nmea.epochs import EPOCH_COLUMNS
 from gripsense.io.nmea.reader import MAX_LINES
-from gripsense.io.results import check_output_file, parquet_with_kind, write_file_atomic
+from gripsense.io.results import check_output_file, write_file_atomic, write_parquet
 
 __all__ = ["check_table_output", "ingest", "print_ingest", "write_table"]
 
@@ -89,7 +89,7 @@ def print_ingest(log: NmeaLog) -> None:
 
 
 TABLE_WRITERS = {
-    ".parquet": lambda df, p, kind: parquet_with_kind(df, p, kind),
+    ".parquet": write_parquet,
     ".csv": lambda df, p, kind: df.to_csv(p, index=False),
 }
 """Output suffix → writer of a table."""

@@ -657,44 +657,6 @@ def profile_grid(
     last = np.zeros(shapes.size)
     th = np.empty(NG)
     dl = np.zeros(n)
-    _grid(
-        mu_grid, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df, inv_dx,
-        p0, iters, out_nll, out_th, out_dl, out_shape, ws, wm, wj, warm, warm_d, last, th, dl,
-    )  # fmt: skip
-    return 0
-
-
-@njit(cache=True, nogil=True, **_NO_RT)
-def _grid(
-    mu_grid,
-    shapes,
-    shape_pen,
-    b,
-    rho,
-    prior_m,
-    prior_s,
-    prior_d,
-    tab_f,
-    tab_df,
-    inv_dx,
-    p0,
-    iters,
-    out_nll,
-    out_th,
-    out_dl,
-    out_shape,
-    ws,
-    wm,
-    wj,
-    warm,
-    warm_d,
-    last,
-    th,
-    dl,
-):
-    """The loops of :func:`profile_grid` on its preallocated work arrays (compiled without
-    reference counting: the views taken per (μ, shape) cost no atomic updates).
-    """
     n_mu = mu_grid.size
     last_best = 0.0
     for si in range(shapes.size):

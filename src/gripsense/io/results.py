@@ -37,7 +37,6 @@ __all__ = [
     "check_output_folder",
     "file_sha256",
     "is_own_file",
-    "parquet_with_kind",
     "read_manifest",
     "read_result_folder",
     "write_file_atomic",
@@ -306,22 +305,6 @@ def write_parquet(df: pd.DataFrame, path: str | Path, kind: str | None = None) -
         table = table.replace_schema_metadata(meta)
     coded = [f.name for f in table.schema if not pa.types.is_floating(f.type)]
     pq.write_table(table, path, use_dictionary=coded)
-
-
-def parquet_with_kind(df: pd.DataFrame, path: str | Path, kind: str) -> None:
-    """Write *df* to Parquet with ``gripsense_kind`` in the file's metadata (see
-    :func:`is_own_file`).
-
-    Parameters
-    ----------
-    df : pandas.DataFrame
-        The table.
-    path : str or Path
-        Output file.
-    kind : str
-        Output kind recorded in the metadata.
-    """
-    write_parquet(df, path, kind)
 
 
 @dataclass

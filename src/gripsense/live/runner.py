@@ -26,7 +26,7 @@ import pandas as pd
 
 from gripsense.errors import GripsenseError, InputError
 from gripsense.estimate.results import UNIT_COLUMNS
-from gripsense.io.results import check_output_file, parquet_with_kind, write_file_atomic
+from gripsense.io.results import check_output_file, write_file_atomic, write_parquet
 from gripsense.live.incremental import LiveIngest
 
 __all__ = [
@@ -351,7 +351,7 @@ def recover(output: str | Path, *, overwrite: bool = False) -> Path:
         df = pd.read_csv(part, on_bad_lines="skip")
     except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as e:
         raise InputError(f"{part}: cannot be read back ({e})") from None
-    write_file_atomic(output, lambda tmp: parquet_with_kind(df, tmp, LIVE_KIND))
+    write_file_atomic(output, lambda tmp: write_parquet(df, tmp, LIVE_KIND))
     part.unlink()
     return output
 
