@@ -26,15 +26,15 @@ tridiagonal. The normal equations are solved with the δ block eliminated by a t
 (Thomas) solve, so the cost is O(bins) whatever the number of bins or nuisances. The profile
 over the curve's shape is the minimum over the shapes allowed.
 
-Speed: the functions that run once per Levenberg–Marquardt step or per (μ, shape) never
-allocate (work arrays come from :func:`workspace`) and are compiled with numba's ``_nrt=False``:
-without the runtime, taking a row of a work array or passing an array to a function costs no
-atomic reference-count update (with it, ``NRT_incref``/``NRT_decref`` took a quarter of the
-profile's time). A rejected step keeps the current point's residuals (no second evaluation).
-A window of one bin — most windows of steady cornering, whose bins merge into one point —
-solves its step by Sherman–Morrison in O(NG) (:func:`_step_one_bin`), a window of 2..NFEW bins
-by Woodbury with n × n systems (:func:`_step_few_bins`), instead of the NG × NG Cholesky
-factorisation: the same step to rounding.
+Speed: the functions that run for every (μ, shape) minimisation and every Levenberg–Marquardt
+step never allocate (work arrays come from :func:`workspace`) and are compiled with numba's
+``_nrt=False``: without the runtime, taking a row of a work array or passing an array to a
+function costs no atomic reference-count update (with it, ``NRT_incref``/``NRT_decref`` took a
+quarter of the profile's time). A rejected step keeps the current point's residuals (no second
+evaluation). A window of one bin — most windows of steady cornering, whose bins merge into one
+point — solves its step by Sherman–Morrison in O(NG) (:func:`_step_one_bin`), a window of
+2..NFEW bins by Woodbury with n × n systems (:func:`_step_few_bins`), instead of the NG × NG
+Cholesky factorisation: the same step to rounding.
 """
 
 from __future__ import annotations
