@@ -119,3 +119,54 @@ def test_real_logs_fast_equals_reference():
         a, b = read_nmea(p, engine="fast"), read_nmea(p, engine="reference")
         assert a.report == b.report
         assert a.epochs.equals(b.epochs)
+
+
+def _sentence(body: bytes) -> bytes:
+    cs = 0
+    for b in body:
+        cs ^= b
+    return b"$" + body + b"*%02X" % cs
+
+
+number_text = st.builds(
+    lambda sign, digits, dot: (
+        sign
+        + (
+            digits
+            if dot is None
+            else digits[: dot % (len(digits) + 1)] + "." + digits[dot % (len(digits) + 1) :]
+        )
+    ),
+    st.sampled_from(["", "-", "+"]),
+    st.text(alphabet="0123456789", min_size=1, max_size=28),
+    st.one_of(st.none(), st.integers(0, 30)),
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(number_text, min_size=1, max_size=20))
+def test_numbers_are_pythons_float_to_the_bit(texts):
+    """Every numeric field gives exactly the double of Python's ``float`` — short ones on the
+    compiled fast path, long ones (> 16 significant digits, > 22 decimals) on the exact one."""
+    data = b"\n".join(_sentence(b"GPHDT," + t.encode() + b",T") for t in texts)
+    tok = tokenize_fast(data)
+    got = tok.raw["HDT"]["heading"]
+    want = np.array([float(t) for t in texts])
+    assert got.size == len(texts)
+    np.testing.assert_array_equal(got.view(np.int64), want.view(np.int64))
+    assert_same_tokens(tok, tokenize_reference(data))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=1, max_size=30))
+def test_heading_wrap_is_numpys_mod_to_the_bit(values):
+    """The wrap that skips in-range headings gives np.mod(h, 360)'s doubles, sign of 0 included."""
+    from gripsense.io.nmea.decode import _wrap360
+
+    h = np.array([*values, -0.0, 360.0, -1e-300])
+    with np.errstate(invalid="ignore"):
+        want = np.mod(h, 360.0)
+        got = _wrap360(h)
+    nan = np.isnan(want)
+    np.testing.assert_array_equal(np.isnan(got), nan)
+    np.testing.assert_array_equal(got[~nan].view(np.int64), want[~nan].view(np.int64))

@@ -10,6 +10,7 @@ import io
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from gripsense import InputError, read_nmea
@@ -199,6 +200,17 @@ def test_sources_agree(tmp_path):
         assert o.epochs.equals(ref.epochs)
 
 
+def test_binary_starting_like_gzip_is_read_as_it_is():
+    """A receiver stream whose first bytes are gzip's magic (UBX can be) is not an error: its
+    lines are read and accounted for, and the notes say why it was not decompressed."""
+    good = sentence("GPHDT,1.0,T")
+    data = b"\x1f\x8b!\x00\x00q\x01\xcb\n" + good.encode() + b"\n"
+    log = read_nmea(data)
+    assert log.report.total_lines == 2
+    assert log.report.parsed == {"HDT": 1} and log.report.n_rejected == 1
+    assert any("not a gzip stream" in n for n in log.report.notes)
+
+
 def test_missing_file_and_bad_source():
     with pytest.raises(InputError, match="no such file"):
         read_nmea("/nonexistent/drive.nmea")
@@ -244,3 +256,48 @@ def test_saab_heading_joins_preceding_fix():
             prev = rmc[rmc["line"] < row.line].iloc[-1]
             assert row.epoch == prev["epoch"]
     assert len(log.epochs) == 12 and log.report.epochs_without_time == 0
+
+
+def test_lines_at_is_split_lines():
+    from gripsense.io.nmea.tokens import lines_at, split_lines
+
+    for data in (b"", b"a", b"a\n", b"a\nb", b"\n\nx\r\n\ny", b"$GP\n\n\n"):
+        lines = split_lines(data)
+        assert lines_at(data, range(len(lines))) == dict(enumerate(lines))
+        assert lines_at(data, [len(lines) - 1, 0] if lines else []) == (
+            {0: lines[0], len(lines) - 1: lines[-1]} if lines else {}
+        )
+
+
+def test_dates_carry_across_midnight_both_ways():
+    """An epoch's date is its own, else carried from the nearest earlier dated epoch (before
+    the first date: from the first one), counting midnight roll-overs in between; without any
+    date the times stay continuous (t_s) and time_utc is NaT."""
+
+    def gga(t):
+        return sentence(f"GPGGA,{t},3500.0000,N,13500.0000,E,1,12,0.8,10.0,M,30.0,M,,")
+
+    rmc = sentence("GPRMC,000002.00,A,3500.0,N,13500.0,E,1.0,0.0,010125,,,A")
+    lines = [gga("235958.00"), gga("235959.00"), gga("000001.00"), rmc, gga("000003.00")]
+    ep = read_nmea(lines).epochs
+    want = pd.to_datetime(
+        [
+            "2024-12-31 23:59:58",
+            "2024-12-31 23:59:59",
+            "2025-01-01 00:00:01",
+            "2025-01-01 00:00:02",
+            "2025-01-01 00:00:03",
+        ],
+        utc=True,
+    )
+    assert list(ep["time_utc"]) == list(want)
+    np.testing.assert_allclose(ep["t_s"], [0.0, 1.0, 3.0, 4.0, 5.0])
+    later = [sentence("GPRMC,235959.00,A,3500.0,N,13500.0,E,1.0,0.0,311224,,,A")]
+    ep = read_nmea([*later, gga("000000.50"), gga("235959.50")]).epochs
+    assert str(ep["time_utc"].iloc[1]) == "2025-01-01 00:00:00.500000+00:00"
+    # a fall of more than 12 h again: the next day
+    assert str(ep["time_utc"].iloc[2]) == "2025-01-01 23:59:59.500000+00:00"
+    undated = read_nmea([gga("235959.00"), gga("000001.00")])
+    assert not undated.report.has_date and ep["time_utc"].notna().all()
+    assert undated.epochs["time_utc"].isna().all()
+    np.testing.assert_allclose(undated.epochs["t_s"], [0.0, 2.0])

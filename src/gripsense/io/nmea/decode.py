@@ -78,7 +78,15 @@ def _ddmmyy(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _wrap360(h: np.ndarray) -> np.ndarray:
-    return np.mod(h, 360.0)
+    """Heading wrapped to [0, 360) [deg]: ``np.mod(h, 360)``, computed only where needed
+    (``np.mod`` is slow and almost every heading is in range already; ``+ 0.0`` turns -0.0
+    into 0.0 as ``np.mod`` does).
+    """
+    out = h + 0.0
+    off = ~((h >= 0.0) & (h < 360.0)) & ~np.isnan(h)  # (np.mod is slowest on NaN)
+    if off.any():
+        out[off] = np.mod(h[off], 360.0)
+    return out
 
 
 _CHARS = np.array([None] + [chr(i) for i in range(1, 256)], dtype=object)
@@ -93,15 +101,14 @@ def _char(c: np.ndarray) -> np.ndarray:
 
 def _decode_one(
     key: str, r: dict[str, np.ndarray]
-) -> tuple[dict[str, np.ndarray], np.ndarray, list[str]]:
-    """Decode one raw table. Returns (columns, malformed mask, name of the first bad field)."""
+) -> tuple[dict[str, np.ndarray], np.ndarray, dict[int, str]]:
+    """Decode one raw table. Returns (columns, malformed mask, row -> its first bad field)."""
     n = r["line"].size
     bad = np.zeros(n, dtype=bool)
-    why = np.array([""] * n, dtype=object)
+    checks: list[tuple[np.ndarray, str]] = []
 
     def flag(mask: np.ndarray, name: str) -> None:
-        new = mask & ~bad
-        why[new] = name
+        checks.append((mask, name))
         bad[:] |= mask
 
     c: dict[str, np.ndarray] = {"line": r["line"]}
@@ -155,7 +162,9 @@ def _decode_one(
         c["mode"] = _char(r["mode"])
         c["day"], b = _ddmmyy(r["date"])
         flag(b, "date")
-    return c, bad, why.tolist()
+    # row -> the field of its first failed check
+    why = {i: next(nm for m, nm in checks if m[i]) for i in np.flatnonzero(bad).tolist()}
+    return c, bad, why
 
 
 def decode_all(raw: dict[str, dict[str, np.ndarray]]):

@@ -144,17 +144,90 @@ def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
     return out
 
 
-def _rollovers(tod: np.ndarray) -> np.ndarray:
-    """Cumulative count of midnight roll-overs along the epochs (time of day falling > 12 h)."""
-    valid = ~np.isnan(tod)
-    if not valid.any():
-        return np.zeros(tod.size, dtype=np.int64)
-    last_idx = np.maximum.accumulate(np.where(valid, np.arange(tod.size), -1))
-    prev = np.full(tod.size, np.nan)
-    ok = last_idx[:-1] >= 0
-    prev[1:][ok] = tod[last_idx[:-1][ok]]
-    jump = valid & (tod < prev - 43200.0)
-    return np.cumsum(jump)
+@njit(cache=True, nogil=True)
+def _scatter_kernel(out, ep, v, use, has_use):
+    for r in range(ep.size):
+        out[ep[r]] = v[r] if (not has_use or use[r]) else np.nan
+
+
+@njit(cache=True, nogil=True)
+def _fill_kernel(out, ep, v, use, has_use, src, code, has_src):
+    for r in range(ep.size):
+        e = ep[r]
+        x = v[r]
+        if x == x and out[e] != out[e] and (not has_use or use[r]):
+            out[e] = x
+            if has_src:
+                src[e] = code
+
+
+_NONE_B = np.zeros(0, dtype=np.bool_)
+_NONE_I8 = np.zeros(0, dtype=np.int8)
+
+
+def _scatter(out: np.ndarray, ep: np.ndarray, v: np.ndarray, use: np.ndarray | None) -> None:
+    """out[ep] = v, NaN where *use* is False (one sentence of a type per epoch)."""
+    _scatter_kernel(out, ep, v, _NONE_B if use is None else use, use is not None)
+
+
+def _fill(
+    out: np.ndarray,
+    ep: np.ndarray,
+    v: np.ndarray,
+    use: np.ndarray | None,
+    src: np.ndarray | None = None,
+    code: int = 0,
+) -> None:
+    """Where out[ep] is still NaN, take v (where *use*, when v is not NaN) and note *code* in
+    src — the next source in priority order fills what the earlier ones left open.
+    """
+    _fill_kernel(
+        out,
+        ep,
+        v,
+        _NONE_B if use is None else use,
+        use is not None,
+        _NONE_I8 if src is None else src,
+        code,
+        src is not None,
+    )
+
+
+@njit(cache=True, nogil=True)
+def _seconds_kernel(tod, day, abs_s):
+    """Seconds since 1970 of each epoch from its time of day and the dates of the log.
+
+    Midnight roll-overs are counted along the epochs (the time of day falling by more than
+    12 h from the last epoch with a time); an epoch's date is its own (RMC, ZDA) or carried
+    from the nearest earlier dated epoch — the nearest later one before the first date —
+    plus the roll-overs in between. Without any date the count of roll-overs is the day.
+    Returns whether the log has a date; ``abs_s`` is NaN for epochs without a time.
+    """
+    n = tod.size
+    rc = np.empty(n)
+    cnt = 0.0
+    prev = np.nan
+    first_dated = -1
+    for i in range(n):
+        t = tod[i]
+        if t == t:
+            if t < prev - 43200.0:
+                cnt += 1.0
+            prev = t
+            if first_dated < 0 and day[i] == day[i]:
+                first_dated = i
+        rc[i] = cnt
+    if first_dated < 0:
+        for i in range(n):
+            abs_s[i] = rc[i] * 86400.0 + tod[i] if tod[i] == tod[i] else np.nan
+        return False
+    a = first_dated  # the anchor: nearest dated epoch at or before i, else the first one
+    for i in range(n):
+        t = tod[i]
+        if t == t and day[i] == day[i]:
+            a = i
+        abs_s[i] = (day[a] + rc[i] - rc[a]) * 86400.0 + t if t == t else np.nan
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -224,49 +297,41 @@ def assemble_epochs(
         ``epochs_without_time``, ``has_date``.
     """
     keys = list(SENTENCES)
-    parts_line, parts_kind, parts_tod = [], [], []
+    # sentences in line order: a counting sort by line (lines are distinct and < n_lines)
+    n_lines = 1 + max((int(f["line"].iat[-1]) for f in frames.values() if len(f)), default=-1)
+    kind_at = np.full(n_lines, -1, dtype=np.int64)
+    tod_at = np.full(n_lines, np.nan)
+    lines_of = {k: frames[k]["line"].to_numpy() for k in keys}
     for code, k in enumerate(keys):
-        f = frames[k]
-        parts_line.append(f["line"].to_numpy())
-        parts_kind.append(np.full(len(f), code, dtype=np.int64))
-        parts_tod.append(f["tod_s"].to_numpy() if "tod_s" in f else np.full(len(f), np.nan))
-    line = np.concatenate(parts_line)
-    order = np.argsort(line, kind="stable")
-    line, kind, tod = (
-        line[order],
-        np.concatenate(parts_kind)[order],
-        np.concatenate(parts_tod)[order],
-    )
+        kind_at[lines_of[k]] = code
+        if "tod_s" in frames[k]:
+            tod_at[lines_of[k]] = frames[k]["tod_s"].to_numpy()
+    line = np.flatnonzero(kind_at >= 0)
+    kind, tod = kind_at[line], tod_at[line]
     start = epoch_boundaries(kind, tod)
     eid = np.cumsum(start) - 1
     n_ep = int(start.sum())
+    eid_at = kind_at  # reused: line -> epoch
+    eid_at[line] = eid
 
-    epoch_of: dict[str, np.ndarray] = {}
-    for k in keys:
-        pos = np.searchsorted(line, frames[k]["line"].to_numpy())
-        epoch_of[k] = eid[pos] if pos.size else np.empty(0, dtype=np.int64)
+    epoch_of: dict[str, np.ndarray] = {k: eid_at[lines_of[k]] for k in keys}
 
     def col(k: str, name: str, use: np.ndarray | None = None) -> np.ndarray | None:
         """Per-epoch values of one column of one sentence type (None if the type is absent)."""
         if not len(frames[k]):
             return None
         out = np.full(n_ep, np.nan)
-        v = frames[k][name].to_numpy(dtype=float)
-        out[epoch_of[k]] = v if use is None else np.where(use, v, np.nan)
+        _scatter(out, epoch_of[k], frames[k][name].to_numpy(dtype=float), use)
         return out
 
-    def first_of(*arrays: np.ndarray | None) -> np.ndarray:
-        """Element-wise first non-NaN of the arrays, in priority order."""
-        out = None
-        for a in arrays:
-            if a is None:
-                continue
-            if out is None:
-                out = a
-            else:
-                gap = np.isnan(out)
-                out[gap] = a[gap]
-        return np.full(n_ep, np.nan) if out is None else out
+    def first_of(*sources: tuple) -> np.ndarray:
+        """Per epoch the first non-NaN value of the (type, column[, use]) sources, in order."""
+        out = np.full(n_ep, np.nan)
+        for k, name, *use in sources:
+            if len(frames[k]):
+                v = frames[k][name].to_numpy(dtype=float)
+                _fill(out, epoch_of[k], v, use[0] if use else None)
+        return out
 
     gga_ok = frames["GGA"]["fix_quality"].to_numpy() != 0 if len(frames["GGA"]) else None
     rmc_ok = (frames["RMC"]["status"].to_numpy() == "A") if len(frames["RMC"]) else None
@@ -275,69 +340,46 @@ def assemble_epochs(
     tod_e[eid[has_t]] = tod[has_t]
 
     ep: dict[str, object] = {}
-    gga_lat = col("GGA", "lat_deg", gga_ok)
-    rmc_lat = col("RMC", "lat_deg", rmc_ok)
-    if gga_lat is not None and rmc_lat is not None:
+    if len(frames["GGA"]) and len(frames["RMC"]):
+        # the position comes from one sentence: GGA where it has a latitude, else RMC
+        gga_lat = col("GGA", "lat_deg", gga_ok)
         use_gga = ~np.isnan(gga_lat)
-        ep["lat_deg"] = np.where(use_gga, gga_lat, rmc_lat)
+        ep["lat_deg"] = np.where(use_gga, gga_lat, col("RMC", "lat_deg", rmc_ok))
         ep["lon_deg"] = np.where(
             use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok)
         )
     else:
-        ep["lat_deg"] = first_of(gga_lat, rmc_lat)
-        ep["lon_deg"] = first_of(col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok))
-    ep["alt_m"] = first_of(col("GGA", "alt_m", gga_ok))
-    ep["fix_quality"] = first_of(col("GGA", "fix_quality"))
-    ep["n_sats"] = first_of(col("GGA", "n_sats"))
-    ep["hdop"] = first_of(col("GGA", "hdop"))
-    ep["speed_mps"] = first_of(col("RMC", "speed_mps", rmc_ok), col("VTG", "speed_mps"))
-    ep["course_deg"] = first_of(col("RMC", "course_deg", rmc_ok), col("VTG", "course_deg"))
+        ep["lat_deg"] = first_of(("GGA", "lat_deg", gga_ok), ("RMC", "lat_deg", rmc_ok))
+        ep["lon_deg"] = first_of(("GGA", "lon_deg", gga_ok), ("RMC", "lon_deg", rmc_ok))
+    ep["alt_m"] = first_of(("GGA", "alt_m", gga_ok))
+    ep["fix_quality"] = first_of(("GGA", "fix_quality"))
+    ep["n_sats"] = first_of(("GGA", "n_sats"))
+    ep["hdop"] = first_of(("GGA", "hdop"))
+    ep["speed_mps"] = first_of(("RMC", "speed_mps", rmc_ok), ("VTG", "speed_mps"))
+    ep["course_deg"] = first_of(("RMC", "course_deg", rmc_ok), ("VTG", "course_deg"))
 
     heading = np.full(n_ep, np.nan)
     source = np.full(n_ep, -1, dtype=np.int8)
     for code, k in enumerate(HEADING_PRIORITY):
-        h = col(k, "heading_deg")
-        if h is None:
-            continue
-        take = np.isnan(heading) & ~np.isnan(h)
-        heading[take] = h[take]
-        source[take] = code
+        if len(frames[k]):
+            v = frames[k]["heading_deg"].to_numpy(dtype=float)
+            _fill(heading, epoch_of[k], v, None, source, code)
     ep["heading_deg"] = heading
     ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)
-    ep["pitch_deg"] = first_of(
-        col("PSAT,HPR", "pitch_deg"), col("PASHR", "pitch_deg"), col("PSTI,036", "pitch_deg")
-    )
-    ep["roll_deg"] = first_of(
-        col("PSAT,HPR", "roll_deg"), col("PASHR", "roll_deg"), col("PSTI,036", "roll_deg")
-    )
-    rot = first_of(col("ROT", "rot_deg_per_min"))
+    attitude = ("PSAT,HPR", "PASHR", "PSTI,036")
+    ep["pitch_deg"] = first_of(*((k, "pitch_deg") for k in attitude))
+    ep["roll_deg"] = first_of(*((k, "roll_deg") for k in attitude))
+    rot = first_of(("ROT", "rot_deg_per_min"))
     ep["rot_deg_per_min"] = rot
 
     # dates and times
-    day = first_of(col("RMC", "day"), col("ZDA", "day"), col("PSTI,036", "day"))
+    day = first_of(("RMC", "day"), ("ZDA", "day"), ("PSTI,036", "day"))
     timed = ~np.isnan(tod_e)
-    day = np.where(timed, day, np.nan)
-    rc = _rollovers(tod_e).astype(float)
-    has_date = bool((~np.isnan(day)).any())
-    abs_s = np.full(n_ep, np.nan)
-    if has_date:
-        anchor = np.where(~np.isnan(day), np.arange(n_ep), -1)
-        fw = np.maximum.accumulate(anchor)
-        bw_src = np.where(anchor >= 0, anchor, n_ep)
-        bw = np.minimum.accumulate(bw_src[::-1])[::-1]
-        a = np.where(fw >= 0, fw, bw)
-        a_ok = (a >= 0) & (a < n_ep)
-        a_c = np.clip(a, 0, n_ep - 1)
-        d_est = day[a_c] + rc - rc[a_c]
-        abs_s = np.where(timed & a_ok, d_est * 86400.0 + tod_e, np.nan)
-        ns = np.where(np.isnan(abs_s), np.iinfo(np.int64).min, np.round(abs_s * 1e9)).astype(
-            np.int64
-        )
-        time_utc = pd.to_datetime(ns, unit="ns", utc=True)
-        time_utc = time_utc.where(~np.isnan(abs_s))
-    else:
-        abs_s = np.where(timed, rc * 86400.0 + tod_e, np.nan)
-        time_utc = pd.to_datetime(np.full(n_ep, np.iinfo(np.int64).min), unit="ns", utc=True)
+    abs_s = np.empty(n_ep)
+    has_date = bool(_seconds_kernel(tod_e, day, abs_s))
+    ns = np.round(abs_s * 1e9)
+    ns[np.isnan(abs_s) | (not has_date)] = np.iinfo(np.int64).min  # NaT (without a date: all)
+    time_utc = pd.to_datetime(ns.astype(np.int64), unit="ns", utc=True)
     first = np.flatnonzero(~np.isnan(abs_s))
     t_s = abs_s - abs_s[first[0]] if first.size else abs_s
     ep["time_utc"] = time_utc

@@ -5,8 +5,10 @@ It implements exactly the rules of :mod:`gripsense.io.nmea.reference`:
 * compiled loops (:mod:`gripsense.io.nmea.kernels`, numba) find each line's sentence start,
   checksum, address, fields and check every field's pattern;
 * sentence types are named from the packed address bytes with one hash factorisation;
-* numbers are converted by Arrow's string-to-float cast (correctly rounded, like Python's
-  ``float``) from ``string_view`` structs that point into the input buffer — no copies of fields.
+* numbers are converted in the same compiled pass, exactly: Clinger's fast path (the integer of
+  the digits over an exact power of ten, one correctly rounded division) gives the double that
+  Python's ``float`` gives for every field of at most ~16 significant digits — all that NMEA
+  sends; longer ones are converted by ``float`` itself.
 
 The buffer is cut at line ends into chunks, tokenized independently on up to two threads (the
 compiled loops and Arrow release the GIL), and joined. The test suite checks that this path and
@@ -21,20 +23,16 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pandas as pd
-import pyarrow as pa
-import pyarrow.compute as pc
 
 from gripsense.io.nmea import kernels as K
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, _type_key, classify_line
-from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, split_lines
+from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, lines_at
 
 __all__ = ["tokenize_fast"]
 
-_BYTE_MASK = np.array(
-    [(1 << (8 * k)) - 1 if k < 8 else (1 << 64) - 1 for k in range(9)], dtype=np.uint64
-)
 _SUBTYPED = {int.from_bytes(a.encode().ljust(8, b"\0"), "little"): a.encode() for a in SUBTYPED}
+_SUBTYPED_WORDS = np.array(list(_SUBTYPED), dtype=np.uint64)
 
 
 def _spec_arrays(spec: S.SentenceSpec):
@@ -45,104 +43,84 @@ def _spec_arrays(spec: S.SentenceSpec):
         if f.allowed:
             allowed[j, 256] = True
             allowed[j, np.frombuffer(f.allowed.encode(), dtype=np.uint8)] = True
-    return fidx, fkind, allowed
+    numeric = fkind != K.KIND_CODES[S.CHAR]
+    numcol = np.where(numeric, np.cumsum(numeric) - 1, -1).astype(np.int64)
+    slot = np.full(fidx.max() + 1, -1, dtype=np.int64)  # sentence field number -> spec field
+    slot[fidx] = np.arange(fidx.size)
+    return slot, fkind, allowed, numcol
 
 
 _SPEC_ARRAYS = {k: _spec_arrays(s) for k, s in S.SENTENCES.items()}
 
-
-def _words(buf: np.ndarray) -> np.ndarray:
-    """uint64 view whose element i is the 8 bytes of (zero-padded) buf at offset i."""
-    n = (buf.size + 24) // 8 * 8 + 8
-    pad = np.zeros(n, dtype=np.uint8)
-    pad[: buf.size] = buf
-    return np.lib.stride_tricks.as_strided(
-        pad.view("<u8"), shape=(buf.size + 9,), strides=(1,), writeable=False
-    )
+# per line code of scan_buffer: the outcome and label it decides alone (PENDING: by the type)
+_LC = {
+    K.PENDING: (-1, None),
+    K.BLANK: (IGNORED, S.BLANK),
+    K.COMMENT: (IGNORED, S.COMMENT),
+    K.NO_START: (REJECTED, S.NOT_NMEA),
+    K.BAD_ADDRESS: (REJECTED, S.NOT_NMEA),
+    K.NO_STAR: (REJECTED, S.MISSING_CHECKSUM),  # or truncated, by the type (below)
+    K.CS_SHORT: (REJECTED, S.TRUNCATED),
+    K.CS_BAD: (REJECTED, S.BAD_CHECKSUM),
+    K.UNPRINTABLE: (REJECTED, S.MALFORMED),
+}
+_LC_OUTCOME = np.array([_LC[c][0] for c in range(len(_LC))], dtype=np.int8)
+_LC_LABEL = [_LC[c][1] for c in range(len(_LC))]
 
 
 def _tokenize_array(data) -> Tokens:
     """Tokenize a buffer of whole lines (no chunking; reject details are added by the caller)."""
     buf = np.frombuffer(data, dtype=np.uint8)
-    nb = buf.size
-    nl = np.flatnonzero(buf == 10)
-    starts = np.empty(nl.size + 1, dtype=np.int64)
-    starts[0] = 0
-    starts[1:] = nl + 1
-    ends = np.empty(nl.size + 1, dtype=np.int64)
-    ends[:-1] = nl
-    ends[-1] = nb
-    if nb == 0 or buf[-1] == 10:
-        starts, ends = starts[:-1], ends[:-1]
-    n = starts.size
+    n = K.count_lines(buf)
     NAME = {k: i for i, k in enumerate([*S.REASONS, S.BLANK, S.COMMENT])}
-    outcome = np.full(n, -1, dtype=np.int8)
-    code = np.zeros(n, dtype=np.int32)
     raw = {k: empty_raw(s.fields) for k, s in S.SENTENCES.items()}
     if n == 0:
-        return Tokens(outcome, code, list(NAME), np.zeros(0, dtype=bool), raw)
+        z = np.zeros(0, dtype=np.int8)
+        return Tokens(z, np.zeros(0, dtype=np.int32), list(NAME), np.zeros(0, dtype=bool), raw)
 
-    lc = np.zeros(n, dtype=np.int8)
+    lc = np.empty(n, dtype=np.int8)
     dpos = np.full(n, -1, dtype=np.int64)
-    star = np.full(n, -1, dtype=np.int64)
-    send = np.zeros(n, dtype=np.int64)
+    limit = np.empty(n, dtype=np.int64)
     nf = np.zeros(n, dtype=np.int64)
     alen = np.zeros(n, dtype=np.int64)
     junk = np.zeros(n, dtype=np.bool_)
-    f1a = np.zeros(n, dtype=np.int64)
-    f1b = np.zeros(n, dtype=np.int64)
-    K.scan_lines(buf, starts, ends, MAX_ADDRESS, lc, dpos, star, send, nf, alen, junk, f1a, f1b)
-    limit = np.where(star >= 0, star, send)
-    fixed = {
-        K.BLANK: (IGNORED, S.BLANK),
-        K.COMMENT: (IGNORED, S.COMMENT),
-        K.NO_START: (REJECTED, S.NOT_NMEA),
-        K.BAD_ADDRESS: (REJECTED, S.NOT_NMEA),
-        K.CS_SHORT: (REJECTED, S.TRUNCATED),
-        K.CS_BAD: (REJECTED, S.BAD_CHECKSUM),
-        K.UNPRINTABLE: (REJECTED, S.MALFORMED),
-    }
-    for c, (out, label) in fixed.items():
-        m = lc == c
-        outcome[m] = out
-        code[m] = NAME[label]
+    addr = np.zeros(n, dtype=np.uint64)
+    sub = np.zeros(n, dtype=np.uint64)
+    K.scan_buffer(buf, MAX_ADDRESS, lc, dpos, limit, nf, alen, junk, addr, sub)
+    # outcome and label of the line codes that decide alone (-1: decided below by the type)
+    outcome = _LC_OUTCOME[lc]
+    code = np.array([NAME.get(x, -1) for x in _LC_LABEL], dtype=np.int32)[lc]
 
     # sentence type keys of lines with a valid address (pending, no checksum, bad checksum...)
     typed = np.flatnonzero((lc == K.PENDING) | (lc >= K.NO_STAR))
     key_code = np.full(n, -1, dtype=np.int32)
     if typed.size:
-        words = _words(buf)
-        addr = words[dpos[typed] + 1] & _BYTE_MASK[alen[typed]]
-        inv, uniq = pd.factorize(addr, sort=False)
+        ta = addr[typed]
+        inv, uniq = pd.factorize(ta, sort=False)
         ucode = np.empty(len(uniq), dtype=np.int32)
         for j, u in enumerate(uniq.tolist()):
             a = int(u).to_bytes(8, "little").rstrip(b"\0")
             key = _type_key(a, b"") if a[:1] == b"P" else a[2:].decode()
             ucode[j] = NAME.setdefault(key, len(NAME))
         key_code[typed] = ucode[inv]
-        for word, name in _SUBTYPED.items():
-            sel = typed[addr == word]
-            if not sel.size:
-                continue
-            sl = f1b[sel] - f1a[sel]
-            fit = (sl >= 1) & (sl <= MAX_ADDRESS)
-            sub = words[f1a[sel]] & _BYTE_MASK[np.where(fit, sl, 0)]
-            sinv, su = pd.factorize(sub, sort=False)
+        for j in np.flatnonzero(np.isin(uniq, _SUBTYPED_WORDS)).tolist():
+            name = _SUBTYPED[int(uniq[j])]
+            sel = typed[inv == j]
+            sinv, su = pd.factorize(sub[sel], sort=False)
             scode = np.empty(len(su), dtype=np.int32)
-            for j, u in enumerate(su.tolist()):
+            for jj, u in enumerate(su.tolist()):
                 key = _type_key(name, int(u).to_bytes(8, "little").rstrip(b"\0")) or name.decode()
-                scode[j] = NAME.setdefault(key, len(NAME))
+                scode[jj] = NAME.setdefault(key, len(NAME))
             key_code[sel] = scode[sinv]
-    minf = np.full(n, -1, dtype=np.int64)
+    # fewest fields of the label's sentence type (-1: not a type gripsense reads); index + 1
+    min_of = np.full(len(NAME) + 1, -1, dtype=np.int64)
     for k, spec in S.SENTENCES.items():
         if k in NAME:
-            minf[key_code == NAME[k]] = spec.min_fields
+            min_of[NAME[k] + 1] = spec.min_fields
+    minf = min_of[key_code + 1]
     known = minf >= 0
 
-    nostar = lc == K.NO_STAR
-    trunc0 = nostar & known & (nf < minf)
-    outcome[nostar] = REJECTED
-    code[nostar] = NAME[S.MISSING_CHECKSUM]
+    trunc0 = (lc == K.NO_STAR) & known & (nf < minf)
     code[trunc0] = NAME[S.TRUNCATED]
     pending = lc == K.PENDING
     ign = pending & ~known
@@ -159,28 +137,19 @@ def _tokenize_array(data) -> Tokens:
         li = np.flatnonzero(pending & (key_code == NAME[k]))
         if li.size == 0:
             continue
-        fidx, fkind, allowed = _SPEC_ARRAYS[k]
-        m, nfld = li.size, fidx.size
-        ok = np.zeros(m, dtype=np.bool_)
-        fa = np.empty((m, nfld), dtype=np.int64)
-        fl = np.empty((m, nfld), dtype=np.int64)
-        cval = np.zeros((m, nfld), dtype=np.uint8)
-        views = np.empty((m, nfld, 16), dtype=np.uint8)
-        K.read_fields(
-            buf, li, dpos, limit, fidx, fkind, allowed, S.MAX_FIELD, ok, fa, fl, cval, views
-        )
-        numeric = np.flatnonzero(fkind != K.KIND_CODES[S.CHAR])
-        vals = None
-        if numeric.size:
-            vv = np.ascontiguousarray(views[:, numeric, :]).reshape(-1, 16)
-            arr = pa.Array.from_buffers(
-                pa.string_view(), vv.shape[0], [None, pa.py_buffer(vv), pa.py_buffer(buf)]
-            )
-            vals = pc.cast(arr, pa.float64()).to_numpy(zero_copy_only=False)
-            vals = np.array(vals, dtype=np.float64).reshape(m, numeric.size)
-            empty = fl[:, numeric] == 0
-            if empty.any():
-                vals[empty] = np.nan
+        slot, fkind, allowed, numcol = _SPEC_ARRAYS[k]
+        m, nfld = li.size, fkind.size
+        ok = np.empty(m, dtype=np.bool_)
+        cval = np.empty((m, nfld), dtype=np.uint8)
+        vals = np.empty((m, int((numcol >= 0).sum())), dtype=np.float64)
+        slow = np.empty((64, 4), dtype=np.int64)
+        args = (buf, li, dpos, limit, slot, fkind, allowed, numcol, S.MAX_FIELD, ok, cval, vals)
+        n_slow = K.read_fields(*args, slow)
+        if n_slow > slow.shape[0]:
+            slow = np.empty((n_slow, 4), dtype=np.int64)
+            K.read_fields(*args, slow)
+        for r, c, a, nb in slow[:n_slow].tolist():  # exact conversion of unusually long numbers
+            vals[r, c] = float(bytes(buf[a : a + nb]))
         bad = li[~ok]
         outcome[bad] = REJECTED
         code[bad] = NAME[S.MALFORMED]
@@ -188,13 +157,11 @@ def _tokenize_array(data) -> Tokens:
         outcome[okl] = PARSED
         code[okl] = NAME[k]
         tab = {"line": okl}
-        c = 0
         for j, f in enumerate(spec.fields):
             if f.kind == S.CHAR:
                 tab[f.name] = cval[ok, j]
             else:
-                tab[f.name] = vals[ok, c]
-                c += 1
+                tab[f.name] = vals[ok, numcol[j]]
         raw[k] = tab
 
     if (outcome < 0).any():  # pragma: no cover - a bug, not bad input
@@ -218,7 +185,7 @@ def tokenize_fast(
     n_details : int
         Reject details are worded (by the reference classifier) for this many first rejects.
     chunk_bytes : int
-        Target chunk size [bytes] (at most 1 GiB: views address the chunk with 32-bit offsets).
+        Target chunk size [bytes] (at most 1 GiB).
     workers : int or None
         Threads; default: the number of CPUs, at most 4.
 
@@ -247,9 +214,8 @@ def tokenize_fast(
     if n_details:
         rej = np.flatnonzero(tok.outcome == REJECTED)[:n_details]
         if rej.size:
-            lines = split_lines(data)
-            for i in rej.tolist():
-                tok.details[i] = classify_line(lines[i])[2]
+            for i, line in lines_at(data, rej.tolist()).items():
+                tok.details[i] = classify_line(line)[2]
     return tok
 
 

@@ -7,13 +7,14 @@ Arrow. The test suite checks line-by-line equality with the reference on real an
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from gripsense.io.nmea import schema as S
 
-__all__ = ["KIND_CODES", "read_fields", "scan_lines"]
+__all__ = ["KIND_CODES", "count_lines", "read_fields", "scan_buffer"]
 
-# line codes written by scan_lines
+# line codes written by scan_buffer
 PENDING = 0  # valid sentence structure and checksum: the type decides the rest
 BLANK = 1
 COMMENT = 2
@@ -49,158 +50,248 @@ def _hex(b):
 
 
 @njit(cache=True, nogil=True)
-def scan_lines(
-    buf, starts, ends, max_address, code, dpos, star, stripped_end, nfields, alen, junk, f1a, f1b
-):
-    """Structure of every line: start, checksum, address, field count (see the reference)."""
-    for i in range(starts.size):
-        a = starts[i]
-        e = ends[i]
-        while a < e and _ws(buf[a]):
-            a += 1
-        while e > a and _ws(buf[e - 1]):
+def count_lines(buf):
+    """Number of lines of a buffer (see :func:`~gripsense.io.nmea.tokens.split_lines`)."""
+    c = 0
+    for i in range(buf.size):
+        c += buf[i] == 10
+    if buf.size and buf[buf.size - 1] != 10:
+        c += 1
+    return c
+
+
+@njit(cache=True, nogil=True)
+def scan_buffer(buf, max_address, code, dpos, limit, nfields, alen, junk, addr, sub):
+    """Structure of every line of a buffer (see the reference).
+
+    Per line (arrays sized by :func:`count_lines`): ``code`` (the line codes above), ``dpos``
+    (the sentence start: the last ``$``/``!`` before the last ``*``), ``limit`` (the ``*`` or
+    the stripped end), ``nfields`` (commas in the body), ``alen`` (address length),
+    ``junk`` (bytes before the start), ``addr`` (the address bytes packed little-endian in a
+    uint64) and ``sub`` (the first field packed the same way when it is 1..max_address bytes
+    long — the sub-type of ``$PSAT``/``$PSTI`` — else 0).
+
+    One forward pass finds the line end, the last ``*`` and the sentence start; the body is
+    read again (checksum, printable bytes, commas) only when the address and the checksum's
+    form are valid — binary lines stop before that.
+    """
+    nb = buf.size
+    i = 0
+    q = 0
+    while i < code.size:
+        start = q
+        last_d = -1  # last '$' or '!'
+        st = -1  # last '*'
+        d_st = -1  # last '$' or '!' before it
+        while q < nb:
+            b = buf[q]
+            if b == 10:
+                break
+            if b == 36 or b == 33:
+                last_d = q
+            elif b == 42:
+                st = q
+                d_st = last_d
+            q += 1
+        e = q  # stripped line: [a, e)
+        q += 1  # past the '\n'
+        while e > start and _ws(buf[e - 1]):
             e -= 1
-        stripped_end[i] = e
-        if a == e:
+        if e == start:
             code[i] = BLANK
+            i += 1
             continue
+        a = start
+        while _ws(buf[a]):
+            a += 1
         if buf[a] == 35:
             code[i] = COMMENT
+            i += 1
             continue
-        st = -1
-        for p in range(e - 1, a - 1, -1):
-            if buf[p] == 42:
-                st = p
-                break
+        d = d_st if st >= 0 else last_d
         lim = st if st >= 0 else e
-        star[i] = st
-        d = -1
-        for p in range(lim - 1, a - 1, -1):
-            if buf[p] == 36 or buf[p] == 33:
-                d = p
-                break
-        if d < 0:
+        if d < 0 or d >= lim:  # (a '$' after the last '*' only: no start before it)
             code[i] = NO_START
+            i += 1
             continue
         dpos[i] = d
+        limit[i] = lim
         junk[i] = d > a
         p = d + 1
         ok = True
-        while p < lim and buf[p] != 44:
-            if not _alnum(buf[p]):
+        w = np.uint64(0)
+        while p < lim and buf[p] != 44 and p - d <= max_address:
+            c = buf[p]
+            if not _alnum(c):
                 ok = False
+            if p - d <= 8:
+                w |= np.uint64(c) << np.uint64(8 * (p - d - 1))
             p += 1
-        al = p - d - 1
+        al = p - d - 1  # max_address + 1: too long (not read further)
         alen[i] = al
-        if not ok or al < 1 or al > max_address:
+        if not ok or al < 1 or al > max_address or (p < lim and buf[p] != 44):
             code[i] = BAD_ADDRESS
+            i += 1
             continue
         if buf[d + 1] == 80:
             if al < 3:
                 code[i] = BAD_ADDRESS
+                i += 1
                 continue
         elif al != 5:
             code[i] = BAD_ADDRESS
+            i += 1
             continue
-        n = 0
-        fa = lim
-        fb = lim
-        for q in range(p, lim):
-            if buf[q] == 44:
-                n += 1
-                if n == 1:
-                    fa = q + 1
-                elif n == 2:
-                    fb = q
-        if n == 1:
-            fb = lim
-        nfields[i] = n
-        f1a[i] = fa
-        f1b[i] = fb
+        addr[i] = w
+        if p < lim:  # first field: p is the comma after the address
+            s0 = p + 1
+            r = s0
+            w = np.uint64(0)
+            while r < lim and buf[r] != 44 and r - s0 <= max_address:
+                if r - s0 < 8:
+                    w |= np.uint64(buf[r]) << np.uint64(8 * (r - s0))
+                r += 1
+            fl = r - s0
+            if fl >= 1 and fl <= max_address:
+                sub[i] = w
+        h = -1
+        if st >= 0:
+            cl = e - st - 1
+            if cl < 2:
+                code[i] = CS_SHORT
+                i += 1
+                continue
+            if cl == 2:
+                h1 = _hex(buf[st + 1])
+                h2 = _hex(buf[st + 2])
+                if h1 >= 0 and h2 >= 0:
+                    h = h1 * 16 + h2
+            if h < 0:
+                code[i] = CS_BAD
+                i += 1
+                continue
+        x = 0  # the body after the address: checksum, printable bytes, commas
+        u = 0
+        nc = 0
+        for r in range(p, lim):
+            b = buf[r]
+            x ^= b
+            u += (b < 32) | (b > 126)
+            nc += b == 44
+        nfields[i] = nc
         if st < 0:
             code[i] = NO_STAR
+            i += 1
             continue
-        cl = e - st - 1
-        if cl < 2:
-            code[i] = CS_SHORT
-            continue
-        h1 = _hex(buf[st + 1]) if cl == 2 else -1
-        h2 = _hex(buf[st + 2]) if cl == 2 else -1
-        if h1 < 0 or h2 < 0:
+        for r in range(d + 1, p):
+            x ^= buf[r]
+        if x != h:
             code[i] = CS_BAD
-            continue
-        x = 0
-        bad = False
-        for q in range(d + 1, st):
-            b = buf[q]
-            x ^= b
-            if b < 32 or b > 126:
-                bad = True
-        if x != h1 * 16 + h2:
-            code[i] = CS_BAD
-            continue
-        if bad:
+        elif u:
             code[i] = UNPRINTABLE
-            continue
-        code[i] = PENDING
-
-
-@njit(cache=True, nogil=True)
-def _field_ok(buf, a, n, kind, allowed):
-    """Whether buf[a:a+n] (n >= 1) matches the pattern of its kind."""
-    if kind == 5:  # char
-        return n <= 1 and (not allowed[256] or allowed[buf[a]])
-    nd = 0
-    ndot = 0
-    ns = 0
-    for q in range(a, a + n):
-        b = buf[q]
-        if 48 <= b <= 57:
-            nd += 1
-        elif b == 46:
-            ndot += 1
-        elif b == 43 or b == 45:
-            ns += 1
         else:
-            return False
-    if kind == 0:  # num
-        return nd >= 1 and ndot <= 1 and (ns == 0 or (ns == 1 and (buf[a] == 43 or buf[a] == 45)))
-    if kind == 1:  # unum
-        return nd >= 1 and ndot <= 1 and ns == 0
-    if kind == 2:  # int
-        return nd == n
-    if kind == 3:  # time hhmmss(.s*)
-        if ns != 0 or ndot > 1 or n < 6:
-            return False
-        if n == 6:
-            return ndot == 0
-        return buf[a + 6] == 46
-    if kind == 4:  # date ddmmyy
-        return n == 6 and nd == 6
-    return False
+            code[i] = PENDING
+        i += 1
+
+
+# exact powers of ten: 10**k is a double without rounding for k <= 22
+_POW10 = np.array([10.0**k for k in range(23)])
+_MAX_EXACT = 1 << 53  # integers up to 2**53 are exact doubles
+_MAX_DIGITS = 18  # significant digits accumulated (int64 holds 18 decimal digits)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _char_ok(buf, a, n, allowed, j):
+    """Whether a ``char`` field buf[a:a+n] (n >= 1) is one allowed letter."""
+    return n <= 1 and (not allowed[j, 256] or allowed[j, buf[a]])
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _numeric(buf, a, n, kind, pow10):
+    """Check a numeric field buf[a:a+n] (n >= 1) against its kind's pattern and convert it.
+
+    Returns ``(status, value)``: status 0 = bad pattern, 1 = value exact, 2 = pattern good but
+    the value needs the caller's exact conversion. Patterns: ``num`` digits with at most one
+    dot and an optional leading sign, ``unum`` the same without sign, ``int`` digits only,
+    ``time`` hhmmss with optional .s*, ``date`` ddmmyy.
+
+    The value is Clinger's fast path: with the integer m of the significant digits at most
+    2**53 and at most 22 decimals d, m and 10**d are exact doubles and IEEE division rounds
+    m / 10**d correctly — the double Python's ``float`` gives for the text. Longer fields
+    (more than ~16 significant digits, which NMEA does not send) get status 2.
+    """
+    p = a
+    e = a + n
+    neg = False
+    b0 = buf[p]
+    if b0 == 45 or b0 == 43:
+        if kind != 0:
+            return 0, 0.0
+        neg = b0 == 45
+        p += 1
+    m = 0
+    nd = 0
+    sig = 0
+    frac = 0
+    dot = -1
+    for q in range(p, e):
+        b = buf[q]
+        if b == 46:
+            if dot >= 0:
+                return 0, 0.0
+            dot = q
+            continue
+        d = b - 48
+        if d < 0 or d > 9:
+            return 0, 0.0
+        nd += 1
+        if dot >= 0:
+            frac += 1
+        if sig > 0 or d != 0:
+            sig += 1
+            if sig <= _MAX_DIGITS:
+                m = m * 10 + d
+    if nd == 0:
+        return 0, 0.0
+    if kind == 2 or kind == 4:  # int, date: digits only
+        if dot >= 0 or (kind == 4 and n != 6):
+            return 0, 0.0
+    elif kind == 3:  # time: hhmmss(.s*)
+        if n < 6 or (n == 6 and dot >= 0) or (n > 6 and dot != a + 6):
+            return 0, 0.0
+    if sig > _MAX_DIGITS or m > _MAX_EXACT or frac > 22:
+        return 2, 0.0
+    v = m / pow10[frac]
+    return 1, (-v if neg else v)
 
 
 @njit(cache=True, nogil=True)
-def read_fields(buf, lines, dpos, limit, fidx, fkind, allowed, max_field, ok, fa, fl, cval, views):
+def read_fields(
+    buf, lines, dpos, limit, slot, fkind, allowed, numcol, max_field, ok, cval, vals, slow
+):
     """Fields of one sentence type for the given lines.
 
-    Writes per line ``ok`` (all fields valid), per field the start ``fa`` and length ``fl``
-    (empty when the sentence has fewer fields), the byte of ``char`` fields (``cval``), and for
-    numeric fields an Arrow ``string_view`` struct (16 bytes: length, then 12 inline bytes or a
-    4-byte prefix, buffer 0 and the offset) in ``views`` — "0" where the field is empty or bad,
-    so that the cast never fails (the caller masks those).
+    ``slot[k]`` is the spec's field number of the sentence's k-th field (-1: not read). Writes
+    per line ``ok`` (all fields valid), the byte of ``char`` fields (``cval``, 0 when empty)
+    and the value of numeric fields in column ``numcol[j]`` of ``vals`` (NaN when empty;
+    undefined when the line is not ok). A numeric field outside the exact fast path of
+    :func:`_numeric` is recorded in ``slow`` as (row, column, start, length) for the caller to
+    convert; returns how many there were (only the first ``slow.shape[0]`` are recorded).
     """
-    nfld = fidx.size
-    maxidx = 0
-    for j in range(nfld):
-        if fidx[j] > maxidx:
-            maxidx = fidx[j]
+    nfld = fkind.size
+    maxidx = slot.size - 1
+    pow10 = _POW10
+    n_slow = 0
     for r in range(lines.size):
         i = lines[r]
         lim = limit[i]
+        good = True
         for j in range(nfld):
-            fa[r, j] = lim
-            fl[r, j] = 0
+            c = numcol[j]
+            if c >= 0:
+                vals[r, c] = np.nan
+            else:
+                cval[r, j] = 0
         p = dpos[i] + 1
         while p < lim and buf[p] != 44:
             p += 1
@@ -211,42 +302,32 @@ def read_fields(buf, lines, dpos, limit, fidx, fkind, allowed, max_field, ok, fa
             q = s
             while q < lim and buf[q] != 44:
                 q += 1
-            for j in range(nfld):
-                if fidx[j] == k:
-                    fa[r, j] = s
-                    fl[r, j] = q - s
             p = q
-        good = True
-        for j in range(nfld):
-            n = fl[r, j]
+            j = slot[k]
+            n = q - s
+            if j < 0 or n == 0:
+                continue
             if n > max_field:
                 good = False
-            elif n > 0 and not _field_ok(buf, fa[r, j], n, fkind[j], allowed[j]):
+                break
+            c = numcol[j]
+            if c < 0:
+                if not _char_ok(buf, s, n, allowed, j):
+                    good = False
+                    break
+                cval[r, j] = buf[s]
+                continue
+            status, v = _numeric(buf, s, n, fkind[j], pow10)
+            if status == 0:
                 good = False
-            if fkind[j] == 5:
-                cval[r, j] = buf[fa[r, j]] if n == 1 else 0
+                break
+            vals[r, c] = v
+            if status == 2:
+                if n_slow < slow.shape[0]:
+                    slow[n_slow, 0] = r
+                    slow[n_slow, 1] = c
+                    slow[n_slow, 2] = s
+                    slow[n_slow, 3] = n
+                n_slow += 1
         ok[r] = good
-        for j in range(nfld):
-            if fkind[j] == 5:
-                continue
-            n = fl[r, j]
-            v = views[r, j]
-            for t in range(16):
-                v[t] = 0
-            if not good or n == 0 or n > max_field:
-                v[0] = 1
-                v[4] = 48
-                continue
-            a = fa[r, j]
-            v[0] = n & 0xFF
-            v[1] = (n >> 8) & 0xFF
-            if n <= 12:
-                for t in range(n):
-                    v[4 + t] = buf[a + t]
-            else:
-                for t in range(4):
-                    v[4 + t] = buf[a + t]
-                v[12] = a & 0xFF
-                v[13] = (a >> 8) & 0xFF
-                v[14] = (a >> 16) & 0xFF
-                v[15] = (a >> 24) & 0xFF
+    return n_slow

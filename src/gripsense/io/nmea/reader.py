@@ -45,8 +45,9 @@ from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.decode import decode_all
 from gripsense.io.nmea.epochs import assemble_epochs
 from gripsense.io.nmea.fast import tokenize_fast
+from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
-from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, split_lines
+from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import read_bytes
 
 __all__ = ["MAX_BYTES", "MAX_LINES", "NmeaLog", "read_log_bytes", "read_nmea"]
@@ -95,7 +96,9 @@ class _Input:
 def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
     """Decompress gzip data up to *max_bytes*, counting the lines beyond.
 
-    A stream that ends early (a recording cut off) keeps what was decompressed and says so.
+    A stream that ends early (a recording cut off) keeps what was decompressed and says so;
+    data that only starts with gzip's two magic bytes (a binary receiver stream can) is read as
+    it is, also said in the notes.
     """
     d = zlib.decompressobj(16 + zlib.MAX_WBITS)
     out: list[bytes] = []
@@ -124,10 +127,9 @@ def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
         if not complete and size:
             notes.append("the gzip stream ends early (file cut off?): read up to the cut")
     except zlib.error as e:
-        if not size:
-            raise InputError(
-                f"{name}: looks gzip-compressed but cannot be decompressed ({e})"
-            ) from None
+        if not size:  # binary that happens to start with gzip's magic bytes: read it as it is
+            note = f"starts like gzip but is not a gzip stream ({e}): read as plain bytes"
+            return _Input(raw, name, 0, [note])
         notes.append(f"the gzip stream is corrupt after {size} bytes ({e}): read up to there")
     data = b"".join(out)
     if extra and not data.endswith(b"\n"):
@@ -204,7 +206,9 @@ def read_log_bytes(
 def _cap_lines(inp: _Input, max_lines: int) -> None:
     """Keep the first *max_lines* lines; count the rest."""
     data = inp.data
-    n = data.count(b"\n") + (1 if data and not data.endswith(b"\n") else 0)
+    if len(data) <= max_lines:  # every line has at least one byte
+        return
+    n = count_lines(np.frombuffer(data, dtype=np.uint8))
     if n <= max_lines:
         return
     cut = -1
@@ -272,7 +276,7 @@ def read_nmea(
     rej = np.flatnonzero(tok.outcome == REJECTED)
     if strict and rej.size:
         i = int(rej[0])
-        detail = tok.details.get(i) or classify_line(split_lines(data)[i])[2]
+        detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i])[2]
         raise InputError(
             f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} "
             "(strict mode; drop --strict to count such lines instead)"
@@ -292,10 +296,12 @@ def read_nmea(
         if strict:
             raise InputError(f"{name}: {inp.notes[-1]} (strict mode)")
     first = []
-    for i in rej[:N_FIRST_REJECTS].tolist():
+    shown = rej[:N_FIRST_REJECTS].tolist()
+    unworded = lines_at(data, [i for i in shown if i not in tok.details])
+    for i in shown:
         detail = tok.details.get(i)
         if detail is None:
-            detail = classify_line(split_lines(data)[i])[2]
+            detail = classify_line(unworded[i])[2]
         first.append(RejectedLine(i + 1, tok.names[tok.code[i]], detail))
     if inp.extra_lines and len(first) < N_FIRST_REJECTS:
         first.append(RejectedLine(tok.n_lines + 1, S.OVER_LIMIT, inp.notes[-1]))

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["IGNORED", "PARSED", "REJECTED", "Tokens"]
+__all__ = ["IGNORED", "PARSED", "REJECTED", "Tokens", "lines_at", "split_lines"]
 
 PARSED = 0
 IGNORED = 1
@@ -87,6 +87,24 @@ def split_lines(data: bytes) -> list[bytes]:
     if parts[-1] == b"":
         parts.pop()
     return parts
+
+
+def lines_at(data: bytes, indices) -> dict[int, bytes]:
+    """Lines number *indices* (0-based, as :func:`split_lines` counts them) of a buffer,
+    found by searching the line ends up to the last of them — for the few lines whose reject
+    is worded, without splitting a large buffer.
+    """
+    want = sorted({int(i) for i in indices})
+    out: dict[int, bytes] = {}
+    pos = 0
+    line = 0
+    for i in want:
+        while line < i:
+            pos = data.index(b"\n", pos) + 1
+            line += 1
+        end = data.find(b"\n", pos)
+        out[i] = data[pos : len(data) if end < 0 else end]
+    return out
 
 
 STRIP = b" \t\r"
