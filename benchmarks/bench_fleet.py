@@ -7,13 +7,18 @@ log is the same, copies only make the batch long enough to measure). Each run is
 ``run_fleet`` (a new LocalCluster — about 3 s of start-up included —, tasks of
 ``--logs-per-task`` logs, per-estimate Parquet, DuckDB aggregation, map page).
 
-Usage: python benchmarks/bench_fleet.py [--copies 40] [--method axle-window|brush-2]
-(issue 15 measures at --copies 300: 2400 logs, 50 vehicle-hours)
+With ``--segments S`` each log is S such drives one after the other (S = 12: ~15-minute logs).
+
+Usage: python benchmarks/bench_fleet.py [--copies 40] [--segments 1] [--method ...]
+(issue 15's shape, ≥ 200 logs and ≥ 50 vehicle-hours: --copies 25 --segments 12, 200 logs of
+~15 min; the short-log case: --copies 300, 2400 logs of ~75 s)
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
+import gzip
 import shutil
 import tempfile
 import time
@@ -24,28 +29,45 @@ from gripsense.config import Vehicle
 from gripsense.fleet import run_fleet
 from gripsense.io import read_nmea
 from gripsense.sim import maneuvers as M
-from gripsense.sim.gnss import CompassNoise, emulate_compass
+from gripsense.sim.gnss import DEFAULT_START, CompassNoise, emulate_compass
 from gripsense.sim.vehicle import SimParams
 
 VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
 
 
-def make_drives(d: Path) -> list[Path]:
+def make_drives(d: Path, segments: int = 1) -> list[Path]:
+    """The 8 distinct logs. With ``segments`` > 1 each log is that many drives one after the
+    other on one clock (its own drive first, then the others in turn; a fresh noise seed for
+    each) — logs of ``segments`` × ~75 s with the same mix of straight driving and curves."""
     veh = Vehicle.from_toml(VEHICLE)
     params = SimParams.from_vehicle(veh, drive="front")
     ant = (-veh.cg_offset[0], -veh.cg_offset[1])
-    out = []
+    sims = []
     for k, (mu, radius) in enumerate(
         [(0.9, 40), (0.5, 30), (0.25, 30), (0.9, 60), (0.5, 60), (0.9, 30), (0.25, 50), (0.5, 40)]
     ):
         speed = (0.93 * mu * 9.81 * radius) ** 0.5
         m = M.circle(speed, radius, laps=1.0, lead_s=50.0, left=bool(k % 2), params=params)
-        res = M.run(params, m, mu=mu)
-        log = emulate_compass(
-            res, ant, noise=CompassNoise.rtk(), seed=k, origin=(33.62 + 0.002 * k, 133.72, 10.0)
-        )
+        sims.append(M.run(params, m, mu=mu))
+    out = []
+    for k in range(len(sims)):
+        start = DEFAULT_START
+        lines: list[str] = []
+        for j in range(segments):
+            res = sims[(k + j) % len(sims)]
+            log = emulate_compass(
+                res,
+                ant,
+                noise=CompassNoise.rtk(),
+                seed=k + 8 * j,
+                origin=(33.62 + 0.002 * k, 133.72, 10.0),
+                start=start,
+            )
+            lines += log.lines
+            start += datetime.timedelta(seconds=float(res.body["t_s"].iloc[-1]) + 0.1)
         p = d / f"drive{k}.nmea.gz"
-        log.write(p)
+        with gzip.open(p, "wt", newline="") as f:
+            f.write("\r\n".join(lines) + "\r\n")
         out.append(p)
     return out
 
@@ -55,10 +77,11 @@ def main() -> None:
     ap.add_argument("--copies", type=int, default=40)
     ap.add_argument("--method", default="axle-window")
     ap.add_argument("--logs-per-task", type=int, default=8)
+    ap.add_argument("--segments", type=int, default=1, help="drives per log (12: ~15-minute logs)")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        drives = make_drives(tmp)
+        drives = make_drives(tmp, args.segments)
         hours = sum(read_nmea(p).epochs["t_s"].max() for p in drives) / 3600
         logs = tmp / "logs"
         for c in range(args.copies):

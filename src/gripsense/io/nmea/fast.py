@@ -11,7 +11,7 @@ It implements exactly the rules of :mod:`gripsense.io.nmea.reference`:
   sends; longer ones are converted by ``float`` itself.
 
 The buffer is cut at line ends into chunks, tokenized independently on up to two threads (the
-compiled loops and Arrow release the GIL), and joined. The test suite checks that this path and
+compiled loops release the GIL), and joined. The test suite checks that this path and
 the reference agree line by line on real logs and on fuzzed input.
 """
 
@@ -82,11 +82,10 @@ def _tokenize_array(data) -> Tokens:
     dpos = np.full(n, -1, dtype=np.int64)
     limit = np.empty(n, dtype=np.int64)
     nf = np.zeros(n, dtype=np.int64)
-    alen = np.zeros(n, dtype=np.int64)
     junk = np.zeros(n, dtype=np.bool_)
     addr = np.zeros(n, dtype=np.uint64)
     sub = np.zeros(n, dtype=np.uint64)
-    K.scan_buffer(buf, MAX_ADDRESS, lc, dpos, limit, nf, alen, junk, addr, sub)
+    K.scan_buffer(buf, MAX_ADDRESS, lc, dpos, limit, nf, junk, addr, sub)
     # outcome and label of the line codes that decide alone (-1: decided below by the type)
     outcome = _LC_OUTCOME[lc]
     code = np.array([NAME.get(x, -1) for x in _LC_LABEL], dtype=np.int32)[lc]

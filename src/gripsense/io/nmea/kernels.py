@@ -61,15 +61,15 @@ def count_lines(buf):
 
 
 @njit(cache=True, nogil=True)
-def scan_buffer(buf, max_address, code, dpos, limit, nfields, alen, junk, addr, sub):
+def scan_buffer(buf, max_address, code, dpos, limit, nfields, junk, addr, sub):
     """Structure of every line of a buffer (see the reference).
 
     Per line (arrays sized by :func:`count_lines`): ``code`` (the line codes above), ``dpos``
     (the sentence start: the last ``$``/``!`` before the last ``*``), ``limit`` (the ``*`` or
-    the stripped end), ``nfields`` (commas in the body), ``alen`` (address length),
-    ``junk`` (bytes before the start), ``addr`` (the address bytes packed little-endian in a
-    uint64) and ``sub`` (the first field packed the same way when it is 1..max_address bytes
-    long — the sub-type of ``$PSAT``/``$PSTI`` — else 0).
+    the stripped end), ``nfields`` (commas in the body), ``junk`` (bytes before the start),
+    ``addr`` (the address bytes packed little-endian in a uint64) and ``sub`` (the first field
+    packed the same way when it is 1..max_address bytes long — the sub-type of
+    ``$PSAT``/``$PSTI`` — else 0).
 
     One forward pass finds the line end, the last ``*`` and the sentence start; the body is
     read again (checksum, printable bytes, commas) only when the address and the checksum's
@@ -128,7 +128,6 @@ def scan_buffer(buf, max_address, code, dpos, limit, nfields, alen, junk, addr, 
                 w |= np.uint64(c) << np.uint64(8 * (p - d - 1))
             p += 1
         al = p - d - 1  # max_address + 1: too long (not read further)
-        alen[i] = al
         if not ok or al < 1 or al > max_address or (p < lim and buf[p] != 44):
             code[i] = BAD_ADDRESS
             i += 1
