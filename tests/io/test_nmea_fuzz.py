@@ -170,3 +170,14 @@ def test_heading_wrap_is_numpys_mod_to_the_bit(values):
     nan = np.isnan(want)
     np.testing.assert_array_equal(np.isnan(got), nan)
     np.testing.assert_array_equal(got[~nan].view(np.int64), want[~nan].view(np.int64))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e6, max_value=1e6))
+def test_heading_change_wrap_is_the_modulo_formula_to_the_bit(d):
+    """The yaw kernel's wrap skips the modulo in range and gives (d + 180) % 360 − 180."""
+    from gripsense.io.nmea.epochs import _wrap180
+
+    want = (d + 180.0) % 360.0 - 180.0
+    got = _wrap180(d)  # the compiled function
+    assert np.float64(got).view(np.int64) == np.float64(want).view(np.int64)

@@ -230,6 +230,15 @@ def _seconds_kernel(tod, day, abs_s):
     return True
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _wrap180(d):
+    """(d + 180) mod 360 − 180 [deg], the modulo only when needed (same doubles)."""
+    x = d + 180.0
+    if not (x >= 0.0 and x < 360.0):
+        x = x % 360.0
+    return x - 180.0
+
+
 @njit(cache=True, nogil=True)
 def _yaw_kernel(tt, hh, max_gap, out):
     n = tt.size
@@ -239,14 +248,12 @@ def _yaw_kernel(tt, hh, max_gap, out):
         if i > 0:
             dt = tt[i] - tt[i - 1]
             if dt > 0 and dt <= max_gap:
-                dh = (hh[i] - hh[i - 1] + 180.0) % 360.0 - 180.0
-                num += dh
+                num += _wrap180(hh[i] - hh[i - 1])
                 den += dt
         if i < n - 1:
             dt = tt[i + 1] - tt[i]
             if dt > 0 and dt <= max_gap:
-                dh = (hh[i + 1] - hh[i] + 180.0) % 360.0 - 180.0
-                num += dh
+                num += _wrap180(hh[i + 1] - hh[i])
                 den += dt
         out[i] = -np.deg2rad(num / den) if den > 0 else np.nan
 

@@ -64,6 +64,7 @@ _LC = {
     K.CS_BAD: (REJECTED, S.BAD_CHECKSUM),
     K.UNPRINTABLE: (REJECTED, S.MALFORMED),
 }
+_MIN_SPLIT = 1 << 20  # smaller inputs are tokenized in one piece [bytes]
 _LC_OUTCOME = np.array([_LC[c][0] for c in range(len(_LC))], dtype=np.int8)
 _LC_LABEL = [_LC[c][1] for c in range(len(_LC))]
 
@@ -173,8 +174,9 @@ def tokenize_fast(
 ) -> Tokens:
     """Tokenize a buffer (same results as :func:`~gripsense.io.nmea.reference.tokenize_reference`).
 
-    The buffer is cut at line ends into chunks of about *chunk_bytes*, which are tokenized
-    independently on up to *workers* threads and joined. Memory for intermediate arrays is
+    The buffer is cut at line ends into chunks of about *chunk_bytes* (inputs above 1 MB into
+    a multiple of *workers* equal chunks, so that the threads finish together), which are
+    tokenized independently on up to *workers* threads and joined. Memory for intermediate arrays is
     bounded by the chunk size.
 
     Parameters
@@ -194,6 +196,12 @@ def tokenize_fast(
     """
     chunk_bytes = min(chunk_bytes, 1 << 30)
     nb = len(data)
+    n_workers = workers or min(os.cpu_count() or 1, 4)
+    if n_workers > 1 and nb > _MIN_SPLIT:
+        # as many equal chunks as fit the target size, a multiple of the threads (balanced)
+        k = -(-nb // chunk_bytes)
+        k = -(-k // n_workers) * n_workers
+        chunk_bytes = -(-nb // k)
     cuts = [0]
     while nb - cuts[-1] > chunk_bytes:
         j = data.find(b"\n", cuts[-1] + chunk_bytes)
@@ -206,7 +214,6 @@ def tokenize_fast(
     if len(pieces) == 1:
         parts = [_tokenize_array(data)]
     else:
-        n_workers = workers or min(os.cpu_count() or 1, 4)
         with ThreadPoolExecutor(max_workers=n_workers) as ex:
             parts = list(ex.map(_tokenize_array, pieces))
     tok = _join(parts)
