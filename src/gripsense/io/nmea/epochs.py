@@ -305,7 +305,7 @@ def assemble_epochs(
     """
     keys = list(SENTENCES)
     # sentences in line order: a counting sort by line (lines are distinct and < n_lines)
-    n_lines = 1 + max((int(f["line"].iat[-1]) for f in frames.values() if len(f)), default=-1)
+    n_lines = 1 + max((int(f["line"].max()) for f in frames.values() if len(f)), default=-1)
     kind_at = np.full(n_lines, -1, dtype=np.int64)
     tod_at = np.full(n_lines, np.nan)
     lines_of = {k: frames[k]["line"].to_numpy() for k in keys}
