@@ -181,3 +181,28 @@ def test_heading_change_wrap_is_the_modulo_formula_to_the_bit(d):
     want = (d + 180.0) % 360.0 - 180.0
     got = _wrap180(d)  # the compiled function
     assert np.float64(got).view(np.int64) == np.float64(want).view(np.int64)
+
+
+def test_tokenizer_threads_follow_numbas_thread_count(monkeypatch):
+    """With numba's thread count at 1 (a fleet task) a large input is tokenized in one piece
+    on the calling thread, so fleet workers do not start threads on each other's cores."""
+    import numba
+
+    import gripsense.io.nmea.fast as F
+
+    data = b"".join(p.read_bytes() for p in GPSD_LOGS) * 3
+    assert len(data) > F._MIN_SPLIT
+    seen = []
+    orig = F._tokenize_array
+    monkeypatch.setattr(F, "_tokenize_array", lambda piece: seen.append(len(piece)) or orig(piece))
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        one = F.tokenize_fast(data)
+    finally:
+        numba.set_num_threads(threads)
+    assert seen == [len(data)]
+    seen.clear()
+    two = F.tokenize_fast(data, workers=2)
+    assert len(seen) == 2 and sum(seen) == len(data)
+    assert_same_tokens(one, two)

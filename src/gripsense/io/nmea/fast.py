@@ -18,9 +18,9 @@ the reference agree line by line on real logs and on fuzzed input.
 from __future__ import annotations
 
 import itertools
-import os
 from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import pandas as pd
 
@@ -188,7 +188,8 @@ def tokenize_fast(
     chunk_bytes : int
         Target chunk size [bytes] (at most 1 GiB).
     workers : int or None
-        Threads; default: the number of CPUs, at most 4.
+        Threads; default: numba's thread count for the calling thread (the number of CPUs
+        unless set lower, e.g. 1 inside a fleet task), at most 4.
 
     Returns
     -------
@@ -196,7 +197,7 @@ def tokenize_fast(
     """
     chunk_bytes = min(chunk_bytes, 1 << 30)
     nb = len(data)
-    n_workers = workers or min(os.cpu_count() or 1, 4)
+    n_workers = workers or min(numba.get_num_threads(), 4)
     if n_workers > 1 and nb > _MIN_SPLIT:
         # as many equal chunks as fit the target size, a multiple of the threads (balanced)
         k = -(-nb // chunk_bytes)
