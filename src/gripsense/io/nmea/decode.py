@@ -17,7 +17,6 @@ rejected bucket.
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from gripsense.io.nmea.schema import SENTENCES
 
@@ -167,17 +166,25 @@ def _decode_one(
     return c, bad, why
 
 
-def decode_all(raw: dict[str, dict[str, np.ndarray]]):
+def decode_all(
+    raw: dict[str, dict[str, np.ndarray]],
+) -> tuple[dict[str, dict[str, np.ndarray]], list[tuple[int, str]]]:
     """Decode every raw table.
+
+    Parameters
+    ----------
+    raw : dict
+        Type key -> raw field table of a tokenizer (:class:`~gripsense.io.nmea.tokens.Tokens`).
 
     Returns
     -------
-    frames : dict
-        Type key -> DataFrame of decoded sentences (column ``line`` = 0-based line index).
+    tables : dict
+        Type key -> column name -> array of the decoded sentences (column ``line`` = 0-based
+        line index); :func:`~gripsense.io.nmea.reader.read_nmea` makes DataFrames of them.
     malformed : list of (line index, detail)
         Lines whose values are out of range (to be rejected as *malformed field*).
     """
-    frames: dict[str, pd.DataFrame] = {}
+    tables: dict[str, dict[str, np.ndarray]] = {}
     malformed: list[tuple[int, str]] = []
     for key in SENTENCES:
         cols, bad, why = _decode_one(key, raw[key])
@@ -185,6 +192,6 @@ def decode_all(raw: dict[str, dict[str, np.ndarray]]):
             for i in np.flatnonzero(bad).tolist():
                 malformed.append((int(cols["line"][i]), f"{key} {why[i]} out of range"))
             cols = {k: v[~bad] for k, v in cols.items()}
-        frames[key] = pd.DataFrame(cols)
+        tables[key] = cols
     malformed.sort()
-    return frames, malformed
+    return tables, malformed

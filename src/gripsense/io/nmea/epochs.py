@@ -285,14 +285,15 @@ def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
 
 
 def assemble_epochs(
-    frames: dict[str, pd.DataFrame],
+    tables: dict[str, dict[str, np.ndarray]],
 ) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
     """Group decoded sentences into epochs.
 
     Parameters
     ----------
-    frames : dict
-        Type key -> decoded sentence frame (see :func:`gripsense.io.nmea.decode.decode_all`).
+    tables : dict
+        Type key -> column name -> array of the decoded sentences (see
+        :func:`gripsense.io.nmea.decode.decode_all`).
 
     Returns
     -------
@@ -304,15 +305,16 @@ def assemble_epochs(
         ``epochs_without_time``, ``has_date``.
     """
     keys = list(SENTENCES)
+    size = {k: tables[k]["line"].size for k in keys}
     # sentences in line order: a counting sort by line (lines are distinct and < n_lines)
-    n_lines = 1 + max((int(f["line"].max()) for f in frames.values() if len(f)), default=-1)
+    n_lines = 1 + max((int(t["line"].max()) for t in tables.values() if t["line"].size), default=-1)
     kind_at = np.full(n_lines, -1, dtype=np.int64)
     tod_at = np.full(n_lines, np.nan)
-    lines_of = {k: frames[k]["line"].to_numpy() for k in keys}
+    lines_of = {k: tables[k]["line"] for k in keys}
     for code, k in enumerate(keys):
         kind_at[lines_of[k]] = code
-        if "tod_s" in frames[k]:
-            tod_at[lines_of[k]] = frames[k]["tod_s"].to_numpy()
+        if "tod_s" in tables[k]:
+            tod_at[lines_of[k]] = tables[k]["tod_s"]
     line = np.flatnonzero(kind_at >= 0)
     kind, tod = kind_at[line], tod_at[line]
     start = epoch_boundaries(kind, tod)
@@ -325,29 +327,29 @@ def assemble_epochs(
 
     def col(k: str, name: str, use: np.ndarray | None = None) -> np.ndarray | None:
         """Per-epoch values of one column of one sentence type (None if the type is absent)."""
-        if not len(frames[k]):
+        if not size[k]:
             return None
         out = np.full(n_ep, np.nan)
-        _scatter(out, epoch_of[k], frames[k][name].to_numpy(dtype=float), use)
+        _scatter(out, epoch_of[k], np.asarray(tables[k][name], dtype=float), use)
         return out
 
     def first_of(*sources: tuple) -> np.ndarray:
         """Per epoch the first non-NaN value of the (type, column[, use]) sources, in order."""
         out = np.full(n_ep, np.nan)
         for k, name, *use in sources:
-            if len(frames[k]):
-                v = frames[k][name].to_numpy(dtype=float)
+            if size[k]:
+                v = np.asarray(tables[k][name], dtype=float)
                 _fill(out, epoch_of[k], v, use[0] if use else None)
         return out
 
-    gga_ok = frames["GGA"]["fix_quality"].to_numpy() != 0 if len(frames["GGA"]) else None
-    rmc_ok = (frames["RMC"]["status"].to_numpy() == "A") if len(frames["RMC"]) else None
+    gga_ok = tables["GGA"]["fix_quality"] != 0 if size["GGA"] else None
+    rmc_ok = (tables["RMC"]["status"] == "A") if size["RMC"] else None
     tod_e = np.full(n_ep, np.nan)
     has_t = ~np.isnan(tod)
     tod_e[eid[has_t]] = tod[has_t]
 
     ep: dict[str, object] = {}
-    if len(frames["GGA"]) and len(frames["RMC"]):
+    if size["GGA"] and size["RMC"]:
         # the position comes from one sentence: GGA where it has a latitude, else RMC
         gga_lat = col("GGA", "lat_deg", gga_ok)
         use_gga = ~np.isnan(gga_lat)
@@ -368,8 +370,8 @@ def assemble_epochs(
     heading = np.full(n_ep, np.nan)
     source = np.full(n_ep, -1, dtype=np.int8)
     for code, k in enumerate(HEADING_PRIORITY):
-        if len(frames[k]):
-            v = frames[k]["heading_deg"].to_numpy(dtype=float)
+        if size[k]:
+            v = np.asarray(tables[k]["heading_deg"], dtype=float)
             _fill(heading, epoch_of[k], v, None, source, code)
     ep["heading_deg"] = heading
     ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)

@@ -269,7 +269,7 @@ def read_nmea(
     _cap_lines(inp, max_lines)
     data, name = inp.data, inp.name
     tok = _ENGINES[engine](data)
-    frames, malformed = decode_all(tok.raw)
+    tables, malformed = decode_all(tok.raw)
     if malformed:
         lines = np.array([i for i, _ in malformed], dtype=np.int64)
         tok.reject(lines, S.MALFORMED, [d for _, d in malformed])
@@ -281,12 +281,13 @@ def read_nmea(
             f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} "
             "(strict mode; drop --strict to count such lines instead)"
         )
-    epochs, epoch_of, notes = assemble_epochs(frames)
+    epochs, epoch_of, notes = assemble_epochs(tables)
 
-    sentences = frames
-    for k, f in frames.items():
-        f["line"] += 1
-        f["epoch"] = epoch_of[k]
+    sentences = {}
+    for k, cols in tables.items():
+        cols["line"] = cols["line"] + 1
+        cols["epoch"] = epoch_of[k]
+        sentences[k] = pd.DataFrame(cols, copy=False)
 
     parsed = tok.counts(PARSED)
     ignored = tok.counts(IGNORED)
