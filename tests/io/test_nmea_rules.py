@@ -211,6 +211,16 @@ def test_binary_starting_like_gzip_is_read_as_it_is():
     assert any("not a gzip stream" in n for n in log.report.notes)
 
 
+def test_damaged_gzip_file_is_one_clear_error(tmp_path):
+    """A file named .gz whose stream cannot be decompressed from its start is an error that
+    names the file (not a table of rejected binary lines)."""
+    good = gzip.compress((sentence("GPHDT,1.0,T") + "\n").encode() * 50)
+    p = tmp_path / "drive.nmea.gz"
+    p.write_bytes(good[:10] + bytes(40) + good[50:])
+    with pytest.raises(InputError, match=r"drive\.nmea\.gz: named gzip but cannot be decompressed"):
+        read_nmea(p)
+
+
 def test_missing_file_and_bad_source():
     with pytest.raises(InputError, match="no such file"):
         read_nmea("/nonexistent/drive.nmea")

@@ -98,7 +98,7 @@ def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
 
     A stream that ends early (a recording cut off) keeps what was decompressed and says so;
     data that only starts with gzip's two magic bytes (a binary receiver stream can) is read as
-    it is, also said in the notes.
+    it is, also said in the notes — unless its name says gzip, then it is an error.
     """
     d = zlib.decompressobj(16 + zlib.MAX_WBITS)
     out: list[bytes] = []
@@ -127,7 +127,13 @@ def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
         if not complete and size:
             notes.append("the gzip stream ends early (file cut off?): read up to the cut")
     except zlib.error as e:
-        if not size:  # binary that happens to start with gzip's magic bytes: read it as it is
+        if not size:
+            if name.endswith((".gz", ".gzip")):
+                raise InputError(
+                    f"{name}: named gzip but cannot be decompressed ({e}); check the file "
+                    "(damaged at its start?) or give the uncompressed log"
+                ) from None
+            # binary receiver output that happens to start with gzip's magic bytes
             note = f"starts like gzip but is not a gzip stream ({e}): read as plain bytes"
             return _Input(raw, name, 0, [note])
         notes.append(f"the gzip stream is corrupt after {size} bytes ({e}): read up to there")
