@@ -1,8 +1,9 @@
 """Compiled (numba) loops of the production NMEA tokenizer.
 
 They implement, byte for byte, the rules of :mod:`gripsense.io.nmea.reference` for a whole
-buffer at once; :mod:`gripsense.io.nmea.fast` wires them together and converts the numbers with
-Arrow. The test suite checks line-by-line equality with the reference on real and fuzzed logs.
+buffer at once, numbers converted exactly to Python's ``float`` (:func:`_numeric`);
+:mod:`gripsense.io.nmea.fast` wires them together. The test suite checks line-by-line equality
+with the reference on real and fuzzed logs, and every converted number to the bit.
 """
 
 from __future__ import annotations
