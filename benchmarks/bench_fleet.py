@@ -123,6 +123,7 @@ def breakdown(drives: list[Path], tmp: Path, method: str, n_logs: int, dt_total:
     from gripsense.config import Vehicle
     from gripsense.fleet.aggregate import aggregate_cells
     from gripsense.fleet.tasks import _cells
+    from gripsense.io.results import write_parquet
     from gripsense.pipeline import FrictionRun
 
     veh = Vehicle.from_toml(VEHICLE)
@@ -141,7 +142,7 @@ def breakdown(drives: list[Path], tmp: Path, method: str, n_logs: int, dt_total:
         )
         rows["cell"] = _cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), 11)
         t3 = time.perf_counter()
-        rows.to_parquet(tmp / f"{p.stem}.parquet")
+        write_parquet(rows.drop(columns="vehicle", errors="ignore"), tmp / f"{p.stem}.parquet")
         t4 = time.perf_counter()
         for k, dt in zip(t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
             t[k] += dt * n_logs / len(drives)
