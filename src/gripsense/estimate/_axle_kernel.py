@@ -699,3 +699,91 @@ def profile_grid(
         out_nll[im] = best
         last_best = best
     return 0
+
+
+@njit(cache=True, nogil=True)
+def _profile_at(idx, fine, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
+                inv_dx, p0, iters, nll_f, th_f, dl_f, shp_f):  # fmt: skip
+    """:func:`profile_grid` on the fine grid's points *idx* (one warm-started pass), results
+    written to those points of the fine arrays.
+    """
+    m = idx.size
+    n = b.shape[0]
+    mu = np.empty(m)
+    for i in range(m):
+        mu[i] = fine[idx[i]]
+    nll = np.empty(m)
+    th = np.empty((m, NG))
+    dl = np.zeros((m, n))
+    shp = np.empty(m, dtype=np.int64)
+    profile_grid(mu, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
+                 inv_dx, p0, iters, nll, th, dl, shp)  # fmt: skip
+    for i in range(m):
+        j = idx[i]
+        nll_f[j] = nll[i]
+        shp_f[j] = shp[i]
+        _copy(th_f[j], th[i])
+        _copy(dl_f[j], dl[i])
+    return 0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _refine_segment(dev, levels, j, ic):
+    """Whether the coarse segment j..j+1 holds the minimum's neighbourhood or a level crossing."""
+    if abs(j - ic) <= 1 or abs(j + 1 - ic) <= 1:
+        return True
+    for lv in levels:
+        if (dev[j] - lv) * (dev[j + 1] - lv) <= 0:
+            return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def profile_coarse_fine(fine, coarse, levels, shapes, shape_pen, b, rho, prior_m, prior_s,
+                        prior_d, tab_f, tab_df, inv_dx, p0, iters):  # fmt: skip
+    """The profile of μ on the coarse grid (fine-grid indices *coarse*), then on the fine points
+    between coarse neighbours where the profile has its minimum or crosses one of the deviance
+    *levels* (one warm-started pass over them, in ascending order): a flat profile (μ
+    unbounded) costs a third of the fine grid. Returns the fine arrays (NLL NaN where not
+    evaluated), nuisances, slip offsets and shapes.
+    """
+    nf = fine.size
+    n = b.shape[0]
+    nll_f = np.full(nf, np.nan)
+    th_f = np.empty((nf, NG))
+    dl_f = np.zeros((nf, n))
+    shp_f = np.zeros(nf, dtype=np.int64)
+    args = (shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df, inv_dx, p0,
+            iters, nll_f, th_f, dl_f, shp_f)  # fmt: skip
+    _profile_at(coarse, fine, *args)
+    nc = coarse.size
+    lo = np.inf
+    for i in range(nc):
+        v = nll_f[coarse[i]]
+        if v < lo:  # np.nanmin: NaN never wins
+            lo = v
+    dev = np.empty(nc)
+    ic = -1
+    for i in range(nc):
+        dev[i] = 2.0 * (nll_f[coarse[i]] - lo)
+    for i in range(nc):  # np.argmin: the first minimum, or the first NaN
+        if np.isnan(dev[i]):
+            ic = i
+            break
+        if ic < 0 or dev[i] < dev[ic]:
+            ic = i
+    count = 0
+    for j in range(nc - 1):
+        if _refine_segment(dev, levels, j, ic):
+            count += coarse[j + 1] - coarse[j] - 1
+    if count == 0:
+        return nll_f, th_f, dl_f, shp_f
+    idx = np.empty(count, dtype=np.int64)
+    k = 0
+    for j in range(nc - 1):
+        if _refine_segment(dev, levels, j, ic):
+            for i in range(coarse[j] + 1, coarse[j + 1]):
+                idx[k] = i
+                k += 1
+    _profile_at(idx, fine, *args)
+    return nll_f, th_f, dl_f, shp_f

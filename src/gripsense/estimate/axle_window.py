@@ -501,39 +501,15 @@ def _profile(
     """The profile likelihood of μ and what it says."""
     f, df, inv_dx = _tables()
     fine = _mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
-    n = bins.shape[0]
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
     b = np.ascontiguousarray(bins)
-    rho = _rho(t0, pri.tau_s)
-    nll_f = np.full(o.n_mu, np.nan)
-    th_f = np.empty((o.n_mu, K.NG))
-    dl_f = np.zeros((o.n_mu, n))
-    shp_f = np.zeros(o.n_mu, dtype=np.int64)
-
-    def evaluate(idx: np.ndarray) -> None:
-        m = idx.size
-        nll, th, dl = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
-        shp = np.empty(m, dtype=np.int64)
-        K.profile_grid(
-            fine[idx], shapes, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx, p0,
-            o.iterations, nll, th, dl, shp,
-        )  # fmt: skip
-        nll_f[idx], th_f[idx], dl_f[idx], shp_f[idx] = nll, th, dl, shp
-
-    # coarse grid first (every third point); refine only where the profile's minimum is and
+    # coarse grid first (every third point); refined only where the profile's minimum is and
     # where it crosses the interval levels — a flat profile (μ unbounded) costs a third
     level = _chi2_ppf(float(o.point_level), 1)
-    coarse = _coarse(int(o.n_mu))
-    evaluate(coarse)
-    dev_c = 2.0 * (nll_f[coarse] - np.nanmin(nll_f[coarse]))
-    ic = int(np.argmin(dev_c))
-    lv = np.array([CHI2_1_90, level])
-    j = np.arange(coarse.size - 1)
-    crosses = ((dev_c[:-1, None] - lv) * (dev_c[1:, None] - lv) <= 0).any(axis=1)
-    near_min = (np.abs(j - ic) <= 1) | (np.abs(j + 1 - ic) <= 1)
-    refine = [np.arange(coarse[i] + 1, coarse[i + 1]) for i in np.flatnonzero(crosses | near_min)]
-    if refine:
-        evaluate(np.concatenate(refine).astype(np.int64))  # ascending, no repeats
+    nll_f, th_f, dl_f, shp_f = K.profile_coarse_fine(
+        fine, _coarse(int(o.n_mu)), np.array([CHI2_1_90, level]), shapes, pen, b,
+        _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx, p0, o.iterations,
+    )  # fmt: skip
     done = np.flatnonzero(np.isfinite(nll_f))
     mu_g, nll, th, dl, shp = fine[done], nll_f[done], th_f[done], dl_f[done], shp_f[done]
     n_mu = done.size
