@@ -140,8 +140,9 @@ def _tokenize_array(data) -> Tokens:
         slot, fkind, allowed, numcol = _SPEC_ARRAYS[k]
         m, nfld = li.size, fkind.size
         ok = np.empty(m, dtype=np.bool_)
-        cval = np.empty((m, nfld), dtype=np.uint8)
-        vals = np.empty((m, int((numcol >= 0).sum())), dtype=np.float64)
+        # column-major: each field's column is contiguous, a view when every line is valid
+        cval = np.empty((m, nfld), dtype=np.uint8, order="F")
+        vals = np.empty((m, int((numcol >= 0).sum())), dtype=np.float64, order="F")
         slow = np.empty((64, 4), dtype=np.int64)
         args = (buf, li, dpos, limit, slot, fkind, allowed, numcol, S.MAX_FIELD, ok, cval, vals)
         n_slow = K.read_fields(*args, slow)
@@ -150,18 +151,18 @@ def _tokenize_array(data) -> Tokens:
             K.read_fields(*args, slow)
         for r, c, a, nb in slow[:n_slow].tolist():  # exact conversion of unusually long numbers
             vals[r, c] = float(bytes(buf[a : a + nb]))
-        bad = li[~ok]
-        outcome[bad] = REJECTED
-        code[bad] = NAME[S.MALFORMED]
-        okl = li[ok]
+        all_ok = bool(ok.all())
+        if not all_ok:
+            bad = li[~ok]
+            outcome[bad] = REJECTED
+            code[bad] = NAME[S.MALFORMED]
+        okl = li if all_ok else li[ok]
         outcome[okl] = PARSED
         code[okl] = NAME[k]
         tab = {"line": okl}
         for j, f in enumerate(spec.fields):
-            if f.kind == S.CHAR:
-                tab[f.name] = cval[ok, j]
-            else:
-                tab[f.name] = vals[ok, numcol[j]]
+            col = cval[:, j] if f.kind == S.CHAR else vals[:, numcol[j]]
+            tab[f.name] = col if all_ok else col[ok]
         raw[k] = tab
 
     if (outcome < 0).any():  # pragma: no cover - a bug, not bad input
