@@ -105,20 +105,31 @@ def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
-def _boundaries_kernel(kind, tod, out):
+def _group_kernel(kind_at, tod_at, tod_e):
+    """The grouping rule in one pass over the lines: ``kind_at`` (type code per line, −1 where
+    the line holds no decoded sentence) is overwritten with each sentence's epoch index,
+    ``tod_e`` receives each epoch's time of day (NaN without one); returns the epoch count.
+    """
     seen = np.uint64(0)
     cur_t = np.nan
-    for i in range(kind.size):
-        bit = np.uint64(1) << np.uint64(kind[i])
-        t = tod[i]
-        new = i == 0 or (seen & bit) != 0 or (t == t and cur_t == cur_t and t != cur_t)
-        if new:
-            out[i] = True
+    e = -1
+    for i in range(kind_at.size):
+        k = kind_at[i]
+        if k < 0:
+            continue
+        bit = np.uint64(1) << np.uint64(k)
+        t = tod_at[i]
+        if e < 0 or (seen & bit) != 0 or (t == t and cur_t == cur_t and t != cur_t):
+            e += 1
             seen = np.uint64(0)
             cur_t = np.nan
+            tod_e[e] = np.nan
         seen |= bit
         if t == t:
             cur_t = t
+            tod_e[e] = t  # every timed sentence of an epoch has the same time
+        kind_at[i] = e
+    return e + 1
 
 
 def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
@@ -139,8 +150,10 @@ def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
     kind = np.asarray(kind, dtype=np.int64)
     if kind.size and (kind.min() < 0 or kind.max() > 63):
         raise ValueError("epoch_boundaries: type codes must be in 0..63")
-    out = np.zeros(kind.size, dtype=np.bool_)
-    _boundaries_kernel(kind, np.asarray(tod, dtype=np.float64), out)
+    eid = kind.copy()
+    _group_kernel(eid, np.asarray(tod, dtype=np.float64), np.empty(kind.size))
+    out = np.ones(kind.size, dtype=np.bool_)
+    out[1:] = eid[1:] != eid[:-1]
     return out
 
 
@@ -240,7 +253,36 @@ def _wrap180(d):
 
 
 @njit(cache=True, nogil=True)
-def _yaw_kernel(tt, hh, max_gap, out):
+def _with_heading(t, hdg):
+    """The epochs with a time and a heading: their indices, times, headings, and the positive
+    time steps between consecutive ones."""
+    n = 0
+    for i in range(t.size):
+        if t[i] == t[i] and hdg[i] == hdg[i]:
+            n += 1
+    idx = np.empty(n, dtype=np.int64)
+    tt = np.empty(n)
+    hh = np.empty(n)
+    j = 0
+    for i in range(t.size):
+        if t[i] == t[i] and hdg[i] == hdg[i]:
+            idx[j] = i
+            tt[j] = t[i]
+            hh[j] = hdg[i]
+            j += 1
+    pos = np.empty(max(n - 1, 0))
+    m = 0
+    for i in range(n - 1):
+        dt = tt[i + 1] - tt[i]
+        if dt > 0:
+            pos[m] = dt
+            m += 1
+    return idx, tt, hh, pos[:m]
+
+
+@njit(cache=True, nogil=True)
+def _yaw_kernel(tt, hh, idx, max_gap, out):
+    """out[idx[i]] ← the yaw rate at the i-th epoch with a heading."""
     n = tt.size
     for i in range(n):
         num = 0.0
@@ -255,7 +297,19 @@ def _yaw_kernel(tt, hh, max_gap, out):
             if dt > 0 and dt <= max_gap:
                 num += _wrap180(hh[i + 1] - hh[i])
                 den += dt
-        out[i] = -np.deg2rad(num / den) if den > 0 else np.nan
+        out[idx[i]] = -np.deg2rad(num / den) if den > 0 else np.nan
+
+
+@njit(cache=True, nogil=True)
+def _fill_yaw(yaw, src, dyaw):
+    """Where the ROT yaw rate is missing take the heading's (source 1), else source −1."""
+    for i in range(yaw.size):
+        if yaw[i] != yaw[i]:
+            if dyaw[i] == dyaw[i]:
+                yaw[i] = dyaw[i]
+                src[i] = 1
+            else:
+                src[i] = -1
 
 
 def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
@@ -268,19 +322,12 @@ def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
     minus their rate.
     """
     out = np.full(t.shape, np.nan)
-    idx = np.flatnonzero(~(np.isnan(t) | np.isnan(hdg)))
-    if idx.size < 2:
-        return out
-    tt, hh = t[idx], hdg[idx]
-    dt = np.diff(tt)
-    pos = dt[dt > 0]
-    if pos.size == 0:
+    idx, tt, hh, pos = _with_heading(t, hdg)
+    if idx.size < 2 or pos.size == 0:
         return out
     step = max(1, pos.size // 20000)  # the median of a regular subsample is enough here
     max_gap = 2.5 * float(np.median(pos[::step]))
-    r = np.empty(idx.size)
-    _yaw_kernel(tt, hh, max_gap, r)
-    out[idx] = r
+    _yaw_kernel(tt, hh, idx, max_gap, out)
     return out
 
 
@@ -315,13 +362,10 @@ def assemble_epochs(
         kind_at[lines_of[k]] = code
         if "tod_s" in tables[k]:
             tod_at[lines_of[k]] = tables[k]["tod_s"]
-    line = np.flatnonzero(kind_at >= 0)
-    kind, tod = kind_at[line], tod_at[line]
-    start = epoch_boundaries(kind, tod)
-    eid = np.cumsum(start) - 1
-    n_ep = int(start.sum())
-    eid_at = kind_at  # reused: line -> epoch
-    eid_at[line] = eid
+    tod_e = np.empty(sum(size.values()))
+    n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
+    tod_e = tod_e[:n_ep]
+    eid_at = kind_at  # now: line -> epoch
 
     epoch_of: dict[str, np.ndarray] = {k: eid_at[lines_of[k]] for k in keys}
 
@@ -344,9 +388,6 @@ def assemble_epochs(
 
     gga_ok = tables["GGA"]["fix_quality"] != 0 if size["GGA"] else None
     rmc_ok = (tables["RMC"]["status"] == "A") if size["RMC"] else None
-    tod_e = np.full(n_ep, np.nan)
-    has_t = ~np.isnan(tod)
-    tod_e[eid[has_t]] = tod[has_t]
 
     ep: dict[str, object] = {}
     if size["GGA"] and size["RMC"]:
@@ -388,20 +429,15 @@ def assemble_epochs(
     has_date = bool(_seconds_kernel(tod_e, day, abs_s))
     ns = np.round(abs_s * 1e9)
     ns[np.isnan(abs_s) | (not has_date)] = np.iinfo(np.int64).min  # NaT (without a date: all)
-    time_utc = pd.to_datetime(ns.astype(np.int64), unit="ns", utc=True)
+    time_utc = pd.DatetimeIndex(ns.astype(np.int64).view("M8[ns]")).tz_localize("UTC")
     first = np.flatnonzero(~np.isnan(abs_s))
     t_s = abs_s - abs_s[first[0]] if first.size else abs_s
     ep["time_utc"] = time_utc
     ep["t_s"] = t_s
 
     yaw = -rot * ROT_TO_RPS
-    has_rot = ~np.isnan(rot)
-    ysrc = np.where(has_rot, 0, -1).astype(np.int8)
-    if not has_rot.all():
-        dyaw = _yaw_from_heading(t_s, heading)
-        fill = ~has_rot & ~np.isnan(dyaw)
-        yaw[fill] = dyaw[fill]
-        ysrc[fill] = 1
+    ysrc = np.zeros(n_ep, dtype=np.int8)
+    _fill_yaw(yaw, ysrc, _yaw_from_heading(t_s, heading) if np.isnan(rot).any() else yaw)
     ep["yaw_rate_rps"] = yaw
     ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 
