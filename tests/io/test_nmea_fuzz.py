@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -206,3 +207,25 @@ def test_tokenizer_threads_follow_numbas_thread_count(monkeypatch):
     two = F.tokenize_fast(data, workers=2)
     assert len(seen) == 2 and sum(seen) == len(data)
     assert_same_tokens(one, two)
+
+
+@pytest.mark.parametrize("tail", [b"", b"\n", b"$GPHDT,1.0,T", b"\r\n\n"])
+def test_threaded_line_count_equals_the_line_split(tail):
+    """The size guard's threaded line count is the number of lines ``split_lines`` finds,
+    whatever byte the parts are cut at and whether the input ends with a line end."""
+    import numba
+
+    from gripsense.io.nmea.fast import _MIN_SPLIT, count_lines_threaded
+    from gripsense.io.nmea.tokens import split_lines
+
+    base = b"".join(p.read_bytes() for p in GPSD_LOGS)
+    data = base * (_MIN_SPLIT // len(base) + 2)
+    for cut in (0, 1, 7, 4096 + 3):
+        d = data[cut:] + tail
+        assert count_lines_threaded(d) == len(split_lines(d))
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        assert count_lines_threaded(data + tail) == len(split_lines(data + tail))
+    finally:
+        numba.set_num_threads(threads)

@@ -255,7 +255,8 @@ def _wrap180(d):
 @njit(cache=True, nogil=True)
 def _with_heading(t, hdg):
     """The epochs with a time and a heading: their indices, times, headings, and the positive
-    time steps between consecutive ones."""
+    time steps between consecutive ones.
+    """
     n = 0
     for i in range(t.size):
         if t[i] == t[i] and hdg[i] == hdg[i]:

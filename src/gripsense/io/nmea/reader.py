@@ -44,8 +44,7 @@ from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.decode import decode_all
 from gripsense.io.nmea.epochs import assemble_epochs
-from gripsense.io.nmea.fast import tokenize_fast
-from gripsense.io.nmea.kernels import count_lines
+from gripsense.io.nmea.fast import count_lines_threaded, tokenize_fast
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import read_bytes
@@ -214,7 +213,7 @@ def _cap_lines(inp: _Input, max_lines: int) -> None:
     data = inp.data
     if len(data) <= max_lines:  # every line has at least one byte
         return
-    n = count_lines(np.frombuffer(data, dtype=np.uint8))
+    n = count_lines_threaded(data)
     if n <= max_lines:
         return
     cut = -1
