@@ -57,6 +57,8 @@ def _no_runtime() -> dict:
 
 _NO_RT = _no_runtime()
 SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
+STOP_ABOVE = 30.0  # −log L units above the profile's minimum (or an upper bound of it): a
+# deviance of 60, nine times the highest interval level (χ²₁ 99 %: 6.63)
 TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
 
@@ -460,9 +462,13 @@ def profile_nll(
     ws,
     wm,
     wj,
+    stop_above=np.inf,
 ):
     """Minimise ½Σr²/v + ½ priors over the nuisances for one (μ, shape) by Levenberg–Marquardt
     (Gauss–Newton steps, damped when a step does not lower the objective).
+
+    A minimisation still above ``stop_above`` after a step ends there (the caller sets it far
+    above every interval level, where the exact value does not matter).
 
     Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
     method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``,
@@ -584,6 +590,8 @@ def profile_nll(
                 break
         else:
             lam *= 10.0
+        if best > stop_above:
+            break
     return best
 
 
@@ -644,11 +652,21 @@ def profile_grid(
     out_th,
     out_dl,
     out_shape,
+    floor=np.inf,
+    probe=-1.0,
+    stop_margin=STOP_ABOVE,
 ):
     """Profile NLL(μ) over the allowed shapes for every μ of the grid (warm-started along μ);
     ``shape_pen[si]`` is the prior's −log weight of shape si. A shape that was worse than the
     best by more than ``SKIP_MARGIN`` at the previous μ is not refitted at the next one (the
     profile moves smoothly in μ), except at every fourth μ.
+
+    μ too small to carry the measured force give values far above the profile's minimum; a
+    minimisation still more than *stop_margin* above an upper bound of the minimum (*floor*,
+    the profile's value at μ = *probe* when given, and the lowest value so far) after a step
+    ends there, and its nuisances are not passed on as the next μ's start
+    (``docs/physics.md`` §15.3). Windows of more than ``NFEW`` bins are minimised fully at
+    every μ: their nuisances converge only along the warm-started path.
     """
     n = b.shape[0]
     ws, wm, wj = workspace(n)
@@ -661,11 +679,19 @@ def profile_grid(
     last_best = 0.0
     for si in range(shapes.size):
         _copy(warm[si], prior_m)
+    short = n <= NFEW  # long windows need the warm starts of every μ to converge
+    if short and probe > 0.0:
+        for si in range(shapes.size):
+            nll = profile_nll(probe, shapes[si], b, rho, prior_m, prior_s, prior_d, tab_f,
+                              tab_df, inv_dx, p0, warm[si], warm_d[si], iters, th, dl, ws, wm,
+                              wj)  # fmt: skip
+            floor = min(floor, nll + shape_pen[si])
     for im in range(n_mu):
         best = 1e300
         for si in range(shapes.size):
             if im % 4 != 0 and last[si] > last_best + SKIP_MARGIN:
                 continue
+            stop = floor + stop_margin - shape_pen[si] if short else np.inf
             nll = profile_nll(
                 mu_grid[im],
                 shapes[si],
@@ -686,9 +712,11 @@ def profile_grid(
                 ws,
                 wm,
                 wj,
+                stop,
             )
-            _copy(warm[si], th)
-            _copy(warm_d[si], dl)
+            if nll <= stop:
+                _copy(warm[si], th)
+                _copy(warm_d[si], dl)
             nll += shape_pen[si]
             last[si] = nll
             if nll < best:
@@ -698,92 +726,5 @@ def profile_grid(
                 out_shape[im] = shapes[si]
         out_nll[im] = best
         last_best = best
+        floor = min(floor, best)
     return 0
-
-
-@njit(cache=True, nogil=True)
-def _profile_at(idx, fine, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
-                inv_dx, p0, iters, nll_f, th_f, dl_f, shp_f):  # fmt: skip
-    """:func:`profile_grid` on the fine grid's points *idx* (one warm-started pass), results
-    written to those points of the fine arrays.
-    """
-    m = idx.size
-    n = b.shape[0]
-    mu = np.empty(m)
-    for i in range(m):
-        mu[i] = fine[idx[i]]
-    nll = np.empty(m)
-    th = np.empty((m, NG))
-    dl = np.zeros((m, n))
-    shp = np.empty(m, dtype=np.int64)
-    profile_grid(mu, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
-                 inv_dx, p0, iters, nll, th, dl, shp)  # fmt: skip
-    for i in range(m):
-        j = idx[i]
-        nll_f[j] = nll[i]
-        shp_f[j] = shp[i]
-        _copy(th_f[j], th[i])
-        _copy(dl_f[j], dl[i])
-    return 0
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _refine_segment(dev, levels, j, ic):
-    """Whether the coarse segment j..j+1 holds the minimum's neighbourhood or a level crossing."""
-    if abs(j - ic) <= 1 or abs(j + 1 - ic) <= 1:
-        return True
-    for lv in levels:
-        if (dev[j] - lv) * (dev[j + 1] - lv) <= 0:
-            return True
-    return False
-
-
-@njit(cache=True, nogil=True)
-def profile_coarse_fine(fine, coarse, levels, shapes, shape_pen, b, rho, prior_m, prior_s,
-                        prior_d, tab_f, tab_df, inv_dx, p0, iters):  # fmt: skip
-    """The profile of μ on the coarse grid (fine-grid indices *coarse*), then on the fine points
-    between coarse neighbours where the profile has its minimum or crosses one of the deviance
-    *levels* (one warm-started pass over them, in ascending order): a flat profile (μ
-    unbounded) costs a third of the fine grid. Returns the fine arrays (NLL NaN where not
-    evaluated), nuisances, slip offsets and shapes.
-    """
-    nf = fine.size
-    n = b.shape[0]
-    nll_f = np.full(nf, np.nan)
-    th_f = np.empty((nf, NG))
-    dl_f = np.zeros((nf, n))
-    shp_f = np.zeros(nf, dtype=np.int64)
-    args = (shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df, inv_dx, p0,
-            iters, nll_f, th_f, dl_f, shp_f)  # fmt: skip
-    _profile_at(coarse, fine, *args)
-    nc = coarse.size
-    lo = np.inf
-    for i in range(nc):
-        v = nll_f[coarse[i]]
-        if v < lo:  # np.nanmin: NaN never wins
-            lo = v
-    dev = np.empty(nc)
-    ic = -1
-    for i in range(nc):
-        dev[i] = 2.0 * (nll_f[coarse[i]] - lo)
-    for i in range(nc):  # np.argmin: the first minimum, or the first NaN
-        if np.isnan(dev[i]):
-            ic = i
-            break
-        if ic < 0 or dev[i] < dev[ic]:
-            ic = i
-    count = 0
-    for j in range(nc - 1):
-        if _refine_segment(dev, levels, j, ic):
-            count += coarse[j + 1] - coarse[j] - 1
-    if count == 0:
-        return nll_f, th_f, dl_f, shp_f
-    idx = np.empty(count, dtype=np.int64)
-    k = 0
-    for j in range(nc - 1):
-        if _refine_segment(dev, levels, j, ic):
-            for i in range(coarse[j] + 1, coarse[j + 1]):
-                idx[k] = i
-                k += 1
-    _profile_at(idx, fine, *args)
-    return nll_f, th_f, dl_f, shp_f

@@ -481,14 +481,6 @@ def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
     return g
 
 
-@cache
-def _coarse(n_mu: int) -> np.ndarray:
-    """Indices of the coarse pass: every third μ of the grid and the last (read-only)."""
-    c = np.unique(np.concatenate([np.arange(0, n_mu, 3), [n_mu - 1]]))
-    c.flags.writeable = False
-    return c
-
-
 def _profile(
     bins: np.ndarray,
     t0: np.ndarray,
@@ -503,13 +495,17 @@ def _profile(
     fine = _mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
     b = np.ascontiguousarray(bins)
-    # coarse grid first (every third point); refined only where the profile's minimum is and
-    # where it crosses the interval levels — a flat profile (μ unbounded) costs a third
-    level = _chi2_ppf(float(o.point_level), 1)
-    nll_f, th_f, dl_f, shp_f = K.profile_coarse_fine(
-        fine, _coarse(int(o.n_mu)), np.array([CHI2_1_90, level]), shapes, pen, b,
-        _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx, p0, o.iterations,
+    n, m = b.shape[0], fine.size
+    nll_f, th_f, dl_f = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
+    shp_f = np.empty(m, dtype=np.int64)
+    # every μ of the grid, warm-started upwards (a coarser pass lets the nuisances fall behind:
+    # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
+    probe = float(np.clip(1.1 * b[:, 9].max(), fine[0], fine[-1])) if n else -1.0
+    K.profile_grid(
+        fine, shapes, pen, b, _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx,
+        p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe,
     )  # fmt: skip
+    level = _chi2_ppf(float(o.point_level), 1)
     done = np.flatnonzero(np.isfinite(nll_f))
     mu_g, nll, th, dl, shp = fine[done], nll_f[done], th_f[done], dl_f[done], shp_f[done]
     n_mu = done.size
