@@ -197,3 +197,43 @@ def test_online_equals_batch():
         for col in ("mu_low", "mu_high"):
             assert o[col] == pytest.approx(w[col], rel=0.05), col
     assert matched >= len(batch) - 2 > 0
+
+
+def test_window_table_per_window():
+    """The window table, computed for all windows at once, holds for every window what its
+    bins say: the mean measured grip, the largest one-sided bound, the sample count, screened
+    exactly when no bin reaches the screening utilisation; its columns are WINDOW_COLUMNS in
+    order, with or without windows."""
+    import pandas as pd
+    from scipy.stats import norm
+
+    from gripsense.estimate.axle_window import WINDOW_COLUMNS, axle_bins, estimate_windows
+
+    mu = 0.5
+    d = simulate_drive(
+        "sedan", "mf-book", None, mu, receiver="rtk", seed=2, circle=(limit_speed(mu, 30, 0.9), 30)
+    )
+    uv = user_vehicle(truth_vehicle("sedan"), "mf-book")
+    res = estimate(d, uv, "rtk")
+    o = WindowOptions()
+    grip = axle_bins(res.wheels, "rear", uv, res.noise, o.bin_s, o.min_samples).data[:, 9]
+    o = WindowOptions(screen_utilisation=float(np.median(grip)))  # some windows screened
+    windows, _ = estimate_windows(res.wheels, uv, noise=res.noise, options=o)
+    assert list(windows.columns) == list(WINDOW_COLUMNS)
+    z = norm.ppf(o.bound_level)
+    kinds = set()
+    for axle, w in windows.groupby("axle"):
+        ab = axle_bins(res.wheels, axle, uv, res.noise, o.bin_s, o.min_samples)
+        for r in w.itertuples():
+            i0 = int(np.flatnonzero(ab.t0 == r.t_start)[0])
+            g, s = ab.data[i0 : i0 + 3, 9], ab.grip_sigma[i0 : i0 + 3]
+            assert r.t_end == ab.t1[i0 + 2]
+            assert r.grip_used == pytest.approx(g.sum() / 3, rel=1e-12)
+            assert r.grip_used_lower == pytest.approx(max((g - z * s).max(), 0.0), rel=1e-12)
+            assert r.n == ab.n[i0 : i0 + 3].sum()
+            assert (r.fit == "screened") == (g.max() < o.screen_utilisation)
+            kinds.add(r.fit == "screened")
+    assert kinds == {True, False}
+    none, _ = estimate_windows(res.wheels.iloc[:0], uv, noise=res.noise, options=o)
+    assert list(none.columns) == list(WINDOW_COLUMNS) and len(none) == 0
+    pd.testing.assert_index_equal(none.columns, windows.columns)

@@ -670,6 +670,70 @@ def measured_grip(
     return pd.DataFrame(rows, columns=["axle", "grip_used", "grip_used_lower", "n_bins"])
 
 
+WINDOW_COLUMNS = {
+    "axle": object,
+    "t_start": float,
+    "t_end": float,
+    "n": np.int64,
+    "grip_used": float,
+    "grip_used_lower": float,
+    "analysed": bool,
+    "mu": float,
+    "mu_low": float,
+    "mu_high": float,
+    "observable": bool,
+    "fit": object,
+    "mu_best": float,
+    "stiffness_scale": float,
+    "heading_bias_deg": float,
+    "camber_slip_deg_per_g": float,
+    "load_transfer_error": float,
+    "shape": object,
+    "limited_by": object,
+    "cornering_stiffness_N_per_rad": float,
+}
+"""Columns of :func:`estimate_windows`' window table and their types, in order."""
+
+
+def _window_table(
+    ab: AxleBins, axle: str, o: WindowOptions, z_w: float
+) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The window table of one axle before any profile: every window of contiguous bins, its
+    measured grip and one-sided bound, whether it is analysed, and a screened window's answer
+    (the profile's columns NaN); returns the columns and each window's first bin.
+    """
+    w = max(round(o.window_s / o.bin_s), 1)
+    step = max(round(o.step_s / o.bin_s), 1)
+    starts = np.arange(0, max(ab.t0.size - w + 1, 0), step)
+    # windows whose bins are contiguous in time
+    starts = starts[ab.t1[starts + w - 1] - ab.t0[starts] <= o.window_s + o.bin_s]
+    k = starts.size
+
+    def windows(x: np.ndarray) -> np.ndarray:
+        return np.lib.stride_tricks.sliding_window_view(x, w)[starts] if k else np.zeros((0, w))
+
+    g = windows(ab.data[:, 9])
+    cols: dict[str, np.ndarray] = {c: np.full(k, np.nan) for c, t in WINDOW_COLUMNS.items()
+                                   if t is float}  # fmt: skip
+    cols["axle"] = np.full(k, axle, dtype=object)
+    cols["t_start"] = ab.t0[starts].astype(float)
+    cols["t_end"] = ab.t1[starts + w - 1].astype(float)
+    cols["n"] = windows(ab.n).sum(axis=1).astype(np.int64)
+    cols["grip_used"] = np.mean(g, axis=1)
+    cols["grip_used_lower"] = np.maximum(np.max(g - z_w * windows(ab.grip_sigma), axis=1), 0.0)
+    cols["analysed"] = np.max(g, axis=1, initial=-np.inf) >= o.screen_utilisation
+    cols["mu_low"] = cols["grip_used_lower"].copy()
+    cols["mu_high"] = np.full(k, np.inf)
+    cols["observable"] = np.zeros(k, dtype=bool)
+    cols["fit"] = np.full(k, "screened", dtype=object)
+    cols["shape"] = np.full(k, np.nan, dtype=object)
+    cols["limited_by"] = np.full(k, "below the screening utilisation", dtype=object)
+    # the declared stiffness of the window (times the fitted scale once there is one)
+    cols["cornering_stiffness_N_per_rad"] = 0.5 * np.mean(windows(ab.data[:, 4] + ab.data[:, 5]),
+                                                          axis=1)  # fmt: skip
+    return cols, starts
+
+
 def estimate_windows(
     wheels: pd.DataFrame,
     vehicle: Vehicle,
@@ -705,56 +769,32 @@ def estimate_windows(
     noise = noise or NoiseModel()
     o = options or WindowOptions()
     z_w = float(norm.ppf(o.bound_level))
-    rows, summ = [], []
+    tables, summ = [], []
     axles = sorted({w.split("_")[0] for w in wheels["wheel"].astype(str).unique()})
     for axle in axles:
         ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
         pri = _priors(vehicle, axle, noise)
         shapes = _shape_ids(vehicle.tyres[axle].shape)
         n_b = ab.t0.size
-        grip, gsig = ab.data[:, 9], ab.grip_sigma
-        per_bin_win = max(round(o.window_s / o.bin_s), 1)
-        step = max(round(o.step_s / o.bin_s), 1)
-        n_screened = 0
+        cols, starts = _window_table(ab, axle, o, z_w)
+        n_win = starts.size
+        analysed = cols["analysed"]
+        n_screened = int(n_win - analysed.sum())
         analysed_bins = np.zeros(n_b, bool)
         reuse = _Reuse()
-        for i0 in range(0, max(n_b - per_bin_win + 1, 0), step):
-            sel = slice(i0, i0 + per_bin_win)
-            if ab.t1[sel.stop - 1] - ab.t0[i0] > o.window_s + o.bin_s:
-                continue  # the bins are not contiguous in time
-            g = grip[sel]
-            lower = _bound(g, gsig[sel], z_w)
-            row = {
-                "axle": axle,
-                "t_start": float(ab.t0[i0]),
-                "t_end": float(ab.t1[sel.stop - 1]),
-                "n": int(ab.n[sel].sum()),
-                "grip_used": float(np.mean(g)),
-                "grip_used_lower": lower,
-                "analysed": bool(np.max(g) >= o.screen_utilisation),
-            }
-            if row["analysed"]:
-                analysed_bins[sel] = True
-                mid, merged = merge_steady(
-                    ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], o.steady_tolerance
-                )
-                est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, lower)
-            else:
-                n_screened += 1
-                est = {
-                    "mu": np.nan,
-                    "mu_low": lower,
-                    "mu_high": np.inf,
-                    "observable": False,
-                    "fit": "screened",
-                    "limited_by": "below the screening utilisation",
-                }
-            row.update(est)
-            c = 0.5 * (ab.data[sel, 4] + ab.data[sel, 5]).mean()
-            row["cornering_stiffness_N_per_rad"] = row.get("stiffness_scale", np.nan) * c
-            rows.append(row)
+        per_bin_win = max(round(o.window_s / o.bin_s), 1)
+        for i in np.flatnonzero(analysed):
+            sel = slice(starts[i], starts[i] + per_bin_win)
+            analysed_bins[sel] = True
+            mid, merged = merge_steady(
+                ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], o.steady_tolerance
+            )
+            est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, cols["grip_used_lower"][i])
+            for k, v in est.items():
+                cols[k][i] = v
+        cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
+        tables.append(cols)
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
-        n_win = sum(1 for r in rows if r["axle"] == axle)
         g_max, g_lower = _drive_bound(ab, o.bound_level)
         base = {
             "axle": axle,
@@ -798,7 +838,11 @@ def estimate_windows(
                     else "no steady or transient cornering",
                 }
             )
-    return pd.DataFrame(rows), pd.DataFrame(summ)
+    windows = {
+        c: np.concatenate([t[c] for t in tables]) if tables else np.zeros(0, dtype=dt)
+        for c, dt in WINDOW_COLUMNS.items()
+    }
+    return pd.DataFrame(windows), pd.DataFrame(summ)
 
 
 class OnlineAxleWindow:
