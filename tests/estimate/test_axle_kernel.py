@@ -43,13 +43,23 @@ def _full_grid(w, shapes, step=1):
     o, pri, b = w["o"], w["pri"], w["bins"]
     f, df, inv_dx = _tables()
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
-    grid = np.geomspace(o.mu_min, o.mu_max, o.n_mu)[::step]
+    grid = _grid(o, step)
     n = b.shape[0]
     nll, th, dl = np.empty(grid.size), np.empty((grid.size, K.NG)), np.zeros((grid.size, n))
     shp = np.empty(grid.size, dtype=np.int64)
+    # no probe, no stopping: every minimisation runs its course
     K.profile_grid(grid, shapes, pen, b, _rho(w["mid"], pri.tau_s), pri.mean, pri.sd,
-                   pri.delta, f, df, inv_dx, w["p0"], o.iterations, nll, th, dl, shp)  # fmt: skip
+                   pri.delta, f, df, inv_dx, w["p0"], o.iterations, nll, th, dl, shp, np.inf,
+                   -1.0, np.inf)  # fmt: skip
     return grid, nll
+
+
+def _grid(o, step=1):
+    """Every *step*-th μ of the grid, read-only like ``axle_window``'s (the kernels are
+    compiled once per argument type)."""
+    g = np.geomspace(o.mu_min, o.mu_max, o.n_mu)[::step].copy()
+    g.flags.writeable = False
+    return g
 
 
 def _interval(grid, nll):
@@ -151,7 +161,7 @@ def _converged_profile(w, shapes):
     f, df, inv_dx = _tables()
     o, pri, b = w["o"], w["pri"], w["bins"]
     n = b.shape[0]
-    grid = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
+    grid = _grid(o)
     pen = _shape_penalty()[shapes]
     rho = _rho(w["mid"], pri.tau_s)
     ws, wm, wj = K.workspace(n)
@@ -164,7 +174,7 @@ def _converged_profile(w, shapes):
                 if order == "fresh":
                     warm, warm_d = pri.mean.copy(), np.zeros(n)
                 args = (b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx, w["p0"], warm, warm_d)
-                v = K.profile_nll(grid[im], s, *args, 20, th, dl, ws, wm, wj)
+                v = K.profile_nll(grid[im], s, *args, 20, th, dl, ws, wm, wj, np.inf)
                 warm, warm_d = th.copy(), dl.copy()
                 best[im] = min(best[im], v + p)
     return grid, best
@@ -229,7 +239,7 @@ def test_stopping_far_above_the_minimum_keeps_the_profile(which, demo_window, wi
     f, df, inv_dx = _tables()
     shapes = _shape_ids("any")
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
-    grid = np.geomspace(o.mu_min, o.mu_max, o.n_mu)
+    grid = _grid(o)
     probe = float(np.clip(1.1 * b[:, 9].max(), grid[0], grid[-1]))
     out = []
     for margin in (K.STOP_ABOVE, np.inf):

@@ -462,13 +462,13 @@ def profile_nll(
     ws,
     wm,
     wj,
-    stop_above=np.inf,
+    stop_above,
 ):
     """Minimise ½Σr²/v + ½ priors over the nuisances for one (μ, shape) by Levenberg–Marquardt
     (Gauss–Newton steps, damped when a step does not lower the objective).
 
     A minimisation still above ``stop_above`` after a step ends there (the caller sets it far
-    above every interval level, where the exact value does not matter).
+    above every interval level, where the exact value does not matter; ``np.inf``: never).
 
     Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
     method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``,
@@ -652,9 +652,9 @@ def profile_grid(
     out_th,
     out_dl,
     out_shape,
-    floor=np.inf,
-    probe=-1.0,
-    stop_margin=STOP_ABOVE,
+    floor,
+    probe,
+    stop_margin,
 ):
     """Profile NLL(μ) over the allowed shapes for every μ of the grid (warm-started along μ);
     ``shape_pen[si]`` is the prior's −log weight of shape si. A shape that was worse than the
@@ -662,8 +662,9 @@ def profile_grid(
     profile moves smoothly in μ), except at every fourth μ.
 
     μ too small to carry the measured force give values far above the profile's minimum; a
-    minimisation still more than *stop_margin* above an upper bound of the minimum (*floor*,
-    the profile's value at μ = *probe* when given, and the lowest value so far) after a step
+    minimisation still more than *stop_margin* (:data:`STOP_ABOVE`; ``np.inf``: never) above an
+    upper bound of the minimum (*floor*, ``np.inf`` if none is known; the profile's value at
+    μ = *probe* when it is positive; and the lowest value so far) after a step
     ends there, and its nuisances are not passed on as the next μ's start
     (``docs/physics.md`` §15.3). Windows of more than ``NFEW`` bins are minimised fully at
     every μ: their nuisances converge only along the warm-started path.
@@ -684,7 +685,7 @@ def profile_grid(
         for si in range(shapes.size):
             nll = profile_nll(probe, shapes[si], b, rho, prior_m, prior_s, prior_d, tab_f,
                               tab_df, inv_dx, p0, warm[si], warm_d[si], iters, th, dl, ws, wm,
-                              wj)  # fmt: skip
+                              wj, np.inf)  # fmt: skip
             floor = min(floor, nll + shape_pen[si])
     for im in range(n_mu):
         best = 1e300

@@ -503,7 +503,7 @@ def _profile(
     probe = float(np.clip(1.1 * b[:, 9].max(), fine[0], fine[-1])) if n else -1.0
     K.profile_grid(
         fine, shapes, pen, b, _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx,
-        p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe,
+        p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe, K.STOP_ABOVE,
     )  # fmt: skip
     level = _chi2_ppf(float(o.point_level), 1)
     done = np.flatnonzero(np.isfinite(nll_f))
