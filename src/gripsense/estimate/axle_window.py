@@ -44,6 +44,7 @@ from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
 
 __all__ = [
     "BIN_COLUMNS",
+    "WINDOW_COLUMNS",
     "AxleBins",
     "OnlineAxleWindow",
     "WindowOptions",
@@ -757,11 +758,13 @@ def estimate_windows(
     Returns
     -------
     windows : pandas.DataFrame
-        One row per axle and window: ``axle``, ``t_start``, ``t_end``, ``n``, ``grip_used``
-        (mean measured grip), ``grip_used_lower`` (model-free one-sided bound), ``analysed``,
-        ``mu`` (NaN unless ``observable``), ``mu_low``, ``mu_high`` (inf when unbounded),
-        ``observable``, ``fit``, ``stiffness_scale``, ``heading_bias_deg``, ``shape``,
-        ``limited_by``, ``cornering_stiffness_N_per_rad``.
+        One row per axle and window, the columns of :data:`WINDOW_COLUMNS` in that order:
+        ``axle``, ``t_start``, ``t_end``, ``n``, ``grip_used`` (mean measured grip),
+        ``grip_used_lower`` (model-free one-sided bound), ``analysed``, ``mu`` (NaN unless
+        ``observable``), ``mu_low``, ``mu_high`` (inf when unbounded), ``observable``, ``fit``,
+        the profile's best μ, stiffness scale, heading bias, camber slip and load-transfer
+        error (NaN where the window was screened), ``shape``, ``limited_by``,
+        ``cornering_stiffness_N_per_rad``.
     summary : pandas.DataFrame
         One row per axle over the drive, the same columns plus ``n_windows`` and
         ``n_screened``.
