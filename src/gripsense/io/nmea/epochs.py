@@ -253,83 +253,92 @@ def _wrap180(d):
 
 
 @njit(cache=True, nogil=True)
-def _with_heading(t, hdg):
-    """The epochs with a time and a heading: their indices, times, headings, and the positive
-    time steps between consecutive ones.
+def _step_sample(t, hdg):
+    """The epochs with a time and a heading: how many, and every k-th of the positive time
+    steps between consecutive ones (k = max(1, their number // 20 000): the median's
+    subsample), without gathering them.
     """
     n = 0
-    for i in range(t.size):
-        if t[i] == t[i] and hdg[i] == hdg[i]:
-            n += 1
-    idx = np.empty(n, dtype=np.int64)
-    tt = np.empty(n)
-    hh = np.empty(n)
-    j = 0
-    for i in range(t.size):
-        if t[i] == t[i] and hdg[i] == hdg[i]:
-            idx[j] = i
-            tt[j] = t[i]
-            hh[j] = hdg[i]
-            j += 1
-    pos = np.empty(max(n - 1, 0))
     m = 0
-    for i in range(n - 1):
-        dt = tt[i + 1] - tt[i]
-        if dt > 0:
-            pos[m] = dt
-            m += 1
-    return idx, tt, hh, pos[:m]
+    prev = np.nan
+    for i in range(t.size):
+        if t[i] == t[i] and hdg[i] == hdg[i]:
+            if n > 0 and t[i] - prev > 0:
+                m += 1
+            prev = t[i]
+            n += 1
+    k = max(1, m // 20000)
+    out = np.empty((m + k - 1) // k)
+    j = 0
+    c = 0
+    first = True
+    for i in range(t.size):
+        if t[i] == t[i] and hdg[i] == hdg[i]:
+            if not first and t[i] - prev > 0:
+                if c % k == 0:
+                    out[j] = t[i] - prev
+                    j += 1
+                c += 1
+            prev = t[i]
+            first = False
+    return n, out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _next_valid(t, hdg, i):
+    """The first epoch at or after i with a time and a heading (−1: none)."""
+    while i < t.size:
+        if t[i] == t[i] and hdg[i] == hdg[i]:
+            return i
+        i += 1
+    return -1
 
 
 @njit(cache=True, nogil=True)
-def _yaw_kernel(tt, hh, idx, max_gap, out):
-    """out[idx[i]] ← the yaw rate at the i-th epoch with a heading."""
-    n = tt.size
-    for i in range(n):
-        num = 0.0
-        den = 0.0
-        if i > 0:
-            dt = tt[i] - tt[i - 1]
-            if dt > 0 and dt <= max_gap:
-                num += _wrap180(hh[i] - hh[i - 1])
-                den += dt
-        if i < n - 1:
-            dt = tt[i + 1] - tt[i]
-            if dt > 0 and dt <= max_gap:
-                num += _wrap180(hh[i + 1] - hh[i])
-                den += dt
-        out[idx[i]] = -np.deg2rad(num / den) if den > 0 else np.nan
-
-
-@njit(cache=True, nogil=True)
-def _fill_yaw(yaw, src, dyaw):
-    """Where the ROT yaw rate is missing take the heading's (source 1), else source −1."""
+def _fill_yaw(t, hdg, max_gap, yaw, src):
+    """Where the ROT yaw rate is missing (NaN in *yaw*) take the heading's central difference
+    over the neighbouring epochs with a heading (source 1), else mark source −1; a non-positive
+    max_gap fills nothing.
+    """
+    p = -1
+    c = _next_valid(t, hdg, 0) if max_gap > 0 else -1
+    while c >= 0:
+        q = _next_valid(t, hdg, c + 1)
+        if yaw[c] != yaw[c]:
+            num = 0.0
+            den = 0.0
+            if p >= 0:
+                dt = t[c] - t[p]
+                if dt > 0 and dt <= max_gap:
+                    num += _wrap180(hdg[c] - hdg[p])
+                    den += dt
+            if q >= 0:
+                dt = t[q] - t[c]
+                if dt > 0 and dt <= max_gap:
+                    num += _wrap180(hdg[q] - hdg[c])
+                    den += dt
+            if den > 0:
+                yaw[c] = -np.deg2rad(num / den)
+                src[c] = 1
+        p = c
+        c = q
     for i in range(yaw.size):
         if yaw[i] != yaw[i]:
-            if dyaw[i] == dyaw[i]:
-                yaw[i] = dyaw[i]
-                src[i] = 1
-            else:
-                src[i] = -1
+            src[i] = -1
 
 
-def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray) -> np.ndarray:
-    """ISO yaw rate [rad/s] from compass heading [deg] by central differences.
+def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray, yaw: np.ndarray, src: np.ndarray) -> None:
+    """Fill the missing ISO yaw rate [rad/s] from compass heading [deg] by central differences.
 
     Uses (ψ[i+1] − ψ[i−1]) / (t[i+1] − t[i−1]) over the epochs that have a heading, with each
     heading change wrapped to [−180°, 180°); one-sided at the ends and next to gaps (intervals
     longer than 2.5 × the median interval — taken over at most ~20 000 evenly spaced
     intervals — or not positive). Compass headings turn clockwise, so the ISO 8855 yaw rate is
-    minus their rate.
+    minus their rate. Epochs whose *yaw* is NaN get it (*src* 1) or keep NaN (*src* −1).
     """
-    out = np.full(t.shape, np.nan)
-    idx, tt, hh, pos = _with_heading(t, hdg)
-    if idx.size < 2 or pos.size == 0:
-        return out
-    step = max(1, pos.size // 20000)  # the median of a regular subsample is enough here
-    max_gap = 2.5 * float(np.median(pos[::step]))
-    _yaw_kernel(tt, hh, idx, max_gap, out)
-    return out
+    n, sample = _step_sample(t, hdg)
+    max_gap = 2.5 * float(np.median(sample)) if n >= 2 and sample.size else 0.0
+    _fill_yaw(t, hdg, max_gap, yaw, src)
 
 
 def assemble_epochs(
@@ -438,7 +447,8 @@ def assemble_epochs(
 
     yaw = -rot * ROT_TO_RPS
     ysrc = np.zeros(n_ep, dtype=np.int8)
-    _fill_yaw(yaw, ysrc, _yaw_from_heading(t_s, heading) if np.isnan(rot).any() else yaw)
+    if np.isnan(rot).any():
+        _yaw_from_heading(t_s, heading, yaw, ysrc)
     ep["yaw_rate_rps"] = yaw
     ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 
