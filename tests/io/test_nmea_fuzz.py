@@ -229,3 +229,24 @@ def test_threaded_line_count_equals_the_line_split(tail):
         assert count_lines_threaded(data + tail) == len(split_lines(data + tail))
     finally:
         numba.set_num_threads(threads)
+
+
+def test_epoch_columns_filled_on_threads_equal_the_calling_threads(monkeypatch):
+    """A long log's epoch columns are filled on the tokenizer's threads; the table is the one
+    the calling thread alone builds (every column, to the bit)."""
+    import numba
+    import pandas as pd
+
+    import gripsense.io.nmea.epochs as E
+
+    data = b"".join(p.read_bytes() for p in GPSD_LOGS)
+    monkeypatch.setattr(E, "_MIN_PARALLEL_EPOCHS", 0)
+    threaded = read_nmea(data).epochs
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        alone = read_nmea(data).epochs
+    finally:
+        numba.set_num_threads(threads)
+    assert len(alone) > 1000
+    pd.testing.assert_frame_equal(threaded, alone, check_exact=True)

@@ -37,6 +37,9 @@ Merging an epoch's sentences
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
 import numpy as np
 import pandas as pd
 from numba import njit
@@ -65,6 +68,7 @@ EPOCH_COLUMNS = [
     "yaw_rate_source",
 ]
 
+_MIN_PARALLEL_EPOCHS = 100_000  # shorter logs fill their columns on the calling thread
 ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
 HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "PSTI,036", "THS", "HDT")
 # categories of ``heading_source``, by priority
@@ -399,41 +403,61 @@ def assemble_epochs(
     gga_ok = tables["GGA"]["fix_quality"] != 0 if size["GGA"] else None
     rmc_ok = (tables["RMC"]["status"] == "A") if size["RMC"] else None
 
-    ep: dict[str, object] = {}
-    if size["GGA"] and size["RMC"]:
-        # the position comes from one sentence: GGA where it has a latitude, else RMC
-        gga_lat = col("GGA", "lat_deg", gga_ok)
-        use_gga = ~np.isnan(gga_lat)
-        ep["lat_deg"] = np.where(use_gga, gga_lat, col("RMC", "lat_deg", rmc_ok))
-        ep["lon_deg"] = np.where(
-            use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok)
+    def position() -> tuple[np.ndarray, np.ndarray]:
+        if size["GGA"] and size["RMC"]:
+            # the position comes from one sentence: GGA where it has a latitude, else RMC
+            gga_lat = col("GGA", "lat_deg", gga_ok)
+            use_gga = ~np.isnan(gga_lat)
+            lat = np.where(use_gga, gga_lat, col("RMC", "lat_deg", rmc_ok))
+            return lat, np.where(
+                use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok)
+            )
+        return (
+            first_of(("GGA", "lat_deg", gga_ok), ("RMC", "lat_deg", rmc_ok)),
+            first_of(("GGA", "lon_deg", gga_ok), ("RMC", "lon_deg", rmc_ok)),
         )
-    else:
-        ep["lat_deg"] = first_of(("GGA", "lat_deg", gga_ok), ("RMC", "lat_deg", rmc_ok))
-        ep["lon_deg"] = first_of(("GGA", "lon_deg", gga_ok), ("RMC", "lon_deg", rmc_ok))
-    ep["alt_m"] = first_of(("GGA", "alt_m", gga_ok))
-    ep["fix_quality"] = first_of(("GGA", "fix_quality"))
-    ep["n_sats"] = first_of(("GGA", "n_sats"))
-    ep["hdop"] = first_of(("GGA", "hdop"))
-    ep["speed_mps"] = first_of(("RMC", "speed_mps", rmc_ok), ("VTG", "speed_mps"))
-    ep["course_deg"] = first_of(("RMC", "course_deg", rmc_ok), ("VTG", "course_deg"))
 
-    heading = np.full(n_ep, np.nan)
-    source = np.full(n_ep, -1, dtype=np.int8)
-    for code, k in enumerate(HEADING_PRIORITY):
-        if size[k]:
-            v = np.asarray(tables[k]["heading_deg"], dtype=float)
-            _fill(heading, epoch_of[k], v, None, source, code)
+    def headings() -> tuple[np.ndarray, np.ndarray]:
+        heading = np.full(n_ep, np.nan)
+        source = np.full(n_ep, -1, dtype=np.int8)
+        for code, k in enumerate(HEADING_PRIORITY):
+            if size[k]:
+                v = np.asarray(tables[k]["heading_deg"], dtype=float)
+                _fill(heading, epoch_of[k], v, None, source, code)
+        return heading, source
+
+    attitude = ("PSAT,HPR", "PASHR", "PSTI,036")
+    jobs = {
+        "position": position,
+        "alt_m": lambda: first_of(("GGA", "alt_m", gga_ok)),
+        "fix_quality": lambda: first_of(("GGA", "fix_quality")),
+        "n_sats": lambda: first_of(("GGA", "n_sats")),
+        "hdop": lambda: first_of(("GGA", "hdop")),
+        "speed_mps": lambda: first_of(("RMC", "speed_mps", rmc_ok), ("VTG", "speed_mps")),
+        "course_deg": lambda: first_of(("RMC", "course_deg", rmc_ok), ("VTG", "course_deg")),
+        "heading": headings,
+        "pitch_deg": lambda: first_of(*((k, "pitch_deg") for k in attitude)),
+        "roll_deg": lambda: first_of(*((k, "roll_deg") for k in attitude)),
+        "rot_deg_per_min": lambda: first_of(("ROT", "rot_deg_per_min")),
+        "day": lambda: first_of(("RMC", "day"), ("ZDA", "day"), ("PSTI,036", "day")),
+    }
+    # the columns are independent: on a long log they are filled on the tokenizer's threads
+    # (the compiled fills release the GIL)
+    n_workers = min(numba.get_num_threads(), 4) if n_ep >= _MIN_PARALLEL_EPOCHS else 1
+    if n_workers > 1:
+        with ThreadPoolExecutor(max_workers=n_workers) as ex:
+            done = dict(zip(jobs, ex.map(lambda f: f(), jobs.values()), strict=True))
+    else:
+        done = {k: f() for k, f in jobs.items()}
+    ep: dict[str, object] = {}
+    ep["lat_deg"], ep["lon_deg"] = done.pop("position")
+    heading, source = done.pop("heading")
+    rot, day = done["rot_deg_per_min"], done.pop("day")
+    ep.update(done)
     ep["heading_deg"] = heading
     ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)
-    attitude = ("PSAT,HPR", "PASHR", "PSTI,036")
-    ep["pitch_deg"] = first_of(*((k, "pitch_deg") for k in attitude))
-    ep["roll_deg"] = first_of(*((k, "roll_deg") for k in attitude))
-    rot = first_of(("ROT", "rot_deg_per_min"))
-    ep["rot_deg_per_min"] = rot
 
     # dates and times
-    day = first_of(("RMC", "day"), ("ZDA", "day"), ("PSTI,036", "day"))
     timed = ~np.isnan(tod_e)
     abs_s = np.empty(n_ep)
     has_date = bool(_seconds_kernel(tod_e, day, abs_s))
