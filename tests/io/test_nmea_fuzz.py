@@ -195,7 +195,9 @@ def test_tokenizer_threads_follow_numbas_thread_count(monkeypatch):
     assert len(data) > F._MIN_SPLIT
     seen = []
     orig = F._tokenize_array
-    monkeypatch.setattr(F, "_tokenize_array", lambda piece: seen.append(len(piece)) or orig(piece))
+    monkeypatch.setattr(
+        F, "_tokenize_array", lambda piece, *n: seen.append(len(piece)) or orig(piece, *n)
+    )
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
@@ -250,3 +252,30 @@ def test_epoch_columns_filled_on_threads_equal_the_calling_threads(monkeypatch):
         numba.set_num_threads(threads)
     assert len(alone) > 1000
     pd.testing.assert_frame_equal(threaded, alone, check_exact=True)
+
+
+@pytest.mark.parametrize(
+    ("engine", "size"), [("fast", "small"), ("fast", "chunked"), ("reference", "small")]
+)
+def test_size_guard_reads_the_first_max_lines_and_counts_the_rest(engine, size):
+    """Past ``max_lines`` the lines are counted as over the size limit and not read: the report
+    covers every line and the epochs are those of the first ``max_lines`` lines; at the limit
+    nothing is cut. (The fast tokenizer counts its chunks' lines first and only then cuts.)"""
+    import pandas as pd
+
+    from gripsense.io.nmea import schema as S
+    from gripsense.io.nmea.fast import _MIN_SPLIT
+    from gripsense.io.nmea.tokens import split_lines
+
+    base = b"".join(p.read_bytes() for p in GPSD_LOGS)
+    data = base if size == "small" else base * (_MIN_SPLIT // len(base) + 2)
+    lines = split_lines(data)
+    n, k = len(lines), len(lines) // 3
+    log = read_nmea(data, engine=engine, max_lines=k)
+    head = read_nmea(b"\n".join(lines[:k]) + b"\n", engine=engine)
+    assert log.report.total_lines == n
+    assert log.report.rejected[S.OVER_LIMIT] == n - k
+    assert sum(log.report.parsed.values()) == sum(head.report.parsed.values())
+    pd.testing.assert_frame_equal(log.epochs, head.epochs, check_exact=True)
+    full = read_nmea(data, engine=engine, max_lines=n)
+    assert full.report.rejected[S.OVER_LIMIT] == 0 and full.report.total_lines == n

@@ -69,10 +69,12 @@ _LC_OUTCOME = np.array([_LC[c][0] for c in range(len(_LC))], dtype=np.int8)
 _LC_LABEL = [_LC[c][1] for c in range(len(_LC))]
 
 
-def _tokenize_array(data) -> Tokens:
-    """Tokenize a buffer of whole lines (no chunking; reject details are added by the caller)."""
+def _tokenize_array(data, n: int | None = None) -> Tokens:
+    """Tokenize a buffer of whole lines (no chunking; reject details are added by the caller);
+    *n*: its number of lines when already counted.
+    """
     buf = np.frombuffer(data, dtype=np.uint8)
-    n = K.count_lines(buf)
+    n = K.count_lines(buf) if n is None else n
     NAME = {k: i for i, k in enumerate([*S.REASONS, S.BLANK, S.COMMENT])}
     raw = {k: empty_raw(s.fields) for k, s in S.SENTENCES.items()}
     if n == 0:
@@ -199,9 +201,18 @@ def count_lines_threaded(data: bytes) -> int:
     return int(n) + int(buf[-1] != 10)
 
 
+def _count(piece) -> int:
+    return int(K.count_lines(np.frombuffer(piece, dtype=np.uint8)))
+
+
 def tokenize_fast(
-    data: bytes, *, n_details: int = 20, chunk_bytes: int = 8 << 20, workers: int | None = None
-) -> Tokens:
+    data: bytes,
+    *,
+    n_details: int = 20,
+    chunk_bytes: int = 8 << 20,
+    workers: int | None = None,
+    max_lines: int | None = None,
+) -> Tokens | None:
     """Tokenize a buffer (same results as :func:`~gripsense.io.nmea.reference.tokenize_reference`).
 
     The buffer is cut at line ends into chunks of about *chunk_bytes* (inputs above 1 MB into
@@ -220,10 +231,14 @@ def tokenize_fast(
     workers : int or None
         Threads; default: numba's thread count for the calling thread (the number of CPUs
         unless set lower, e.g. 1 inside a fleet task), at most 4.
+    max_lines : int or None
+        Size guard: a buffer of more lines is not tokenized (its chunks' lines are counted
+        first, and those counts size the work arrays).
 
     Returns
     -------
-    Tokens
+    Tokens or None
+        None when the buffer holds more than *max_lines* lines.
     """
     chunk_bytes = min(chunk_bytes, 1 << 30)
     nb = len(data)
@@ -243,10 +258,16 @@ def tokenize_fast(
     mv = memoryview(data)
     pieces = [mv[a:b] for a, b in itertools.pairwise(cuts)]
     if len(pieces) == 1:
-        parts = [_tokenize_array(data)]
+        counts = [_count(data)]
+        if max_lines is not None and counts[0] > max_lines:
+            return None
+        parts = [_tokenize_array(data, counts[0])]
     else:
         with ThreadPoolExecutor(max_workers=n_workers) as ex:
-            parts = list(ex.map(_tokenize_array, pieces))
+            counts = list(ex.map(_count, pieces))
+            if max_lines is not None and sum(counts) > max_lines:
+                return None
+            parts = list(ex.map(_tokenize_array, pieces, counts))
     tok = _join(parts)
     if n_details:
         rej = np.flatnonzero(tok.outcome == REJECTED)[:n_details]

@@ -271,9 +271,13 @@ def read_nmea(
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
     inp = _read_source(source, max_bytes if decompress else -1)
-    _cap_lines(inp, max_lines)
+    # the fast tokenizer counts the lines of its chunks before anything else: the size guard
+    # cuts and re-reads only an input over the limit
+    tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
+    if tok is None:
+        _cap_lines(inp, max_lines)
+        tok = _ENGINES[engine](inp.data)
     data, name = inp.data, inp.name
-    tok = _ENGINES[engine](data)
     tables, malformed = decode_all(tok.raw)
     if malformed:
         lines = np.array([i for i, _ in malformed], dtype=np.int64)
