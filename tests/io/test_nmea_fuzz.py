@@ -211,28 +211,6 @@ def test_tokenizer_threads_follow_numbas_thread_count(monkeypatch):
     assert_same_tokens(one, two)
 
 
-@pytest.mark.parametrize("tail", [b"", b"\n", b"$GPHDT,1.0,T", b"\r\n\n"])
-def test_threaded_line_count_equals_the_line_split(tail):
-    """The size guard's threaded line count is the number of lines ``split_lines`` finds,
-    whatever byte the parts are cut at and whether the input ends with a line end."""
-    import numba
-
-    from gripsense.io.nmea.fast import _MIN_SPLIT, count_lines_threaded
-    from gripsense.io.nmea.tokens import split_lines
-
-    base = b"".join(p.read_bytes() for p in GPSD_LOGS)
-    data = base * (_MIN_SPLIT // len(base) + 2)
-    for cut in (0, 1, 7, 4096 + 3):
-        d = data[cut:] + tail
-        assert count_lines_threaded(d) == len(split_lines(d))
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
-        assert count_lines_threaded(data + tail) == len(split_lines(data + tail))
-    finally:
-        numba.set_num_threads(threads)
-
-
 def test_epoch_columns_filled_on_threads_equal_the_calling_threads(monkeypatch):
     """A long log's epoch columns are filled on the tokenizer's threads; the table is the one
     the calling thread alone builds (every column, to the bit)."""

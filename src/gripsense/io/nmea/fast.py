@@ -29,7 +29,7 @@ from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, _type_key, classify_line
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, lines_at
 
-__all__ = ["count_lines_threaded", "tokenize_fast"]
+__all__ = ["tokenize_fast"]
 
 _SUBTYPED = {int.from_bytes(a.encode().ljust(8, b"\0"), "little"): a.encode() for a in SUBTYPED}
 _SUBTYPED_WORDS = np.array(list(_SUBTYPED), dtype=np.uint64)
@@ -177,28 +177,6 @@ def _threads() -> int:
     task), at most 4.
     """
     return min(numba.get_num_threads(), 4)
-
-
-def count_lines_threaded(data: bytes) -> int:
-    """Number of lines of a buffer (as :func:`~gripsense.io.nmea.kernels.count_lines`), its
-    parts counted on the tokenizer's threads.
-
-    Parameters
-    ----------
-    data : bytes
-        The whole input.
-
-    Returns
-    -------
-    int
-    """
-    buf = np.frombuffer(data, dtype=np.uint8)
-    n_workers = _threads()
-    if n_workers == 1 or buf.size <= _MIN_SPLIT:
-        return int(K.count_lines(buf))
-    with ThreadPoolExecutor(max_workers=n_workers) as ex:
-        n = sum(ex.map(K.count_newlines, np.array_split(buf, n_workers)))
-    return int(n) + int(buf[-1] != 10)
 
 
 def _count(piece) -> int:

@@ -51,18 +51,11 @@ def _hex(b):
 
 
 @njit(cache=True, nogil=True)
-def count_newlines(buf):
-    """Number of LF bytes of a buffer."""
+def count_lines(buf):
+    """Number of lines of a buffer (see :func:`~gripsense.io.nmea.tokens.split_lines`)."""
     c = 0
     for i in range(buf.size):
         c += buf[i] == 10
-    return c
-
-
-@njit(cache=True, nogil=True)
-def count_lines(buf):
-    """Number of lines of a buffer (see :func:`~gripsense.io.nmea.tokens.split_lines`)."""
-    c = count_newlines(buf)
     if buf.size and buf[buf.size - 1] != 10:
         c += 1
     return c

@@ -44,7 +44,8 @@ from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.decode import decode_all
 from gripsense.io.nmea.epochs import assemble_epochs
-from gripsense.io.nmea.fast import count_lines_threaded, tokenize_fast
+from gripsense.io.nmea.fast import tokenize_fast
+from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import read_bytes
@@ -213,7 +214,7 @@ def _cap_lines(inp: _Input, max_lines: int) -> None:
     data = inp.data
     if len(data) <= max_lines:  # every line has at least one byte
         return
-    n = count_lines_threaded(data)
+    n = count_lines(np.frombuffer(data, dtype=np.uint8))
     if n <= max_lines:
         return
     cut = -1
@@ -271,8 +272,8 @@ def read_nmea(
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
     inp = _read_source(source, max_bytes if decompress else -1)
-    # the fast tokenizer counts the lines of its chunks before anything else: the size guard
-    # cuts and re-reads only an input over the limit
+    # the fast tokenizer counts its chunks' lines before anything else and stops over the
+    # limit; then (rare) the size guard counts, cuts and the kept lines are read
     tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
     if tok is None:
         _cap_lines(inp, max_lines)
