@@ -20,8 +20,25 @@ the truth (+0.01), the largest such excess, abstention.
 ``--kind transients`` drives slaloms instead (60 km/h, 3 s period, steering amplitude 2–8°:
 no steady segment), to show that non-steady windows contribute without bias.
 
-Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients]
-       [--workers 2] [--csv out.csv] [--plot benchmarks/accuracy.png]
+``--kind sweeps`` drives ISO 4138 ramp steers (70 km/h, to 99 % of the front axle's grip and
+beyond) with the same truth tyres. ``--truth commonroad`` uses a vehicle model gripsense did not
+write as the truth: CommonRoad's single-track drift model (``gripsense.sim.commonroad``: Pacejka
+tyres C 1.35, E ≈ 0, no lateral load transfer, wheel spin), for steady circles at 60–98 % of the
+limit (R 40 and 70 m, 25 s steady) and sweeps (ISO 4138 constant radius R 40 m with the speed
+rising, ramp steer at 70 km/h), μ 0.3–1.0.
+
+Each axle-case also gets the **physical limit** of its range
+(:func:`gripsense.physics.friction_limit.mu_range_limit`): the μ that the true operating points
+(1 s means of the axle's true slip and force after the settling time, ±0.01 in force per load)
+allow for the estimator's shape family and the declared stiffness's 90 % band — no estimator
+can be narrower without more information. Reported per cell: an upper end given (u ≥ 0.8, fit
+consistent), the median width of the range over the limit's width, values, coverage, bias, the
+"is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
+median width (a better receiver must not say less).
+
+Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps]
+       [--truth gripsense|commonroad] [--workers 2] [--csv out.csv]
+       [--plot benchmarks/accuracy.png]
 """
 
 from __future__ import annotations
@@ -45,6 +62,8 @@ def manoeuvres(mu: float, quick: bool, kind: str = "circles") -> list[tuple[str,
     at 60 km/h, 3 s period, from everyday to beyond the limit: no steady segment at all)."""
     from gripsense.sim.drives import limit_speed
 
+    if kind == "sweeps":  # ISO 4138 ramp steer at 70 km/h: 1 °/s at the road wheels
+        return [("ramp steer 70 km/h", 70 / 3.6, -100.0)]
     if kind == "transients":
         amps = (3.0, 7.0) if quick else (2.0, 4.0, 6.0, 8.0)
         return [(f"slalom {a:g}° 60 km/h", 60 / 3.6, -a) for a in amps]
@@ -92,6 +111,87 @@ def jobs(
     return out
 
 
+CR_MUS = (0.3, 0.5, 0.7, 0.9, 1.0)
+
+
+def jobs_commonroad(quick: bool, receivers=("white-0.3",)) -> list[dict]:
+    """CommonRoad single-track drives: steady circles at utilisation 0.6–0.98 (R 40, 70 m) and
+    the two ISO 4138 sweeps."""
+    from gripsense.sim.drives import limit_speed
+
+    out = []
+    rng = np.random.default_rng(26)
+    mus = (0.3, 0.7, 1.0) if quick else CR_MUS
+    us = (0.8, 0.92, 0.98) if quick else (0.6, 0.7, 0.8, 0.9, 0.95, 0.98)
+    for mu in mus:
+        plans = [
+            (f"circle u{u:.2f} R{r}", ("circle", limit_speed(mu, r, u), float(r)))
+            for u in us
+            for r in ((70,) if quick else (40, 70))
+        ]
+        plans.append(
+            (
+                "constant radius R40 rising",
+                ("radius", 40.0, limit_speed(mu, 40.0, 0.5), limit_speed(mu, 40.0, 1.1)),
+            )
+        )
+        plans.append(("ramp steer 70 km/h", ("ramp", 70 / 3.6)))
+        for name, plan in plans:
+            for rec in receivers:
+                out.append(
+                    {
+                        "truth": "commonroad",
+                        "tyre": "cr-pacejka",
+                        "vehicle": "cr-vehicle2",
+                        "mu_road": mu,
+                        "manoeuvre": name,
+                        "plan": plan,
+                        "speed_mps": float(plan[1]) if plan[0] != "radius" else float(plan[2]),
+                        "radius_m": float(plan[2]) if plan[0] == "circle" else np.nan,
+                        "receiver": rec,
+                        "cg_factor": 1.0,
+                        "stiffness_error": float(rng.uniform(-0.1, 0.1)),
+                        "seed": len(out) + 1,
+                    }
+                )
+    return out
+
+
+def physical_limit(truth: pd.DataFrame, settle_s: float, vehicle, axle: str, band) -> tuple:
+    """The range the true operating points of an axle allow (module docstring)."""
+    from gripsense.physics.friction_limit import mu_range_limit
+
+    t = truth[(truth["t_s"] >= settle_s) & truth["wheel"].astype(str).str.startswith(axle)]
+    if t.empty:
+        return np.nan, np.nan
+    g = t.assign(k=np.floor(t["t_s"])).groupby("k")
+    fz = g["load_N"].sum()
+    y = (g["force_N"].sum().abs() / fz).to_numpy()
+    slip = g["slip_angle_rad"].apply(lambda a: float(np.mean(np.abs(a)))).to_numpy()
+    cn = vehicle.cornering_stiffness(axle, vehicle.static_load(axle)) / vehicle.static_load(axle)
+    keep = y >= 0.5 * y.max()  # the informative points (near-linear ones add nothing)
+    lo, hi = mu_range_limit(y[keep], slip[keep], cn, stiffness_band=band, tolerance=0.01)
+    if not np.isfinite(lo):  # not one curve at 0.01 (load transfer): the highest point alone
+        i = int(np.argmax(y))
+        lo, hi = mu_range_limit(y[i], slip[i], cn, stiffness_band=band, tolerance=0.01)
+    return lo, hi
+
+
+def _cr_drive(job: dict):
+    from gripsense.sim import commonroad as CR
+
+    plan = job["plan"]
+    if plan[0] == "circle":
+        p = CR.cr_circle(plan[1], plan[2])
+    elif plan[0] == "radius":
+        p = CR.cr_constant_radius(plan[1], plan[2], plan[3])
+    else:
+        p = CR.cr_ramp_steer(plan[1], rate_deg_s=0.5, max_steer_deg=8.0)
+    d = CR.commonroad_drive(p, job["mu_road"], receiver=job["receiver"], seed=job["seed"])
+    uv = CR.commonroad_vehicle(stiffness_error=job["stiffness_error"])
+    return d, uv
+
+
 def one(job: dict) -> list[dict]:
     from gripsense import FrictionRun
     from gripsense.estimate.noise import NoiseModel
@@ -100,7 +200,13 @@ def one(job: dict) -> list[dict]:
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
-    if job["radius_m"] > 0:
+    if job.get("truth") == "commonroad":
+        d, uv = _cr_drive(job)
+    elif job["radius_m"] <= -100:  # ISO 4138 ramp steer, 1 °/s, after a 6 s straight
+        m = M.ramp_steer(job["speed_mps"], rate_rad_s=np.deg2rad(1.0),
+                         max_steer_rad=np.deg2rad(14.0), hold_s=6.0)  # fmt: skip
+        circle = None
+    elif job["radius_m"] > 0:
         m, circle = None, (job["speed_mps"], job["radius_m"])
     else:  # a slalom after a 6 s straight (heading calibration)
         amp = np.deg2rad(-job["radius_m"])
@@ -108,21 +214,22 @@ def one(job: dict) -> list[dict]:
         steer = np.where(t < 6.0, 0.0, amp * np.sin(2 * np.pi * (t - 6.0) / 3.0))
         m = M.slalom(job["speed_mps"], amplitude_rad=amp, period_s=3.0, cycles=8)
         m.steer_table, m.duration_s, m.settle_s, circle = (t, steer), 24.0, 6.0, None
-    d = simulate_drive(
-        job["vehicle"],
-        job["tyre"],
-        m,
-        job["mu_road"],
-        receiver=job["receiver"],
-        seed=job["seed"],
-        circle=circle,
-    )
-    uv = user_vehicle(
-        truth_vehicle(job["vehicle"]),
-        job["tyre"],
-        stiffness_error=job["stiffness_error"],
-        cg_height_factor=job["cg_factor"],
-    )
+    if job.get("truth") != "commonroad":
+        d = simulate_drive(
+            job["vehicle"],
+            job["tyre"],
+            m,
+            job["mu_road"],
+            receiver=job["receiver"],
+            seed=job["seed"],
+            circle=circle,
+        )
+        uv = user_vehicle(
+            truth_vehicle(job["vehicle"]),
+            job["tyre"],
+            stiffness_error=job["stiffness_error"],
+            cg_height_factor=job["cg_factor"],
+        )
     ep = read_nmea(d.lines).epochs
     ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
     steer = steer_at(ch, ep["t_s"].to_numpy(float))
@@ -131,19 +238,27 @@ def one(job: dict) -> list[dict]:
     res = run.run(ep, steer_rad=steer)
     wall = time.perf_counter() - t0
     truth = d.axles.set_index("axle")
+    # the declared stiffness's 90 % band (around the declared value)
+    u_c = max(t.stiffness_uncertainty for t in uv.tyres.values())
+    band = (np.exp(-1.645 * np.log1p(u_c)), np.exp(1.645 * np.log1p(u_c)))
     rows = []
     for s in res.summary.to_dict("records"):
         ax = s["axle"]
         if ax not in truth.index:
             continue
         t = truth.loc[ax]
+        lim_lo, lim_hi = physical_limit(d.truth, d.settle_s, uv, ax, band)
         rows.append(
             {
-                **job,
+                **{k: v for k, v in job.items() if k != "plan"},
+                "limit_low": lim_lo,
+                "limit_high": lim_hi,
+                "slippery": s.get("slippery", ""),
                 "axle": ax,
                 "mu_true": t["mu_true"],
                 "mu_true_max": t["mu_true_max"],
                 "utilisation": t["utilisation"],
+                "utilisation_max": t["utilisation_max"],
                 "grip_used_lower": s["grip_used_lower"],
                 "observable": bool(s["observable"]),
                 "mu": s["mu"],
@@ -168,9 +283,29 @@ def scores(df: pd.DataFrame) -> pd.Series:
     excess = (df["grip_used_lower"] - df["mu_true"]).fillna(-1)
     u6, u8 = df["utilisation"] >= 0.6, df["utilisation"] >= 0.8
     near = obs & u8
+    u95 = df["utilisation_max"] >= 0.95 if "utilisation_max" in df else df["utilisation"] >= 0.95
+    consistent = df["fit"] != "inconsistent"
+    near8 = u8 & consistent
+    width = df["mu_high"] - df["mu_low"]
+    lim_w = df["limit_high"] - df["limit_low"] if "limit_high" in df else width * np.nan
+    ratio = (width / lim_w)[near8 & np.isfinite(width) & np.isfinite(lim_w) & (lim_w > 0)]
+    call = df["slippery"] if "slippery" in df else pd.Series("", index=df.index)
+    low = (df["mu_true"] <= 0.31) & (df["utilisation"] >= 0.85)
+    high = df["mu_true"] >= 0.8
     return pd.Series(
         {
             "n": len(df),
+            "upper_u0.8": float(np.isfinite(df["mu_high"])[near8].mean())
+            if near8.any()
+            else np.nan,
+            "limit_upper_u0.8": float(np.isfinite(lim_w)[near8].mean()) if near8.any() else np.nan,
+            "width_u0.8": float(width[near8 & np.isfinite(width)].median())
+            if (near8 & np.isfinite(width)).any()
+            else np.nan,
+            "width/limit": float(ratio.median()) if len(ratio) else np.nan,
+            "given_u0.95": float(obs[u95].mean()) if u95.any() else np.nan,
+            "slippery_right": f"{int((call[low] == 'slippery').sum())}/{int(low.sum())}",
+            "slippery_wrong": int((call[high] == "slippery").sum()),
             "given_u0.6": float(obs[u6].mean()) if u6.any() else np.nan,
             "given_u0.8": float(obs[u8].mean()) if u8.any() else np.nan,
             "within_0.05_u0.8": float(
@@ -198,16 +333,20 @@ def main() -> None:
     ap.add_argument("--tyres", default=",".join(TYRES))
     ap.add_argument("--vehicles", default=",".join(VEHICLES))
     ap.add_argument("--receivers", default=",".join(RECEIVERS))
-    ap.add_argument("--kind", default="circles", choices=("circles", "transients"))
+    ap.add_argument("--kind", default="circles", choices=("circles", "transients", "sweeps"))
+    ap.add_argument("--truth", default="gripsense", choices=("gripsense", "commonroad"))
     args = ap.parse_args()
-    todo = jobs(
-        args.quick,
-        args.wrong_cg,
-        tuple(args.tyres.split(",")),
-        tuple(args.vehicles.split(",")),
-        tuple(args.receivers.split(",")),
-        args.kind,
-    )
+    if args.truth == "commonroad":
+        todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")))
+    else:
+        todo = jobs(
+            args.quick,
+            args.wrong_cg,
+            tuple(args.tyres.split(",")),
+            tuple(args.vehicles.split(",")),
+            tuple(args.receivers.split(",")),
+            args.kind,
+        )
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as ex:
         rows = [r for part in ex.map(one, todo, chunksize=4) for r in part]
@@ -226,6 +365,19 @@ def main() -> None:
         by_t = w3.groupby("tyre").apply(scores, include_groups=False)
         print("\nwhite-0.3 receiver, per truth tyre\n" + by_t.to_string(**fmt))
     print("\noverall\n" + scores(df).to_string(**fmt))
+    if df["manoeuvre"].nunique() > 1:
+        by_m = df.groupby(["manoeuvre"]).apply(scores, include_groups=False)
+        print("\nper manoeuvre\n" + by_m.to_string(**fmt))
+    # information never falls with better data: the median width per receiver and cell
+    u8 = df[(df["utilisation"] >= 0.8) & (df["fit"] != "inconsistent")]
+    if u8["receiver"].nunique() > 1:
+        w = (u8["mu_high"] - u8["mu_low"]).replace(np.inf, np.nan)
+        fin = u8.assign(width=w, upper=np.isfinite(u8["mu_high"]))
+        mono = fin.groupby(["tyre", "vehicle", "receiver"]).agg(
+            upper=("upper", "mean"), width=("width", "median")
+        )
+        print("\nper cell and receiver (u ≥ 0.8): upper end given, median width\n"
+              + mono.unstack("receiver").to_string(**fmt))  # fmt: skip
     what = df[df["observable"] | (df["utilisation"] >= 0.8)]
     lim = what.groupby(["receiver", "limited_by"]).size().rename("axle-cases")
     print("\nwhat limits the estimate (utilisation ≥ 0.8 or a value given)\n" + lim.to_string())

@@ -10,6 +10,7 @@ result (:class:`~gripsense.estimate.results.WheelFriction` or
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import fields, replace
 from pathlib import Path
@@ -52,9 +53,14 @@ def _axle_window(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> Friction
     wheels = wheels.assign(
         mu=np.nan, mu_sigma=np.nan, flag=wheels["flag"].replace({"ok": "per_axle"})
     )
-    windows, axles = estimate_windows(
-        wheels, run.vehicle, noise=run.options.noise, options=run.window
-    )
+    noise = run.options.noise
+    n_straight, spread = meta.get("straight_samples", 0), meta.get("heading_offset_spread_deg")
+    if spread is not None and n_straight > 0 and noise.heading_calibration_deg is None:
+        # the heading offset's standard error from this drive's own straights
+        noise = dataclasses.replace(
+            noise, heading_calibration_deg=float(spread) / float(np.sqrt(n_straight))
+        )
+    windows, axles = estimate_windows(wheels, run.vehicle, noise=noise, options=run.window)
     return AxleFriction(
         wheels=wheels,
         summary=summarize_axles(axles),

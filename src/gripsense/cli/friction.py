@@ -168,6 +168,7 @@ def _(result: AxleFriction) -> None:
         "μ estimate",
         "90 % interval",
         "surface",
+        "slippery?",
         "limited by",
         "windows with a value",
     ):
@@ -175,7 +176,7 @@ def _(result: AxleFriction) -> None:
     win = result.windows
     for rec in result.summary.to_dict("records"):
         if not rec.get("n"):
-            table.add_row(rec["axle"], "—", "—", "—", "—", "—", "no cornering", "—")
+            table.add_row(rec["axle"], "—", "—", "—", "—", "—", "unknown", "no cornering", "—")
             continue
         mu = f"{rec['mu']:.2f}" if rec["observable"] else "no value"
         lo, hi = rec.get("mu_low", np.nan), rec.get("mu_high", np.nan)
@@ -193,6 +194,7 @@ def _(result: AxleFriction) -> None:
             mu,
             iv,
             rec["surface"],
+            str(rec.get("slippery", "unknown")),
             "" if rec["observable"] else str(rec.get("limited_by") or ""),
             obs,
         )

@@ -74,6 +74,10 @@ BIN_COLUMNS = (
 )
 FORCE_MODEL_REL = 0.04
 """Relative 1σ of a bin's force that no curve of the family reproduces (tyre-model fidelity)."""
+STRAINED_REL = 0.02
+"""A model interval whose upper end lies within this fraction above the measured-grip bound is
+strained: its range would be (nearly) zero-width, narrower than the force model's own fidelity
+(:data:`FORCE_MODEL_REL`), so the upper end is dropped and the fit flagged ``strained``."""
 _OUT = ("low_speed", "not_cornering", "wheel_lifted")
 
 
@@ -382,8 +386,16 @@ def _priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> _Priors:
     # (a Gauss–Markov process, widened by slow_error_margin: real heading errors have heavier
     # tails than a Gaussian, and slip drift at constant force must not pass for saturation)
     floor = np.deg2rad(max(0.5 * noise.heading_white_deg, 0.02))
-    sd_cal = max(np.deg2rad(noise.heading_slow_deg), floor)
-    sd_drift = max(np.deg2rad(noise.slow_error_margin * noise.heading_slow_deg), floor)
+    # the calibration's own standard error when the offset was calibrated on straights (the
+    # white noise averaged over them, and ~0.03° for straights that are not quite straight);
+    # a longer straight or a better receiver then narrows the prior instead of a fixed floor
+    cal = noise.heading_calibration_deg
+    floor_cal = floor if cal is None else np.deg2rad(float(np.hypot(cal, 0.03)))
+    sd_cal = max(np.deg2rad(noise.heading_slow_deg), floor_cal)
+    # the drift is the declared slow error's (a receiver declared better than its data are is
+    # caught by the fit check); a small floor for a receiver declared without one
+    floor_drift = np.deg2rad(max(0.1 * noise.heading_white_deg, 0.02))
+    sd_drift = max(np.deg2rad(noise.slow_error_margin * noise.heading_slow_deg), floor_drift)
     # a steered axle's body-axis force is F_y cos δ + F_x sin δ: undriven (F_x ≈ 0) F_y = F/cos δ,
     # driven, roughly F cos δ (the drive force balances the turn's drag); the drive force is not
     # measured, so the exponent d of cos^d δ is a nuisance around 0 (±1)
@@ -540,11 +552,22 @@ def _profile(
         np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
     )
     if far_from_limit:
-        # the model's interval is not trusted: say only what the data prove
-        lo, hi, observable = (grip_lower if np.isfinite(grip_lower) else 0.0), np.inf, False
+        # no value: the interval's lower end is not trusted (far from the limit it can come
+        # from a degeneracy of the nuisances), so the range starts at what the data prove; its
+        # upper end stays — the data exclude a tyre that linear, and dropping it would say
+        # less than the physics allows (docs/physics.md §15.5)
+        lo, observable = (grip_lower if np.isfinite(grip_lower) else 0.0), False
     # a model interval that lies below what the data prove without a model contradicts itself
+    strained = False
     if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
         fit, observable = "inconsistent", False
+    elif np.isfinite(grip_lower) and hi <= (1.0 + STRAINED_REL) * grip_lower:
+        # the model's upper end reaches what the data prove: no curve of the family carries
+        # the measured force with room to spare — the model is strained, its upper end is not
+        # trusted (a zero-width or inverted range would be the result)
+        strained, observable, hi, hi_p = True, False, np.inf, np.inf
+        if fit == "ok":
+            fit = "strained"
     names = (
         "stiffness",
         "camber",
@@ -557,7 +580,9 @@ def _profile(
         "drive force on the steered axle",
     )
     limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
-    if not observable and fit == "ok" and far_from_limit:
+    if strained:
+        limited = "tyre model strained (its upper end reaches the measured grip)"
+    elif not observable and fit == "ok" and far_from_limit:
         limited = (
             "too little lateral acceleration (the measured grip is below half of what the "
             "model would say: not near the limit)"
@@ -606,7 +631,10 @@ class _Reuse:
             est = dict(self.est)
             if np.isfinite(lower):
                 est["mu_low"] = max(est["mu_low"], lower)
-            return est
+                est["mu"] = max(est["mu"], lower) if est["observable"] else est["mu"]
+            if not est["mu_high"] <= (1.0 + STRAINED_REL) * est["mu_low"]:
+                return est
+            # this window's bound strains the previous answer: its own profile decides
         est = _profile(merged, mid, pri, shapes, p0, o, lower)
         self.data, self.est = merged.copy(), est
         return dict(est)

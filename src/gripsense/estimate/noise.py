@@ -63,6 +63,11 @@ class NoiseModel:
         (``axle-window``). The relation neglects the yaw moment of the front wheels' forces at
         large steering angles, (t/2)(F_y,R − F_y,L) sin δ: a few % at 10° of steer (measured on
         the simulator). Systematic: it does not average out over a window.
+    heading_calibration_deg : float or None
+        Standard error of the heading offset calibrated on straight driving [deg]: the spread
+        of heading − course over the straight samples divided by √n (set by the run from its
+        calibration; None: not calibrated, the ``axle-window`` slip-offset prior falls back to
+        half the white noise).
     """
 
     heading_deg: float = 0.75
@@ -78,6 +83,7 @@ class NoiseModel:
     load_transfer_rel: float = 0.1
     axle_force_rel: float = 0.03
     steer_scale_rel: float = 0.05
+    heading_calibration_deg: float | None = None
 
     @classmethod
     def for_vehicle(

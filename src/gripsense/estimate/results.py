@@ -28,7 +28,7 @@ from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.estimate.friction import FLAGS, NOT_STEADY_CORNERING
 from gripsense.estimate.noise import NoiseModel
 from gripsense.io.results import read_result_folder, write_result_folder
-from gripsense.physics.surface import surface_class_interval
+from gripsense.physics.surface import slippery_call, surface_class_interval
 
 __all__ = [
     "ESTIMATE_COLUMNS",
@@ -37,6 +37,7 @@ __all__ = [
     "FrictionResult",
     "WheelFriction",
     "read_result",
+    "slippery_from_range",
     "summarize_axles",
     "summarize_wheels",
 ]
@@ -65,6 +66,7 @@ UNIT_COLUMNS = [
     "mu_low",
     "mu_high",
     "surface",
+    "slippery",
     "observable",
     "grip_used",
     "grip_used_lower",
@@ -171,6 +173,8 @@ class FrictionResult:
     def unit_table(self) -> pd.DataFrame:
         """The summary in the same columns for every method (:data:`UNIT_COLUMNS`)."""
         s = self.summary.rename(columns={self.unit: "unit"})
+        if "slippery" not in s and {"mu_low", "mu_high"} <= set(s.columns):
+            s = s.assign(slippery=slippery_from_range(s))
         return s.reindex(columns=UNIT_COLUMNS)
 
     def replace(self, **changes) -> FrictionResult:
@@ -398,16 +402,18 @@ class AxleFriction(FrictionResult):
                 parts.append(f"{ax}: no cornering to analyse")
                 continue
             proven = _proven(rec)
+            call = rec.get("slippery", "unknown")
+            said = f" — {call}" if call in ("slippery", "not slippery") else ""
             if rec.get("fit") == "inconsistent":
                 parts.append(
                     f"{ax}: no estimate — the data contradict the tyre model (heading offset, "
-                    f"vehicle or tyre parameters?){proven}"
+                    f"vehicle or tyre parameters?){proven}{said}"
                 )
             elif rec["observable"]:
                 parts.append(
                     f"{ax}: μ ≈ {rec['mu']:.2f} [{rec['mu_low']:.2f}, {rec['mu_high']:.2f}] "
                     f"(estimate, 90 %, tyre-shape uncertainty included; {rec['surface']})"
-                    f"{proven}"
+                    f"{proven}{said}"
                 )
             else:
                 hi = rec.get("mu_high", np.nan)
@@ -417,7 +423,7 @@ class AxleFriction(FrictionResult):
                     else ""
                 )
                 why = rec.get("limited_by") or "not enough near-limit data"
-                parts.append(f"{ax}: no value ({why}){proven}{est}")
+                parts.append(f"{ax}: no value ({why}){proven}{est}{said}")
         return "; ".join(parts)
 
     def estimates(self) -> pd.DataFrame:
@@ -550,6 +556,29 @@ def summarize_wheels(
     return pd.DataFrame(rows, columns=cols)
 
 
+def slippery_from_range(table: pd.DataFrame) -> np.ndarray:
+    """The answer to "is it slippery?" per row of a table with ``mu_low``, ``mu_high`` and
+    (optionally) ``grip_used_lower``: :func:`~gripsense.physics.surface.slippery_call` of the
+    range, whose
+    lower end is at least the measured grip (the data alone can prove "not slippery", also where
+    the model gave no range).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Summary rows.
+
+    Returns
+    -------
+    numpy.ndarray of str
+        ``slippery``, ``not slippery`` or ``unknown`` per row.
+    """
+    lo = table["mu_low"].to_numpy(float)
+    if "grip_used_lower" in table:
+        lo = np.fmax(lo, table["grip_used_lower"].to_numpy(float))
+    return np.asarray(slippery_call(lo, table["mu_high"].to_numpy(float)), dtype=str)
+
+
 def summarize_axles(summary: pd.DataFrame) -> pd.DataFrame:
     """The per-axle summary of :func:`gripsense.estimate.axle_window.estimate_windows` with
     the Table-4 surface class of each observable axle's interval.
@@ -562,7 +591,7 @@ def summarize_axles(summary: pd.DataFrame) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        The same with a ``surface`` column.
+        The same with ``surface`` and ``slippery`` columns.
     """
     s = summary.copy()
     if len(s) and "mu_low" in s:
@@ -570,6 +599,7 @@ def summarize_axles(summary: pd.DataFrame) -> pd.DataFrame:
             str(surface_class_interval(lo, hi)) if obs else "undetermined"
             for lo, hi, obs in zip(s["mu_low"], s["mu_high"], s["observable"], strict=True)
         ]
+        s["slippery"] = slippery_from_range(s)
     return s
 
 

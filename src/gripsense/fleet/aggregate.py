@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.constants import Z90
-from gripsense.physics.surface import surface_class_interval
+from gripsense.physics.surface import slippery_call, surface_class_interval
 
 __all__ = ["CELL_COLUMNS", "aggregate_cells", "cells_geojson", "write_geojson"]
 
@@ -24,6 +24,7 @@ CELL_COLUMNS = [
     "grip_used_lower",
     "status",
     "surface",
+    "slippery",
     "n_estimates",
     "n_rows",
     "n_vehicles",
@@ -56,7 +57,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     -------
     pandas.DataFrame
         ``cell, bucket, mu, mu_sigma, mu_low, mu_high, grip_used, grip_used_lower, status,
-        surface,
+        surface, slippery (``slippery``/``not slippery``/``unknown``),
         n_estimates, n_rows, n_vehicles, n_passes, last_update``.
     """
     import duckdb
@@ -114,6 +115,14 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
         for lo, hi, h in zip(df["mu_low"], df["mu_high"], has, strict=True)
     ]
     df["surface"] = df["surface"].astype(str)
+    # "is it slippery?": the cell's range, its lower end at least the measured grip
+    df["slippery"] = np.asarray(
+        slippery_call(
+            np.fmax(df["mu_low"].to_numpy(float), df["grip_used_lower"].to_numpy(float)),
+            df["mu_high"].to_numpy(float),
+        ),
+        dtype=str,
+    )
     return df[CELL_COLUMNS]
 
 

@@ -57,6 +57,7 @@ const layer = L.geoJSON(cells, {{
       (p.mu === null ? `no μ estimate`
                      : `estimate μ ≈ ${{fmt(p.mu, 2)}} [${{fmt(p.mu_low, 2)}}, ` +
                        `${{fmt(p.mu_high, 2)}}] (90 %, tyre model)<br>surface ${{p.surface}}`) +
+      `<br><b>${{p.slippery || "unknown"}}</b> (slippery: μ < 0.5 at 95 %)` +
       `<br>measured: the data prove μ ≥ ${{fmt(p.grip_used_lower, 2)}} ` +
       `(model-free, level road)` +
       `<br>${{p.n_estimates}} estimates, ${{p.n_vehicles}} vehicles, ${{p.n_passes}} passes` +
@@ -75,6 +76,8 @@ legend.onAdd = () => {{
   }}
   h += '<span class="swatch" style="background:#888888;opacity:.5"></span>' +
        'measured grip only (no estimate)<br>';
+  h += 'slippery: μ < 0.5 at 95 %; not slippery: μ > 0.5 at 95 %; else unknown (click a ' +
+       'cell)<br>';
   h += '<label><input type="checkbox" id="tiles"> background map (needs network)</label>';
   d.innerHTML = h;
   L.DomEvent.disableClickPropagation(d);

@@ -54,12 +54,13 @@ def render(summary, stats, ingest, source):
         "μ estimate",
         "90 % interval",
         "surface",
+        "slippery?",
         "measured: data prove μ ≥",
         "n valid",
     ):
         t.add_column(c, justify="right")
     if summary is None or len(summary) == 0:
-        t.add_row("–", "no steady cornering yet", "", "", "", "")
+        t.add_row("–", "no steady cornering yet", "", "", "", "", "")
     else:
         for r in summary.to_dict("records"):
             mu = r.get("mu", np.nan)
@@ -75,6 +76,7 @@ def render(summary, stats, ingest, source):
             t.add_row(
                 str(r.get("unit")),
                 *cells,
+                str(r.get("slippery", "unknown")),
                 f"{lb:.2f}" if np.isfinite(lb) else "",
                 str(r.get("n_valid", "")),
             )

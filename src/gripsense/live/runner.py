@@ -117,7 +117,7 @@ class LiveFriction:
     def _online_estimate(self, ep: pd.DataFrame) -> pd.DataFrame:
         """Feed the samples that became final to the online estimators; the newest windows."""
         from gripsense.estimate.axle_window import OnlineAxleWindow
-        from gripsense.physics.surface import surface_class_interval
+        from gripsense.physics.surface import slippery_call, surface_class_interval
 
         try:
             wheels, _ = self.run.wheel_table(ep)
@@ -153,6 +153,7 @@ class LiveFriction:
                     "mu_low": lo,
                     "mu_high": hi,
                     "surface": str(surface_class_interval(lo, hi)) if obs else "undetermined",
+                    "slippery": slippery_call(np.fmax(lo, r.get("grip_used_lower", np.nan)), hi),
                     "observable": obs,
                     "grip_used": r.get("grip_used", np.nan),
                     "grip_used_lower": r.get("grip_used_lower", np.nan),

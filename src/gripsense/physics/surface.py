@@ -10,7 +10,13 @@ import numpy as np
 
 from gripsense._arrays import as_float_array
 
-__all__ = ["SURFACE_BANDS", "surface_class", "surface_class_interval"]
+__all__ = [
+    "SLIPPERY_MU",
+    "SURFACE_BANDS",
+    "slippery_call",
+    "surface_class",
+    "surface_class_interval",
+]
 
 # (name, lower bound, upper bound) of μ, in increasing order; Table 4 with its gaps split
 SURFACE_BANDS = (
@@ -58,3 +64,38 @@ def surface_class_interval(mu_low, mu_high):
         return lo if lo == hi else UNDETERMINED
     lo_a, hi_a = np.broadcast_arrays(np.asarray(lo, dtype=object), np.asarray(hi, dtype=object))
     return np.where(lo_a == hi_a, lo_a, UNDETERMINED)
+
+
+SLIPPERY_MU = 0.5
+"""Friction below which a road is called slippery [-] (the wet band of Table 4 and below)."""
+SLIPPERY, NOT_SLIPPERY, UNKNOWN = "slippery", "not slippery", "unknown"
+
+
+def slippery_call(mu_low, mu_high, threshold: float = SLIPPERY_MU):
+    """The answer to "is it slippery?" from a 90 % range of μ: ``slippery`` when the upper end is
+    below *threshold* (μ < threshold at 95 %, one-sided), ``not slippery`` when the lower end is
+    above it (the lower end is the larger of the model's 95 % end and the 99 % measured-grip
+    bound, so μ > threshold at ≥ 95 %), else ``unknown`` (also for a missing range).
+
+    Parameters
+    ----------
+    mu_low : array_like
+        Lower end of the range [-] (the measured-grip bound where there is no estimate).
+    mu_high : array_like
+        Upper end [-] (inf when unbounded).
+    threshold : float
+        The friction that separates the calls [-].
+
+    Returns
+    -------
+    str or numpy.ndarray of str
+        ``slippery``, ``not slippery`` or ``unknown``.
+    """
+    lo = as_float_array(mu_low, "mu_low")
+    hi = as_float_array(mu_high, "mu_high")
+    lo, hi = np.broadcast_arrays(lo, hi)
+    with np.errstate(invalid="ignore"):
+        slip = np.isfinite(hi) & (hi < threshold) & ~(lo > hi)
+        firm = np.isfinite(lo) & (lo > threshold)
+    out = np.where(slip, SLIPPERY, np.where(firm, NOT_SLIPPERY, UNKNOWN)).astype(object)
+    return str(out) if np.ndim(mu_low) == 0 and np.ndim(mu_high) == 0 else out

@@ -96,17 +96,20 @@ def _compact(summary: pd.DataFrame, unit: str) -> str:
     for r in summary.to_dict("records"):
         mu = r.get("mu", np.nan)
         obs = bool(r.get("observable", False)) and mu is not None and np.isfinite(mu)
-        est = (
-            f"μ ≈ {mu:.2f} [{r.get('mu_low', np.nan):.2f}, {r.get('mu_high', np.nan):.2f}]"
-            if obs
-            else "no value — measured grip only"
-        )
+        hi = r.get("mu_high", np.nan)
         b = r.get("grip_used_lower", np.nan)
+        if obs:
+            est = f"μ ≈ {mu:.2f} [{r.get('mu_low', np.nan):.2f}, {hi:.2f}]"
+        elif hi is not None and np.isfinite(hi) and np.isfinite(b) and hi > b:
+            est = f"no value — μ ≤ {hi:.2f} (upper end only)"
+        else:
+            est = "no value — measured grip only"
         row = {
             unit: r.get(unit, ""),
             "estimate (model-based, 90 %)": est,
             "measured: the data prove": f"μ ≥ {b:.2f}" if b is not None and np.isfinite(b) else "—",
             "surface": r.get("surface", "") if obs else "undetermined",
+            "slippery? (μ < 0.5 at 95 %)": r.get("slippery", "unknown"),
         }
         if "limited_by" in r:
             row["what limits the estimate"] = r.get("limited_by") or ""
@@ -321,6 +324,7 @@ def render_report(
                 "mu_low",
                 "mu_high",
                 "surface",
+                "slippery",
                 "observable",
                 "n_valid",
                 "n",

@@ -18,9 +18,11 @@ __all__ = [
     "Maneuver",
     "braking",
     "circle",
+    "constant_radius",
     "fixed_steer",
     "ramp_steer",
     "run",
+    "sine_with_dwell",
     "slalom",
     "thesis_grid_2016",
     "thesis_grid_2018",
@@ -113,6 +115,121 @@ def circle(
             "left": left,
             "lead_s": lead_s,
         },
+    )
+
+
+def constant_radius(
+    radius_m: float,
+    speed_start_mps: float,
+    speed_end_mps: float,
+    *,
+    accel_mps2: float = 0.1,
+    lead_s: float = 6.0,
+    settle_s: float = 6.0,
+    params: V.SimParams | None = None,
+) -> Maneuver:
+    """ISO 4138 steady-state circular driving, constant-radius method with the speed rising:
+    a straight lead-in, the circle at *speed_start_mps*, then the speed raised slowly
+    (quasi-steady, *accel_mps2*) to *speed_end_mps* — the axles climb their curves to the limit
+    (beyond it the car leaves the circle).
+
+    Parameters
+    ----------
+    radius_m : float
+        Radius [m].
+    speed_start_mps, speed_end_mps : float
+        Speed at the start and the end of the sweep [m/s].
+    accel_mps2 : float
+        Speed increase per second [m/s²] (ISO 4138: slow enough to be quasi-steady).
+    lead_s : float
+        Straight lead-in (heading calibration) [s].
+    settle_s : float
+        Time on the circle before the speed rises [s].
+    params : SimParams, optional
+        The vehicle (puts the rear axle on the lead-in line).
+
+    Returns
+    -------
+    Maneuver
+        The manoeuvre.
+    """
+    m = circle(speed_start_mps, radius_m, laps=0.0, lead_s=lead_s, settle_s=settle_s,
+               params=params)  # fmt: skip
+    m.controller[V.C_SPEED_MODE] = V.SPEED_RAMP
+    m.controller[V.C_ACCEL] = accel_mps2
+    m.controller[V.C_T_BRAKE] = lead_s + settle_s
+    sweep = max(speed_end_mps - speed_start_mps, 0.0) / accel_mps2
+    m.duration_s = lead_s + settle_s + sweep
+    m.name = (
+        f"constant radius R={radius_m:.0f}m {speed_start_mps * 3.6:.0f}->"
+        f"{speed_end_mps * 3.6:.0f}km/h"
+    )
+    m.info = {
+        "maneuver": "constant_radius",
+        "radius_m": radius_m,
+        "speed_start_mps": speed_start_mps,
+        "speed_end_mps": speed_end_mps,
+        "accel_mps2": accel_mps2,
+    }
+    return m
+
+
+def sine_with_dwell(
+    speed_mps: float,
+    *,
+    amplitude_rad: float = np.deg2rad(4.0),
+    frequency_hz: float = 0.7,
+    dwell_s: float = 0.5,
+    lead_s: float = 6.0,
+    after_s: float = 4.0,
+) -> Maneuver:
+    """Sine with dwell (the transient of FMVSS 126 / UN R140, ISO 3888-like in its demand): a
+    straight, one 0.7 Hz sine period of the road-wheel angle with a dwell at the second peak,
+    then straight again.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    amplitude_rad : float
+        Road-wheel angle amplitude [rad].
+    frequency_hz : float
+        Frequency of the sine [Hz].
+    dwell_s : float
+        Dwell at the second (opposite) peak [s].
+    lead_s : float
+        Straight before the manoeuvre (heading calibration) [s].
+    after_s : float
+        Straight after it [s].
+
+    Returns
+    -------
+    Maneuver
+        The manoeuvre.
+    """
+    period = 1.0 / frequency_hz
+    t1 = np.linspace(0.0, 0.75 * period, 76)
+    t3 = np.linspace(0.75 * period, period, 26)
+    t = np.concatenate(
+        [[0.0], lead_s + t1, lead_s + dwell_s + t3, [lead_s + dwell_s + period + after_s]]
+    )
+    v = np.concatenate(
+        [
+            [0.0],
+            amplitude_rad * np.sin(2 * np.pi * frequency_hz * t1),
+            amplitude_rad * np.sin(2 * np.pi * frequency_hz * t3),
+            [0.0],
+        ]
+    )
+    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    return Maneuver(
+        f"sine with dwell v={speed_mps * 3.6:.0f}km/h {np.rad2deg(amplitude_rad):.1f}deg",
+        ctrl,
+        float(t[-1]),
+        {"u_mps": speed_mps},
+        (t, v),
+        lead_s,
+        {"maneuver": "sine_with_dwell", "speed_mps": speed_mps, "amplitude_rad": amplitude_rad},
     )
 
 

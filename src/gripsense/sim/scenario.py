@@ -32,7 +32,8 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
     pitch_deg = 1.0
 
     [[case]]                        # one drive ...
-    maneuver = "circle"             # circle | fixed_steer | ramp_steer | slalom | braking
+    maneuver = "circle"             # circle | constant_radius | fixed_steer | ramp_steer |
+                                    # sine_with_dwell | slalom | braking
     speed_kmh = 30
     radius_m = 25
     laps = 2
@@ -111,6 +112,24 @@ _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
             "max_steer_deg": ("max_steer_rad", np.pi / 180),
         },
     ),
+    "constant_radius": (
+        M.constant_radius,
+        {
+            "radius_m": ("radius_m", 1.0),
+            "speed_start_kmh": ("speed_start_mps", 1 / 3.6),
+            "speed_end_kmh": ("speed_end_mps", 1 / 3.6),
+            "accel_mps2": ("accel_mps2", 1.0),
+        },
+    ),
+    "sine_with_dwell": (
+        M.sine_with_dwell,
+        {
+            "speed_kmh": ("speed_mps", 1 / 3.6),
+            "amplitude_deg": ("amplitude_rad", np.pi / 180),
+            "frequency_hz": ("frequency_hz", 1.0),
+            "dwell_s": ("dwell_s", 1.0),
+        },
+    ),
     "slalom": (
         M.slalom,
         {
@@ -143,7 +162,7 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
             _fail(src, where, f"{k} = {v!r} must be a number")
         arg, scale = keys[k]
         kw[arg] = int(v) if arg == "cycles" else v * scale
-    if kind == "circle":
+    if kind in ("circle", "constant_radius"):
         kw["params"] = params
     try:
         return builder(**kw)

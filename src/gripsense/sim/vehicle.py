@@ -277,9 +277,10 @@ class SimResult:
 # controller array layout (see maneuvers.py, which fills it)
 C_STEER_MODE, C_CX, C_CY, C_R, C_DIR, C_LOOK = 0, 1, 2, 3, 4, 5
 C_SPEED_MODE, C_V, C_KP, C_FXMAX, C_T_BRAKE, C_RATIO, C_T_LEAD = 6, 7, 8, 9, 10, 11, 12
-N_CTRL = 13
+C_ACCEL = 13  # speed ramp [m/s²] (SPEED_RAMP, from C_T_BRAKE on)
+N_CTRL = 14
 STEER_TABLE, STEER_CIRCLE, STEER_LINE = 0, 1, 2
-SPEED_HOLD, SPEED_FREE, SPEED_BRAKE_LOCK = 0, 1, 2
+SPEED_HOLD, SPEED_FREE, SPEED_BRAKE_LOCK, SPEED_RAMP = 0, 1, 2, 3
 
 
 @njit(cache=True, nogil=True)
@@ -501,6 +502,10 @@ def _controls(t, s, ctrl, steer_t, steer_v, lf, lr):
         lock = 1
     elif smode == SPEED_HOLD or smode == SPEED_BRAKE_LOCK:
         fx = ctrl[C_KP] * (ctrl[C_V] - U)
+        fx = max(min(fx, ctrl[C_FXMAX]), -ctrl[C_FXMAX])
+    elif smode == SPEED_RAMP:  # ISO 4138 constant radius: the speed raised slowly
+        v_t = ctrl[C_V] + ctrl[C_ACCEL] * max(t - ctrl[C_T_BRAKE], 0.0)
+        fx = ctrl[C_KP] * (v_t - U)
         fx = max(min(fx, ctrl[C_FXMAX]), -ctrl[C_FXMAX])
     return delta, fx, lock
 

@@ -1,0 +1,341 @@
+"""Drives of a vehicle model gripsense did not write: CommonRoad's single-track drift model
+``vehicle_dynamics_std`` (TUM, ``commonroad-vehicle-models``; Pacejka lateral and longitudinal
+tyres with combined slip, wheel spin, longitudinal load transfer), recorded by gripsense's
+emulated compass and steering channel.
+
+It is a truth for accuracy checks whose tyre, load model and integrator share nothing with the
+estimator: the tyre is CommonRoad's own Magic Formula (vehicle 2: C 1.35, E ≈ 0, cornering
+stiffness |p_ky1| F_z), scaled to the road by its peak coefficient ``p_dy1`` (the stiffness stays,
+so on a slippery road the curve peaks at a small slip angle, as a real tyre's does). The model
+has no lateral load transfer (one tyre per axle): each wheel of the truth table carries half the
+axle. ``commonroad-vehicle-models`` is a test dependency; importing this module without it fails
+with a clear message.
+
+Axes: CommonRoad's single-track models integrate x, y in a right-handed ground frame with the yaw
+angle counter-clockwise and lateral quantities positive to the left — gripsense's (ISO) axes;
+its slip angle is the negative of ISO's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import Vehicle
+from gripsense.constants import G0
+from gripsense.data import sample_path
+from gripsense.sim.drives import Drive, axle_truth
+from gripsense.sim.gnss import CompassNoise, emulate_compass
+from gripsense.sim.sensors import emulate_steering
+from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
+
+__all__ = [
+    "commonroad_drive",
+    "commonroad_vehicle",
+    "cr_circle",
+    "cr_constant_radius",
+    "cr_ramp_steer",
+]
+
+G_CR = 9.81
+"""CommonRoad's gravity [m/s²]."""
+
+
+def _params(mu: float):
+    try:
+        from vehiclemodels.parameters_vehicle2 import parameters_vehicle2
+    except ImportError as exc:  # pragma: no cover - the test extra installs it
+        raise ImportError(
+            "CommonRoad drives need commonroad-vehicle-models: pip install 'gripsense[test]'"
+        ) from exc
+    p = parameters_vehicle2()
+    # no camber terms (gamma = 0 anyway); the peak scaled to the road
+    p.tire.p_dy1 = float(mu)
+    # the longitudinal peak with it (a driven wheel on that road)
+    p.tire.p_dx1 = float(mu) * 1.1739 / 1.0489
+    return p
+
+
+def commonroad_vehicle(
+    *, stiffness_error: float = 0.0, stiffness_uncertainty: float = 0.15
+) -> Vehicle:
+    """The vehicle file a user would write for CommonRoad's vehicle 2: its mass, yaw inertia,
+    CG position and height, tracks and wheel radius; per axle the cornering stiffness at the
+    static load as measured (|p_ky1| F_z per wheel), the default load sensitivity and shape.
+
+    Parameters
+    ----------
+    stiffness_error : float
+        Relative error of the declared cornering stiffness [-].
+    stiffness_uncertainty : float
+        Declared 1σ of the stiffness [-].
+
+    Returns
+    -------
+    Vehicle
+        The description (antenna as in the bundled sedan).
+    """
+    import tomllib
+    from pathlib import Path
+
+    p = _params(1.0)
+    wb = p.a + p.b
+    base = Path(sample_path("corolla_sim.toml")).read_text(encoding="utf-8")
+    lines, skip = [], False
+    vals = {
+        "name": '"CommonRoad vehicle 2 (single-track drift model)"',
+        "mass_kg": f"{p.m:.3f}",
+        "front_weight_fraction": f"{p.b / wb:.5f}",
+        "wheelbase_m": f"{wb:.5f}",
+        "cg_height_m": f"{p.h_cg:.4f}",
+        "track_front_m": f"{p.T_f:.4f}",
+        "track_rear_m": f"{p.T_r:.4f}",
+        "drive": '"rear"',
+    }
+    for line in base.splitlines():
+        head = line.strip()
+        if head.startswith("["):
+            skip = head.startswith("[tyre")
+        if skip or head.startswith("#"):
+            continue
+        key = head.split("=")[0].strip()
+        if key in vals:
+            line = f"{key} = {vals[key]}"
+        lines.append(line)
+    lines.insert(lines.index("[vehicle]") + 1, f"yaw_inertia_kgm2 = {p.I_z:.2f}")
+    c_norm = abs(p.tire.p_ky1)
+    for axle, share in (("front", p.b / wb), ("rear", p.a / wb)):
+        fz = p.m * G0 * share / 2.0
+        lines += [
+            "",
+            f"[tyre.{axle}]",
+            "width_m = 0.205",
+            f"cornering_stiffness_N_per_rad = {c_norm * fz * (1.0 + stiffness_error):.0f}",
+            f"stiffness_uncertainty = {stiffness_uncertainty}",
+            "contact_length = { fixed_m = 0.14 }",
+        ]
+    return Vehicle.from_dict(
+        tomllib.loads("\n".join(lines) + "\n"), source="CommonRoad vehicle 2 (as a user would)"
+    )
+
+
+@dataclasses.dataclass
+class _Plan:
+    """Yaw-rate and speed targets of a drive as functions of time."""
+
+    duration_s: float
+    settle_s: float
+    target: object  # t -> (yaw rate [rad/s] or None, steer [rad] or None, speed [m/s])
+
+
+def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> _Plan:
+    """A steady circle: 6 s straight (heading calibration), 3 s turn-in, *steady_s* on the
+    circle at constant speed (yaw rate v/R held by the driver).
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    radius_m : float
+        Radius [m].
+    steady_s : float
+        Time on the circle after the turn-in [s].
+
+    Returns
+    -------
+    _Plan
+        The drive's targets.
+    """
+    r_target = speed_mps / radius_m
+
+    def target(t):
+        return r_target * float(np.clip((t - 6.0) / 3.0, 0.0, 1.0)), None, speed_mps
+
+    return _Plan(duration_s=9.0 + steady_s, settle_s=9.0, target=target)
+
+
+def cr_constant_radius(
+    radius_m: float, v_start_mps: float, v_end_mps: float, *, accel_mps2: float = 0.1
+) -> _Plan:
+    """ISO 4138 constant radius, speed rising: 6 s straight, 3 s turn-in at *v_start_mps*, then
+    the speed raised slowly (quasi-steady) on the circle to *v_end_mps*.
+
+    Parameters
+    ----------
+    radius_m : float
+        Radius [m].
+    v_start_mps, v_end_mps : float
+        Speed at the start and at the end of the sweep [m/s].
+    accel_mps2 : float
+        Rate of the speed increase [m/s²].
+
+    Returns
+    -------
+    _Plan
+        The drive's targets.
+    """
+    t_sweep = (v_end_mps - v_start_mps) / accel_mps2
+
+    def target(t):
+        v = v_start_mps + accel_mps2 * float(np.clip(t - 11.0, 0.0, t_sweep))
+        return v / radius_m * float(np.clip((t - 6.0) / 3.0, 0.0, 1.0)), None, v
+
+    return _Plan(duration_s=11.0 + t_sweep + 1.0, settle_s=9.0, target=target)
+
+
+def cr_ramp_steer(
+    speed_mps: float, *, rate_deg_s: float = 0.5, max_steer_deg: float = 6.0
+) -> _Plan:
+    """ISO 4138 ramp steer: constant speed, the steering wheel turned slowly at a constant rate
+    after 6 s straight, until *max_steer_deg* at the road wheels.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    rate_deg_s : float
+        Road-wheel steering rate [deg/s].
+    max_steer_deg : float
+        Largest road-wheel angle [deg].
+
+    Returns
+    -------
+    _Plan
+        The drive's targets.
+    """
+    dur = 6.0 + max_steer_deg / rate_deg_s
+
+    def target(t):
+        return None, math.radians(rate_deg_s * max(t - 6.0, 0.0)), speed_mps
+
+    return _Plan(duration_s=dur, settle_s=6.0, target=target)
+
+
+def _simulate(plan: _Plan, mu: float, out_hz: float = 100.0) -> SimResult:
+    from scipy.integrate import solve_ivp
+    from vehiclemodels.init_std import init_std
+    from vehiclemodels.utils import tire_model
+    from vehiclemodels.vehicle_dynamics_std import vehicle_dynamics_std
+
+    p = _params(mu)
+    v0 = plan.target(0.0)[2]
+    x0 = init_std([0.0, 0.0, 0.0, v0, 0.0, 0.0, 0.0], p)
+
+    def control(t, x):
+        r_t, d_t, v_t = plan.target(t)
+        if d_t is not None:
+            steer_rate = 8.0 * (d_t - x[2])
+        else:  # a driver holding the yaw rate: the steer follows the yaw-rate error (integral)
+            steer_rate = 0.6 * (r_t - x[5])
+        return [steer_rate, 2.0 * (v_t - x[3])]
+
+    def f(t, x):
+        return vehicle_dynamics_std(list(x), control(t, x), p)
+
+    t_out = np.arange(0.0, plan.duration_s + 1e-9, 1.0 / out_hz)
+    sol = solve_ivp(
+        f, (0.0, t_out[-1]), x0, t_eval=t_out, method="LSODA", rtol=1e-7, atol=1e-9, max_step=0.01
+    )
+    if sol.status != 0:  # pragma: no cover
+        raise RuntimeError(f"CommonRoad integration failed: {sol.message}")
+    X, Y, delta, v, psi, r, beta = (sol.y[k] for k in range(7))
+    u_b, v_b = v * np.cos(beta), v * np.sin(beta)
+    ve, vn = v * np.cos(beta + psi), v * np.sin(beta + psi)
+    ae, an = np.gradient(ve, t_out), np.gradient(vn, t_out)
+    ax = ae * np.cos(psi) + an * np.sin(psi)
+    ay = -ae * np.sin(psi) + an * np.cos(psi)
+    n = t_out.size
+    wb = p.a + p.b
+    fz_f, fz_r = p.m * G_CR * p.b / wb, p.m * G_CR * p.a / wb
+    a_f = np.arctan2(v * np.sin(beta) + r * p.a, v * np.cos(beta)) - delta
+    a_r = np.arctan2(v * np.sin(beta) - r * p.b, v * np.cos(beta))
+    f_f = np.array([tire_model.formula_lateral(a, 0.0, fz_f, p.tire)[0] for a in a_f])
+    f_r = np.array([tire_model.formula_lateral(a, 0.0, fz_r, p.tire)[0] for a in a_r])
+    body = pd.DataFrame(
+        {
+            "t_s": t_out,
+            "x_m": X,
+            "y_m": Y,
+            "yaw_rad": psi,
+            "u_mps": u_b,
+            "v_mps": v_b,
+            "yaw_rate_rps": r,
+            "ax_mps2": ax,
+            "ay_mps2": ay,
+            "steer_rad": delta,
+            "fx_N": np.zeros(n),
+        }
+    )
+    rows = []
+    for name in WHEEL_NAMES:
+        front = name.startswith("front")
+        rows.append(
+            pd.DataFrame(
+                {
+                    "t_s": t_out,
+                    "wheel": name,
+                    "mu_true": np.full(n, float(mu)),
+                    "mu_road": np.full(n, float(mu)),
+                    "camber_rad": np.zeros(n),
+                    "slip_angle_rad": -(a_f if front else a_r),
+                    "load_N": np.full(n, (fz_f if front else fz_r) / 2.0),
+                    "force_N": (f_f if front else f_r) / 2.0,
+                    "speed_mps": v,
+                }
+            )
+        )
+    wheels = pd.concat(rows, ignore_index=True).sort_values(["t_s", "wheel"], kind="stable")
+    wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(WHEEL_NAMES))
+    params = SimParams.from_vehicle(commonroad_vehicle())
+    return SimResult(
+        body=body,
+        wheels=wheels.reset_index(drop=True),
+        params=params,
+        meta={"output_hz": out_hz, "model": "CommonRoad vehicle_dynamics_std, vehicle 2"},
+    )
+
+
+def commonroad_drive(
+    plan: _Plan,
+    mu: float,
+    *,
+    receiver: str = "white-0.3",
+    seed: int = 0,
+    steer_scale_error: float = 0.03,
+) -> Drive:
+    """Simulate *plan* with CommonRoad's single-track drift model on a road of friction *mu* and
+    record it with the emulated compass and steering channel.
+
+    Parameters
+    ----------
+    plan : _Plan
+        :func:`cr_circle` or :func:`cr_ramp_steer`.
+    mu : float
+        Road friction (the tyre's lateral peak coefficient) [-].
+    receiver : str
+        Receiver preset.
+    seed : int
+        Random seed of the receiver and steering noise.
+    steer_scale_error : float
+        Scale error of the steering channel [-].
+
+    Returns
+    -------
+    Drive
+        The recording and the truth.
+    """
+    res = _simulate(plan, mu)
+    veh = commonroad_vehicle()
+    ant = (-veh.cg_offset[0], -veh.cg_offset[1])
+    log = emulate_compass(res, ant, noise=CompassNoise.preset(receiver), seed=seed)
+    steer = emulate_steering(res, scale_error=steer_scale_error, seed=seed + 7919)
+    return Drive(
+        lines=log.lines,
+        steer=steer,
+        truth=log.truth,
+        axles=axle_truth(log.truth, plan.settle_s),
+        settle_s=plan.settle_s,
+    )

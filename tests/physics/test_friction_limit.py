@@ -1,0 +1,101 @@
+"""The range of μ operating points allow (physics.friction_limit) against a brute-force sweep of
+the family and against the table of the project's physics notes (shared PHYSICS.md §15)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from gripsense.physics.friction_limit import mu_range_limit, shape_grid
+from gripsense.physics.tyre_curves import SHAPE_FAMILY, magic_formula_normalised, normalised_force
+
+
+def _brute(y, slip, cn, band, tol, shapes, n_s=41):
+    """Every (μ, shape, s) on fine grids; μ consistent when every point is within tol."""
+    mus = np.geomspace(0.05, 20.0, 6000)
+    k = np.abs(np.tan(slip)) * cn
+    found = []
+    for sh in shapes:
+        for s in np.geomspace(band[0], band[1], n_s):
+            x = s * k[None, :] / mus[:, None]
+            h = mus[:, None] * normalised_force(x, sh)
+            ok = np.all(np.abs(h - y[None, :]) <= tol, axis=1)
+            found.append(mus[ok])
+    allm = np.concatenate(found)
+    return (allm.min(), allm.max()) if allm.size else (np.nan, np.nan)
+
+
+@pytest.mark.parametrize(
+    ("u", "band", "pts"),
+    [(0.9, (0.9, 1.1), 1), (0.8, (0.8, 1.2), 1), (0.95, (0.85, 1.15), 3), (0.7, (0.95, 1.05), 2)],
+)
+def test_against_brute_force_sweep(u, band, pts):
+    """Points of a C 1.35, E 0 curve (μ 0.6) at utilisations up to u, with a tolerance: the
+    closed-form inversion gives the same range as evaluating every (μ, shape, scale)."""
+    mu_true, cn = 0.6, 18.0
+    us = np.linspace(u - 0.15 * (pts - 1), u, pts)
+    x = np.array([brentq(lambda z, v=v: magic_formula_normalised(z, 1.35, 0.0) - v, 1e-9, 2.6)
+                  for v in us])  # fmt: skip
+    slip = np.arctan(x * mu_true / cn)
+    y = us * mu_true
+    tol = 0.004
+    fam = SHAPE_FAMILY[::2]
+    lo, hi = mu_range_limit(y, slip, cn, stiffness_band=band, tolerance=tol, shapes=fam)
+    blo, bhi = _brute(y, slip, np.full(pts, cn), band, tol, fam)
+    # the brute force's μ grid is 0.1 % apart; its s grid is the same
+    assert lo == pytest.approx(blo, rel=3e-3)
+    assert hi == pytest.approx(bhi, rel=3e-3)
+    assert lo <= mu_true <= hi
+
+
+def test_reproduces_the_single_point_table():
+    """Largest μ consistent with one steady point of a C 1.35, E 0 curve, over MF C 1.1–1.95 and
+    E −1.5…0.8, stiffness ±10 % / ±20 % (PHYSICS.md §15: 1.54/2.15 at u 0.8, 1.39/1.59 at 0.9,
+    1.32/1.43 at 0.95, 1.24/1.29 at 0.99)."""
+    fam = shape_grid(n=14)
+    table = {0.8: (1.54, 2.15), 0.9: (1.39, 1.59), 0.95: (1.32, 1.43), 0.99: (1.24, 1.29)}
+    for u, want in table.items():
+        xt = brentq(lambda x, u=u: magic_formula_normalised(x, 1.35, 0.0) - u, 1e-9, 2.5)
+        for band, w in zip(((0.9, 1.1), (0.8, 1.2)), want, strict=True):
+            lo, hi = mu_range_limit(u, np.arctan(xt), 1.0, stiffness_band=band, shapes=fam)
+            assert hi == pytest.approx(w, abs=0.015), (u, band)
+            assert lo == pytest.approx(u, abs=0.01)
+
+
+def test_unbounded_far_from_the_limit_and_narrower_with_more_points():
+    """At u 0.5 with ±20 % a linear tyre explains the point (no upper end); adding points higher
+    up the same curve never widens the range (the shape gets pinned)."""
+    cn, mu = 16.0, 0.8
+    xs = [brentq(lambda z, v=v: magic_formula_normalised(z, 1.6, 0.3) - v, 1e-9, 3.0)
+          for v in (0.5, 0.8, 0.95)]  # fmt: skip
+    slip = np.arctan(np.array(xs) * mu / cn)
+    y = np.array([0.5, 0.8, 0.95]) * mu
+    assert np.isinf(mu_range_limit(y[0], slip[0], cn, stiffness_band=(0.8, 1.2))[1])
+    widths = []
+    for n in (1, 2, 3):
+        lo, hi = mu_range_limit(
+            y[3 - n :], slip[3 - n :], cn, stiffness_band=(0.8, 1.2), tolerance=0.005
+        )
+        assert lo <= mu <= hi
+        widths.append(hi - lo)
+    assert widths[0] >= widths[1] >= widths[2]
+
+
+def test_inconsistent_points_give_nan():
+    """A point more linear than linear (y above s k for every s of the band, beyond the
+    tolerance) is explained by no member."""
+    lo, hi = mu_range_limit(0.5, np.arctan(0.01), 20.0, stiffness_band=(0.9, 1.1))
+    assert np.isnan(lo) and np.isnan(hi)
+
+
+def test_slippery_call_follows_the_range():
+    """ "Is it slippery?": slippery only when the whole range is below 0.5, not slippery only
+    when it is above, unknown for a range across 0.5, an open range from below, or no range."""
+    from gripsense.physics.surface import slippery_call
+
+    lo = np.array([0.26, 0.55, 0.4, 0.3, np.nan, 0.45])
+    hi = np.array([0.45, 0.9, 0.6, np.inf, np.nan, 0.49])
+    want = ["slippery", "not slippery", "unknown", "unknown", "unknown", "slippery"]
+    assert list(slippery_call(lo, hi)) == want
+    assert slippery_call(0.6, np.inf) == "not slippery"
