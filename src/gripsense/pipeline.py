@@ -19,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Receiver, Vehicle, receiver_from
+from gripsense.config.calibration import Calibration, calibrated_vehicle
 from gripsense.errors import InputError
 from gripsense.estimate.axle_window import WindowOptions, estimate_windows, measured_grip
 from gripsense.estimate.friction import FrictionOptions, friction_from_motion, motion_from_epochs
@@ -33,7 +34,7 @@ from gripsense.estimate.results import (
 from gripsense.io import read_nmea
 from gripsense.io.steer import read_steer_csv, steer_at
 
-__all__ = ["ESTIMATORS", "FrictionResult", "FrictionRun"]
+__all__ = ["ESTIMATORS", "FrictionResult", "FrictionRun", "learn_calibration"]
 
 
 def _per_sample(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
@@ -104,6 +105,10 @@ class FrictionRun:
         for_vehicle`); without it the per-sample methods keep the thesis's defaults.
     window : WindowOptions, optional
         Settings of ``axle-window``.
+    calibration : Calibration or str or Path, optional
+        What the vehicle's own driving taught about its tyres (``gripsense calibrate``): each
+        calibrated axle's stiffness and uncertainty replace the vehicle file's (default: the
+        vehicle file's ``[calibration] file``, if any).
     **options
         Fields of :class:`~gripsense.estimate.friction.FrictionOptions`
         (e.g. ``min_speed_mps=4.0``, ``calibrate_heading=False``).
@@ -123,11 +128,12 @@ class FrictionRun:
         noise: NoiseModel | str | None = None,
         receiver: str | Path | Receiver | None = None,
         window: WindowOptions | None = None,
+        calibration: Calibration | str | Path | None = None,
         **options,
     ):
         if method not in ESTIMATORS:
             raise InputError(f"FrictionRun: method={method!r}; use one of {sorted(ESTIMATORS)}")
-        self.vehicle = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
+        self.vehicle = calibrated_vehicle(vehicle, calibration)
         self.method = method
         known = {f.name for f in fields(FrictionOptions)}
         unknown = set(options) - known
@@ -269,3 +275,79 @@ class FrictionRun:
         )
         meta2 = {**meta2, "receiver": self.receiver}
         return ESTIMATORS[self.method](self, wheels, {**(meta or {}), **meta2})
+
+
+def learn_calibration(
+    logs: list[str | Path],
+    vehicle: Vehicle | str | Path,
+    *,
+    receiver: str | Path | Receiver | None = None,
+    steer_csvs: list[str | Path] | None = None,
+    previous: Calibration | None = None,
+) -> Calibration:
+    """Learn each axle's cornering stiffness from drives of one vehicle (``docs/physics.md``
+    §15.7): the linear-range fit of :mod:`gripsense.estimate.calibration` over every drive,
+    added to what *previous* was learned from (a drive already in it is not counted twice).
+
+    Parameters
+    ----------
+    logs : list of str or Path
+        NMEA logs of everyday driving.
+    vehicle : Vehicle or str or Path
+        The vehicle file (its declared stiffness is the reference; a calibration it names is
+        not applied: learning starts from the declaration).
+    receiver : str or Path or Receiver, optional
+        The receiver (default: the vehicle file's, else ``v100``).
+    steer_csvs : list of str or Path, optional
+        A steering channel per log, in the same order (the front axle needs it).
+    previous : Calibration, optional
+        An earlier calibration of this vehicle to update.
+
+    Returns
+    -------
+    Calibration
+        Per axle the learned stiffness (axles without usable bins are left out) and the drives.
+    """
+    import hashlib
+
+    from gripsense.estimate.calibration import drive_sums, solve_sums
+
+    veh = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
+    veh = dataclasses.replace(veh, calibration_file=None)
+    if steer_csvs and len(steer_csvs) != len(logs):
+        raise InputError(
+            f"--steer-csv: {len(steer_csvs)} channels for {len(logs)} logs; give one per log, "
+            "in the same order"
+        )
+    if previous is not None and previous.vehicle != veh.name:
+        raise InputError(
+            f"{previous.source}: a calibration of {previous.vehicle!r}, not of {veh.name!r}"
+        )
+    run = FrictionRun(veh, receiver=receiver)
+    drives = list(previous.drives) if previous is not None else []
+    seen = {(d.sha256, d.axle) for d in drives}
+    for i, log in enumerate(logs):
+        digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
+        epochs = read_nmea(log).epochs
+        steer = None
+        if steer_csvs:
+            steer = steer_at(read_steer_csv(steer_csvs[i]), epochs["t_s"].to_numpy(float))
+        wheels, _ = run.wheel_table(epochs, steer_rad=steer)
+        if wheels.empty:
+            continue
+        for axle in ("front", "rear"):
+            if (digest, axle) in seen:
+                continue
+            s = drive_sums(wheels, veh, axle, run.options.noise, file=Path(log).name, sha256=digest)
+            if s is not None:
+                drives.append(s)
+                seen.add((digest, axle))
+    axles = {}
+    for axle in ("front", "rear"):
+        if axle not in veh.tyres:
+            continue
+        declared = float(veh.cornering_stiffness(axle, veh.static_load(axle)))
+        a = solve_sums([d for d in drives if d.axle == axle], declared)
+        if a is not None:
+            axles[axle] = a
+    return Calibration(vehicle=veh.name, axles=axles, drives=drives)

@@ -5,6 +5,7 @@ module          commands
 ==============  ==============================================================================
 ingest          ``ingest``
 friction        ``friction``, ``report``, ``stiffness``
+calibrate       ``calibrate``
 sensors         ``brake-mu``, ``camber``, ``camera-slip``
 tyre            ``tyre eval``, ``tyre fit``, ``tyre fit-contact`` (also ``fit-contact``)
 steering        ``steering identify``
@@ -23,6 +24,7 @@ import typer
 from rich.text import Text
 
 from gripsense.cli._common import err_console
+from gripsense.cli.calibrate import calibrate
 from gripsense.cli.fleet import fleet
 from gripsense.cli.friction import friction, report_cmd, stiffness
 from gripsense.cli.ingest import ingest
@@ -46,6 +48,7 @@ app.command()(ingest)
 app.command()(friction)
 app.command("report")(report_cmd)
 app.command()(stiffness)
+app.command()(calibrate)
 app.command("brake-mu")(brake_mu)
 app.command()(camber)
 app.command("camera-slip")(camera_slip)

@@ -59,6 +59,13 @@ def friction(
         Path, typer.Option("-o", "--outdir", help="folder for the result files")
     ] = Path("friction-results"),
     report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
+    calibration: Annotated[
+        Path | None,
+        typer.Option(
+            "--calibration",
+            help="the vehicle's calibration file (gripsense calibrate): learned tyre stiffness",
+        ),
+    ] = None,
     overwrite: Overwrite = False,
 ) -> None:
     """Tyre-road friction per axle (or per wheel with a per-sample --method) during cornering:
@@ -73,7 +80,7 @@ def friction(
         if (log is None) == (table is None):
             raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
         check_output_folder(outdir, "friction", overwrite=overwrite)
-        run = FrictionRun(vehicle, method=method, receiver=receiver)
+        run = FrictionRun(vehicle, method=method, receiver=receiver, calibration=calibration)
         veh = run.vehicle
         if table is not None:
             motion = read_motion_table(table, columns or "auto")
@@ -90,7 +97,7 @@ def friction(
             from gripsense.report.html import render_report
 
             texts["report.html"] = render_report(result, title=f"Friction — {(log or table).name}")
-        inputs = [p for p in (log, table, vehicle, steer_csv) if p is not None]
+        inputs = [p for p in (log, table, vehicle, steer_csv, calibration) if p is not None]
         paths = result.to_files(
             outdir, overwrite=overwrite, command=command_line(), inputs=inputs, texts=texts
         )

@@ -31,6 +31,10 @@ def live(
     output: Annotated[
         Path | None, typer.Option("-o", "--output", help="results.csv or results.parquet")
     ] = None,
+    calibration: Annotated[
+        Path | None,
+        typer.Option(help="the vehicle's calibration file (gripsense calibrate)"),
+    ] = None,
     window_s: Annotated[float, typer.Option(help="Estimation window [s]")] = 30.0,
     duration_s: Annotated[float | None, typer.Option(help="Stop after this many seconds")] = None,
     quiet: Annotated[bool, typer.Option(help="No live display (headless)")] = False,
@@ -59,6 +63,10 @@ def live(
             )
         if vehicle is None:
             raise InputError("--vehicle car.toml is required")
+        if calibration is not None:
+            from gripsense.config.calibration import calibrated_vehicle
+
+            vehicle = calibrated_vehicle(vehicle, calibration)
         if output is not None:  # before the source is opened: nothing is lost to a bad -o
             check_live_outputs(output, overwrite=overwrite, inputs=[replay] if replay else [])
         if replay is not None:

@@ -52,7 +52,7 @@ __all__ = ["PLAUSIBLE", "WHEELS", "Tyre", "Vehicle"]
 WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
 
-TOP_KEYS = ("vehicle", "antenna", "tyre", "receiver")
+TOP_KEYS = ("vehicle", "antenna", "tyre", "receiver", "calibration")
 VEHICLE_KEYS = (
     "name",
     "mass_kg",
@@ -244,6 +244,9 @@ class Vehicle:
         default 0.8).
     receiver : Receiver or None
         The ``[receiver]`` table, when the file has one.
+    calibration_file : str or None
+        ``[calibration] file``: the vehicle's calibration file (``gripsense calibrate``),
+        relative paths from the vehicle file's folder; the estimators take its stiffness.
     name : str
     source : str
         Where the description came from (file path).
@@ -271,6 +274,7 @@ class Vehicle:
     roll_gradient_deg_per_g: float = 4.0
     roll_camber_gain: float = 0.8
     receiver: Receiver | None = None
+    calibration_file: str | None = None
     name: str = "vehicle"
     source: str = ""
     notes: dict = field(default_factory=dict)
@@ -481,6 +485,15 @@ class Vehicle:
         if "receiver" in doc:
             rt = r.table("receiver", required=False)
             receiver = Receiver.from_dict(rt, source=source)
+        cal_file = None
+        if "calibration" in doc:
+            ct = r.table("calibration", required=False)
+            r.known(ct, "calibration", ("file",))
+            cal_file = ct.get("file")
+            if not isinstance(cal_file, str) or not cal_file:
+                r.fail("calibration", "file", "the path of a calibration file is needed")
+            if not Path(cal_file).is_absolute() and Path(source).parent.exists():
+                cal_file = str(Path(source).parent / cal_file)
 
         ant = r.table("antenna", required=True)
         r.known(ant, "antenna", ANTENNA_KEYS)
@@ -574,6 +587,7 @@ class Vehicle:
             roll_gradient_deg_per_g=4.0 if roll_grad is None else roll_grad,
             roll_camber_gain=0.8 if camber_gain is None else camber_gain,
             receiver=receiver,
+            calibration_file=cal_file,
             name=name,
             source=source,
         )

@@ -19,6 +19,7 @@ __all__ = [
     "braking",
     "circle",
     "constant_radius",
+    "everyday",
     "fixed_steer",
     "ramp_steer",
     "run",
@@ -172,6 +173,59 @@ def constant_radius(
         "accel_mps2": accel_mps2,
     }
     return m
+
+
+def everyday(
+    speed_mps: float,
+    *,
+    seed: int = 0,
+    curves: int = 12,
+    hold_s: float = 8.0,
+    max_steer_deg: float = 2.2,
+    lead_s: float = 6.0,
+) -> Maneuver:
+    """Everyday driving: after a straight, a sequence of steady curves of random direction and
+    road-wheel angle (0.4 to *max_steer_deg*), each held for *hold_s* and entered over 2 s —
+    the moderate cornering from which ``gripsense calibrate`` learns the tyres' stiffness.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    seed : int
+        Random seed of the curves.
+    curves : int
+        Number of curves.
+    hold_s : float
+        Time in each curve [s].
+    max_steer_deg : float
+        Largest road-wheel angle [deg].
+    lead_s : float
+        Straight at the start (heading calibration) [s].
+
+    Returns
+    -------
+    Maneuver
+        The manoeuvre.
+    """
+    rng = np.random.default_rng(seed)
+    levels = rng.uniform(0.4, max_steer_deg, curves) * rng.choice([-1.0, 1.0], curves)
+    t, v = [0.0, lead_s], [0.0, 0.0]
+    for lv in np.deg2rad(levels):
+        t += [t[-1] + 2.0, t[-1] + 2.0 + hold_s]
+        v += [lv, lv]
+    t.append(t[-1] + 2.0)
+    v.append(0.0)
+    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    return Maneuver(
+        f"everyday v={speed_mps * 3.6:.0f}km/h",
+        ctrl,
+        t[-1],
+        {"u_mps": speed_mps},
+        (np.array(t), np.array(v)),
+        lead_s,
+        {"maneuver": "everyday", "speed_mps": speed_mps, "seed": seed},
+    )
 
 
 def sine_with_dwell(

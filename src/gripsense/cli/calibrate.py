@@ -1,0 +1,91 @@
+"""``gripsense calibrate``: a vehicle's tyre stiffness learned from its own everyday driving."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from gripsense.cli._common import Overwrite, console, fail, say
+from gripsense.cli.friction import RECEIVER_HELP
+from gripsense.errors import GripsenseError
+from gripsense.io.results import check_output_file, write_file_atomic
+
+__all__ = ["calibrate"]
+
+
+def calibrate(
+    logs: Annotated[list[Path], typer.Argument(help="NMEA logs of everyday driving")],
+    vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", help="calibration file to write (TOML)")
+    ],
+    receiver: Annotated[str | None, typer.Option("--receiver", help=RECEIVER_HELP)] = None,
+    steer_csv: Annotated[
+        list[Path] | None,
+        typer.Option(
+            "--steer-csv",
+            help="steering channel per log, in the logs' order (the front axle needs it)",
+        ),
+    ] = None,
+    update: Annotated[
+        Path | None,
+        typer.Option(
+            "--update",
+            help="an earlier calibration of this vehicle: the new drives are added to it",
+        ),
+    ] = None,
+    overwrite: Overwrite = False,
+) -> None:
+    """Learn each axle's cornering stiffness (one wheel, at the static load) and its
+    uncertainty from the linear range of everyday driving; friction, live and fleet take the
+    file with --calibration (or a [calibration] file = ... in the vehicle file).
+    """
+    from gripsense.config import Vehicle
+    from gripsense.config.calibration import calibration_toml, read_calibration
+    from gripsense.pipeline import learn_calibration
+
+    try:
+        inputs = [*logs, vehicle, *(steer_csv or [])]
+        check_output_file(output, "calibration", overwrite=overwrite, inputs=inputs)
+        veh = Vehicle.from_toml(vehicle)
+        previous = read_calibration(update) if update is not None else None
+        cal = learn_calibration(
+            [str(p) for p in logs],
+            veh,
+            receiver=receiver,
+            steer_csvs=[str(p) for p in steer_csv] if steer_csv else None,
+            previous=previous,
+        )
+        text = calibration_toml(cal)
+    except GripsenseError as e:
+        fail(e)
+    table = Table(title=f"Cornering stiffness learned for {veh.name}")
+    for col in ("axle", "declared [N/rad]", "learned [N/rad]", "1σ", "bins", "drives"):
+        table.add_column(col)
+    for axle in ("front", "rear"):
+        if axle not in veh.tyres:
+            continue
+        declared = float(veh.cornering_stiffness(axle, veh.static_load(axle)))
+        a = cal.axles.get(axle)
+        n_drives = sum(d.axle == axle for d in cal.drives)
+        if a is None:
+            why = "no steering channel" if axle == "front" and not steer_csv else "too few bins"
+            table.add_row(axle, f"{declared:.0f}", f"not learned ({why})", "—", "0", "0")
+            continue
+        table.add_row(
+            axle,
+            f"{declared:.0f}",
+            f"{a.cornering_stiffness_N_per_rad:.0f}",
+            f"{100 * a.stiffness_uncertainty:.1f} %",
+            str(a.bins),
+            str(n_drives),
+        )
+    console.print(table)
+    try:
+        out = write_file_atomic(output, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    except GripsenseError as e:
+        fail(e)
+    say(f"wrote {out}")
