@@ -99,3 +99,27 @@ def test_slippery_call_follows_the_range():
     want = ["slippery", "not slippery", "unknown", "unknown", "unknown", "slippery"]
     assert list(slippery_call(lo, hi)) == want
     assert slippery_call(0.6, np.inf) == "not slippery"
+
+
+def test_linear_explains_is_the_unbounded_case():
+    """linear_explains agrees with mu_range_limit's open upper end, and with a direct check of
+    every scale on a fine grid."""
+    from gripsense.physics.friction_limit import linear_explains
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        n = int(rng.integers(1, 4))
+        y = rng.uniform(0.05, 0.9, n)
+        k = y * rng.uniform(0.7, 1.6, n)
+        tol = rng.uniform(0.0, 0.05, n)
+        band = (0.8, 1.2)
+        s = np.linspace(*band, 40001)
+        brute = bool(np.any(np.all(np.abs(s[:, None] * k[None, :] - y[None, :]) <= tol, axis=1)))
+        got = linear_explains(y, k, band, tol)
+        assert got == brute or np.min(
+            np.max(np.abs(s[:, None] * k[None, :] - y[None, :]) - tol, axis=1)
+        ) == pytest.approx(0.0, abs=1e-4)
+        if got:
+            assert np.isinf(
+                mu_range_limit(y, np.arctan(k), 1.0, stiffness_band=band, tolerance=tol)[1]
+            )

@@ -11,13 +11,14 @@ Per bin k (means over ~1 s) and wheel w ∈ {L, R} (``docs/physics.md`` §15):
     μ_w   = μ (Fz'_w/F̄z')^−η · ΣFz' / Σ Fz'_v (Fz'_v/F̄z')^−η  load sensitivity of the friction
     F_model = Σ_w −sign(α_eff) μ_w Fz'_w f(x_w; shape)
     r_k  = F_k (1 + ε) cos^d δ_k − F_model
-    v_k  = σ_F,k² + m_k² + (Σ_w ∂F_w/∂α)² (σ_α,k² + s_α,k²)
+    v_k  = σ_F,k² + m_k² + (Σ_w ∂F_w/∂α)² σ_α,k² + (Σ_w ½ |F_w''| s_α,k²)²
 
 (cos^d δ turns the body-axis force of a steered axle into the wheels' lateral force: d = −1
 when the axle is not driven, +1 when it is and the drive force balances the drag of the turn)
 
 where s_α,k is the slip's spread within the bin beyond its noise (a transient: the mean of the
-force is not the force at the mean slip) and m_k the force no curve of the family represents.
+force is not the force at the mean slip — by the Jensen gap ½ F'' s², zero where the curve is
+straight) and m_k the force no curve of the family represents.
 θ = [ln s, κ, λ, q, ε, c, ς, η, d] is shared by every bin, with Gaussian priors (c: the offset left
 by the heading calibration). The slip offset δ_k of each bin follows the receiver's slowly
 varying heading error: a Gauss–Markov process (variance σ_δ²,
@@ -114,6 +115,7 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         mw1 = mu * g1 * (fzp0 + fzp1) / den
         fm = 0.0
         g_sum = 0.0
+        gap = 0.0
         d_lns = 0.0
         d_lam = 0.0
         d_q = 0.0
@@ -134,6 +136,14 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
             sg = -1.0 if ae > 0 else 1.0
             fm += sg * m_w * fzw * f
             g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
+            # the mean force over the bin's slip spread is not the force at the mean slip: the
+            # Jensen gap ½ F'' s², from f' at x ± h (h the spread in x); zero where the curve
+            # is straight (a linear tyre's mean force is its force at the mean slip)
+            hx = cp * (1.0 + t * t) * b[k, 13] / (m_w * fzw)
+            if hx > 0.0:
+                _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
+                _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
+                gap += m_w * fzw * abs(df_p - df_m) * hx * 0.25
             d_lns += sg * m_w * fzw * df * x
             d_lam += sg * m_w * (f + df * x * (p0 + q - 1.0)) * sgn_load * dfz
             d_q += sg * m_w * fzw * df * x * ln_fs
@@ -142,7 +152,7 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         cosd = np.cos(b[k, 12])
         fk = b[k, 6] * cosd**d_drive
         r_out[k] = fk * (1.0 + eps) - fm
-        v_out[k] = b[k, 7] ** 2 + b[k, 14] ** 2 + g_sum**2 * (b[k, 8] ** 2 + b[k, 13] ** 2) + 1e-6
+        v_out[k] = b[k, 7] ** 2 + b[k, 14] ** 2 + g_sum**2 * b[k, 8] ** 2 + gap * gap + 1e-6
         j_out[k, 0] = -d_lns
         j_out[k, 1] = g_sum * ay
         j_out[k, 2] = -d_lam

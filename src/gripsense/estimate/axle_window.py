@@ -40,6 +40,7 @@ from gripsense.config import Vehicle
 from gripsense.constants import CHI2_1_90, G0
 from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.noise import NoiseModel
+from gripsense.physics.friction_limit import linear_explains
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
 
 __all__ = [
@@ -494,6 +495,24 @@ def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
     return g
 
 
+def _linear_explains(bins: np.ndarray, pri: _Priors) -> bool:
+    """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
+    physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
+    prediction, and a tolerance from the force's noise and model fidelity and the slip's white
+    noise, offset and drift."""
+    if bins.shape[0] == 0:
+        return False
+    z = 1.645
+    fz = bins[:, 2] + bins[:, 3]
+    y = np.abs(bins[:, 6]) / fz
+    c_sum = bins[:, 4] + bins[:, 5]
+    k = (bins[:, 4] * np.abs(np.tan(bins[:, 0])) + bins[:, 5] * np.abs(np.tan(bins[:, 1]))) / fz
+    slip_sd = np.sqrt(bins[:, 8] ** 2 + pri.sd[5] ** 2 + pri.delta**2)
+    tol = z * (np.hypot(bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
+    band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
+    return linear_explains(y, k, band, tol)
+
+
 def _profile(
     bins: np.ndarray,
     t0: np.ndarray,
@@ -551,6 +570,13 @@ def _profile(
     far_from_limit = bool(
         np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
     )
+    # no upper end where the physics allows none: a tyre still linear at every point, with a
+    # stiffness inside the prior's 90 % band, explains the data within their noise (the
+    # slip's white noise and offsets, the force's noise and the model's fidelity) — a finite
+    # upper end there comes from a degeneracy of the other nuisances (docs/physics.md §15.8)
+    if np.isfinite(hi) and _linear_explains(bins, pri):
+        hi, hi_p, observable = np.inf, np.inf, False
+        far_from_limit = False
     if far_from_limit:
         # no value: the interval's lower end is not trusted (far from the limit it can come
         # from a degeneracy of the nuisances), so the range starts at what the data prove; its

@@ -24,7 +24,7 @@ import numpy as np
 
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, CurveShape, curve_tables
 
-__all__ = ["mu_range_limit", "shape_grid"]
+__all__ = ["linear_explains", "mu_range_limit", "shape_grid"]
 
 
 def shape_grid(
@@ -71,6 +71,39 @@ def _x_of_q(x: np.ndarray, q_row: np.ndarray, f_end: float, q: np.ndarray) -> np
     out = np.interp(q, q_row[::-1], x[::-1])
     beyond = q < q_row[-1]
     return np.where(beyond, f_end / np.maximum(q, 1e-300), out)
+
+
+def linear_explains(grip, linear, stiffness_band, tolerance=0.0) -> bool:
+    """Whether a tyre that is still linear at every point — μ → ∞, every curve of the family's
+    limit — explains the points for some stiffness scale in the band (then no upper end of μ
+    exists, ``docs/physics.md`` §15.5).
+
+    Parameters
+    ----------
+    grip : array_like
+        Force per load y = |F| / Fz at each point [-].
+    linear : array_like
+        Linear prediction per unit stiffness scale, k = C₀ tan|α| / Fz, at each point [-].
+    stiffness_band : (float, float)
+        Smallest and largest true stiffness over the declared one [-].
+    tolerance : float or array_like
+        Allowed |s k − y| at each point [-].
+
+    Returns
+    -------
+    bool
+        True when some s in the band gives |s k_i − y_i| ≤ tol_i at every point.
+    """
+    y = np.atleast_1d(np.abs(np.asarray(grip, dtype=float)))
+    k = np.atleast_1d(np.asarray(linear, dtype=float))
+    y, k = np.broadcast_arrays(y, k)
+    tol = np.broadcast_to(np.asarray(tolerance, dtype=float), y.shape)
+    if not np.all((k > 0) | (y <= tol)):
+        return False
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_lo = np.max(np.where(k > 0, (y - tol) / k, -np.inf), initial=stiffness_band[0])
+        s_hi = np.min(np.where(k > 0, (y + tol) / k, np.inf), initial=stiffness_band[1])
+    return bool(s_lo <= s_hi)
 
 
 def mu_range_limit(
@@ -144,10 +177,7 @@ def mu_range_limit(
             best_hi = max(best_hi, float(b[ok].max()))
     # the limit μ → ∞ of every shape is the linear tyre: unbounded when some scale of the
     # band makes the linear force match every point (continuous in s, so not left to the grid)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s_lo = np.max(np.where(k > 0, (y - tol) / k, -np.inf), initial=stiffness_band[0])
-        s_hi = np.min(np.where(k > 0, (y + tol) / k, np.inf), initial=stiffness_band[1])
-    if s_lo <= s_hi and np.all((k > 0) | (y <= tol)):
+    if linear_explains(y, k, stiffness_band, tol):
         best_hi = np.inf
         best_lo = min(best_lo, float(np.max(np.maximum(y - tol, 0.0))))
     if best_lo > best_hi:
