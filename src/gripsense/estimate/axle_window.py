@@ -499,7 +499,8 @@ def _linear_explains(bins: np.ndarray, pri: _Priors) -> bool:
     """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
     physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
     prediction, and a tolerance from the force's noise and model fidelity and the slip's white
-    noise, offset and drift."""
+    noise, offset and drift.
+    """
     if bins.shape[0] == 0:
         return False
     z = 1.645
