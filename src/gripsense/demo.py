@@ -110,13 +110,17 @@ def demo_verdict(df: pd.DataFrame) -> str:
     Returns
     -------
     str
-        "truth inside the interval in N of M values; measured-grip bound ≤ truth in K of K".
+        "truth inside the interval in N of M values; truth below the upper end in J of L
+        axle-cases with an upper end and no value; measured-grip bound ≤ truth in K of K".
     """
     obs = df[df["observable"].astype(bool)]
     n_cov = int(obs["covered"].astype(bool).sum())
     n_b = int(df["bound_holds"].astype(bool).sum())
+    upper = df[~df["observable"].astype(bool) & np.isfinite(df["mu_high"].astype(float))]
+    n_up = int((upper["mu_true"] <= upper["mu_high"]).sum())
     return (
-        f"truth inside the 90 % interval in {n_cov} of {len(obs)} values; measured-grip bound "
+        f"truth inside the 90 % interval in {n_cov} of {len(obs)} values; truth below the upper "
+        f"end in {n_up} of {len(upper)} axle-cases with only an upper end; measured-grip bound "
         f"≤ truth in {n_b} of {len(df)} axle-cases"
     )
 

@@ -11,14 +11,15 @@ Per bin k (means over ~1 s) and wheel w ∈ {L, R} (``docs/physics.md`` §15):
     μ_w   = μ (Fz'_w/F̄z')^−η · ΣFz' / Σ Fz'_v (Fz'_v/F̄z')^−η  load sensitivity of the friction
     F_model = Σ_w −sign(α_eff) μ_w Fz'_w f(x_w; shape)
     r_k  = F_k (1 + ε) cos^d δ_k − F_model
-    v_k  = σ_F,k² + m_k² + (Σ_w ∂F_w/∂α)² σ_α,k² + (Σ_w ½ |F_w''| s_α,k²)²
+    v_k  = σ_F,k² + m_k² + (Σ_w ∂F_w/∂α)² (σ_α,k² + (0.35 s_α,k)²) + (Σ_w ½ |F_w''| s_α,k²)²
 
 (cos^d δ turns the body-axis force of a steered axle into the wheels' lateral force: d = −1
 when the axle is not driven, +1 when it is and the drive force balances the drag of the turn)
 
 where s_α,k is the slip's spread within the bin beyond its noise (a transient: the mean of the
 force is not the force at the mean slip — by the Jensen gap ½ F'' s², zero where the curve is
-straight) and m_k the force no curve of the family represents.
+straight — and force and slip are ~0.1 s apart within the bin: 0.35 F' s) and m_k the force no
+curve of the family represents.
 θ = [ln s, κ, λ, q, ε, c, ς, η, d] is shared by every bin, with Gaussian priors (c: the offset left
 by the heading calibration). The slip offset δ_k of each bin follows the receiver's slowly
 varying heading error: a Gauss–Markov process (variance σ_δ²,
@@ -61,6 +62,8 @@ SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
 STOP_ABOVE = 30.0  # −log L units above the profile's minimum (or an upper bound of it): a
 # deviance of 60, nine times the highest interval level (χ²₁ 99 %: 6.63)
 TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
+TIMING_SPREAD = 0.35  # of a bin's slip spread: force and slip ~0.1 s apart in a 1 s bin
+# (receiver latency, lag, yaw-acceleration smoothing) move the force by F' α̇ 0.1 s ≈ 0.35 F' s_α
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
 
 
@@ -152,7 +155,13 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         cosd = np.cos(b[k, 12])
         fk = b[k, 6] * cosd**d_drive
         r_out[k] = fk * (1.0 + eps) - fm
-        v_out[k] = b[k, 7] ** 2 + b[k, 14] ** 2 + g_sum**2 * b[k, 8] ** 2 + gap * gap + 1e-6
+        v_out[k] = (
+            b[k, 7] ** 2
+            + b[k, 14] ** 2
+            + g_sum**2 * (b[k, 8] ** 2 + (TIMING_SPREAD * b[k, 13]) ** 2)
+            + gap * gap
+            + 1e-6
+        )
         j_out[k, 0] = -d_lns
         j_out[k, 1] = g_sum * ay
         j_out[k, 2] = -d_lam
