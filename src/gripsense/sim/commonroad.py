@@ -33,6 +33,7 @@ from gripsense.sim.sensors import emulate_steering
 from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 
 __all__ = [
+    "DrivePlan",
     "commonroad_drive",
     "commonroad_vehicle",
     "cr_circle",
@@ -123,15 +124,25 @@ def commonroad_vehicle(
 
 
 @dataclasses.dataclass
-class _Plan:
-    """Yaw-rate and speed targets of a drive as functions of time."""
+class DrivePlan:
+    """Targets of a drive as functions of time.
+
+    Attributes
+    ----------
+    duration_s : float
+        Length of the drive [s].
+    settle_s : float
+        Start of the intended test [s].
+    target : callable
+        t → (yaw rate [rad/s] or None, road-wheel angle [rad] or None, speed [m/s]).
+    """
 
     duration_s: float
     settle_s: float
     target: object  # t -> (yaw rate [rad/s] or None, steer [rad] or None, speed [m/s])
 
 
-def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> _Plan:
+def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> DrivePlan:
     """A steady circle: 6 s straight (heading calibration), 3 s turn-in, *steady_s* on the
     circle at constant speed (yaw rate v/R held by the driver).
 
@@ -146,7 +157,7 @@ def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> _
 
     Returns
     -------
-    _Plan
+    DrivePlan
         The drive's targets.
     """
     r_target = speed_mps / radius_m
@@ -154,12 +165,12 @@ def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> _
     def target(t):
         return r_target * float(np.clip((t - 6.0) / 3.0, 0.0, 1.0)), None, speed_mps
 
-    return _Plan(duration_s=9.0 + steady_s, settle_s=9.0, target=target)
+    return DrivePlan(duration_s=9.0 + steady_s, settle_s=9.0, target=target)
 
 
 def cr_constant_radius(
     radius_m: float, v_start_mps: float, v_end_mps: float, *, accel_mps2: float = 0.1
-) -> _Plan:
+) -> DrivePlan:
     """ISO 4138 constant radius, speed rising: 6 s straight, 3 s turn-in at *v_start_mps*, then
     the speed raised slowly (quasi-steady) on the circle to *v_end_mps*.
 
@@ -174,7 +185,7 @@ def cr_constant_radius(
 
     Returns
     -------
-    _Plan
+    DrivePlan
         The drive's targets.
     """
     t_sweep = (v_end_mps - v_start_mps) / accel_mps2
@@ -183,12 +194,12 @@ def cr_constant_radius(
         v = v_start_mps + accel_mps2 * float(np.clip(t - 11.0, 0.0, t_sweep))
         return v / radius_m * float(np.clip((t - 6.0) / 3.0, 0.0, 1.0)), None, v
 
-    return _Plan(duration_s=11.0 + t_sweep + 1.0, settle_s=9.0, target=target)
+    return DrivePlan(duration_s=11.0 + t_sweep + 1.0, settle_s=9.0, target=target)
 
 
 def cr_ramp_steer(
     speed_mps: float, *, rate_deg_s: float = 0.5, max_steer_deg: float = 6.0
-) -> _Plan:
+) -> DrivePlan:
     """ISO 4138 ramp steer: constant speed, the steering wheel turned slowly at a constant rate
     after 6 s straight, until *max_steer_deg* at the road wheels.
 
@@ -203,7 +214,7 @@ def cr_ramp_steer(
 
     Returns
     -------
-    _Plan
+    DrivePlan
         The drive's targets.
     """
     dur = 6.0 + max_steer_deg / rate_deg_s
@@ -211,10 +222,10 @@ def cr_ramp_steer(
     def target(t):
         return None, math.radians(rate_deg_s * max(t - 6.0, 0.0)), speed_mps
 
-    return _Plan(duration_s=dur, settle_s=6.0, target=target)
+    return DrivePlan(duration_s=dur, settle_s=6.0, target=target)
 
 
-def _simulate(plan: _Plan, mu: float, out_hz: float = 100.0) -> SimResult:
+def _simulate(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult:
     from scipy.integrate import solve_ivp
     from vehiclemodels.init_std import init_std
     from vehiclemodels.utils import tire_model
@@ -299,7 +310,7 @@ def _simulate(plan: _Plan, mu: float, out_hz: float = 100.0) -> SimResult:
 
 
 def commonroad_drive(
-    plan: _Plan,
+    plan: DrivePlan,
     mu: float,
     *,
     receiver: str = "white-0.3",
@@ -311,7 +322,7 @@ def commonroad_drive(
 
     Parameters
     ----------
-    plan : _Plan
+    plan : DrivePlan
         :func:`cr_circle` or :func:`cr_ramp_steer`.
     mu : float
         Road friction (the tyre's lateral peak coefficient) [-].
