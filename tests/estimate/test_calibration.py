@@ -179,3 +179,25 @@ def test_bad_calibration_files(setup, tmp_path):
     )
     out = invoke("friction", files[0][0], "--vehicle", car, "--calibration", other, code=2)
     assert "another car" in out
+
+
+def test_a_calibration_that_knows_less_never_widens_the_prior(setup):
+    """The declaration is the prior, the drives the data: a calibration far less certain than
+    the vehicle file leaves the stiffness and its uncertainty nearly as declared; a certain one
+    takes over; the combined uncertainty is never above either."""
+    import dataclasses
+
+    from gripsense.config import Vehicle
+    from gripsense.config.calibration import AxleCalibration, Calibration, apply_calibration
+
+    _, car, _ = setup
+    veh = Vehicle.from_toml(car)
+    c0 = float(veh.cornering_stiffness("rear", veh.static_load("rear")))
+    u0 = veh.tyres["rear"].stiffness_uncertainty
+    for sd, want_c in ((5.0, c0), (0.001, 0.8 * c0)):
+        cal = Calibration(veh.name, {"rear": AxleCalibration(0.8 * c0, sd, 0.8, 100)})
+        t = apply_calibration(veh, cal).tyres["rear"]
+        assert t.cornering_stiffness_N_per_rad == pytest.approx(want_c, rel=0.02)
+        assert t.stiffness_uncertainty <= min(u0, sd) + 1e-12
+    same = apply_calibration(dataclasses.replace(veh), Calibration(veh.name, {}))
+    assert same.tyres["rear"] == veh.tyres["rear"]

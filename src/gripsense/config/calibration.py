@@ -244,7 +244,11 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
     Returns
     -------
     Vehicle
-        The description the estimators use (same object when *cal* has no axle).
+        The description the estimators use (same object when *cal* has no axle): per axle the
+        declaration and the learned stiffness combined by their uncertainties (in ln C: the
+        vehicle file's value is the prior, the drives the data) — a calibration that knows
+        less than the vehicle file (a receiver too noisy for the slips of everyday driving)
+        leaves the declaration nearly as it is, never widens it.
     """
     if cal.vehicle != vehicle.name:
         raise InputError(
@@ -253,12 +257,17 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
         )
     tyres = dict(vehicle.tyres)
     for axle, a in cal.axles.items():
-        if axle in tyres:
-            tyres[axle] = dataclasses.replace(
-                tyres[axle],
-                cornering_stiffness_N_per_rad=a.cornering_stiffness_N_per_rad,
-                stiffness_uncertainty=a.stiffness_uncertainty,
-            )
+        if axle not in tyres:
+            continue
+        c_d = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
+        w_d = 1.0 / np.log1p(tyres[axle].stiffness_uncertainty) ** 2
+        w_l = 1.0 / np.log1p(a.stiffness_uncertainty) ** 2
+        ln_c = (w_d * np.log(c_d) + w_l * np.log(a.cornering_stiffness_N_per_rad)) / (w_d + w_l)
+        tyres[axle] = dataclasses.replace(
+            tyres[axle],
+            cornering_stiffness_N_per_rad=float(np.exp(ln_c)),
+            stiffness_uncertainty=float(np.expm1(1.0 / np.sqrt(w_d + w_l))),
+        )
     return dataclasses.replace(vehicle, tyres=tyres)
 
 
