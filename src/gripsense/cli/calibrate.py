@@ -40,8 +40,9 @@ def calibrate(
     overwrite: Overwrite = False,
 ) -> None:
     """Learn each axle's cornering stiffness (one wheel, at the static load) and its
-    uncertainty from the linear range of everyday driving; friction, live and fleet take the
-    file with --calibration (or a [calibration] file = ... in the vehicle file).
+    uncertainty from the linear range of everyday driving; friction and live take the file with
+    --calibration, every command (fleet too) when the vehicle file names it in a calibration
+    table (file = "car.calibration.toml").
     """
     from gripsense.config import Vehicle
     from gripsense.config.calibration import calibration_toml, read_calibration
