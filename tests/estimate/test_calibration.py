@@ -40,17 +40,22 @@ def _write(drive, folder, name):
     return log, steer
 
 
+def _car_toml(stiffness_error):
+    """The vehicle file a user would write (stiffness stated ±20 %), with an RTK-class receiver."""
+    return user_vehicle_toml(
+        truth_vehicle("sedan"), truth_tyre(TYRE), stiffness_error=stiffness_error,
+        stiffness_uncertainty=0.2,
+    ) + (
+        '\n[receiver]\nname = "rtk-class"\nheading_white_deg = 0.05\nheading_slow_deg = 0.05\n'
+        "velocity_mps = 0.02\nyaw_rate_dps = 0.1\n"
+    )  # fmt: skip
+
+
 @pytest.fixture(scope="module")
 def setup(tmp_path_factory):
     folder = tmp_path_factory.mktemp("calibrate")
-    veh = truth_vehicle("sedan")
     car = folder / "car.toml"
-    car.write_text(
-        user_vehicle_toml(veh, truth_tyre(TYRE), stiffness_error=0.15, stiffness_uncertainty=0.2)
-        + '\n[receiver]\nname = "rtk-class"\nheading_white_deg = 0.05\nheading_slow_deg = 0.05\n'
-        "velocity_mps = 0.02\nyaw_rate_dps = 0.1\n",
-        encoding="utf-8",
-    )
+    car.write_text(_car_toml(0.15), encoding="utf-8")
     files = [
         _write(
             simulate_drive(
@@ -125,14 +130,7 @@ def test_friction_with_the_calibration(setup):
             args += ["--steer-csv", f[1]]
         invoke(*args)
     honest = folder / "honest.toml"
-    honest.write_text(
-        car.read_text(encoding="utf-8").replace(
-            user_vehicle_toml(truth_vehicle("sedan"), truth_tyre(TYRE), stiffness_error=0.15,
-                              stiffness_uncertainty=0.2),
-            user_vehicle_toml(truth_vehicle("sedan"), truth_tyre(TYRE), stiffness_uncertainty=0.2),
-        ),
-        encoding="utf-8",
-    )  # fmt: skip
+    honest.write_text(_car_toml(0.0), encoding="utf-8")
     from gripsense import FrictionRun
 
     for k, (mu, u) in enumerate(((0.6, 0.93), (0.4, 0.9))):

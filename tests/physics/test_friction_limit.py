@@ -51,16 +51,24 @@ def test_against_brute_force_sweep(u, band, pts):
 
 def test_reproduces_the_single_point_table():
     """Largest μ consistent with one steady point of a C 1.35, E 0 curve, over MF C 1.1–1.95 and
-    E −1.5…0.8, stiffness ±10 % / ±20 % (PHYSICS.md §15: 1.54/2.15 at u 0.8, 1.39/1.59 at 0.9,
-    1.32/1.43 at 0.95, 1.24/1.29 at 0.99)."""
+    E −1.5…0.8, stiffness ±10 % / ±20 % (PHYSICS.md §15: 2.38/unbounded at u 0.6, 1.54/2.15 at
+    0.8, 1.39/1.59 at 0.9, 1.32/1.43 at 0.95, 1.24/1.29 at 0.99)."""
     fam = shape_grid(n=14)
-    table = {0.8: (1.54, 2.15), 0.9: (1.39, 1.59), 0.95: (1.32, 1.43), 0.99: (1.24, 1.29)}
+    table = {
+        0.6: (2.38, np.inf),
+        0.8: (1.54, 2.15),
+        0.9: (1.39, 1.59),
+        0.95: (1.32, 1.43),
+        0.99: (1.24, 1.29),
+    }
     for u, want in table.items():
         xt = brentq(lambda x, u=u: magic_formula_normalised(x, 1.35, 0.0) - u, 1e-9, 2.5)
         for band, w in zip(((0.9, 1.1), (0.8, 1.2)), want, strict=True):
             lo, hi = mu_range_limit(u, np.arctan(xt), 1.0, stiffness_band=band, shapes=fam)
-            assert hi == pytest.approx(w, abs=0.015), (u, band)
-            assert lo == pytest.approx(u, abs=0.01)
+            assert hi == pytest.approx(w, abs=0.025), (u, band)
+            # the lower end is the measured grip near the limit; at u 0.6 with ±10 % a point that
+            # linear cannot sit at its peak, so it lies a little above
+            assert u - 0.001 <= lo <= u + (0.05 if u < 0.7 else 0.01)
 
 
 def test_unbounded_far_from_the_limit_and_narrower_with_more_points():

@@ -51,6 +51,7 @@ __all__ = [
     "WindowOptions",
     "axle_bins",
     "estimate_windows",
+    "force_and_linear",
     "measured_grip",
     "merge_steady",
 ]
@@ -495,6 +496,27 @@ def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
     return g
 
 
+def force_and_linear(data: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per bin the axle force per load y = F / (Fz_L + Fz_R) and the declared stiffness's
+    linear prediction k = −(C_L tan α_L + C_R tan α_R) / (Fz_L + Fz_R) (``docs/physics.md``
+    §15.7; y = k for a linear tyre at the declared stiffness, ISO signs).
+
+    Parameters
+    ----------
+    data : numpy.ndarray
+        Bins in :data:`BIN_COLUMNS` order.
+
+    Returns
+    -------
+    y, k : numpy.ndarray
+        Force per load and linear prediction [-].
+    """
+    fz = data[:, 2] + data[:, 3]
+    y = data[:, 6] / fz
+    k = -(data[:, 4] * np.tan(data[:, 0]) + data[:, 5] * np.tan(data[:, 1])) / fz
+    return y, k
+
+
 def _linear_explains(bins: np.ndarray, pri: _Priors) -> bool:
     """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
     physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
@@ -505,9 +527,9 @@ def _linear_explains(bins: np.ndarray, pri: _Priors) -> bool:
         return False
     z = 1.645
     fz = bins[:, 2] + bins[:, 3]
-    y = np.abs(bins[:, 6]) / fz
+    y, k = force_and_linear(bins)
+    y, k = np.abs(y), np.abs(k)
     c_sum = bins[:, 4] + bins[:, 5]
-    k = (bins[:, 4] * np.abs(np.tan(bins[:, 0])) + bins[:, 5] * np.abs(np.tan(bins[:, 1]))) / fz
     slip_sd = np.sqrt(bins[:, 8] ** 2 + pri.sd[5] ** 2 + pri.delta**2)
     tol = z * (np.hypot(bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
     band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))

@@ -28,7 +28,7 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.config.calibration import AxleCalibration, DriveSums
-from gripsense.estimate.axle_window import axle_bins
+from gripsense.estimate.axle_window import axle_bins, force_and_linear
 from gripsense.estimate.noise import NoiseModel
 
 __all__ = ["FORCE_SCALE_REL", "GRIP_RANGE", "drive_sums", "solve_sums"]
@@ -84,9 +84,7 @@ def drive_sums(
     if d.shape[0] == 0:
         return None
     fz = d[:, 2] + d[:, 3]
-    y = d[:, 6] / fz
-    ta, tb = np.tan(d[:, 0]), np.tan(d[:, 1])
-    k = -(d[:, 4] * ta + d[:, 5] * tb) / fz
+    y, k = force_and_linear(d)
     g = np.abs(d[:, 9])
     use = (g >= GRIP_RANGE[0]) & (g <= GRIP_RANGE[1]) & np.isfinite(y) & np.isfinite(k)
     if use.sum() < 3:

@@ -27,9 +27,7 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.data import sample_path
-from gripsense.sim.drives import Drive, axle_truth
-from gripsense.sim.gnss import CompassNoise, emulate_compass
-from gripsense.sim.sensors import emulate_steering
+from gripsense.sim.drives import Drive, record_drive
 from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 
 __all__ = [
@@ -338,15 +336,7 @@ def commonroad_drive(
     Drive
         The recording and the truth.
     """
-    res = _simulate(plan, mu)
-    veh = commonroad_vehicle()
-    ant = (-veh.cg_offset[0], -veh.cg_offset[1])
-    log = emulate_compass(res, ant, noise=CompassNoise.preset(receiver), seed=seed)
-    steer = emulate_steering(res, scale_error=steer_scale_error, seed=seed + 7919)
-    return Drive(
-        lines=log.lines,
-        steer=steer,
-        truth=log.truth,
-        axles=axle_truth(log.truth, plan.settle_s),
-        settle_s=plan.settle_s,
-    )
+    return record_drive(
+        _simulate(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver, seed=seed,
+        steer_scale_error=steer_scale_error,
+    )  # fmt: skip

@@ -27,7 +27,7 @@ from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
 from gripsense.sim.sensors import emulate_steering
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
-from gripsense.sim.vehicle import SimParams
+from gripsense.sim.vehicle import SimParams, SimResult
 
 __all__ = [
     "TRUTH_TYRES",
@@ -35,6 +35,7 @@ __all__ = [
     "Drive",
     "axle_truth",
     "limit_speed",
+    "record_drive",
     "simulate_drive",
     "truth_tyre",
     "truth_vehicle",
@@ -318,15 +319,53 @@ def simulate_drive(
     if circle is not None:
         maneuver = M.circle(circle[0], circle[1], laps=1.5, params=p)
     res = M.run(p, maneuver, mu=mu)
-    ant = (-veh.cg_offset[0], -veh.cg_offset[1])
-    log = emulate_compass(res, ant, noise=CompassNoise.preset(receiver), seed=seed)
-    steer = emulate_steering(res, scale_error=steer_scale_error, seed=seed + 7919)
+    return record_drive(
+        res, veh, maneuver.settle_s, receiver=receiver, seed=seed,
+        steer_scale_error=steer_scale_error,
+    )  # fmt: skip
+
+
+def record_drive(
+    result: SimResult,
+    vehicle: Vehicle,
+    settle_s: float,
+    *,
+    receiver: str = "v100",
+    seed: int = 0,
+    steer_scale_error: float = 0.03,
+) -> Drive:
+    """Record a simulated drive (of any vehicle model) as a user would: the emulated compass at
+    the vehicle's antenna and a steering channel, with the per-axle truth.
+
+    Parameters
+    ----------
+    result : SimResult
+        The simulated drive.
+    vehicle : Vehicle
+        The vehicle (its antenna position).
+    settle_s : float
+        Start of the intended test [s].
+    receiver : str
+        Receiver preset.
+    seed : int
+        Random seed of the receiver and steering noise.
+    steer_scale_error : float
+        Scale error of the steering channel [-].
+
+    Returns
+    -------
+    Drive
+        The recording and the truth.
+    """
+    ant = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
+    log = emulate_compass(result, ant, noise=CompassNoise.preset(receiver), seed=seed)
+    steer = emulate_steering(result, scale_error=steer_scale_error, seed=seed + 7919)
     return Drive(
         lines=log.lines,
         steer=steer,
         truth=log.truth,
-        axles=axle_truth(log.truth, maneuver.settle_s),
-        settle_s=maneuver.settle_s,
+        axles=axle_truth(log.truth, settle_s),
+        settle_s=settle_s,
     )
 
 
