@@ -25,7 +25,10 @@ beyond) with the same truth tyres. ``--truth commonroad`` uses a vehicle model g
 write as the truth: CommonRoad's single-track drift model (``gripsense.sim.commonroad``: Pacejka
 tyres C 1.35, E ≈ 0, no lateral load transfer, wheel spin), for steady circles at 60–98 % of the
 limit (R 40 and 70 m, 25 s steady) and sweeps (ISO 4138 constant radius R 40 m with the speed
-rising, ramp steer at 70 km/h), μ 0.3–1.0.
+rising, ramp steer at 70 km/h), μ 0.3–1.0. ``--truth commonroad-mb`` drives the same plans with
+CommonRoad's multi-body model (29 states: roll, pitch, unsprung masses, suspension, tyre vertical
+compliance, lateral load transfer, camber; the truth per wheel as the model computes it), on
+μ 0.3–0.9: its vehicle 2 lifts an inner wheel from about 0.85 g, where a drive ends.
 
 Each axle-case also gets the **physical limit** of its range
 (:func:`gripsense.physics.friction_limit.mu_range_limit`): the μ that the true operating points
@@ -37,7 +40,7 @@ consistent), the median width of the range over the limit's width, values, cover
 median width (a better receiver must not say less).
 
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps]
-       [--truth gripsense|commonroad] [--workers 2] [--csv out.csv]
+       [--truth gripsense|commonroad|commonroad-mb] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
 """
 
@@ -114,14 +117,17 @@ def jobs(
 CR_MUS = (0.3, 0.5, 0.7, 0.9, 1.0)
 
 
-def jobs_commonroad(quick: bool, receivers=("white-0.3",)) -> list[dict]:
-    """CommonRoad single-track drives: steady circles at utilisation 0.6–0.98 (R 40, 70 m) and
-    the two ISO 4138 sweeps."""
+def jobs_commonroad(quick: bool, receivers=("white-0.3",), model: str = "std") -> list[dict]:
+    """CommonRoad drives (single-track ``std`` or multi-body ``mb``): steady circles at
+    utilisation 0.6–0.98 (R 40, 70 m) and the two ISO 4138 sweeps."""
     from gripsense.sim.drives import limit_speed
 
     out = []
     rng = np.random.default_rng(26)
-    mus = (0.3, 0.7, 1.0) if quick else CR_MUS
+    if model == "mb":  # vehicle 2's inner wheels lift from ~0.85 g (the drive ends there)
+        mus = (0.3, 0.7) if quick else (0.3, 0.5, 0.7, 0.9)
+    else:
+        mus = (0.3, 0.7, 1.0) if quick else CR_MUS
     us = (0.8, 0.92, 0.98) if quick else (0.6, 0.7, 0.8, 0.9, 0.95, 0.98)
     for mu in mus:
         plans = [
@@ -140,9 +146,9 @@ def jobs_commonroad(quick: bool, receivers=("white-0.3",)) -> list[dict]:
             for rec in receivers:
                 out.append(
                     {
-                        "truth": "commonroad",
+                        "truth": "commonroad" if model == "std" else "commonroad-mb",
                         "tyre": "cr-pacejka",
-                        "vehicle": "cr-vehicle2",
+                        "vehicle": "cr-vehicle2" if model == "std" else "cr-vehicle2-mb",
                         "mu_road": mu,
                         "manoeuvre": name,
                         "plan": plan,
@@ -187,7 +193,8 @@ def _cr_drive(job: dict):
         p = CR.cr_constant_radius(plan[1], plan[2], plan[3])
     else:
         p = CR.cr_ramp_steer(plan[1], rate_deg_s=0.5, max_steer_deg=8.0)
-    d = CR.commonroad_drive(p, job["mu_road"], receiver=job["receiver"], seed=job["seed"])
+    sim = CR.commonroad_mb_drive if job["truth"] == "commonroad-mb" else CR.commonroad_drive
+    d = sim(p, job["mu_road"], receiver=job["receiver"], seed=job["seed"])
     uv = CR.commonroad_vehicle(stiffness_error=job["stiffness_error"])
     return d, uv
 
@@ -200,7 +207,8 @@ def one(job: dict) -> list[dict]:
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
-    if job.get("truth") == "commonroad":
+    cr = str(job.get("truth", "")).startswith("commonroad")
+    if cr:
         d, uv = _cr_drive(job)
     elif job["radius_m"] <= -100:  # ISO 4138 ramp steer, 1 °/s, after a 6 s straight
         m = M.ramp_steer(job["speed_mps"], rate_rad_s=np.deg2rad(1.0),
@@ -214,7 +222,7 @@ def one(job: dict) -> list[dict]:
         steer = np.where(t < 6.0, 0.0, amp * np.sin(2 * np.pi * (t - 6.0) / 3.0))
         m = M.slalom(job["speed_mps"], amplitude_rad=amp, period_s=3.0, cycles=8)
         m.steer_table, m.duration_s, m.settle_s, circle = (t, steer), 24.0, 6.0, None
-    if job.get("truth") != "commonroad":
+    if not cr:
         d = simulate_drive(
             job["vehicle"],
             job["tyre"],
@@ -334,10 +342,13 @@ def main() -> None:
     ap.add_argument("--vehicles", default=",".join(VEHICLES))
     ap.add_argument("--receivers", default=",".join(RECEIVERS))
     ap.add_argument("--kind", default="circles", choices=("circles", "transients", "sweeps"))
-    ap.add_argument("--truth", default="gripsense", choices=("gripsense", "commonroad"))
+    ap.add_argument(
+        "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
+    )
     args = ap.parse_args()
-    if args.truth == "commonroad":
-        todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")))
+    if args.truth.startswith("commonroad"):
+        model = "mb" if args.truth == "commonroad-mb" else "std"
+        todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")), model)
     else:
         todo = jobs(
             args.quick,

@@ -34,7 +34,14 @@ from gripsense.estimate.results import (
 from gripsense.io import read_nmea
 from gripsense.io.steer import read_steer_csv, steer_at
 
-__all__ = ["ESTIMATORS", "FrictionResult", "FrictionRun", "learn_calibration"]
+__all__ = [
+    "ESTIMATORS",
+    "FrictionResult",
+    "FrictionRun",
+    "learn_calibration",
+    "log_drive_sums",
+    "solve_calibration",
+]
 
 
 def _per_sample(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
@@ -308,10 +315,6 @@ def learn_calibration(
     Calibration
         Per axle the learned stiffness (axles without usable bins are left out) and the drives.
     """
-    import hashlib
-
-    from gripsense.estimate.calibration import drive_sums, solve_sums
-
     veh = vehicle if isinstance(vehicle, Vehicle) else Vehicle.from_toml(vehicle)
     veh = dataclasses.replace(veh, calibration_file=None)
     if steer_csvs and len(steer_csvs) != len(logs):
@@ -319,35 +322,98 @@ def learn_calibration(
             f"--steer-csv: {len(steer_csvs)} channels for {len(logs)} logs; give one per log, "
             "in the same order"
         )
-    if previous is not None and previous.vehicle != veh.name:
-        raise InputError(
-            f"{previous.source}: a calibration of {previous.vehicle!r}, not of {veh.name!r}"
-        )
+    _same_vehicle(previous, veh)  # before any log is read
     run = FrictionRun(veh, receiver=receiver)
-    drives = list(previous.drives) if previous is not None else []
-    seen = {(d.sha256, d.axle) for d in drives}
+    drives = []
     for i, log in enumerate(logs):
-        digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
-        epochs = read_nmea(log).epochs
-        steer = None
-        if steer_csvs:
-            steer = steer_at(read_steer_csv(steer_csvs[i]), epochs["t_s"].to_numpy(float))
-        wheels, _ = run.wheel_table(epochs, steer_rad=steer)
-        if wheels.empty:
-            continue
-        for axle in ("front", "rear"):
-            if (digest, axle) in seen:
-                continue
-            s = drive_sums(wheels, veh, axle, run.options.noise, file=Path(log).name, sha256=digest)
-            if s is not None:
-                drives.append(s)
-                seen.add((digest, axle))
+        drives += log_drive_sums(log, run, steer_csv=steer_csvs[i] if steer_csvs else None)
+    return solve_calibration(veh, drives, previous=previous)
+
+
+def _same_vehicle(previous: Calibration | None, vehicle: Vehicle) -> None:
+    if previous is not None and previous.vehicle != vehicle.name:
+        raise InputError(
+            f"{previous.source}: a calibration of {previous.vehicle!r}, not of {vehicle.name!r}"
+        )
+
+
+def log_drive_sums(
+    log: str | Path, run: FrictionRun, *, steer_csv: str | Path | None = None
+) -> list:
+    """The linear-range sums of one log per axle (:func:`gripsense.estimate.calibration.
+    drive_sums`), tagged with the log's name and SHA-256 — the part of :func:`learn_calibration`
+    that a fleet runs on its workers.
+
+    Parameters
+    ----------
+    log : str or Path
+        NMEA log.
+    run : FrictionRun
+        The run (vehicle without calibration, receiver).
+    steer_csv : str or Path, optional
+        The log's steering channel (the front axle needs it).
+
+    Returns
+    -------
+    list of DriveSums
+        One per axle with usable bins.
+    """
+    import hashlib
+
+    from gripsense.estimate.calibration import drive_sums
+
+    digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
+    epochs = read_nmea(log).epochs
+    steer = None
+    if steer_csv is not None:
+        steer = steer_at(read_steer_csv(steer_csv), epochs["t_s"].to_numpy(float))
+    wheels, _ = run.wheel_table(epochs, steer_rad=steer)
+    if wheels.empty:
+        return []
+    out = []
+    for axle in ("front", "rear"):
+        s = drive_sums(wheels, run.vehicle, axle, run.options.noise, file=Path(log).name,
+                       sha256=digest)  # fmt: skip
+        if s is not None:
+            out.append(s)
+    return out
+
+
+def solve_calibration(
+    vehicle: Vehicle, drives: list, *, previous: Calibration | None = None
+) -> Calibration:
+    """Each axle's learned stiffness from the sums of its drives, added to what *previous* was
+    learned from (a drive already in it is not counted twice).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle (its declared stiffness is the reference).
+    drives : list of DriveSums
+        Sums of the new drives (:func:`log_drive_sums`).
+    previous : Calibration, optional
+        An earlier calibration of this vehicle to update.
+
+    Returns
+    -------
+    Calibration
+        Per axle the learned stiffness (axles without usable bins are left out) and the drives.
+    """
+    from gripsense.estimate.calibration import solve_sums
+
+    _same_vehicle(previous, vehicle)
+    kept = list(previous.drives) if previous is not None else []
+    seen = {(d.sha256, d.axle) for d in kept}
+    for d in drives:
+        if (d.sha256, d.axle) not in seen:
+            kept.append(d)
+            seen.add((d.sha256, d.axle))
     axles = {}
     for axle in ("front", "rear"):
-        if axle not in veh.tyres:
+        if axle not in vehicle.tyres:
             continue
-        declared = float(veh.cornering_stiffness(axle, veh.static_load(axle)))
-        a = solve_sums([d for d in drives if d.axle == axle], declared)
+        declared = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
+        a = solve_sums([d for d in kept if d.axle == axle], declared)
         if a is not None:
             axles[axle] = a
-    return Calibration(vehicle=veh.name, axles=axles, drives=drives)
+    return Calibration(vehicle=vehicle.name, axles=axles, drives=kept)

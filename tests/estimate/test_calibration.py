@@ -199,3 +199,51 @@ def test_a_calibration_that_knows_less_never_widens_the_prior(setup):
         assert t.stiffness_uncertainty <= min(u0, sd) + 1e-12
     same = apply_calibration(dataclasses.replace(veh), Calibration(veh.name, {}))
     assert same.tyres["rear"] == veh.tyres["rear"]
+
+
+def test_fleet_learns_one_calibration_per_vehicle_id(setup, tmp_path):
+    """fleet --calibrate on a real LocalCluster: each vehicle id learns from its own logs only
+    (the same calibration as `calibrate` on those logs), the rear axle's stiffness within 5 % of
+    the truth tyre's where the vehicle file was 15 % off, and the rows use it."""
+    import shutil
+
+    import pandas as pd
+
+    from gripsense import FrictionRun
+    from gripsense.pipeline import learn_calibration
+
+    _, car, files = setup
+    logs = tmp_path / "logs"
+    for vid, keep in (("car_a", files), ("car_b", files[:2])):
+        (logs / vid).mkdir(parents=True)
+        for log, _ in keep:
+            shutil.copy(log, logs / vid / log.name)
+    out = tmp_path / "fleet"
+    text = invoke("fleet", str(logs / "**" / "*.nmea.gz"), "-o", out, "--vehicle", car,
+                  "--calibrate", "--workers", 2)  # fmt: skip
+    assert "calibrations:" in text
+    veh, tyre = truth_vehicle("sedan"), truth_tyre(TYRE)
+    true_c = float(tyre.cornering_stiffness(veh.static_load("rear")))
+    for vid, keep in (("car_a", files), ("car_b", files[:2])):
+        got = read_calibration(out / "calibration" / f"{vid}.calibration.toml")
+        ref = learn_calibration([f[0] for f in keep], car)
+        assert {d.file for d in got.drives} == {f[0].name for f in keep}
+        assert got.axles["rear"].cornering_stiffness_N_per_rad == pytest.approx(
+            ref.axles["rear"].cornering_stiffness_N_per_rad, rel=1e-5  # the file's 0.1 N/rad
+        )
+        if vid == "car_a":
+            err = got.axles["rear"].cornering_stiffness_N_per_rad / true_c - 1.0
+            assert abs(err) <= 0.05, err
+    # the rows of a log are those of friction with that id's calibration
+    rows = pd.read_parquet(out / "epochs" / "vehicle=car_b")
+    log = logs / "car_b" / files[0][0].name
+    est = FrictionRun(car, calibration=out / "calibration" / "car_b.calibration.toml")
+    est = est.run_log(log).estimates()
+    mine = rows[rows["log"] == log.name].sort_values("t_s")
+    np.testing.assert_allclose(
+        mine["mu_high"].to_numpy(float),
+        est.sort_values("t_start")["mu_high"].to_numpy(float)[: len(mine)],
+        rtol=1e-9,
+        equal_nan=True,
+    )
+    assert len(mine) == len(est)

@@ -1,9 +1,9 @@
 """Friction that tells (issue "Friction that tells"): ranges at the physical limit, the slippery
 road recognised, no degenerate range, better data never say less.
 
-Truths the estimator does not share: CommonRoad's single-track drift model with its own
-Pacejka tyre (:mod:`gripsense.sim.commonroad`) and gripsense's simulator with Magic Formula
-``.tir`` tyres, load transfer and roll camber (:mod:`gripsense.sim.drives`).
+Truths the estimator does not share: CommonRoad's single-track drift and multi-body models with
+their own Pacejka tyre (:mod:`gripsense.sim.commonroad`) and gripsense's simulator with Magic
+Formula ``.tir`` tyres, load transfer and roll camber (:mod:`gripsense.sim.drives`).
 """
 
 from __future__ import annotations
@@ -128,18 +128,25 @@ def test_slippery_calls_on_magic_formula_drives(mu, want):
     assert other not in calls.tolist()
 
 
-def test_sweep_gives_a_value_near_the_truth():
-    """ISO 4138 ramp steer at 70 km/h on CommonRoad's car (μ 0.7): the front axle climbs its
-    curve to the limit and gets a drive-level value within 0.05 of the truth."""
-    d = CR.commonroad_drive(
-        CR.cr_ramp_steer(70 / 3.6, rate_deg_s=0.5, max_steer_deg=8.0), 0.7, seed=5
-    )
+@pytest.mark.parametrize(
+    "simulate",
+    [CR.commonroad_drive, CR.commonroad_mb_drive],
+    ids=["single-track", "multi-body"],
+)
+def test_sweep_gives_a_value_near_the_truth(simulate):
+    """ISO 4138 ramp steer at 70 km/h on CommonRoad's car (μ 0.7), single-track and multi-body
+    (lateral load transfer, roll, camber): the front axle climbs its curve to the limit and gets
+    a drive-level value within 0.05 of the truth (the multi-body truth is the load-weighted peak
+    of its wheels at their camber)."""
+    d = simulate(CR.cr_ramp_steer(70 / 3.6, rate_deg_s=0.5, max_steer_deg=8.0), 0.7, seed=5)
     s = _run(d, CR.commonroad_vehicle(stiffness_error=0.05), "white-0.3").summary
     front = s.set_index("axle").loc["front"]
-    assert d.axles.set_index("axle").loc["front", "utilisation_max"] >= 0.95
+    truth = d.axles.set_index("axle").loc["front"]
+    assert truth["utilisation_max"] >= 0.95
     assert front["observable"], front.to_dict()
-    assert abs(front["mu"] - 0.7) <= 0.05
-    assert front["mu_low"] <= 0.7 <= front["mu_high"]
+    assert abs(front["mu"] - truth["mu_true"]) <= 0.05
+    assert front["mu_low"] <= truth["mu_true"] <= front["mu_high"]
+    assert front["grip_used_lower"] <= truth["mu_true"] + 0.01
 
 
 def _recorded(tyre, mu, u, seeds, k):

@@ -41,6 +41,14 @@ def fleet(
         str | None, typer.Option(help="Ignore data before this ISO time (UTC)")
     ] = None,
     logs_per_task: Annotated[int, typer.Option(help="Logs per Dask task")] = 4,
+    calibrate: Annotated[
+        bool,
+        typer.Option(
+            "--calibrate",
+            help="Learn each vehicle id's tyre stiffness from its own logs first and use it "
+            "(written to OUTPUT/calibration/; starts from the vehicle file's calibration)",
+        ),
+    ] = False,
     overwrite: Overwrite = False,
 ) -> None:
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
@@ -71,6 +79,7 @@ def fleet(
                 progress=progress,
                 overwrite=overwrite,
                 command=command_line(),
+                calibrate=calibrate,
             )
     except GripsenseError as e:
         fail(e)
@@ -81,4 +90,6 @@ def fleet(
     console.print(
         f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with measured grip only"
     )
+    if "calibration" in res.paths:
+        say(f"calibrations: {res.paths['calibration']}")
     say(f"map: {res.paths['map']}")

@@ -5,10 +5,16 @@ grouped to about ``batch_s`` seconds of work). The scheduler is a ``LocalCluster
 ``workers`` processes, or an existing one (``scheduler="tcp://host:8786"``; the workers must
 see the same file system, they write ``OUTDIR/epochs/`` themselves). Every log ends up in the
 row counts or in ``OUTDIR/problems.csv`` with its reason.
+
+``calibrate=True`` learns each vehicle id's tyre stiffness from its own logs first (a first pass
+of tasks, :func:`gripsense.fleet.tasks.calibration_batch`; ``docs/physics.md`` §15.7), starting
+from the calibration its vehicle file names, if any; the calibrations are written to
+``OUTDIR/calibration/<id>.calibration.toml`` and applied in the second pass.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import glob
 import re
@@ -20,7 +26,7 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
-from gripsense.fleet.tasks import process_batch
+from gripsense.fleet.tasks import calibration_batch, process_batch
 from gripsense.io.results import ResultWriter
 
 __all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet", "safe_id"]
@@ -132,6 +138,7 @@ def run_fleet(
     map_title: str = "gripsense friction map",
     overwrite: bool = False,
     command: str = "",
+    calibrate: bool = False,
 ) -> FleetResult:
     """Process every log matching *patterns* and build the cell table and the map.
 
@@ -171,6 +178,8 @@ def run_fleet(
         Replace an earlier fleet result in *outdir* (only the files its manifest lists).
     command : str
         Command line recorded in the manifest.
+    calibrate : bool
+        Learn each vehicle id's tyre stiffness from its logs and apply it (module docstring).
     """
     if receiver is not None:
         from gripsense.config import receiver_from
@@ -184,9 +193,24 @@ def run_fleet(
     items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
     batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
     inputs = [*logs, *sorted({it[1] for it in items})] + ([vehicle_map] if vehicle_map else [])
-    with ResultWriter(outdir, "fleet", overwrite=overwrite, command=command, inputs=inputs) as tmp:
-        records = _run_batches(
-            batches, tmp, scheduler, workers, method, h3_res, since, receiver, progress
+    if calibrate:
+        _one_file_per_id(items)
+    with (
+        ResultWriter(outdir, "fleet", overwrite=overwrite, command=command, inputs=inputs) as tmp,
+        _client(scheduler, workers) as client,
+    ):
+        calibrations = _calibrate(client, batches, tmp, receiver) if calibrate else {}
+        records = _map(
+            client,
+            process_batch,
+            batches,
+            progress,
+            outdir=str(Path(tmp).resolve()),
+            method=method,
+            h3_res=h3_res,
+            since=since,
+            receiver=receiver,
+            calibrations=calibrations,
         )
         logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
         problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
@@ -207,12 +231,56 @@ def run_fleet(
     names = ("cells.parquet", "cells.geojson", "map.html", "problems.csv", "logs.csv", "epochs")
     paths = dict(zip(("cells", "geojson", "map", "problems", "logs", "epochs"), names, strict=True))
     paths = {k: outdir / v for k, v in paths.items()}
+    if calibrations:
+        paths["calibration"] = outdir / "calibration"
     return FleetResult(cells=cells, logs=logs_df, paths=paths)
 
 
-def _run_batches(batches, outdir, scheduler, workers, method, h3_res, since, receiver, progress):
-    """Run the batches on a LocalCluster (or an existing scheduler); one record per log."""
-    from dask.distributed import Client, LocalCluster, as_completed
+def _one_file_per_id(items: list[tuple[str, str, str]]) -> None:
+    """A vehicle id learns one calibration: it must name one vehicle file."""
+    files: dict[str, str] = {}
+    for _, vfile, vid in items:
+        if files.setdefault(vid, vfile) != vfile:
+            raise InputError(
+                f"--calibrate: vehicle id {vid!r} has two vehicle files ({files[vid]}, {vfile}); "
+                "give each car its own id in the --vehicle-map"
+            )
+
+
+def _calibrate(client, batches, outdir: Path, receiver) -> dict[str, str]:
+    """First pass: the logs' sums on the workers, one calibration per vehicle id written to
+    ``outdir/calibration/`` (id → file).
+    """
+    import dataclasses
+
+    from gripsense.config import Vehicle
+    from gripsense.config.calibration import calibration_toml, read_calibration
+    from gripsense.pipeline import solve_calibration
+
+    records = _map(client, calibration_batch, batches, None, receiver=receiver)
+    files = {vid: vfile for b in batches for _, vfile, vid in b}
+    out = {}
+    folder = Path(outdir) / "calibration"
+    for vid, vfile in sorted(files.items()):
+        veh = Vehicle.from_toml(vfile)
+        previous = read_calibration(veh.calibration_file) if veh.calibration_file else None
+        sums = [s for r in records if r["vehicle"] == vid for s in r["sums"]]
+        cal = solve_calibration(
+            dataclasses.replace(veh, calibration_file=None), sums, previous=previous
+        )
+        if not cal.axles:
+            continue  # nothing learned: the vehicle file as it is
+        folder.mkdir(exist_ok=True)
+        path = folder / f"{vid}.calibration.toml"
+        path.write_text(calibration_toml(cal), encoding="utf-8")
+        out[vid] = str(path.resolve())
+    return out
+
+
+@contextlib.contextmanager
+def _client(scheduler: str | None, workers: int):
+    """A Dask client on a LocalCluster (or an existing scheduler), closed afterwards."""
+    from dask.distributed import Client, LocalCluster
 
     cluster = None
     if scheduler is None:
@@ -226,27 +294,22 @@ def _run_batches(batches, outdir, scheduler, workers, method, h3_res, since, rec
         client = Client(cluster)
     else:
         client = Client(scheduler)
-    records: list[dict] = []
     try:
-        futs = [
-            client.submit(
-                process_batch,
-                b,
-                str(Path(outdir).resolve()),
-                method=method,
-                h3_res=h3_res,
-                since=since,
-                receiver=receiver,
-                pure=False,
-            )
-            for b in batches
-        ]
-        for done, f in enumerate(as_completed(futs), start=1):
-            records.extend(f.result())
-            if progress is not None:
-                progress(done, len(futs))
+        yield client
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _map(client, fn, batches, progress, **kwargs) -> list[dict]:
+    """Run *fn* on every batch; the records of all batches (in completion order)."""
+    from dask.distributed import as_completed
+
+    futs = [client.submit(fn, b, pure=False, **kwargs) for b in batches]
+    records: list[dict] = []
+    for done, f in enumerate(as_completed(futs), start=1):
+        records.extend(f.result())
+        if progress is not None:
+            progress(done, len(futs))
     return records

@@ -12,6 +12,10 @@ Rows (one per estimate; schema :data:`ROW_COLUMNS`):
 
 A log that cannot be read or analysed never fails the batch: it is returned as a problem with
 its reason.
+
+With ``calibrate``, a first pass (:func:`calibration_batch`) returns each log's linear-range sums
+per axle (``docs/physics.md`` §15.7); the run learns one calibration per vehicle id from them
+and the second pass (:func:`process_batch` with ``calibrations``) applies it.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ import pandas as pd
 from gripsense.errors import GripsenseError
 from gripsense.io.results import write_parquet
 
-__all__ = ["ROW_COLUMNS", "process_batch", "process_log"]
+__all__ = ["ROW_COLUMNS", "calibration_batch", "process_batch", "process_log"]
 
 ROW_COLUMNS = [
     "vehicle",
@@ -152,6 +156,50 @@ def process_log(
     return rows[ROW_COLUMNS].reset_index(drop=True)
 
 
+def calibration_batch(
+    items: list[tuple[str, str, str]], *, receiver: str | None = None
+) -> list[dict]:
+    """The first pass of a calibrating fleet run: each log's linear-range sums per axle.
+
+    Parameters
+    ----------
+    items : list of tuple
+        ``(log path, vehicle toml, vehicle id)``.
+    receiver : str, optional
+        Receiver class or file (default: the vehicle file's, else ``v100``).
+
+    Returns
+    -------
+    list of dict
+        Per log: ``log``, ``vehicle`` (id), ``sums`` (list of DriveSums) and ``problem`` (empty
+        when the log could be read; a log that cannot be used is skipped here and reported by
+        the second pass).
+    """
+    import dataclasses
+
+    from gripsense.config import Vehicle
+    from gripsense.pipeline import FrictionRun, log_drive_sums
+
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)  # as in process_batch
+    runs: dict[str, FrictionRun] = {}
+    out = []
+    try:
+        for path, vfile, vid in items:
+            rec = {"log": path, "vehicle": vid, "sums": [], "problem": ""}
+            try:
+                if vfile not in runs:
+                    veh = dataclasses.replace(Vehicle.from_toml(vfile), calibration_file=None)
+                    runs[vfile] = FrictionRun(veh, receiver=receiver)
+                rec["sums"] = log_drive_sums(path, runs[vfile])
+            except Exception as e:  # the second pass reports it with its reason
+                rec["problem"] = f"{type(e).__name__}: {e}"
+            out.append(rec)
+    finally:
+        numba.set_num_threads(threads)
+    return out
+
+
 def process_batch(
     items: list[tuple[str, str, str]],
     outdir: str,
@@ -160,9 +208,12 @@ def process_batch(
     h3_res: int,
     since: str | None,
     receiver: str | None = None,
+    calibrations: dict[str, str] | None = None,
 ) -> list[dict]:
     """Process ``(log path, vehicle toml, vehicle id)`` items; write
-    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log.
+    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log. A vehicle id
+    in *calibrations* (id → calibration TOML) uses that calibration instead of the one its
+    vehicle file names.
     """
     # a fleet worker has one thread per core: numba's parallel loops stay on this thread
     # (numba's thread count is per thread), so two workers on two cores do not each wake a
@@ -170,14 +221,14 @@ def process_batch(
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        return _process_items(items, outdir, method, h3_res, since, receiver)
+        return _process_items(items, outdir, method, h3_res, since, receiver, calibrations or {})
     finally:
         numba.set_num_threads(threads)
 
 
-def _process_items(items, outdir, method, h3_res, since, receiver) -> list[dict]:
+def _process_items(items, outdir, method, h3_res, since, receiver, calibrations) -> list[dict]:
     """The loop of :func:`process_batch`."""
-    from gripsense.config import Vehicle
+    from gripsense.config.calibration import calibrated_vehicle
 
     out = []
     vehicles: dict[str, object] = {}
@@ -187,11 +238,12 @@ def _process_items(items, outdir, method, h3_res, since, receiver) -> list[dict]
     for path, vfile, vid in items:
         rec = {"log": path, "vehicle": vid, "rows": 0, "problem": ""}
         try:
-            if vfile not in vehicles:
-                vehicles[vfile] = Vehicle.from_toml(vfile)
+            key = f"{vfile}\0{vid}"
+            if key not in vehicles:
+                vehicles[key] = calibrated_vehicle(vfile, calibrations.get(vid))
             rows = process_log(
                 path,
-                vehicles[vfile],
+                vehicles[key],
                 vehicle_id=vid,
                 method=method,
                 h3_res=h3_res,

@@ -1,7 +1,9 @@
-"""Drives of a vehicle model gripsense did not write: CommonRoad's single-track drift model
-``vehicle_dynamics_std`` (TUM, ``commonroad-vehicle-models``; Pacejka lateral and longitudinal
-tyres with combined slip, wheel spin, longitudinal load transfer), recorded by gripsense's
-emulated compass and steering channel.
+"""Drives of vehicle models gripsense did not write, recorded by gripsense's emulated compass
+and steering channel: CommonRoad's single-track drift model ``vehicle_dynamics_std`` (TUM,
+``commonroad-vehicle-models``; Pacejka lateral and longitudinal tyres with combined slip, wheel
+spin, longitudinal load transfer) and its multi-body model ``vehicle_dynamics_mb`` (29 states:
+sprung mass with roll and pitch, unsprung masses, suspension springs and dampers, tyre vertical
+compliance, wheel spin, per-wheel Pacejka tyres with camber — real lateral load transfer).
 
 It is a truth for accuracy checks whose tyre, load model and integrator share nothing with the
 estimator: the tyre is CommonRoad's own Magic Formula (vehicle 2: C 1.35, E ≈ 0, cornering
@@ -13,7 +15,13 @@ with a clear message.
 
 Axes: CommonRoad's single-track models integrate x, y in a right-handed ground frame with the yaw
 angle counter-clockwise and lateral quantities positive to the left — gripsense's (ISO) axes;
-its slip angle is the negative of ISO's.
+its slip angle is the negative of ISO's. The multi-body model uses SAE-like axes (y right, z
+down): its δ, r, lateral velocity and lateral force are the negatives of ISO's, its slip angle
+is ISO's.
+
+Road friction: the tyre's peak coefficient ``p_dy1`` is set to μ and the camber-induced vertical
+shift ``p_vy1``, ``p_vy3`` scaled with it (as a Magic Formula's λ_μy scales S_Vy; unscaled, the
+shift is 2–3 % of the load whatever the road, a third of the grip on μ 0.1).
 """
 
 from __future__ import annotations
@@ -33,6 +41,7 @@ from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 __all__ = [
     "DrivePlan",
     "commonroad_drive",
+    "commonroad_mb_drive",
     "commonroad_vehicle",
     "cr_circle",
     "cr_constant_radius",
@@ -51,7 +60,10 @@ def _params(mu: float):
             "CommonRoad drives need commonroad-vehicle-models: pip install 'gripsense[test]'"
         ) from exc
     p = parameters_vehicle2()
-    # no camber terms (gamma = 0 anyway); the peak scaled to the road
+    # the peak scaled to the road, and the camber-induced shift with it (module docstring)
+    scale = float(mu) / p.tire.p_dy1
+    p.tire.p_vy1 *= scale
+    p.tire.p_vy3 *= scale
     p.tire.p_dy1 = float(mu)
     # the longitudinal peak with it (a driven wheel on that road)
     p.tire.p_dx1 = float(mu) * 1.1739 / 1.0489
@@ -307,6 +319,140 @@ def _simulate(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult:
     )
 
 
+def _mb_wheels(p, x: np.ndarray) -> dict:
+    """Per-wheel loads, slips, camber and combined-slip forces of CommonRoad's multi-body model
+    at the states *x* (29 × n), as ``vehicle_dynamics_mb`` computes them (its own tyre
+    functions, its SAE-like axes).
+    """
+    from vehiclemodels.utils import tire_model as tm
+
+    roll, v_y, r, delta, u = x[6], x[10], x[5], x[2], x[3]
+    out = {}
+    geo = {
+        "front_left": (13, 16, 14, 0.5 * p.T_f, p.a, p.D_f, p.E_f, 1.0, 23),
+        "front_right": (13, 16, 14, -0.5 * p.T_f, p.a, p.D_f, p.E_f, -1.0, 24),
+        "rear_left": (18, 21, 19, 0.5 * p.T_r, -p.b, p.D_r, p.E_r, 1.0, 25),
+        "rear_right": (18, 21, 19, -0.5 * p.T_r, -p.b, p.D_r, p.E_r, -1.0, 26),
+    }
+    for name, (i_roll, i_z, i_rr, half_t, lx, d_k, e_k, side, i_w) in geo.items():
+        fz = (x[i_z] + p.R_w * (np.cos(x[i_roll]) - 1) - half_t * np.sin(x[i_roll])) * p.K_zt
+        front = name.startswith("front")
+        vx_w = u + half_t * r
+        alpha = np.arctan((v_y + lx * r - x[i_rr] * (p.R_w - x[i_z])) / vx_w)
+        if front:
+            u_w = vx_w * np.cos(delta) + (v_y + p.a * r) * np.sin(delta)
+            alpha = alpha - delta
+        else:
+            u_w = vx_w
+        kappa = 1.0 - p.R_w * x[i_w] / np.maximum(u_w, 1e-3)
+        base = -p.b if not front else p.a
+        z_s = ((p.h_s - p.R_w + x[i_z] - x[11]) / np.cos(roll) - p.h_s + p.R_w + base * x[8]
+               + side * 0.5 * (roll - x[i_roll]) * (p.T_f if front else p.T_r))  # fmt: skip
+        gamma = roll + side * (d_k * z_s + e_k * z_s**2)
+        fy = np.empty(u.size)
+        mu_y = np.empty(u.size)
+        for k in range(u.size):
+            f0x = tm.formula_longitudinal(kappa[k], gamma[k], fz[k], p.tire)
+            f0y, mu_y[k] = tm.formula_lateral(alpha[k], gamma[k], fz[k], p.tire)
+            fy[k] = tm.formula_lateral_comb(kappa[k], alpha[k], gamma[k], mu_y[k], fz[k], f0y,
+                                            p.tire)  # fmt: skip
+            del f0x
+        out[name] = {"load": fz, "alpha": alpha, "gamma": gamma, "fy": fy, "mu": mu_y}
+    return out
+
+
+def _simulate_mb(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult:
+    from scipy.integrate import solve_ivp
+    from vehiclemodels.init_mb import init_mb
+    from vehiclemodels.vehicle_dynamics_mb import vehicle_dynamics_mb
+
+    p = _params(mu)
+    v0 = plan.target(0.0)[2]
+    x0 = init_mb([0.0, 0.0, 0.0, v0, 0.0, 0.0, 0.0], p)
+
+    def control(t, x):  # in ISO axes, returned in CommonRoad's (δ, r flip sign)
+        r_t, d_t, v_t = plan.target(t)
+        if d_t is not None:
+            steer_rate = 8.0 * (d_t + x[2])
+        else:  # a driver holding the yaw rate (integral action on the steer)
+            steer_rate = 0.6 * (r_t + x[5])
+        return [-steer_rate, 2.0 * (v_t - x[3])]
+
+    def f(t, x):
+        return vehicle_dynamics_mb(list(x), control(t, x), p)
+
+    def spun(t, x):  # the car has left the test: body slip beyond 15° (a spin)
+        return 0.26 - abs(math.atan2(x[10], max(x[3], 0.1)))
+
+    lift_load = 0.05 * p.m * G_CR / 4.0
+
+    def lifts(t, x):  # a wheel leaves the road (the model's tyres do not: its loads go < 0)
+        return (
+            min(
+                (x[iz] + p.R_w * (math.cos(x[ir]) - 1) - s * 0.5 * tr * math.sin(x[ir])) * p.K_zt
+                for iz, ir, tr in ((16, 13, p.T_f), (21, 18, p.T_r))
+                for s in (1.0, -1.0)
+            )
+            - lift_load
+        )
+
+    spun.terminal = lifts.terminal = True
+    t_out = np.arange(0.0, plan.duration_s + 1e-9, 1.0 / out_hz)
+    sol = solve_ivp(
+        f, (0.0, t_out[-1]), x0, t_eval=t_out, method="LSODA", rtol=1e-6, atol=1e-8,
+        max_step=0.01, events=(spun, lifts),
+    )  # fmt: skip
+    if sol.status == -1:  # pragma: no cover
+        raise RuntimeError(f"CommonRoad integration failed: {sol.message}")
+    x, t_out = sol.y, sol.t  # up to a spin or a lifting wheel, if the plan ends in one
+    psi, r, delta, u, v_y = -x[4], -x[5], -x[2], x[3], -x[10]
+    ve = u * np.cos(psi) - v_y * np.sin(psi)
+    vn = u * np.sin(psi) + v_y * np.cos(psi)
+    ae, an = np.gradient(ve, t_out), np.gradient(vn, t_out)
+    n = t_out.size
+    body = pd.DataFrame(
+        {
+            "t_s": t_out,
+            "x_m": x[0],
+            "y_m": -x[1],
+            "yaw_rad": psi,
+            "u_mps": u,
+            "v_mps": v_y,
+            "yaw_rate_rps": r,
+            "ax_mps2": ae * np.cos(psi) + an * np.sin(psi),
+            "ay_mps2": -ae * np.sin(psi) + an * np.cos(psi),
+            "steer_rad": delta,
+            "fx_N": np.zeros(n),
+        }
+    )
+    w = _mb_wheels(p, x)
+    speed = np.hypot(u, v_y)
+    rows = [
+        pd.DataFrame(
+            {
+                "t_s": t_out,
+                "wheel": name,
+                "mu_true": w[name]["mu"],
+                "mu_road": np.full(n, float(mu)),
+                "camber_rad": w[name]["gamma"],
+                "slip_angle_rad": w[name]["alpha"],
+                "load_N": w[name]["load"],
+                "force_N": -w[name]["fy"],
+                "speed_mps": speed,
+            }
+        )
+        for name in WHEEL_NAMES
+    ]
+    wheels = pd.concat(rows, ignore_index=True).sort_values(["t_s", "wheel"], kind="stable")
+    wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(WHEEL_NAMES))
+    return SimResult(
+        body=body,
+        wheels=wheels.reset_index(drop=True),
+        params=SimParams.from_vehicle(commonroad_vehicle()),
+        meta={"output_hz": out_hz, "model": "CommonRoad vehicle_dynamics_mb, vehicle 2"},
+    )
+
+
 def commonroad_drive(
     plan: DrivePlan,
     mu: float,
@@ -339,4 +485,40 @@ def commonroad_drive(
     return record_drive(
         _simulate(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver, seed=seed,
         steer_scale_error=steer_scale_error,
+    )  # fmt: skip
+
+
+def commonroad_mb_drive(
+    plan: DrivePlan,
+    mu: float,
+    *,
+    receiver: str = "white-0.3",
+    seed: int = 0,
+    steer_scale_error: float = 0.03,
+) -> Drive:
+    """Simulate *plan* with CommonRoad's multi-body model on a road of friction *mu* and record
+    it with the emulated compass and steering channel (the truth per wheel: load, slip angle,
+    camber, combined-slip lateral force and peak coefficient as the model computes them).
+
+    Parameters
+    ----------
+    plan : DrivePlan
+        :func:`cr_circle`, :func:`cr_constant_radius` or :func:`cr_ramp_steer`.
+    mu : float
+        Road friction (the tyre's lateral peak coefficient at zero camber) [-].
+    receiver : str
+        Receiver preset.
+    seed : int
+        Random seed of the receiver and steering noise.
+    steer_scale_error : float
+        Scale error of the steering channel [-].
+
+    Returns
+    -------
+    Drive
+        The recording and the truth.
+    """
+    return record_drive(
+        _simulate_mb(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver,
+        seed=seed, steer_scale_error=steer_scale_error,
     )  # fmt: skip
