@@ -229,7 +229,8 @@ def test_fleet_learns_one_calibration_per_vehicle_id(setup, tmp_path):
         ref = learn_calibration([f[0] for f in keep], car)
         assert {d.file for d in got.drives} == {f[0].name for f in keep}
         assert got.axles["rear"].cornering_stiffness_N_per_rad == pytest.approx(
-            ref.axles["rear"].cornering_stiffness_N_per_rad, rel=1e-5  # the file's 0.1 N/rad
+            ref.axles["rear"].cornering_stiffness_N_per_rad,
+            rel=1e-5,  # the file's 0.1 N/rad
         )
         if vid == "car_a":
             err = got.axles["rear"].cornering_stiffness_N_per_rad / true_c - 1.0
