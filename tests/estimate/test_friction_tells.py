@@ -80,6 +80,9 @@ def test_range_against_the_physical_limit(seed, sd_c):
 
 
 def _no_contradiction(table):
+    # the bound never above the value it bounds
+    g, g_lo = table["grip_used"].to_numpy(float), table["grip_used_lower"].to_numpy(float)
+    assert (g_lo <= g + 1e-12).all(), table[~(g_lo <= g + 1e-12)]
     lo, hi = table["mu_low"].to_numpy(float), table["mu_high"].to_numpy(float)
     both = np.isfinite(lo) & np.isfinite(hi)
     assert (hi[both] > lo[both]).all(), table[both & ~(hi > lo)]
@@ -102,14 +105,15 @@ def _no_contradiction(table):
 )
 def test_no_range_contradicts_itself(vehicle, tyre, receiver, mu, u, seed):
     """Property: in every window and drive summary mu_high > mu_low (never zero width), the
-    measured grip ≤ mu_low and a value inside its range."""
+    measured grip's bound ≤ the measured grip and ≤ mu_low, and a value inside its range."""
     d = simulate_drive(
         vehicle, tyre, None, mu, receiver=receiver, seed=seed,
         circle=(limit_speed(mu, 30.0, u), 30.0),
     )  # fmt: skip
     res = _run(d, user_vehicle(truth_vehicle(vehicle), tyre), receiver)
     _no_contradiction(res.summary)
-    _no_contradiction(res.windows[res.windows["analysed"]])
+    _no_contradiction(res.windows)
+    _no_contradiction(res.estimates())
 
 
 @pytest.mark.parametrize(("mu", "want"), [(0.3, "slippery"), (0.9, "not slippery")])

@@ -55,6 +55,7 @@ def fleet(
     bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
     """
     from gripsense.fleet import run_fleet
+    from gripsense.fleet.aggregate import STATUS_INCONSISTENT
 
     try:
         with Progress(console=console, transient=True) as prog:
@@ -87,8 +88,11 @@ def fleet(
     bad = int((lg["problem"] != "").sum())
     say(f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})")
     n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
+    n_bad = int((c["status"] == STATUS_INCONSISTENT).sum()) if len(c) else 0
     console.print(
-        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est} with measured grip only"
+        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est - n_bad} with measured grip "
+        f"only, {n_bad} inconsistent (an estimate below the measured grip: check the vehicle "
+        "file)"
     )
     if "calibration" in res.paths:
         say(f"calibrations: {res.paths['calibration']}")

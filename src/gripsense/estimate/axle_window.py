@@ -797,7 +797,7 @@ def _window_table(
     cols["t_start"] = ab.t0[starts].astype(float)
     cols["t_end"] = ab.t1[starts + w - 1].astype(float)
     cols["n"] = windows(ab.n).sum(axis=1).astype(np.int64)
-    cols["grip_used"] = np.mean(g, axis=1)
+    cols["grip_used"] = np.max(g, axis=1, initial=0.0)  # its largest bin, as the drive's
     cols["grip_used_lower"] = np.maximum(np.max(g - z_w * windows(ab.grip_sigma), axis=1), 0.0)
     cols["analysed"] = np.max(g, axis=1, initial=-np.inf) >= o.screen_utilisation
     cols["mu_low"] = cols["grip_used_lower"].copy()
@@ -1024,7 +1024,7 @@ class OnlineAxleWindow:
             "t_start": float(t0[0]),
             "t_end": float(t1[-1]),
             "n": int(sum(b[2] for b in self._bins)),
-            "grip_used": float(np.mean(grip)),
+            "grip_used": float(np.max(grip)),
             "grip_used_lower": lower,
             "analysed": bool(np.max(grip) >= self.o.screen_utilisation),
         }

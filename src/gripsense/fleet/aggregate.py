@@ -11,7 +11,17 @@ import pandas as pd
 from gripsense.constants import Z90
 from gripsense.physics.surface import slippery_call, surface_class_interval
 
-__all__ = ["CELL_COLUMNS", "aggregate_cells", "cells_geojson", "write_geojson"]
+__all__ = [
+    "CELL_COLUMNS",
+    "STATUS_INCONSISTENT",
+    "aggregate_cells",
+    "cells_geojson",
+    "write_geojson",
+]
+
+STATUS_INCONSISTENT = "inconsistent: estimate below the measured grip"
+"""Status of a cell whose estimate lies below the grip its data prove (``mu`` is kept for
+diagnosis, but the map, the surface class and the slippery call use the measured grip only)."""
 
 CELL_COLUMNS = [
     "cell",
@@ -56,9 +66,11 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     Returns
     -------
     pandas.DataFrame
-        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, grip_used, grip_used_lower, status,
-        surface, slippery (``slippery``/``not slippery``/``unknown``),
-        n_estimates, n_rows, n_vehicles, n_passes, last_update``.
+        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, grip_used, grip_used_lower, status
+        (``estimate``, ``measured grip only``, :data:`STATUS_INCONSISTENT` or ``no data``;
+        ``mu_low`` is at least ``grip_used_lower``, as in a drive), surface, slippery
+        (``slippery``/``not slippery``/``unknown``), n_estimates, n_rows, n_vehicles,
+        n_passes, last_update``.
     """
     import duckdb
 
@@ -104,25 +116,32 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     con.close()
     for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
         df[c] = df[c].fillna(0).astype("int64")
-    df["mu_low"] = np.maximum(df["mu"] - Z90 * df["mu_sigma"], 0.0)
+    bound = df["grip_used_lower"].to_numpy(float)
+    # a drive's rule: the range's lower end is at least what the data prove
+    df["mu_low"] = np.fmax(np.maximum(df["mu"] - Z90 * df["mu_sigma"], 0.0), bound)
     df["mu_high"] = df["mu"] + Z90 * df["mu_sigma"]
-    has = df["mu"].notna()
+    has = df["mu"].notna().to_numpy()
+    # an estimate below the grip the data prove contradicts them: flagged, never a plain value
+    bad = has & (df["mu"].to_numpy(float) < np.nan_to_num(bound, nan=-np.inf))
     df["status"] = np.where(
-        has, "estimate", np.where(df["grip_used_lower"].notna(), "measured grip only", "no data")
+        bad,
+        STATUS_INCONSISTENT,
+        np.where(
+            has,
+            "estimate",
+            np.where(df["grip_used_lower"].notna(), "measured grip only", "no data"),
+        ),
     )
+    ok = has & ~bad
     df["surface"] = [
         surface_class_interval(lo, hi) if h else "undetermined"
-        for lo, hi, h in zip(df["mu_low"], df["mu_high"], has, strict=True)
+        for lo, hi, h in zip(df["mu_low"], df["mu_high"], ok, strict=True)
     ]
     df["surface"] = df["surface"].astype(str)
-    # "is it slippery?": the cell's range, its lower end at least the measured grip
-    df["slippery"] = np.asarray(
-        slippery_call(
-            np.fmax(df["mu_low"].to_numpy(float), df["grip_used_lower"].to_numpy(float)),
-            df["mu_high"].to_numpy(float),
-        ),
-        dtype=str,
-    )
+    # "is it slippery?": the cell's range (only the measured grip where it is inconsistent)
+    hi = np.where(bad, np.inf, df["mu_high"].to_numpy(float))
+    lo = np.where(bad, bound, df["mu_low"].to_numpy(float))
+    df["slippery"] = np.asarray(slippery_call(lo, hi), dtype=str)
     return df[CELL_COLUMNS]
 
 

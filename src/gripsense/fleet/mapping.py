@@ -38,8 +38,9 @@ html, body {{ margin: 0; height: 100%; font-family: sans-serif; }}
 const cells = {geojson};
 const bands = {bands};
 const colours = {{ICE: "#3b6fd6", SNOW: "#9ecae1", WET: "#f2c14e", DRY: "#2e9e44"}};
+function plain(p) {{ return p.mu !== null && p.status === "estimate"; }}
 function colour(p) {{
-  if (p.mu === null) return "#888888";
+  if (!plain(p)) return p.mu === null ? "#888888" : "#c0392b";
   for (const b of bands) {{ if (p.mu >= b[1]) return colours[b[0]]; }}
   return colours.ICE;
 }}
@@ -48,15 +49,18 @@ const map = L.map("map", {{preferCanvas: false}});
 let tiles = null;
 const layer = L.geoJSON(cells, {{
   style: f => ({{color: "#333", weight: 1, fillColor: colour(f.properties),
-                fillOpacity: f.properties.mu === null ? 0.35 : 0.75,
-                dashArray: f.properties.mu === null ? "3" : null}}),
+                fillOpacity: plain(f.properties) ? 0.75 : 0.35,
+                dashArray: plain(f.properties) ? null : "3"}}),
   onEachFeature: (f, l) => {{
     const p = f.properties;
     l.bindPopup(
       `<b>cell ${{p.cell}}</b><br>` +
       (p.mu === null ? `no μ estimate`
-                     : `estimate μ ≈ ${{fmt(p.mu, 2)}} [${{fmt(p.mu_low, 2)}}, ` +
-                       `${{fmt(p.mu_high, 2)}}] (90 %, tyre model)<br>surface ${{p.surface}}`) +
+       : !plain(p) ? `<b>${{p.status}}</b>: the tyre model's μ ≈ ${{fmt(p.mu, 2)}} ` +
+                     `[…, ${{fmt(p.mu_high, 2)}}] is below what the data prove — check the ` +
+                     `vehicle file (stiffness, receiver)`
+       : `estimate μ ≈ ${{fmt(p.mu, 2)}} [${{fmt(p.mu_low, 2)}}, ` +
+         `${{fmt(p.mu_high, 2)}}] (90 %, tyre model)<br>surface ${{p.surface}}`) +
       `<br><b>${{p.slippery || "unknown"}}</b> (slippery: μ < 0.5 at 95 %)` +
       `<br>measured: the data prove μ ≥ ${{fmt(p.grip_used_lower, 2)}} ` +
       `(model-free, level road)` +
@@ -76,6 +80,8 @@ legend.onAdd = () => {{
   }}
   h += '<span class="swatch" style="background:#888888;opacity:.5"></span>' +
        'measured grip only (no estimate)<br>';
+  h += '<span class="swatch" style="background:#c0392b;opacity:.5"></span>' +
+       'inconsistent: estimate below the measured grip<br>';
   h += 'slippery: μ < 0.5 at 95 %; not slippery: μ > 0.5 at 95 %; else unknown (click a ' +
        'cell)<br>';
   h += '<label><input type="checkbox" id="tiles"> background map (needs network)</label>';
