@@ -41,6 +41,8 @@ app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,  # help as written: a unit such as [deg] is not markup
+    context_settings={"max_content_width": 100},
     help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
 )
 
@@ -62,33 +64,80 @@ app.add_typer(tyre_app, name="tyre")
 app.add_typer(steering_app, name="steering")
 
 
+_FLAG_WORDS = {"true", "false", "yes", "no", "on", "off", "1", "0"}
+
+
+def usage_hint(error: Exception) -> str:
+    """The message of a command-line usage error, with what to type instead where it is clear
+    (a switch given a value: ``--strict true`` → ``--strict``; every other error: ``--help``).
+
+    Parameters
+    ----------
+    error : Exception
+        A click ``UsageError`` (typer's).
+
+    Returns
+    -------
+    str
+        One line.
+    """
+    msg = " ".join(error.format_message().split())
+    words = [w.strip("'()") for w in msg.split()]
+    if "unexpected extra argument" in msg and any(w.lower() in _FLAG_WORDS for w in words):
+        return (
+            f"{msg} — switches take no value: write --flag or --no-flag, not --flag true "
+            f"(see {getattr(error.ctx, 'command_path', 'gripsense')} --help)"
+        )
+    return f"{msg} (see {getattr(error.ctx, 'command_path', 'gripsense')} --help)"
+
+
 def main() -> None:
     """Console-script entry point (``gripsense``): every failure is one line on stderr and a
     non-zero exit, never a traceback (set ``GRIPSENSE_DEBUG=1`` to see one).
     """
     try:
-        app()
+        code = app(prog_name="gripsense", standalone_mode=False)
+        sys.exit(code if isinstance(code, int) else 0)
+    except Exception as e:  # typer's (vendored) click errors, known by their class names
+        names = {c.__name__ for c in type(e).__mro__}
+        if "NoArgsIsHelpError" in names:  # a bare group: its help
+            print(e.format_message())
+            sys.exit(0)
+        if "UsageError" in names or "ClickException" in names:
+            where = getattr(getattr(e, "ctx", None), "command_path", None) or "gripsense"
+            err_console.print(
+                Text.assemble(("error: ", "bold red"), f"{where}: {usage_hint(e)}"),
+                highlight=False,
+            )
+            sys.exit(2)
+        if "Abort" in names:
+            err_console.print("interrupted", highlight=False)
+            sys.exit(130)
+        _fail(e)
     except KeyboardInterrupt:
         err_console.print("interrupted", highlight=False)
         sys.exit(130)
-    except Exception as e:  # the one place that turns any failure into a message
-        if os.environ.get("GRIPSENSE_DEBUG"):
-            raise
-        if isinstance(e, GripsenseError):
-            msg, code = str(e), 2
-        elif isinstance(e, OSError):
-            where = f"{e.filename}: " if e.filename else ""
-            msg, code = f"{where}{e.strerror or e}", 1
-        elif isinstance(e, MemoryError):
-            msg, code = "out of memory; read a smaller part of the input (--max-lines)", 1
-        else:
-            msg = (
-                f"internal error: {type(e).__name__}: {e} — this is a bug in gripsense; rerun "
-                "with GRIPSENSE_DEBUG=1 for the details and report them"
-            )
-            code = 1
-        err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
-        sys.exit(code)
+
+
+def _fail(e: Exception) -> None:
+    """The one place that turns any other failure into a one-line message and an exit code."""
+    if os.environ.get("GRIPSENSE_DEBUG"):
+        raise e
+    if isinstance(e, GripsenseError):
+        msg, code = str(e), 2
+    elif isinstance(e, OSError):
+        where = f"{e.filename}: " if e.filename else ""
+        msg, code = f"{where}{e.strerror or e}", 1
+    elif isinstance(e, MemoryError):
+        msg, code = "out of memory; read a smaller part of the input (--max-lines)", 1
+    else:
+        msg = (
+            f"internal error: {type(e).__name__}: {e} — this is a bug in gripsense; rerun "
+            "with GRIPSENSE_DEBUG=1 for the details and report them"
+        )
+        code = 1
+    err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

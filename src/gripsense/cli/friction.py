@@ -34,7 +34,8 @@ def friction(
         typer.Option(
             "--method",
             help="axle-window (default: measured grip and μ estimate per axle) | brush-2 | "
-            "brush-4 | thesis-2 | thesis-4 (per wheel, to reproduce the thesis)",
+            "brush-4 | thesis-2 | thesis-4 (per wheel, to reproduce the 2018 Kochi University of "
+            "Technology thesis)",
         ),
     ] = "axle-window",
     receiver: Annotated[str | None, typer.Option("--receiver", help=RECEIVER_HELP)] = None,
@@ -247,13 +248,21 @@ def _(result: WheelFriction) -> None:
 def stiffness(
     logs: Annotated[list[Path], typer.Argument(help="NMEA log(s) of steady cornering")],
     vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
-    sweep: Annotated[bool, typer.Option("--sweep", help="also the thesis's G sweep")] = False,
+    sweep: Annotated[
+        bool,
+        typer.Option(
+            "--sweep",
+            help="also the G sweep of the 2018 Kochi University of Technology thesis (ch. 9.2)",
+        ),
+    ] = False,
     outdir: Annotated[
         Path | None, typer.Option("-o", "--outdir", help="folder for the table (and plots)")
     ] = None,
     overwrite: Overwrite = False,
 ) -> None:
-    """Tread stiffness G per steady condition and wheel (thesis ch. 9, like Table 23)."""
+    """Tread stiffness G per steady condition and wheel (2018 Kochi University of Technology
+    thesis, ch. 9, like its Table 23).
+    """
     import pandas as pd
 
     from gripsense.estimate.conditions import conditions

@@ -36,7 +36,9 @@ def brake_mu(
     overwrite: Overwrite = False,
     columns: Columns = None,
 ) -> None:
-    """Friction from locked-wheel braking: μ = a/g per event (thesis ch. 8)."""
+    """Friction from locked-wheel braking: μ = a/g per event (2018 Kochi University of Technology
+    thesis, ch. 8).
+    """
     import pandas as pd
 
     from gripsense.estimate.braking import EVENT_COLUMNS, estimate_braking
@@ -143,7 +145,9 @@ def camber(
     output: Annotated[Path | None, typer.Option("-o", "--output", help="CSV")] = None,
     overwrite: Overwrite = False,
 ) -> None:
-    """Camber to the ground from two laser displacement sensors (seed 002 Fig. 3)."""
+    """Camber to the ground from two laser displacement sensors (Toyota CRDL R&D Review
+    34(3), 1999, Fig. 3).
+    """
     from gripsense.io.laser import read_laser_csv
     from gripsense.io.table import describe_columns
     from gripsense.vision.camber_laser import (
@@ -202,7 +206,9 @@ def camera_slip(
     ] = Path("camera_slip.csv"),
     overwrite: Overwrite = False,
 ) -> None:
-    """Slip angle from a downward camera on the wheel (seed 002 §2.1); image top = forward."""
+    """Slip angle from a downward camera on the wheel (Toyota CRDL R&D Review 34(3), 1999,
+    §2.1); image top = forward.
+    """
     from gripsense.report.sensor_figures import camera_slip_figure
     from gripsense.vision.slip_camera import SLIP_COLUMNS, slip_from_frames
 

@@ -1,4 +1,6 @@
-"""``gripsense steering``: identify C_s and k_s of a steering system (seed 003)."""
+"""``gripsense steering``: identify C_s and k_s of a steering system (Osaka University
+steering-stiffness report, 2019).
+"""
 
 from __future__ import annotations
 
@@ -14,7 +16,11 @@ from gripsense.errors import GripsenseError, InputError
 from gripsense.io.results import ResultWriter, check_output_folder
 from gripsense.io.table import Quantity
 
-steering_app = typer.Typer(no_args_is_help=True, help="Steering-system identification (seed 003).")
+steering_app = typer.Typer(
+    no_args_is_help=True,
+    rich_markup_mode=None,
+    help="Steering-system identification (Osaka University steering-stiffness report, 2019).",
+)
 
 
 STEERING_QUANTITIES = {

@@ -20,7 +20,9 @@ from gripsense.report.figures import save_png
 EVAL_COLUMNS = ["fz_N", "kappa", "gamma_deg", "alpha_deg", "fx_N", "fy_N"]
 """Columns of ``gripsense tyre eval -o``."""
 
-tyre_app = typer.Typer(no_args_is_help=True, help="Magic Formula tyre models: evaluate and fit.")
+tyre_app = typer.Typer(
+    no_args_is_help=True, rich_markup_mode=None, help="Magic Formula tyre models: evaluate and fit."
+)
 
 
 def parse_range(text: str, what: str) -> np.ndarray:
@@ -127,7 +129,9 @@ def tyre_fit(
             help="CSV/Parquet with alpha, gamma, fz, fy (or the friction run's wheels.parquet)"
         ),
     ],
-    model: Annotated[str, typer.Option(help="pac94 (seed 002's a0..a17) or mf61")] = "pac94",
+    model: Annotated[
+        str, typer.Option(help="pac94 (a0..a17 of Toyota CRDL R&D Review 1999) or mf61")
+    ] = "pac94",
     constraints: Annotated[str, typer.Option(help="none, shape, symmetric, camber or all")] = "all",
     output: Annotated[
         Path | None, typer.Option("-o", "--output", help="fit.json, or fit.tir for mf61")
@@ -149,7 +153,9 @@ def tyre_fit(
     ] = False,
     overwrite: Overwrite = False,
 ) -> None:
-    """Fit Magic Formula lateral coefficients in one step (seed 002), with constraints."""
+    """Fit Magic Formula lateral coefficients in one step (Toyota CRDL R&D Review 34(3),
+    1999), with constraints.
+    """
     from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
     from gripsense.io.table import describe_columns
     from gripsense.io.tyre_table import read_tyre_table
@@ -275,7 +281,9 @@ def fit_contact(
     ],
     columns: Columns = None,
 ) -> None:
-    """Fit the contact-length model l = a·√m + b·m (thesis eq. 6.23) to measurements."""
+    """Fit the contact-length model l = a·√m + b·m (2018 Kochi University of Technology thesis,
+    eq. 6.23) to measurements.
+    """
     from gripsense.identify import fit_contact_length
     from gripsense.io.table import describe_columns, map_table, read_table
 
