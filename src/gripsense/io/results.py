@@ -39,6 +39,7 @@ __all__ = [
     "is_own_file",
     "read_manifest",
     "read_result_folder",
+    "user_mode",
     "write_file_atomic",
     "write_parquet",
     "write_result_folder",
@@ -244,6 +245,35 @@ def check_output_file(
         raise InputError(f"{path}: permission denied ({parent} is not writable)")
 
 
+def _umask() -> int:
+    """The process's umask (read without changing it where the system says it)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)  # elsewhere: set and restore (the only portable way)
+    os.umask(mask)
+    return mask
+
+
+def user_mode(path: str | Path, *, folder: bool = False) -> None:
+    """Give a file (or folder) that gripsense created through a private temporary name the mode
+    any other tool's output gets: 0666 (0777 for a folder) less the user's umask — ``mkstemp``
+    and ``mkdtemp`` create 0600 / 0700.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file or folder.
+    folder : bool
+        *path* is a folder.
+    """
+    os.chmod(path, (0o777 if folder else 0o666) & ~_umask())
+
+
 def write_file_atomic(path: str | Path, write) -> Path:
     """Write a file through a temporary sibling renamed into place, so a reader (or a crash)
     never sees half a file; missing parent folders are created.
@@ -271,6 +301,7 @@ def write_file_atomic(path: str | Path, write) -> Path:
         raise InputError(f"{path}: cannot write ({e.strerror or e})") from None
     try:
         write(Path(tmp))
+        user_mode(tmp)
         os.replace(tmp, path)
     except OSError as e:
         raise InputError(f"{path}: cannot write ({e.strerror or e})") from None
@@ -413,6 +444,7 @@ class ResultWriter:
         }
         try:
             (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
+            user_mode(tmp, folder=True)  # a new folder is this one, renamed
             _install(tmp, self.folder)
         except OSError as e:
             raise InputError(
