@@ -15,7 +15,7 @@ def test_the_python_example_runs(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     for code in blocks:
         ns: dict = {}
-        exec(compile(code, str(README), "exec"), ns)  # noqa: S102 - the README's own code
+        exec(compile(code, str(README), "exec"), ns)
     assert (tmp_path / "out" / "manifest.json").is_file()
     assert "mu_low" in ns["result"].summary
 
