@@ -18,4 +18,3 @@ def test_the_python_example_runs(tmp_path, monkeypatch):
         exec(compile(code, str(README), "exec"), ns)
     assert (tmp_path / "out" / "manifest.json").is_file()
     assert "mu_low" in ns["result"].summary
-

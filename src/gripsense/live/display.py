@@ -29,7 +29,10 @@ class LiveDisplay:
         return self
 
     def __exit__(self, *exc):
-        return self._live.__exit__(*exc)
+        out = self._live.__exit__(*exc)
+        if not self._live.console.is_terminal:  # a log file: the last frame's line ends too
+            self._live.console.line()
+        return out
 
     def __call__(self, summary, stats, ingest, source) -> None:
         """Show the latest summary, counters and source state."""

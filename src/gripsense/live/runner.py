@@ -14,6 +14,7 @@ touched until it is recovered; no output may be an input.
 
 from __future__ import annotations
 
+import itertools
 import os
 import signal
 import time
@@ -40,6 +41,9 @@ __all__ = [
 ]
 
 RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", *UNIT_COLUMNS, "stale"]
+
+DISPLAY_S = 0.25
+"""Refresh interval of the display, on the wall clock [s] (the rows follow the log's clock)."""
 
 
 class LiveFriction:
@@ -102,8 +106,13 @@ class LiveFriction:
         """Summary over the window (one row per wheel/axle; empty when there is no data)."""
         if not self._epochs:
             return pd.DataFrame()
-        ep = pd.concat(list(self._epochs), ignore_index=True)
-        ep = ep[ep["t_s"] >= self.last_t - self.window_s]
+        ep = (
+            pd.concat(list(self._epochs), ignore_index=True)
+            if len(self._epochs) > 1
+            else (self._epochs[0])
+        )
+        ep = ep[ep["t_s"] >= self.last_t - self.window_s].reset_index(drop=True)
+        self._epochs = deque([ep])  # one frame: the next update joins two, not hundreds
         if len(ep) < 5:
             return pd.DataFrame()
         if self.run.method == "axle-window":
@@ -382,7 +391,7 @@ def run_live(
     receiver=None,
     output: str | Path | None = None,
     window_s: float = 30.0,
-    update_s: float = 0.25,
+    update_s: float = 1.0,
     flush_s: float = 1.0,
     stale_s: float = 2.0,
     duration_s: float | None = None,
@@ -404,8 +413,9 @@ def run_live(
     output : path, optional
         Results file (.csv or .parquet); raw bytes go to ``<output>.raw.nmea`` next to it.
     window_s, update_s, flush_s, stale_s : float
-        Estimation window, update interval, flush interval, silence after which the source is
-        shown stale [s].
+        Estimation window, update interval **on the log's clock** (a row per unit every
+        ``update_s`` of epoch time — the windows' step — so a replay gives the same rows at any
+        speed), flush interval, silence after which the source is shown stale [s].
     duration_s : float, optional
         Stop after this wall time.
     display : callable, optional
@@ -441,16 +451,67 @@ def run_live(
         for s in (signal.SIGINT, signal.SIGTERM):
             old[s] = signal.signal(s, _stop)
 
-    def take(ep: pd.DataFrame) -> None:
-        if len(ep):
-            stats.epochs += len(ep)
-            _note_epochs(stats, ep)
-            est.add(ep)
-            if on_epochs is not None:
-                on_epochs(ep)
-
     summary = pd.DataFrame()
-    last_update = time.monotonic()
+    # updates follow the log's own clock (every update_s of epoch time), so a replay gives the
+    # same rows at any speed; the display follows the wall clock
+    clock = {"next": None, "shown": time.monotonic(), "pending": False, "last": np.nan}
+
+    def update(now: float) -> None:
+        nonlocal summary
+        summary = _update(est, rec, stats, now, stale_s)
+
+    def show(now: float, force: bool = False) -> None:
+        if display is not None and (force or now - clock["shown"] >= DISPLAY_S):
+            clock["shown"] = now
+            display(summary, stats, ingest, source)
+
+    def flush_pending() -> None:
+        if clock["pending"]:  # a boundary is crossed: an update on what came before it
+            update(time.monotonic())
+            clock["pending"] = False
+
+    def take_session(ep: pd.DataFrame, t: np.ndarray) -> None:
+        """Epochs of one session (clock not going backwards): add them up to each boundary of
+        the log's clock, updating at each.
+        """
+        t = np.fmax.accumulate(np.where(np.isfinite(t), t, -np.inf))  # NaN: the time before
+        if clock["next"] is None and np.isfinite(t[-1]):
+            clock["next"] = t[np.isfinite(t)][0] + update_s
+        i = 0
+        while i < len(ep):
+            nxt = np.inf if clock["next"] is None else clock["next"]
+            k = i + int(np.searchsorted(t[i:], nxt, side="left"))
+            if k > i:
+                est.add(ep.iloc[i:k])
+                clock["pending"] = True
+            if k >= len(ep):
+                return
+            flush_pending()
+            # the next boundary after this epoch (one update across a gap, not one per step)
+            steps = np.floor((t[k] - clock["next"]) / update_s) + 1.0
+            clock["next"] += max(float(steps), 1.0) * update_s
+            i = k
+
+    def take(ep: pd.DataFrame) -> None:
+        if not len(ep):
+            return
+        stats.epochs += len(ep)
+        _note_epochs(stats, ep)
+        if on_epochs is not None:
+            on_epochs(ep)
+        t = ep["t_s"].to_numpy(float)
+        prev = np.concatenate([[clock["last"]], t[:-1]])
+        back = np.flatnonzero(np.isfinite(t) & np.isfinite(prev) & (t < prev - 1e-6))
+        cuts = [0, *back.tolist(), len(ep)]
+        for a, b in itertools.pairwise(cuts):
+            if a in back:  # the clock went backwards: a new session, on its own clock
+                flush_pending()
+                clock["next"] = None
+            if b > a:
+                take_session(ep.iloc[a:b], t[a:b])
+        if np.isfinite(t).any():
+            clock["last"] = float(t[np.isfinite(t)][-1])
+
     t_end = None if duration_s is None else time.monotonic() + duration_s
     try:
         while stop["why"] is None:
@@ -461,21 +522,16 @@ def run_live(
                 stats.last_data = now
                 rec.raw(data)
                 take(ingest.feed(data))
-            ended = source.eof and not data
-            if now - last_update >= update_s or ended:
-                summary = _update(est, rec, stats, now, stale_s)
-                last_update = now
-                if display is not None:
-                    display(summary, stats, ingest, source)
+            show(now)
             rec.maybe_flush()
-            if ended:
+            if source.eof and not data:
                 stop["why"] = "end of input"
             if t_end is not None and now >= t_end:
                 stop["why"] = "duration"
         take(ingest.finish())
-        summary = _update(est, rec, stats, time.monotonic(), stale_s)
-        if display is not None:
-            display(summary, stats, ingest, source)
+        clock["pending"] = True  # the end: one last update on everything
+        flush_pending()
+        show(time.monotonic(), force=True)
     finally:
         rec.close()
         source.close()
