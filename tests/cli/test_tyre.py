@@ -131,3 +131,41 @@ def test_fit_mf61_tir_with_column_mapping(tmp_path, road_csv):
     assert r.returncode == 2 and "--model mf61" in r.stderr
     r = run("tyre", "fit", str(src))
     assert r.returncode == 2 and "--columns" in r.stderr
+
+
+def test_fit_on_a_friction_runs_wheels_table(tmp_path):
+    """`tyre fit` on a friction run's wheels.parquet: both axles without --wheel is refused with
+    a line saying what to give; with --wheel the rows add up; a fit that determines nothing is
+    refused, never written with exit 0."""
+    from gripsense.data import path as data_path
+
+    demo = data_path("demo")
+    out = tmp_path / "run"
+    r = run("friction", str(demo / "case002.nmea.gz"), "--vehicle", str(demo / "vehicle.toml"),
+            "--steer-csv", str(demo / "case002_steer.csv"), "-o", str(out))  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    wheels = out / "wheels.parquet"
+    r = run("tyre", "fit", str(wheels), "-o", str(tmp_path / "fit.json"))
+    assert r.returncode == 2 and "--wheel front or --wheel rear" in r.stderr, r.stderr
+    assert not (tmp_path / "fit.json").exists()
+    r = run("tyre", "fit", str(wheels), "--wheel", "rear", "-o", str(tmp_path / "fit.json"))
+    assert r.returncode == 0, r.stderr
+    line = next(x for x in r.stdout.splitlines() if "rows used" in x)
+    nums = [int(n) for n in __import__("re").findall(r"\b(\d+)\b", line)]
+    used, total, rejected = nums[0], nums[1], nums[2:]
+    assert used + sum(rejected) == total == len(pd.read_parquet(wheels)), line
+    assert "other_wheels" in line
+    # points that carry no tyre (force independent of slip): refused, nothing written
+    rng = np.random.default_rng(3)
+    flat = tmp_path / "flat.csv"
+    pd.DataFrame(
+        {
+            "alpha_deg": rng.uniform(-6, 6, 400),
+            "fz_N": rng.uniform(3000, 5000, 400),
+            "fy_N": rng.normal(0.0, 30.0, 400),
+        }
+    ).to_csv(flat, index=False)
+    r = run("tyre", "fit", str(flat), "-o", str(tmp_path / "flat.json"), "--plot",
+            str(tmp_path / "flat.png"))  # fmt: skip
+    assert r.returncode == 2 and "determines no tyre" in r.stderr, (r.stdout, r.stderr)
+    assert not (tmp_path / "flat.json").exists() and not (tmp_path / "flat.png").exists()

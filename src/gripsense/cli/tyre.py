@@ -139,11 +139,23 @@ def tyre_fit(
     plot: Annotated[Path | None, typer.Option(help="PNG of measured vs identified curves")] = None,
     columns: Columns = None,
     variant: Annotated[str, typer.Option(help="PAC94 shifts: published or seed")] = "published",
-    loss: Annotated[str, typer.Option(help="linear, soft_l1, huber or cauchy")] = "linear",
+    loss: Annotated[
+        str | None,
+        typer.Option(
+            help="linear, soft_l1, huber or cauchy (default: soft_l1 for a wheels table — "
+            "motion-derived forces have outliers —, linear for measured points)"
+        ),
+    ] = None,
     fnomin: Annotated[
         float | None, typer.Option(help="MF 6.1 nominal load [N] (default median)")
     ] = None,
-    wheel: Annotated[str | None, typer.Option(help="Wheel or axle of a wheels table")] = None,
+    wheel: Annotated[
+        str | None,
+        typer.Option(
+            help="Wheel or axle of a wheels table (front, rear, rear_left …; needed when it "
+            "holds both axles)"
+        ),
+    ] = None,
     template: Annotated[
         Path | None,
         typer.Option(help="Existing .tir to take the other sections from (mf61 -o .tir)"),
@@ -172,6 +184,8 @@ def tyre_fit(
         table, info = read_tyre_table(data, columns)
         if "columns" in info:
             say(f"{data.name}: columns {describe_columns(info['columns'])}")
+        if loss is None:
+            loss = "soft_l1" if info["source"] == "wheels" else "linear"
         kw = {"constraints": constraints, "loss": loss}
         if model == "pac94":
             kw["variant"] = variant
@@ -186,6 +200,7 @@ def tyre_fit(
             )
 
         fit = run(kw)
+        _check_usable(fit, data)
         free_fit = run({**kw, "constraints": "none"}) if compare else None
         if info["source"] == "wheels":
             info = {
@@ -226,6 +241,24 @@ def tyre_fit(
         say(f"wrote {output}")
     if plot is not None:
         say(f"wrote {plot}")
+
+
+def _check_usable(fit, data: Path) -> None:
+    """Refuse a fit that explains nothing (no coefficient determined, or a flat curve): it would
+    otherwise be written and plotted as if it were a tyre.
+    """
+    determined = any(fit.determined.values())
+    lo, hi = fit.ranges["alpha_rad"]
+    fz = float(np.mean(fit.ranges["fz_N"]))
+    curve = fit.predict(np.full(41, fz), np.linspace(lo, hi, 41))
+    flat = not np.all(np.isfinite(curve)) or np.ptp(curve) < 0.02 * fz * max(hi - lo, 1e-6)
+    if not determined or flat:
+        raise InputError(
+            f"{data.name}: the fit determines no tyre (rms residual {fit.residual_rms_N:.0f} N"
+            f"{', flat curve' if flat else ''}, {fit.n} points); give data that spans slip "
+            "angles on both sides, one axle of a wheels table (--wheel front|rear), or fewer "
+            "free coefficients (--constraints all)"
+        )
 
 
 def _print_fit(fit, info, data, free_fit) -> None:

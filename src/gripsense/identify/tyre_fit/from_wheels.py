@@ -40,7 +40,9 @@ def fit_from_wheel_table(
     constraints : str
         Constraint set.
     wheel : str, optional
-        One wheel (``front_left`` …) or an axle (``front``/``rear``); default all rows.
+        One wheel (``front_left`` …) or an axle (``front``/``rear``); required when the table
+        holds wheels of both axles (their tyres and slip errors differ: one curve through both
+        is no tyre).
     loss : str
         Robust loss (default ``soft_l1``: motion-derived forces have outliers).
     **kwargs
@@ -59,12 +61,22 @@ def fit_from_wheel_table(
             "of `gripsense friction -o DIR` (wheels.parquet)"
         )
     t = wheels
+    rejected: dict[str, int] = {}
     if wheel is not None:
         sel = t["wheel"].astype(str)
         t = t[(sel == wheel) | sel.str.startswith(wheel + "_")]
         if t.empty:
-            raise InputError(f"wheel table: no rows for wheel/axle {wheel!r}")
-    rejected: dict[str, int] = {}
+            have = ", ".join(sorted(set(sel)))
+            raise InputError(f"wheel table: no rows for wheel/axle {wheel!r} (it has {have})")
+        rejected["other_wheels"] = len(wheels) - len(t)
+    elif "wheel" in t.columns:
+        axles = sorted({w.split("_")[0] for w in t["wheel"].astype(str)})
+        if len(axles) > 1:
+            raise InputError(
+                f"wheel table: it holds the {' and '.join(axles)} wheels — different tyres and "
+                "different slip errors, not one curve; give --wheel front or --wheel rear "
+                "(or one wheel, e.g. --wheel rear_left)"
+            )
     ok = np.ones(len(t), bool)
     if "steady" in t.columns:
         m = ~t["steady"].fillna(False).to_numpy(bool)
@@ -86,6 +98,11 @@ def fit_from_wheel_table(
     fitter = FITTERS.get(model)
     if fitter is None:
         raise InputError(f"model={model!r}; use pac94 or mf61")
+    if not ok.any():
+        raise InputError(
+            "wheel table: no steady cornering rows with slip angle, load and force to fit "
+            f"(rejected: {', '.join(f'{k} {v}' for k, v in rejected.items() if v)})"
+        )
     fit = fitter(a, 0.0, fz, fy, constraints=constraints, loss=loss, weights=weights, **kwargs)
     fit.extra.update(
         {"rows_used": int(ok.sum()), "rows_rejected": {k: v for k, v in rejected.items() if v}}
