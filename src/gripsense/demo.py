@@ -10,7 +10,7 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.pipeline import FrictionRun
 
-__all__ = ["DEMO_METHOD", "demo_verdict", "run_demo"]
+__all__ = ["DEMO_METHOD", "demo_description", "demo_verdict", "run_demo"]
 
 DEMO_METHOD = "axle-window"
 
@@ -63,7 +63,7 @@ def run_demo(
         key = (vfile, rec)
         if key not in runs:
             veh = Vehicle.from_toml(folder / vfile)
-            runs[key] = FrictionRun(veh, method=method, noise=rec)
+            runs[key] = FrictionRun(veh, method=method, receiver=rec)
         steer = c.get("steer")
         steer_csv = folder / steer if isinstance(steer, str) and steer else None
         res = runs[key].run_log(folder / c["nmea"], steer_csv=steer_csv)
@@ -97,6 +97,35 @@ def run_demo(
                 }
             )
     return pd.DataFrame(rows)
+
+
+def demo_description(folder: str | Path | None = None) -> str:
+    """What the demo drives are, from their own cases table (so the text cannot drift from the
+    data): speeds, radii, roads, tyres and receivers.
+
+    Parameters
+    ----------
+    folder : str or Path, optional
+        Demo folder (default the bundled one).
+
+    Returns
+    -------
+    str
+        One sentence, plain text.
+    """
+    folder = Path(folder) if folder is not None else demo_dir()
+    c = pd.read_csv(folder / "cases.csv")
+    speeds = sorted(c["speed_kmh"].unique())
+    radii = sorted(c["radius_m"].unique())
+    mus = sorted(c["mu_road"].unique(), reverse=True)
+    tyres = "brush tyres" + (" and a Magic Formula tyre" if (c["tyre"] != "brush").any() else "")
+    rx = " and ".join(sorted(c["receiver"].unique()))
+    return (
+        f"{len(c)} steady circles like the 2018 thesis's: {speeds[0]:g}–{speeds[-1]:g} km/h "
+        f"({', '.join(f'{v:g}' for v in speeds)}) on radius "
+        f"{' and '.join(f'{r:g}' for r in radii)} m, road μ {' and '.join(f'{m:g}' for m in mus)}, "
+        f"{tyres} (the estimator is not told which), receivers {rx}"
+    )
 
 
 def demo_verdict(df: pd.DataFrame) -> str:
@@ -187,11 +216,11 @@ def write_demo_report(
         ]
     ].copy()
     intro = (
-        f"<h2>Demo set</h2><p>{df['case'].nunique()} simulated drives (gripsense's vehicle "
-        "simulator, known μ): thesis-2018-like circles at 30/50 km/h × radius 20/40 m on a dry "
-        "(μ 0.9) and a wet (μ 0.5) road, on brush tyres and on a Magic Formula tyre the "
-        "estimator does not know, recorded by an emulated V100-like compass (heading ≈ 0.5° "
-        "rms) or an RTK-class compass (0.05°), 0.5° mounting offset, read back from NMEA. "
+        f"<h2>Demo set</h2><p>Simulated drives (gripsense's vehicle simulator, known μ): "
+        f"{html.escape(demo_description(folder))}; recorded by an emulated V100-like compass "
+        "(heading ≈ 0.5° rms) or an RTK-class compass (0.05°), 0.5° mounting offset, read back "
+        "from NMEA with the steering channel. <code>utilisation_true</code> is the share of its "
+        "grip the axle used, |F|/(μ F<sub>z</sub>). "
         "Method: <code>axle-window</code> per axle. Two kinds of statement: the measured grip "
         "(model-free: <i>the data prove μ ≥ …</i>) for every axle, and an estimate of μ with "
         "its 90 % interval (tyre model, shape uncertainty included) only where the data can "
@@ -204,7 +233,9 @@ def write_demo_report(
     run = FrictionRun(
         folder / c.get("vehicle_file", "vehicle.toml"),
         method=DEMO_METHOD,
-        noise=c.get("receiver", "v100"),
+        receiver=c.get("receiver", "v100"),
     )
-    res = run.run_log(folder / c["nmea"])
+    steer = c.get("steer")
+    steer_csv = folder / steer if isinstance(steer, str) and steer else None
+    res = run.run_log(folder / c["nmea"], steer_csv=steer_csv)  # as in the table above
     return write_report(res, path, title="gripsense demo report", intro_html=intro)

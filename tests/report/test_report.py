@@ -123,7 +123,17 @@ def test_demo_report_in_browser(tmp_path):
     df = run_demo()
     p = write_demo_report(df, None, tmp_path / "demo.html")
     _check_page(p, tmp_path)
-    assert "Demo set" in p.read_text()
+    text = p.read_text()
+    assert "Demo set" in text
+    # the drive in detail is run as in the table (with its steering channel): both axles
+    head, detail = text.split("One drive in detail: ")
+    case = detail[: detail.index("<")]
+    assert set(df.loc[df["case"] == case, "axle"]) == {"front", "rear"}
+    assert "front" in detail and "rear" in detail
+    # the description is the data's (speeds and radii of the bundled cases)
+    from gripsense.demo import demo_description
+
+    assert demo_description().replace("'", "&#x27;") in head
 
 
 def test_report_command_round_trip(tmp_path):

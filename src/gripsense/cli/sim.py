@@ -7,6 +7,7 @@ from typing import Annotated
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from gripsense.cli._common import Overwrite, command_line, console, fail, say
@@ -62,7 +63,7 @@ def demo(
     """
     from rich.progress import Progress
 
-    from gripsense.demo import DEMO_METHOD, demo_dir, demo_verdict, run_demo
+    from gripsense.demo import DEMO_METHOD, demo_description, demo_dir, demo_verdict, run_demo
 
     folder = demo_dir()
     try:
@@ -70,9 +71,8 @@ def demo(
     except GripsenseError as e:
         fail(e)
     console.print(
-        f"[bold]gripsense demo[/] — {folder.name}: thesis-2018-like circles (30/50 km/h × "
-        "R 20/40 m) on a dry and a wet road, brush and Magic Formula tyres (the estimator is "
-        f"not told which), V100-like and RTK-class compasses; method {DEMO_METHOD}"
+        f"[bold]gripsense demo[/] — {folder.name}: {escape(demo_description(folder))}; "
+        f"method {DEMO_METHOD}"
     )
     with Progress(console=console, transient=True) as prog:
         task = prog.add_task("ingest → friction", total=None)
@@ -126,6 +126,7 @@ def demo(
         )
     console.print(table)
     console.print(
+        "util: the share of its grip the axle used, |F|/(μ Fz), from the simulator's truth; "
         "μ ≥: the friction the axle used — the data prove μ ≥ this (model-free, level road "
         "assumed); estimate: μ under a tyre model whose shape is uncertain, given only where "
         "the data carry it (—: no value; ≤: the estimate's upper end)."
