@@ -72,3 +72,21 @@ def test_a_usage_error_is_one_line(args, want, tmp_path):
     assert len(lines) == 1, lines
     assert lines[0].startswith("error: gripsense") and want in lines[0], lines
     assert "Traceback" not in r.stderr
+
+
+def test_tables_are_whole_in_a_log_file(tmp_path):
+    """Output piped to a file (a log, a CI job): no column cut to "measur…"/"undete…"."""
+    from gripsense.data import path as data_path
+
+    demo = data_path("demo")
+    env = {k: v for k, v in __import__("os").environ.items() if k != "COLUMNS"}
+    r = subprocess.run(
+        [sys.executable, "-c", "from gripsense.cli import main; main()", "friction",
+         str(demo / "case002.nmea.gz"), "--vehicle", str(demo / "vehicle.toml"),
+         "--steer-csv", str(demo / "case002_steer.csv"), "-o", str(tmp_path / "run")],
+        capture_output=True, text=True, timeout=300, env=env,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert "…" not in r.stdout, r.stdout
+    for header in ("measured grip", "data prove μ ≥", "90 % interval", "slippery?"):
+        assert header in r.stdout

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+import sys
 from typing import Annotated, NoReturn
 
 import typer
@@ -38,7 +40,26 @@ Columns = Annotated[
 ]
 """The one ``--columns`` option of every command that reads a table."""
 
-console = Console()
+
+def _width(stream) -> int | None:
+    """The console width: the terminal's; in a pipe, a log file or a CI job ``COLUMNS`` or 160
+    (rich's 80 cut tables to "measur…", "undete…").
+    """
+    try:
+        if stream.isatty():
+            return None
+    except (AttributeError, ValueError):
+        pass
+    try:
+        return max(int(os.environ.get("COLUMNS", "0")), 0) or PIPE_WIDTH
+    except ValueError:
+        return PIPE_WIDTH
+
+
+PIPE_WIDTH = 160
+"""Width of the output when it is not a terminal [characters]."""
+
+console = Console(width=_width(sys.stdout))
 err_console = Console(stderr=True, soft_wrap=True)
 
 
