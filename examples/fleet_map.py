@@ -10,6 +10,7 @@
 
 # %%
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -44,7 +45,8 @@ def site_of(cell):
 
 # %%
 if __name__ == "__main__":  # Dask starts worker processes: scripts need the guard
-    work = Path(tempfile.mkdtemp(prefix="gripsense-fleet-"))
+    scratch = tempfile.TemporaryDirectory(prefix="gripsense-fleet-")  # removed at exit
+    work = Path(scratch.name)
     truth = write_fleet(
         work / "logs", sample_path("corolla_sim.toml"), SITES, n_vehicles=1 if QUICK else 3
     )
@@ -66,7 +68,8 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
         workers=1 if QUICK else 2,
     )
     cells = res.cells
-    print(f"{len(truth)} logs → {len(cells)} cells; map page: {work / 'out' / 'map.html'}")
+    shutil.copy(work / "out" / "map.html", OUT / "fleet_map.html")
+    print(f"{len(truth)} logs → {len(cells)} cells; map page: {OUT / 'fleet_map.html'}")
 
     cells = cells.assign(mu_road=[site_of(c).mu for c in cells["cell"]])
     est = cells.dropna(subset=["mu"])
@@ -82,7 +85,8 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
 # %%
 if __name__ == "__main__":  # Dask starts worker processes: scripts need the guard
     fig, axes = plt.subplots(1, len(SITES), figsize=(12, 4.2), layout="constrained")
-    cmap, norm = plt.get_cmap("RdYlGn"), plt.Normalize(0.0, 1.0)
+    # viridis: every μ stands out from the white background (RdYlGn's pale yellow at 0.5 did not)
+    cmap, norm = plt.get_cmap("viridis"), plt.Normalize(0.0, 1.0)
     for ax, site in zip(axes, SITES, strict=True):
         sub = cells[[site_of(c) is site for c in cells["cell"]]]
         for row in sub.itertuples():
@@ -103,7 +107,7 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
         ax.set(title=f"{site.name} (road μ {site.mu})", xlabel="longitude [°]")
         ax.ticklabel_format(useOffset=False)
         ax.tick_params(labelsize=7)
-    ax.xaxis.set_major_locator(plt.MaxNLocator(3))
+        ax.xaxis.set_major_locator(plt.MaxNLocator(3))  # every panel: labels do not run together
     axes[0].set_ylabel("latitude [°]")
     fig.colorbar(
         plt.cm.ScalarMappable(norm=norm, cmap=cmap),

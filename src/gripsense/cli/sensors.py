@@ -104,7 +104,8 @@ def brake_mu(
     console.print(table)
     sd = f" ± {ev['mu'].std():.3f} (SD)" if len(ev) > 1 else ""
     console.print(
-        f"μ = {ev['mu'].mean():.3f}{sd} over {len(ev)} events — sliding friction of "
+        f"μ = {ev['mu'].mean():.3f}{sd} over {len(ev)} event{'' if len(ev) == 1 else 's'} — "
+        "sliding friction of "
         "locked wheels (below peak μ; includes ~0.01–0.02 g of drag)"
     )
     if output:

@@ -102,7 +102,7 @@ def tyre_eval(
 
         def write(tmp):
             with open(tmp, "w", encoding="utf-8") as fh:
-                fh.write(f"# {desc}; written by gripsense tyre-eval\n")
+                fh.write(f"# {desc}; written by gripsense tyre eval\n")
                 out.to_csv(fh, index=False)
 
         try:

@@ -56,6 +56,11 @@ def _bands(ax, ymax: float) -> None:
             )
 
 
+def _legend_outside(ax) -> None:
+    """The legend right of the axes: inside it covered the surface-band labels."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+
+
 def interval_bars(summary: pd.DataFrame, unit: str, *, mu_max: float = 1.4) -> Figure:
     """Per unit (axle or wheel), the two statements against the surface bands (Table 4): the
     estimate's 90 % interval as a bar with its value, or — without a value — the measured-grip
@@ -241,7 +246,7 @@ def mu_vs_radius(ct: pd.DataFrame) -> Figure:
                 a, b = np.polyfit(g["radius_m"], g["mu"], 1)
                 x = np.linspace(g["radius_m"].min(), g["radius_m"].max(), 10)
                 ax.plot(x, a * x + b, "-", lw=1, color=ax.lines[-1].get_color())
-        ax.legend(fontsize=8)
+        _legend_outside(ax)
     ax.set_xlabel("turn radius [m]")
     ax.set_ylabel("μ (median of valid samples)")
     ax.set_ylim(0, 1.5)
@@ -266,7 +271,7 @@ def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
     if d.empty:
         ax.text(0.5, 0.5, "no condition with a valid μ", transform=ax.transAxes, ha="center")
     else:
-        ax.legend(fontsize=8)
+        _legend_outside(ax)
     ax.set_xlabel("yaw rate [deg/s]")
     ax.set_ylabel("μ")
     ax.set_ylim(0, 1.5)
