@@ -19,7 +19,7 @@ BLOCK = re.compile(r"```text\n\$ python (examples/[\w.-]+\.py)\n(.*?)```", re.S)
 
 def _quoted() -> list[tuple[Path, str, list[str]]]:
     out = []
-    for doc in sorted((ROOT / "docs").glob("*.md")) + [ROOT / "README.md"]:
+    for doc in [*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md"]:
         for script, body in BLOCK.findall(doc.read_text(encoding="utf-8")):
             out.append((doc, script, [x for x in body.splitlines() if x.strip()]))
     return out

@@ -201,9 +201,9 @@ def test_online_equals_batch():
 
 def test_window_table_per_window():
     """The window table, computed for all windows at once, holds for every window what its
-    bins say: the mean measured grip, the largest one-sided bound, the sample count, screened
-    exactly when no bin reaches the screening utilisation; its columns are WINDOW_COLUMNS in
-    order, with or without windows."""
+    bins say: the largest 1 s measured grip (as the drive's), the largest one-sided bound, the
+    sample count, screened exactly when no bin reaches the screening utilisation; its columns
+    are WINDOW_COLUMNS in order, with or without windows."""
     import pandas as pd
     from scipy.stats import norm
 
@@ -228,7 +228,7 @@ def test_window_table_per_window():
             i0 = int(np.flatnonzero(ab.t0 == r.t_start)[0])
             g, s = ab.data[i0 : i0 + 3, 9], ab.grip_sigma[i0 : i0 + 3]
             assert r.t_end == ab.t1[i0 + 2]
-            assert r.grip_used == pytest.approx(g.sum() / 3, rel=1e-12)
+            assert r.grip_used == pytest.approx(g.max(), rel=1e-12)  # the largest 1 s mean
             assert r.grip_used_lower == pytest.approx(max((g - z * s).max(), 0.0), rel=1e-12)
             assert r.n == ab.n[i0 : i0 + 3].sum()
             assert (r.fit == "screened") == (g.max() < o.screen_utilisation)

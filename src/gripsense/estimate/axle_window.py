@@ -836,7 +836,7 @@ def estimate_windows(
     -------
     windows : pandas.DataFrame
         One row per axle and window, the columns of :data:`WINDOW_COLUMNS` in that order:
-        ``axle``, ``t_start``, ``t_end``, ``n``, ``grip_used`` (mean measured grip),
+        ``axle``, ``t_start``, ``t_end``, ``n``, ``grip_used`` (largest 1 s measured grip),
         ``grip_used_lower`` (model-free one-sided bound), ``analysed``, ``mu`` (NaN unless
         ``observable``), ``mu_low``, ``mu_high`` (inf when unbounded), ``observable``, ``fit``,
         the profile's best μ, stiffness scale, heading bias, camber slip and load-transfer
