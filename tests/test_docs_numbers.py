@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
 ROOT = Path(__file__).resolve().parents[1]
 BLOCK = re.compile(r"```text\n\$ python (examples/[\w.-]+\.py)\n(.*?)```", re.S)
 

@@ -16,6 +16,8 @@ from gripsense.data import path as data_path
 from tests.cli.test_commands import EXE
 from tests.conftest import GPSD
 
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
 
 def _run(args, mask, cwd):
     r = subprocess.run(

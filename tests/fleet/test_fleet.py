@@ -15,6 +15,8 @@ from gripsense.fleet import run_fleet
 from gripsense.sim.fleet_data import Site, write_fleet
 from tests.report.test_report import _open
 
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
 SIM_VEHICLE = Path(gripsense.__file__).parent / "data" / "corolla_sim.toml"
 SITES = [
     Site("dry", 33.620, 133.7195, 30.0, 0.9),

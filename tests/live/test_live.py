@@ -22,6 +22,8 @@ from gripsense.io import read_nmea
 from gripsense.live import LiveIngest, SerialSource, TcpSource, run_live
 from tests.cli.test_commands import EXE
 
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
 DATA = Path(gripsense.__file__).parent / "data"
 GPSD = Path(__file__).parents[1] / "data" / "gpsd"
 VEHICLE = DATA / "corolla_sim.toml"

@@ -17,6 +17,8 @@ from gripsense.report import figures as F
 from gripsense.report import write_report
 from tests.estimate.circle import circle
 
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
 BASELINE = Path(__file__).parent.parent / "data" / "figures"
 THESIS = sample_path("corolla_thesis.toml")
 CHROMIUM = shutil.which("chromium")
