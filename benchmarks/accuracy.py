@@ -193,8 +193,9 @@ def _cr_drive(job: dict):
         p = CR.cr_constant_radius(plan[1], plan[2], plan[3])
     else:
         p = CR.cr_ramp_steer(plan[1], rate_deg_s=0.5, max_steer_deg=8.0)
-    sim = CR.commonroad_mb_drive if job["truth"] == "commonroad-mb" else CR.commonroad_drive
-    d = sim(p, job["mu_road"], receiver=job["receiver"], seed=job["seed"])
+    model = "mb" if job["truth"] == "commonroad-mb" else "std"
+    d = CR.commonroad_drive(p, job["mu_road"], model=model, receiver=job["receiver"],
+                            seed=job["seed"])  # fmt: skip
     uv = CR.commonroad_vehicle(stiffness_error=job["stiffness_error"])
     return d, uv
 

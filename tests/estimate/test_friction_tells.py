@@ -132,17 +132,14 @@ def test_slippery_calls_on_magic_formula_drives(mu, want):
     assert other not in calls.tolist()
 
 
-@pytest.mark.parametrize(
-    "simulate",
-    [CR.commonroad_drive, CR.commonroad_mb_drive],
-    ids=["single-track", "multi-body"],
-)
-def test_sweep_gives_a_value_near_the_truth(simulate):
+@pytest.mark.parametrize("model", ["std", "mb"], ids=["single-track", "multi-body"])
+def test_sweep_gives_a_value_near_the_truth(model):
     """ISO 4138 ramp steer at 70 km/h on CommonRoad's car (μ 0.7), single-track and multi-body
     (lateral load transfer, roll, camber): the front axle climbs its curve to the limit and gets
     a drive-level value within 0.05 of the truth (the multi-body truth is the load-weighted peak
     of its wheels at their camber)."""
-    d = simulate(CR.cr_ramp_steer(70 / 3.6, rate_deg_s=0.5, max_steer_deg=8.0), 0.7, seed=5)
+    plan = CR.cr_ramp_steer(70 / 3.6, rate_deg_s=0.5, max_steer_deg=8.0)
+    d = CR.commonroad_drive(plan, 0.7, model=model, seed=5)
     s = _run(d, CR.commonroad_vehicle(stiffness_error=0.05), "white-0.3").summary
     front = s.set_index("axle").loc["front"]
     truth = d.axles.set_index("axle").loc["front"]

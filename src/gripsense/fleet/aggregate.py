@@ -117,8 +117,9 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
         df[c] = df[c].fillna(0).astype("int64")
     bound = df["grip_used_lower"].to_numpy(float)
-    # a drive's rule: the range's lower end is at least what the data prove
+    # a drive's rule: an estimate's lower end is at least what the data prove (no estimate: NaN)
     df["mu_low"] = np.fmax(np.maximum(df["mu"] - Z90 * df["mu_sigma"], 0.0), bound)
+    df.loc[df["mu"].isna(), "mu_low"] = np.nan
     df["mu_high"] = df["mu"] + Z90 * df["mu_sigma"]
     has = df["mu"].notna().to_numpy()
     # an estimate below the grip the data prove contradicts them: flagged, never a plain value
@@ -140,7 +141,7 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     df["surface"] = df["surface"].astype(str)
     # "is it slippery?": the cell's range (only the measured grip where it is inconsistent)
     hi = np.where(bad, np.inf, df["mu_high"].to_numpy(float))
-    lo = np.where(bad, bound, df["mu_low"].to_numpy(float))
+    lo = np.where(bad, bound, np.fmax(df["mu_low"].to_numpy(float), bound))
     df["slippery"] = np.asarray(slippery_call(lo, hi), dtype=str)
     return df[CELL_COLUMNS]
 

@@ -41,7 +41,6 @@ from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 __all__ = [
     "DrivePlan",
     "commonroad_drive",
-    "commonroad_mb_drive",
     "commonroad_vehicle",
     "cr_circle",
     "cr_constant_radius",
@@ -345,18 +344,15 @@ def _mb_wheels(p, x: np.ndarray) -> dict:
         else:
             u_w = vx_w
         kappa = 1.0 - p.R_w * x[i_w] / np.maximum(u_w, 1e-3)
-        base = -p.b if not front else p.a
-        z_s = ((p.h_s - p.R_w + x[i_z] - x[11]) / np.cos(roll) - p.h_s + p.R_w + base * x[8]
+        z_s = ((p.h_s - p.R_w + x[i_z] - x[11]) / np.cos(roll) - p.h_s + p.R_w + lx * x[8]
                + side * 0.5 * (roll - x[i_roll]) * (p.T_f if front else p.T_r))  # fmt: skip
         gamma = roll + side * (d_k * z_s + e_k * z_s**2)
         fy = np.empty(u.size)
         mu_y = np.empty(u.size)
-        for k in range(u.size):
-            f0x = tm.formula_longitudinal(kappa[k], gamma[k], fz[k], p.tire)
+        for k in range(u.size):  # CommonRoad's tyre functions are scalar (math module)
             f0y, mu_y[k] = tm.formula_lateral(alpha[k], gamma[k], fz[k], p.tire)
             fy[k] = tm.formula_lateral_comb(kappa[k], alpha[k], gamma[k], mu_y[k], fz[k], f0y,
                                             p.tire)  # fmt: skip
-            del f0x
         out[name] = {"load": fz, "alpha": alpha, "gamma": gamma, "fy": fy, "mu": mu_y}
     return out
 
@@ -457,48 +453,14 @@ def commonroad_drive(
     plan: DrivePlan,
     mu: float,
     *,
+    model: str = "std",
     receiver: str = "white-0.3",
     seed: int = 0,
     steer_scale_error: float = 0.03,
 ) -> Drive:
-    """Simulate *plan* with CommonRoad's single-track drift model on a road of friction *mu* and
-    record it with the emulated compass and steering channel.
-
-    Parameters
-    ----------
-    plan : DrivePlan
-        :func:`cr_circle` or :func:`cr_ramp_steer`.
-    mu : float
-        Road friction (the tyre's lateral peak coefficient) [-].
-    receiver : str
-        Receiver preset.
-    seed : int
-        Random seed of the receiver and steering noise.
-    steer_scale_error : float
-        Scale error of the steering channel [-].
-
-    Returns
-    -------
-    Drive
-        The recording and the truth.
-    """
-    return record_drive(
-        _simulate(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver, seed=seed,
-        steer_scale_error=steer_scale_error,
-    )  # fmt: skip
-
-
-def commonroad_mb_drive(
-    plan: DrivePlan,
-    mu: float,
-    *,
-    receiver: str = "white-0.3",
-    seed: int = 0,
-    steer_scale_error: float = 0.03,
-) -> Drive:
-    """Simulate *plan* with CommonRoad's multi-body model on a road of friction *mu* and record
-    it with the emulated compass and steering channel (the truth per wheel: load, slip angle,
-    camber, combined-slip lateral force and peak coefficient as the model computes them).
+    """Simulate *plan* with one of CommonRoad's models on a road of friction *mu* and record it
+    with the emulated compass and steering channel (the truth per wheel as the model computes
+    it).
 
     Parameters
     ----------
@@ -506,6 +468,9 @@ def commonroad_mb_drive(
         :func:`cr_circle`, :func:`cr_constant_radius` or :func:`cr_ramp_steer`.
     mu : float
         Road friction (the tyre's lateral peak coefficient at zero camber) [-].
+    model : {"std", "mb"}
+        The single-track drift model ``vehicle_dynamics_std`` or the multi-body model
+        ``vehicle_dynamics_mb``.
     receiver : str
         Receiver preset.
     seed : int
@@ -518,7 +483,10 @@ def commonroad_mb_drive(
     Drive
         The recording and the truth.
     """
+    simulate = {"std": _simulate, "mb": _simulate_mb}.get(model)
+    if simulate is None:
+        raise ValueError(f"model={model!r}: use 'std' or 'mb'")
     return record_drive(
-        _simulate_mb(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver,
-        seed=seed, steer_scale_error=steer_scale_error,
+        simulate(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver, seed=seed,
+        steer_scale_error=steer_scale_error,
     )  # fmt: skip
