@@ -66,7 +66,8 @@ def main() -> None:
     args = ap.parse_args()
     from gripsense import FrictionRun
     from gripsense.estimate.axle_window import estimate_windows
-    from gripsense.estimate.friction import friction_from_motion, motion_from_epochs
+    from gripsense.estimate.friction import friction_from_motion
+    from gripsense.estimate.wheels import motion_from_epochs
     from gripsense.io import read_nmea
     from gripsense.sim.drives import truth_vehicle, user_vehicle
 

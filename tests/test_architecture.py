@@ -100,3 +100,35 @@ def test_no_package_level_cycles():
 
     cycles = sorted(f"{a} ⇄ {b}" for a, bs in edges.items() for b in bs if reaches(b, a, {b}))
     assert not cycles, cycles
+
+
+def _estimator_branches() -> list[str]:
+    """Comparisons of ``method`` (a name or attribute) with an estimator's name."""
+    from gripsense.estimate import ESTIMATORS
+
+    names = set(ESTIMATORS)
+    out = []
+    for path in ROOT.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Compare):
+                continue
+            sides = [node.left, *node.comparators]
+            lits = [
+                e
+                for s in sides
+                for e in (s.elts if isinstance(s, ast.Tuple | ast.List | ast.Set) else [s])
+            ]
+            named = any(
+                (isinstance(s, ast.Name) and s.id == "method")
+                or (isinstance(s, ast.Attribute) and s.attr == "method")
+                for s in sides
+            )
+            if named and any(isinstance(e, ast.Constant) and e.value in names for e in lits):
+                out.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    return out
+
+
+def test_no_consumer_branches_on_an_estimator_name():
+    """What a consumer needs comes from the estimator object (``gripsense.estimate.
+    ESTIMATORS``: per_window, online(), needs_receiver, description), never from its name."""
+    assert not _estimator_branches()

@@ -3,15 +3,14 @@ ModelChain). The command line, the demo, live mode and the fleet are thin layers
 
 :meth:`FrictionRun.run_log` is the one way from a log file to a result; :meth:`FrictionRun.run`
 takes an epoch table (live mode), :meth:`FrictionRun.run_motion` a motion table from another
-source (``gripsense friction --table``). Each method of :data:`ESTIMATORS` returns its own typed
-result (:class:`~gripsense.estimate.results.WheelFriction` or
+source (``gripsense friction --table``). Each estimator of :data:`gripsense.estimate.ESTIMATORS`
+returns its own typed result (:class:`~gripsense.estimate.results.WheelFriction` or
 :class:`~gripsense.estimate.results.AxleFriction`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -21,74 +20,22 @@ import pandas as pd
 from gripsense.config import Receiver, Vehicle, receiver_from
 from gripsense.config.calibration import Calibration, calibrated_vehicle
 from gripsense.errors import InputError
-from gripsense.estimate.axle_window import WindowOptions, estimate_windows, measured_grip
-from gripsense.estimate.friction import FrictionOptions, friction_from_motion, motion_from_epochs
+from gripsense.estimate.estimators import Estimator, get_estimator
+from gripsense.estimate.friction import friction_from_motion
 from gripsense.estimate.noise import NoiseModel
-from gripsense.estimate.results import (
-    AxleFriction,
-    FrictionResult,
-    WheelFriction,
-    summarize_axles,
-    summarize_wheels,
-)
+from gripsense.estimate.options import FrictionOptions, WindowOptions
+from gripsense.estimate.results import FrictionResult
+from gripsense.estimate.wheels import motion_from_epochs
 from gripsense.io import read_nmea
 from gripsense.io.steer import read_steer_csv, steer_at
 
 __all__ = [
-    "ESTIMATORS",
     "FrictionResult",
     "FrictionRun",
     "learn_calibration",
     "log_drive_sums",
     "solve_calibration",
 ]
-
-
-def _per_sample(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
-    grip = measured_grip(wheels, run.vehicle, noise=run.options.noise, options=run.window)
-    return WheelFriction(
-        wheels=wheels,
-        summary=summarize_wheels(wheels, run.options.min_valid_fraction, grip),
-        meta=meta,
-        vehicle=run.vehicle,
-        noise=run.options.noise,
-    )
-
-
-def _axle_window(run: FrictionRun, wheels: pd.DataFrame, meta: dict) -> FrictionResult:
-    # μ is per axle and window here; the per-sample brush values would contradict it, and a
-    # sample without μ is never flagged "ok"
-    wheels = wheels.assign(
-        mu=np.nan, mu_sigma=np.nan, flag=wheels["flag"].replace({"ok": "per_axle"})
-    )
-    noise = run.options.noise
-    n_straight, spread = meta.get("straight_samples", 0), meta.get("heading_offset_spread_deg")
-    if spread is not None and n_straight > 0 and noise.heading_calibration_deg is None:
-        # the heading offset's standard error from this drive's own straights
-        noise = dataclasses.replace(
-            noise, heading_calibration_deg=float(spread) / float(np.sqrt(n_straight))
-        )
-    windows, axles = estimate_windows(wheels, run.vehicle, noise=noise, options=run.window)
-    return AxleFriction(
-        wheels=wheels,
-        summary=summarize_axles(axles),
-        meta=meta,
-        windows=windows,
-        vehicle=run.vehicle,
-        noise=run.options.noise,
-    )
-
-
-ESTIMATORS: dict[str, Callable[[FrictionRun, pd.DataFrame, dict], FrictionResult]] = {
-    "brush-2": _per_sample,
-    "brush-4": _per_sample,
-    "thesis-2": _per_sample,
-    "thesis-4": _per_sample,
-    "brush": _per_sample,
-    "thesis": _per_sample,
-    "axle-window": _axle_window,
-}
-"""Method name → how its result is made from the per-sample wheel table."""
 
 
 class FrictionRun:
@@ -99,9 +46,9 @@ class FrictionRun:
     vehicle : Vehicle or str or Path
         Vehicle description (or the path of its TOML file).
     method : str
-        A key of :data:`ESTIMATORS`: ``axle-window`` (default: measured grip and a μ estimate
-        per axle), or a per-sample method of the thesis: ``brush-2``, ``brush-4``,
-        ``thesis-2``, ``thesis-4``, ``brush``, ``thesis``.
+        A key of :data:`gripsense.estimate.ESTIMATORS`: ``axle-window`` (default: measured
+        grip and a μ estimate per axle), or a per-sample method of the thesis: ``brush-2``,
+        ``brush-4``, ``thesis-2``, ``thesis-4``, ``brush``, ``thesis``.
     noise : NoiseModel or str, optional
         Uncertainties, or (as *receiver*) a receiver class or file.
     receiver : str or Path or Receiver, optional
@@ -138,8 +85,7 @@ class FrictionRun:
         calibration: Calibration | str | Path | None = None,
         **options,
     ):
-        if method not in ESTIMATORS:
-            raise InputError(f"FrictionRun: method={method!r}; use one of {sorted(ESTIMATORS)}")
+        self.estimator: Estimator = get_estimator(method, "FrictionRun")
         self.vehicle = calibrated_vehicle(vehicle, calibration)
         self.method = method
         known = {f.name for f in fields(FrictionOptions)}
@@ -151,7 +97,7 @@ class FrictionRun:
         opts = replace(FrictionOptions(), **options)
         if isinstance(noise, str | Path):
             receiver, noise = noise, None
-        if noise is None and (receiver is not None or method == "axle-window"):
+        if noise is None and (receiver is not None or self.estimator.needs_receiver):
             # the receiver as the user describes it, the vehicle file's tyre and CG ranges
             noise = NoiseModel.for_vehicle(self.vehicle, receiver)
             spec = receiver if receiver is not None else (self.vehicle.receiver or "v100")
@@ -237,7 +183,7 @@ class FrictionRun:
         self, epochs: pd.DataFrame, *, steer_rad: np.ndarray | None = None
     ) -> tuple[pd.DataFrame, dict]:
         """The per-sample wheel table of an epoch table, without the estimator (live mode feeds
-        it to :class:`~gripsense.estimate.axle_window.OnlineAxleWindow`).
+        it to the estimator's online form, :meth:`~gripsense.estimate.Estimator.online`).
 
         Parameters
         ----------
@@ -281,7 +227,13 @@ class FrictionRun:
             motion, self.vehicle, method=self.method, options=self.options
         )
         meta2 = {**meta2, "receiver": self.receiver}
-        return ESTIMATORS[self.method](self, wheels, {**(meta or {}), **meta2})
+        return self.estimator.result(
+            wheels,
+            self.vehicle,
+            options=self.options,
+            window=self.window,
+            meta={**(meta or {}), **meta2},
+        )
 
 
 def learn_calibration(

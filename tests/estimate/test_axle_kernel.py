@@ -4,7 +4,7 @@ References: the same negative log-likelihood (nuisances θ and the per-bin headi
 minimised by scipy's L-BFGS-B from the prior mean for every (μ, shape) of the grid, with no
 warm starts and no shape skipping — the fast path's Levenberg–Marquardt with its Thomas
 elimination, warm starts along μ and shape skipping must find the same profile; and the profile
-by three independent minimisation paths per shape, converged — ``_profile``'s interval must be
+by three independent minimisation paths per shape, converged — ``profile_mu``'s interval must be
 its interval, also where a coarser μ pass would fall behind.
 """
 
@@ -18,19 +18,18 @@ from scipy.optimize import minimize
 from scipy.stats import chi2
 
 from gripsense.estimate import _axle_kernel as K
-from gripsense.estimate.axle_window import (
-    WindowOptions,
-    _crossing,
-    _priors,
-    _profile,
-    _rho,
-    _shape_ids,
-    _shape_penalty,
-    _tables,
-    axle_bins,
-    merge_steady,
-)
+from gripsense.estimate.bins import axle_bins, merge_steady
 from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.options import WindowOptions
+from gripsense.estimate.profile import (
+    _crossing,
+    _rho,
+    _shape_penalty,
+    axle_priors,
+    curve_lookup,
+    profile_mu,
+    shape_ids,
+)
 from gripsense.io import read_nmea
 from gripsense.io.steer import steer_at
 from gripsense.pipeline import FrictionRun
@@ -41,7 +40,7 @@ from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 def _full_grid(w, shapes, step=1):
     """The fast path's profile on the μ grid (every *step*-th point), without refinement."""
     o, pri, b = w["o"], w["pri"], w["bins"]
-    f, df, inv_dx = _tables()
+    f, df, inv_dx = curve_lookup()
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
     grid = _grid(o, step)
     n = b.shape[0]
@@ -87,19 +86,19 @@ def window():
     wheels, _ = run.wheel_table(ep, steer_rad=steer_at(ch, ep["t_s"].to_numpy(float)))
     o = WindowOptions()
     ab = axle_bins(wheels, "rear", uv, noise, o.bin_s, o.min_samples)
-    pri = _priors(uv, "rear", noise)
+    pri = axle_priors(uv, "rear", noise)
     for i0 in range(ab.t0.size - 2):
         sel = slice(i0, i0 + 3)
         mid, merged = merge_steady(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], 0.03)
         w = {"mid": mid, "bins": np.ascontiguousarray(merged), "pri": pri, "p0": ab.p0, "o": o}
-        if merged.shape[0] >= 2 and np.isfinite(_interval(*_full_grid(w, _shape_ids("any")))[1]):
+        if merged.shape[0] >= 2 and np.isfinite(_interval(*_full_grid(w, shape_ids("any")))[1]):
             return w
     raise AssertionError("no bounded multi-bin window in the slalom")
 
 
 def _reference_nll(mu, shape, w):
     """min over (θ, δ) of the kernel's objective by L-BFGS-B from the prior mean."""
-    f, df, inv_dx = _tables()
+    f, df, inv_dx = curve_lookup()
     b, pri = w["bins"], w["pri"]
     n = b.shape[0]
     rho = _rho(w["mid"], pri.tau_s)
@@ -136,7 +135,7 @@ def test_kernel_profile_and_interval_equal_the_reference(which, window, one_bin)
     minimum, never below it by more than rounding), and the 90 % interval is the same within
     0.01 with the same bounded/unbounded decision."""
     window = window if which == "several bins" else one_bin
-    shapes = _shape_ids("brush")
+    shapes = shape_ids("brush")
     pen = _shape_penalty()[shapes]
     grid, nll = _full_grid(window, shapes, step=2)
     ref = np.array(
@@ -158,7 +157,7 @@ def _converged_profile(w, shapes):
     and from the prior mean at every μ — with 20 LM step pairs each, the lowest value kept:
     what the objective's minimum is, whatever path the production kernel takes (its LM fixed
     point is checked against L-BFGS-B above)."""
-    f, df, inv_dx = _tables()
+    f, df, inv_dx = curve_lookup()
     o, pri, b = w["o"], w["pri"], w["bins"]
     n = b.shape[0]
     grid = _grid(o)
@@ -198,22 +197,22 @@ def demo_window():
     i0 = int(np.searchsorted(ab.t0, 10.0))
     sel = slice(i0, i0 + 3)
     mid, merged = merge_steady(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], 0.03)
-    pri = _priors(veh, "rear", noise)
+    pri = axle_priors(veh, "rear", noise)
     return {"mid": mid, "bins": np.ascontiguousarray(merged), "pri": pri, "p0": ab.p0, "o": o}
 
 
 @pytest.mark.parametrize("which", ["demo", "several bins", "one bin"])
 def test_profile_interval_equals_the_converged_profile(which, demo_window, window, one_bin):
-    """``_profile`` — every μ of the grid, warm-started upwards, minimisations far above the
+    """``profile_mu`` — every μ of the grid, warm-started upwards, minimisations far above the
     minimum stopped early — gives the 90 % interval of the converged profile within 0.01 and
     the same bounded/unbounded decision."""
     w = {"demo": demo_window, "several bins": window, "one bin": one_bin}[which]
-    shapes = _shape_ids("any")
+    shapes = shape_ids("any")
     lo, hi = _interval(*_converged_profile(w, shapes))
     # a measured-grip bound below the interval, and no "far from the limit" rule: the model's
     # own interval is compared
     o = dataclasses.replace(w["o"], min_utilisation=0.0)
-    est = _profile(w["bins"], w["mid"], w["pri"], shapes, w["p0"], o, 0.0)
+    est = profile_mu(w["bins"], w["mid"], w["pri"], shapes, w["p0"], o, 0.0)
     assert abs(est["mu_low"] - lo) <= 0.01, (est, lo)
     assert np.isfinite(est["mu_high"]) == np.isfinite(hi)
     if np.isfinite(hi):
@@ -223,7 +222,7 @@ def test_profile_interval_equals_the_converged_profile(which, demo_window, windo
 def test_a_coarse_mu_pass_misses_the_demo_windows_interval(demo_window):
     """The demo window discriminates: a pass over every third μ (warm-started along it, no
     refinement) misses its converged interval by more than 0.05."""
-    shapes = _shape_ids("any")
+    shapes = shape_ids("any")
     lo, hi = _interval(*_converged_profile(demo_window, shapes))
     lo_c, hi_c = _interval(*_full_grid(demo_window, shapes, step=3))
     assert max(abs(lo_c - lo), abs(hi_c - hi)) > 0.05, (lo, hi, lo_c, hi_c)
@@ -236,8 +235,8 @@ def test_stopping_far_above_the_minimum_keeps_the_profile(which, demo_window, wi
     profile within 5 deviance units of its minimum by less than 0.05 (−log L)."""
     w = {"demo": demo_window, "several bins": window, "one bin": one_bin}[which]
     o, pri, b = w["o"], w["pri"], w["bins"]
-    f, df, inv_dx = _tables()
-    shapes = _shape_ids("any")
+    f, df, inv_dx = curve_lookup()
+    shapes = shape_ids("any")
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
     grid = _grid(o)
     probe = float(np.clip(1.1 * b[:, 9].max(), grid[0], grid[-1]))
@@ -268,7 +267,7 @@ def test_stop_above_ends_a_minimisation_after_one_step(demo_window):
     """With ``stop_above`` below every value, the minimisation takes one step and ends there:
     its value lies between the converged minimum and the starting point's."""
     w = demo_window
-    f, df, inv_dx = _tables()
+    f, df, inv_dx = curve_lookup()
     pri, b = w["pri"], w["bins"]
     rho = _rho(w["mid"], pri.tau_s)
     ws, wm, wj = K.workspace(1)
@@ -361,10 +360,10 @@ def test_slip_spread_adds_the_jensen_gap_and_a_timing_term():
     is not the force at the mean slip: zero on a straight curve — plus (0.35 F' s)² for force
     and slip ~0.1 s apart within the bin (docs/physics.md §15.8); checked against the brush
     curve f = x − x²/3 + x³/27 in closed form, near the peak and far from it."""
-    from gripsense.estimate.axle_window import BIN_COLUMNS, _shape_ids, _tables
+    from gripsense.estimate.bins import BIN_COLUMNS
 
-    f, df, inv_dx = _tables()
-    brush = int(_shape_ids("brush")[0])  # brush-2
+    f, df, inv_dx = curve_lookup()
+    brush = int(shape_ids("brush")[0])  # brush-2
     fz, c, alpha, s = 3000.0, 60000.0, np.deg2rad(2.0), np.deg2rad(0.3)
 
     def variance(mu, spread):

@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense import FrictionRun
-from gripsense.estimate.axle_window import OnlineAxleWindow, WindowOptions
+from gripsense.estimate import OnlineAxleWindow, WindowOptions
 from gripsense.io import read_nmea
 from gripsense.io.steer import steer_at
 from gripsense.sim.drives import (
@@ -207,7 +207,8 @@ def test_window_table_per_window():
     import pandas as pd
     from scipy.stats import norm
 
-    from gripsense.estimate.axle_window import WINDOW_COLUMNS, axle_bins, estimate_windows
+    from gripsense.estimate.axle_window import WINDOW_COLUMNS, estimate_windows
+    from gripsense.estimate.bins import axle_bins
 
     mu = 0.5
     d = simulate_drive(

@@ -2,24 +2,16 @@
 uncertainty (``docs/friction.md``).
 """
 
-from gripsense.estimate.axle_window import (
-    AxleBins,
-    OnlineAxleWindow,
-    WindowOptions,
-    axle_bins,
-    estimate_windows,
-)
+from gripsense.estimate.axle_window import estimate_windows
+from gripsense.estimate.bins import AxleBins, axle_bins
 from gripsense.estimate.braking import BrakingResult, estimate_braking
 from gripsense.estimate.conditions import condition_table, conditions
-from gripsense.estimate.friction import (
-    FLAGS,
-    METHODS,
-    NOT_STEADY_CORNERING,
-    FrictionOptions,
-    friction_from_motion,
-    motion_from_epochs,
-)
+from gripsense.estimate.estimators import ESTIMATORS, Estimator, get_estimator
+from gripsense.estimate.friction import friction_from_motion
+from gripsense.estimate.grip import measured_grip
 from gripsense.estimate.noise import NoiseModel, receiver_noise
+from gripsense.estimate.online import OnlineAxleWindow
+from gripsense.estimate.options import FrictionOptions, WindowOptions
 from gripsense.estimate.results import (
     AxleFriction,
     FrictionResult,
@@ -27,14 +19,16 @@ from gripsense.estimate.results import (
     read_result,
 )
 from gripsense.estimate.stiffness import GSweep, g_sweep, tread_stiffness
+from gripsense.estimate.wheels import FLAGS, NOT_STEADY_CORNERING, motion_from_epochs
 
 __all__ = [
+    "ESTIMATORS",
     "FLAGS",
-    "METHODS",
     "NOT_STEADY_CORNERING",
     "AxleBins",
     "AxleFriction",
     "BrakingResult",
+    "Estimator",
     "FrictionOptions",
     "FrictionResult",
     "GSweep",
@@ -49,6 +43,8 @@ __all__ = [
     "estimate_windows",
     "friction_from_motion",
     "g_sweep",
+    "get_estimator",
+    "measured_grip",
     "motion_from_epochs",
     "read_result",
     "receiver_noise",

@@ -28,7 +28,7 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.config.calibration import AxleCalibration, DriveSums
-from gripsense.estimate.axle_window import axle_bins, force_and_linear
+from gripsense.estimate.bins import axle_bins, force_and_linear
 from gripsense.estimate.noise import NoiseModel
 
 __all__ = ["FORCE_SCALE_REL", "GRIP_RANGE", "drive_sums", "solve_sums"]

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.constants import G0
-from gripsense.estimate.friction import NOT_STEADY_CORNERING
+from gripsense.estimate.wheels import NOT_STEADY_CORNERING
 
 __all__ = ["condition_table", "conditions"]
 

@@ -25,8 +25,8 @@ from gripsense.config import Vehicle
 from gripsense.constants import Z90
 from gripsense.errors import InputError
 from gripsense.estimate.conditions import condition_table, conditions
-from gripsense.estimate.friction import FLAGS, NOT_STEADY_CORNERING
 from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.wheels import FLAGS, NOT_STEADY_CORNERING
 from gripsense.io.results import read_result_folder, write_result_folder
 from gripsense.physics.surface import slippery_call, surface_class_interval
 

@@ -20,7 +20,7 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.estimate.conditions import conditions
-from gripsense.estimate.friction import METHODS
+from gripsense.estimate.per_sample import PRESSURE_MODELS
 from gripsense.physics import brush
 
 __all__ = ["GSweep", "g_sweep", "tread_stiffness"]
@@ -146,7 +146,7 @@ def g_sweep(
     t1 : float
         Condition end [s].
     method : str
-        Inversion of :data:`gripsense.estimate.friction.METHODS`.
+        A per-sample method (:data:`gripsense.estimate.per_sample.PRESSURE_MODELS`).
     g_min : float
         Smallest G [N/m^3].
     g_max : float
@@ -158,7 +158,7 @@ def g_sweep(
     rel_tol : float
         Relative tolerance on the left/right difference that counts as equally good [-].
     """
-    pressure, model = METHODS[method]
+    pressure, model = PRESSURE_MODELS[method]
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
     G = np.geomspace(g_min, g_max, n)
     mus = {}

@@ -105,7 +105,8 @@ def process_log(
     """
     from gripsense.pipeline import FrictionRun
 
-    res = FrictionRun(vehicle, method=method, receiver=receiver).run_log(path, since=since)
+    run = FrictionRun(vehicle, method=method, receiver=receiver)
+    res = run.run_log(path, since=since)
     ep = res.epochs
     if ep.empty:
         return pd.DataFrame(columns=ROW_COLUMNS)
@@ -120,7 +121,7 @@ def process_log(
         lon_deg=ep["lon_deg"].to_numpy(float)[e],
     )
     rows["cell"] = _cells(rows["lat_deg"].to_numpy(), rows["lon_deg"].to_numpy(), h3_res)
-    per_window = method == "axle-window"
+    per_window = run.estimator.per_window
     own = rows["observable"].to_numpy(bool) | per_window
     parts = [rows[own]]
     samples = rows[~rows["observable"].to_numpy(bool)] if not per_window else rows.iloc[:0]

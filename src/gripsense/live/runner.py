@@ -50,9 +50,10 @@ class LiveFriction:
     """Friction over the last ``window_s`` seconds of epochs, recomputed on demand.
 
     Per-sample methods: :class:`gripsense.pipeline.FrictionRun` on the window, so live results
-    are the batch method's results on the same recent data. ``axle-window``: the wheel table of
-    the window feeds, sample by sample, one :class:`~gripsense.estimate.axle_window.
-    OnlineAxleWindow` per axle (bins kept as running means), so an update costs the newest
+    are the batch method's results on the same recent data. Per-window methods (``axle-window``):
+    the wheel table of the window feeds, sample by sample, the estimator's online form
+    (:meth:`~gripsense.estimate.Estimator.online`, an :class:`~gripsense.estimate.
+    OnlineAxleWindow`) per axle (bins kept as running means), so an update costs the newest
     window's profile whatever the window length; the row per axle is the newest window's
     measured grip and estimate (the batch ``windows.parquet`` row of the same samples).
     """
@@ -115,7 +116,7 @@ class LiveFriction:
         self._epochs = deque([ep])  # one frame: the next update joins two, not hundreds
         if len(ep) < 5:
             return pd.DataFrame()
-        if self.run.method == "axle-window":
+        if self.run.estimator.per_window:
             return self._online_estimate(ep)
         try:
             res = self.run.run(ep)
@@ -125,7 +126,6 @@ class LiveFriction:
 
     def _online_estimate(self, ep: pd.DataFrame) -> pd.DataFrame:
         """Feed the samples that became final to the online estimators; the newest windows."""
-        from gripsense.estimate.axle_window import OnlineAxleWindow
         from gripsense.physics.surface import slippery_call, surface_class_interval
 
         try:
@@ -143,9 +143,9 @@ class LiveFriction:
             for axle in sorted({w.split("_")[0] for w in new["wheel"].astype(str)}):
                 est = self._online.get(axle)
                 if est is None:
-                    est = self._online[axle] = OnlineAxleWindow(
+                    est = self._online[axle] = self.run.estimator.online(
                         self.run.vehicle, axle, noise=self.run.options.noise,
-                        options=self.run.window,
+                        window=self.run.window,
                     )  # fmt: skip
                 est.push(new)
                 row = est.estimate()

@@ -17,7 +17,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from gripsense.constants import Z90
-from gripsense.estimate.friction import NOT_STEADY_CORNERING
+from gripsense.estimate.wheels import NOT_STEADY_CORNERING
 from gripsense.physics.surface import SURFACE_BANDS
 
 __all__ = [

@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
+from gripsense.estimate.estimators import estimator_of
+from gripsense.estimate.results import FrictionResult
 from gripsense.io.results import write_file_atomic
 from gripsense.report import figures as F
 
@@ -192,23 +193,6 @@ def _vehicle(vehicle) -> str:
     return html_table(pd.DataFrame(rows, columns=["", "value"]))
 
 
-_METHOD = {
-    AxleFriction: (
-        "One μ per axle over 3 s windows and the whole drive (profile likelihood). The axle "
-        "carries m_axle·a_y; both wheels' brush forces from their own slip angles must add up "
-        "to it. The tyre stiffness (±{G:.0%}) and a heading bias (±{B:.2f}°) are unknowns with "
-        "priors. A value is given only when the 99 % interval is bounded and narrower than "
-        "0.3; otherwise the lower bound the data prove."
-    ),
-    WheelFriction: (
-        "Per wheel and sample: brush tyre model ({method}), each wheel carrying its load's "
-        "share of the axle force m_axle·a_y (equal friction utilisation — the thesis's "
-        "assumption). A value needs σ_μ/μ ≤ 0.5 and steady cornering; the summary reports a "
-        "wheel only when most of its steady samples are valid."
-    ),
-}
-
-
 def write_report(
     result: FrictionResult,
     path: str | Path,
@@ -382,24 +366,17 @@ def render_report(
     out.append("<h2>Vehicle and method</h2>")
     out.append(_vehicle(vehicle))
     nm = result.noise
-    text = _METHOD[type(result)].format(
+    est = estimator_of(result)
+    text = est.description.format(
         G=getattr(nm, "tread_stiffness_rel", 0.2),
         B=getattr(nm, "heading_bias_deg", 0.6),
         method=html.escape(method),
     )
     out.append(f"<p>{text}</p>")
-    tyre = (
-        "a family of tyre-curve shapes (brush and Magic Formula) with uncertain stiffness, "
-        "load sensitivity, camber and load transfer; transients through the yaw-acceleration "
-        "term and the relaxation length"
-        if method == "axle-window"
-        else "steady cornering, quasi-static load transfer, brush (Fiala) tyre with the stated "
-        "pressure shape"
-    )
     out.append(
-        f"<p class='meta'>Assumptions: {tyre}; level road without downforce for the measured "
-        "grip; see the gripsense docs (friction.md, physics.md) for the equations and their "
-        "sources.</p>"
+        f"<p class='meta'>Assumptions: {est.assumptions}; level road without downforce for "
+        "the measured grip; see the gripsense docs (friction.md, physics.md) for the equations "
+        "and their sources.</p>"
     )
     out.append("</body></html>")
     return "\n".join(out)

@@ -1,0 +1,322 @@
+"""Bins of one axle: the unit of data of the window estimator and of the model-free measured
+grip (``docs/physics.md`` §14, §15).
+
+A bin holds the means of ``bin_s`` of samples in which both wheels of the axle are present and
+cornering: slip angles lagged by the relaxation length, loads, stiffnesses, the axle force and
+its white noise divided by n, the measured grip and the spread within the bin beyond its noise.
+Bins are formed on the data clock, so the batch and the online estimator form the same bins.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import Vehicle
+from gripsense.constants import G0
+from gripsense.estimate import _axle_kernel as K
+from gripsense.estimate.noise import NoiseModel
+
+__all__ = [
+    "BIN_COLUMNS",
+    "FORCE_MODEL_REL",
+    "AxleBins",
+    "axle_bins",
+    "axle_pairs",
+    "force_and_linear",
+    "merge_steady",
+]
+
+# bin array columns (the kernel's layout)
+BIN_COLUMNS = (
+    "alpha_L",
+    "alpha_R",
+    "fz_L",
+    "fz_R",
+    "c_L",
+    "c_R",
+    "force",
+    "force_sigma",
+    "slip_sigma",
+    "grip",
+    "ay_g",
+    "fz_static",
+    "steer",
+    "slip_spread",
+    "force_model_sd",
+)
+FORCE_MODEL_REL = 0.04
+"""Relative 1σ of a bin's force that no curve of the family reproduces (tyre-model fidelity)."""
+
+_OUT = ("low_speed", "not_cornering", "wheel_lifted")
+
+
+@dataclass
+class AxleBins:
+    """The bins of one axle (see the module documentation).
+
+    Attributes
+    ----------
+    axle : str
+        ``front`` or ``rear``.
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    data : numpy.ndarray
+        (n_bins, 14) in :data:`BIN_COLUMNS` order: slips [rad], loads [N], stiffnesses [N/rad],
+        axle force [N] and its white 1σ [N], slip white 1σ [rad], measured grip [-], a_y/g
+        [-], static wheel load [N], road-wheel steer angle [rad] (0 on the rear axle), the
+        slip's spread within the bin beyond its white noise [rad], the 1σ of the force the
+        model cannot represent [N] (:data:`FORCE_MODEL_REL` of it, the steered axle's
+        (1 − cos δ), and the force's own spread within the bin beyond its noise — a transient).
+    grip_sigma : numpy.ndarray
+        1σ of the measured grip of each bin [-].
+    p0 : float
+        Local load-sensitivity exponent of the declared stiffness [-].
+    """
+
+    axle: str
+    t0: np.ndarray
+    t1: np.ndarray
+    n: np.ndarray
+    data: np.ndarray
+    grip_sigma: np.ndarray
+    p0: float
+
+
+_PAIR_COLUMNS = (
+    "t_s",
+    "slip_angle_rad",
+    "load_N",
+    "cornering_stiffness_N_per_rad",
+    "force_sigma_N",
+    "slip_sigma_rad",
+    "speed_mps",
+    "axle_force_N",
+    "grip_used",
+    "grip_sigma",
+    "lateral_accel_mps2",
+)
+
+
+def axle_pairs(wheels: pd.DataFrame, axle: str) -> dict[str, np.ndarray]:
+    """The usable samples of one axle: left and right wheel joined on the epoch (both present,
+    cornering, positive loads, every number finite), in time order.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`).
+    axle : str
+        ``front`` or ``rear``.
+
+    Returns
+    -------
+    dict of numpy.ndarray
+        ``<column>_L`` and ``<column>_R`` for the columns the bins use (``steer_rad_L`` on a
+        front axle whose table has a steering channel), all of one length.
+    """
+    cols = list(_PAIR_COLUMNS)
+    if "steer_rad" in wheels.columns and axle == "front":
+        cols.append("steer_rad")
+    wheel = wheels["wheel"]
+    m_l = (wheel == f"{axle}_left").to_numpy()
+    m_r = (wheel == f"{axle}_right").to_numpy()
+    epoch = wheels["epoch"].to_numpy()
+    _, i_l, i_r = np.intersect1d(epoch[m_l], epoch[m_r], return_indices=True)
+    flag = wheels["flag"].to_numpy()
+    ok = ~np.isin(flag[m_l][i_l], _OUT) & ~np.isin(flag[m_r][i_r], _OUT)
+    out: dict[str, np.ndarray] = {}
+    for c in cols:
+        x = wheels[c].to_numpy(float)
+        out[c + "_L"], out[c + "_R"] = x[m_l][i_l], x[m_r][i_r]
+        ok &= np.isfinite(out[c + "_L"]) & np.isfinite(out[c + "_R"])
+    order = np.argsort(out["t_s_L"][ok], kind="stable")
+    return {c: x[ok][order] for c, x in out.items()}
+
+
+def axle_bins(
+    wheels: pd.DataFrame | dict[str, np.ndarray],
+    axle: str,
+    vehicle: Vehicle,
+    noise: NoiseModel,
+    bin_s: float = 1.0,
+    min_samples: int = 5,
+) -> AxleBins:
+    """Bin the samples of one axle (both wheels present, cornering, positive loads).
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame or dict of numpy.ndarray
+        Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`), or its usable
+        samples of this axle from :func:`axle_pairs`.
+    axle : str
+        ``front`` or ``rear``.
+    vehicle : Vehicle
+        Vehicle description (static loads, tyre, relaxation length).
+    noise : NoiseModel
+        Measurement noise (slip and grip white noise).
+    bin_s : float
+        Bin length [s].
+    min_samples : int
+        Fewest samples in a bin.
+
+    Returns
+    -------
+    AxleBins
+        The bins.
+    """
+    b = axle_pairs(wheels, axle) if isinstance(wheels, pd.DataFrame) else wheels
+    tyre = vehicle.tyres[axle]
+    fzs = vehicle.static_load(axle)
+    p0 = float(
+        np.log(
+            vehicle.cornering_stiffness(axle, 1.1 * fzs)
+            / vehicle.cornering_stiffness(axle, 0.9 * fzs)
+        )
+        / np.log(1.1 / 0.9)
+    )
+    t = b["t_s_L"]
+    if t.size == 0:
+        return AxleBins(
+            axle,
+            np.zeros(0),
+            np.zeros(0),
+            np.zeros(0, int),
+            np.zeros((0, len(BIN_COLUMNS))),
+            np.zeros(0),
+            p0,
+        )
+    # the tyre force lags the slip by σ/U: compare the force with the slip of σ/U earlier
+    speed = b["speed_mps_L"]
+    lag = tyre.relaxation_length_m / np.maximum(speed, 1.0)
+    aL = np.interp(t - lag, t, b["slip_angle_rad_L"])
+    aR = np.interp(t - lag, t, b["slip_angle_rad_R"])
+    # bins on the data clock (not from the first sample): the live estimator forms the same
+    k = np.floor(t / bin_s).astype(np.int64)
+    # a gap in the data ends a bin
+    k += np.concatenate([[0], np.cumsum(np.diff(t) > 0.5 * bin_s)])
+    edges = np.flatnonzero(np.diff(k)) + 1
+    starts = np.concatenate([[0], edges])
+    n = np.diff(np.concatenate([starts, [t.size]]))
+
+    def mean(x):
+        return np.add.reduceat(x, starts) / n
+
+    def rms_over_n(x):
+        return np.sqrt(np.add.reduceat(x * x, starts) / n / n)
+
+    force = b["axle_force_N_L"]
+    steer = b["steer_rad_L"] if "steer_rad_L" in b else np.zeros(t.size)
+    a_mid = 0.5 * (aL + aR)
+    white = 0.5 * (b["slip_sigma_rad_L"] + b["slip_sigma_rad_R"])
+    spread2 = np.add.reduceat(a_mid * a_mid, starts) / n - mean(a_mid) ** 2
+    spread = np.sqrt(np.maximum(spread2 - np.add.reduceat(white * white, starts) / n, 0.0))
+    # the axle force's spread within the bin beyond its white noise: in a transient the
+    # yaw-acceleration term (ṙ from a ±0.5 s slope) and the tyre lag are resolved only roughly
+    f_white = b["force_sigma_N_L"] + b["force_sigma_N_R"]
+    f_spread2 = np.add.reduceat(force * force, starts) / n - mean(force) ** 2
+    f_spread = np.sqrt(np.maximum(f_spread2 - np.add.reduceat(f_white**2, starts) / n, 0.0))
+    ay = b["lateral_accel_mps2_L"] / G0
+    data = np.column_stack(
+        [
+            mean(aL),
+            mean(aR),
+            mean(b["load_N_L"]),
+            mean(b["load_N_R"]),
+            mean(b["cornering_stiffness_N_per_rad_L"]),
+            mean(b["cornering_stiffness_N_per_rad_R"]),
+            mean(force),
+            # white force noise only: the systematic axle-force error is the nuisance ε
+            rms_over_n(f_white),
+            rms_over_n(white),
+            mean(b["grip_used_L"]),
+            mean(ay),
+            np.full(starts.size, fzs),
+            mean(steer),
+            spread,
+            np.hypot(
+                np.abs(mean(force)) * np.hypot(FORCE_MODEL_REL, 1.0 - np.cos(mean(steer))),
+                f_spread,
+            ),
+        ]
+    )
+    # the measured grip's noise: white a_y noise / √n, and the lateral-velocity rate (a_y =
+    # U r + V̇) whose noise is set by the side-slip noise v σ_ψ over the bin
+    t_bin = np.maximum(np.maximum.reduceat(t, starts) - t[starts], 0.5 * bin_s)
+    sig_v_lat = mean(speed) * np.deg2rad(noise.heading_white_deg)
+    grip_sigma = np.hypot(
+        rms_over_n(b["grip_sigma_L"]),
+        2.0 * sig_v_lat / (t_bin + 1.0) / np.sqrt(np.maximum(n / 2, 1)) / G0,
+    )
+    keep = n >= min_samples
+    t_end = np.maximum.reduceat(t, starts)
+    return AxleBins(axle, t[starts][keep], t_end[keep], n[keep], data[keep], grip_sigma[keep], p0)
+
+
+_NOISE_COLS = np.array([7, 8], dtype=np.int64)  # white-noise σ of a bin's slip and force
+
+
+def merge_steady(
+    t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Merge runs of consecutive bins whose measured grip stays within *tol* of the run's first
+    bin into one bin (means weighted by the sample count; white noise combined).
+
+    In steady cornering every bin shows the same force, so slip differences between its bins
+    are measurement error: kept apart they would let a tyre at its limit (whose force does not
+    depend on slip) explain them for free. Merged, a steady stretch is one point of the tyre
+    curve, and only changes of utilisation (transients) trace the curve.
+
+    Parameters
+    ----------
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    data : numpy.ndarray
+        Bins in :data:`BIN_COLUMNS` order.
+    tol : float
+        Largest change of measured grip within a merged run [-].
+
+    Returns
+    -------
+    mid : numpy.ndarray
+        Mid time of each merged bin [s].
+    merged : numpy.ndarray
+        The merged bins.
+    """
+    if data.shape[0] == 0:
+        return np.zeros(0), data
+    return K.merge_runs(
+        np.ascontiguousarray(t0, dtype=float),
+        np.ascontiguousarray(t1, dtype=float),
+        np.ascontiguousarray(n, dtype=float),
+        np.ascontiguousarray(data, dtype=float),
+        float(tol),
+        _NOISE_COLS,
+    )
+
+
+def force_and_linear(data: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per bin the axle force per load y = F / (Fz_L + Fz_R) and the declared stiffness's
+    linear prediction k = −(C_L tan α_L + C_R tan α_R) / (Fz_L + Fz_R) (``docs/physics.md``
+    §15.7; y = k for a linear tyre at the declared stiffness, ISO signs).
+
+    Parameters
+    ----------
+    data : numpy.ndarray
+        Bins in :data:`BIN_COLUMNS` order.
+
+    Returns
+    -------
+    y, k : numpy.ndarray
+        Force per load and linear prediction [-].
+    """
+    fz = data[:, 2] + data[:, 3]
+    y = data[:, 6] / fz
+    k = -(data[:, 4] * np.tan(data[:, 0]) + data[:, 5] * np.tan(data[:, 1])) / fz
+    return y, k

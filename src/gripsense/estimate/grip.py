@@ -1,0 +1,182 @@
+"""The friction the data prove without a tyre model: the measured grip (``docs/physics.md`` §14).
+
+Per sample, each axle's lateral force (m a_y share with the yaw-acceleration term) over its
+load (statics: known for any lateral load transfer); per bin and drive, one-sided lower bounds.
+They hold for any tyre; they assume a level road without aerodynamic downforce.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from scipy.stats import norm
+
+from gripsense.config import Vehicle
+from gripsense.constants import G0
+from gripsense.estimate.bins import AxleBins, axle_bins
+from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.options import WindowOptions
+
+__all__ = ["axle_grip", "bin_bound", "drive_bound", "local_slope", "measured_grip"]
+
+
+def local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
+    """dy/dt by a least-squares line over the samples within ±half_s of each sample
+    (cumulative sums: O(n)); NaN where fewer than 3 samples fall in the window.
+    """
+    n = t.size
+    if n < 3:
+        return np.full(n, np.nan)
+    lo = np.searchsorted(t, t - half_s, side="left")
+    hi = np.searchsorted(t, t + half_s, side="right")
+    tc = t - t[0]
+    yy = np.where(np.isfinite(y), y, 0.0)
+    ok = np.isfinite(y).astype(float)
+    cs = [np.concatenate([[0.0], np.cumsum(a)]) for a in (ok, ok * tc, ok * tc**2, yy, yy * tc)]
+    c0, c1, c2, cy, cty = (c[hi] - c[lo] for c in cs)
+    den = c0 * c2 - c1**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = (c0 * cty - c1 * cy) / den
+    return np.where((c0 >= 3) & (den > 0), slope, np.nan)
+
+
+def _earth_frame_ay(t, speed, course, heading, r, cg) -> np.ndarray:
+    """Lateral acceleration of the CG from the velocity differentiated in the earth frame.
+
+    a = d(v_E, v_N)/dt over ±0.5 s at the antenna, projected on the body's y axis with the
+    heading, moved to the CG with the rigid-body terms ṙ ẑ × d − r² d (d: antenna → CG).
+    Unlike U r + V̇ in body axes, the smoothing here averages a physical acceleration, so its
+    magnitude never exceeds what the tyres delivered — also in a spin.
+    """
+    ve, vn = speed * np.sin(course), speed * np.cos(course)
+    ae, an = local_slope(ve, t, 0.5), local_slope(vn, t, 0.5)
+    ay_ant = -ae * np.cos(heading) + an * np.sin(heading)
+    rdot = np.nan_to_num(local_slope(r, t, 0.5))
+    return ay_ant + rdot * cg[0] - r * r * cg[1]
+
+
+def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None) -> tuple:
+    """Per axle: the lateral force it carries (with the yaw-acceleration term), its nominal
+    load, and the friction it used — model-free, ``docs/physics.md`` §14.
+
+    F_front = (m a_y l_r + I_z ṙ)/L, F_rear = (m a_y l_f − I_z ṙ)/L, a_y of the CG from the
+    earth-frame velocity (*earth* = (course, heading) known, :func:`_earth_frame_ay`), else
+    U r + V̇;
+    the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the largest axle
+    load the longitudinal transfer allows over the declared CG-height range — a lower bound on
+    μ for any tyre and any lateral load transfer.
+    """
+    m = vehicle.mass_kg
+    m_ax = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
+    ok_t = t.size > 2 and bool(np.all(np.diff(t) > 0))
+    cg = vehicle.cg_offset
+    if ok_t and cg is not None and earth is not None and not np.all(ay_measured):
+        ay_e = _earth_frame_ay(t, np.hypot(u_a, v_a), earth[0], earth[1], r, cg)
+        ay_tot = np.where(ay_measured | ~np.isfinite(ay_e), ay, ay_e)
+    elif ok_t and cg is not None and not np.all(ay_measured):
+        v_cg = v_a + r * cg[0]
+        vdot = local_slope(v_cg, t, 0.5)
+        ay_tot = np.where(ay_measured, ay, ay + np.nan_to_num(vdot))
+    else:
+        ay_tot = ay
+    rdot = np.nan_to_num(local_slope(r, t, 0.5)) if ok_t else np.zeros(t.size)
+    wb = vehicle.wheelbase_m
+    force, load, grip = {}, {}, {}
+    ax = np.zeros(t.size)
+    if ok_t and cg is not None:
+        u_cg = u_a - r * cg[1]
+        v_cg = v_a + r * cg[0]
+        ax = np.nan_to_num(local_slope(u_cg, t, 0.5)) - v_cg * r
+    h_hi = vehicle.cg_height_range_m[1] if vehicle.cg_height_range_m else vehicle.cg_height_m
+    for axle in ("front", "rear"):
+        mi = m_ax[axle]
+        if wb is not None:
+            # front: (m a_y l_r + I_z ṙ)/L; rear: (m a_y l_f − I_z ṙ)/L; l_r/L = weight share
+            share = (
+                vehicle.front_weight_fraction
+                if axle == "front"
+                else 1.0 - vehicle.front_weight_fraction
+            )
+            sgn = 1.0 if axle == "front" else -1.0
+            base = m * ay_tot * share
+            iz = vehicle.yaw_inertia
+            f_nom = base + sgn * iz * rdot / wb
+            f_lo = base + sgn * 0.7 * iz * rdot / wb
+            f_hi = base + sgn * 1.3 * iz * rdot / wb
+            crosses = np.sign(f_lo) != np.sign(f_hi)
+            f_min = np.where(crosses, 0.0, np.minimum(np.abs(f_lo), np.abs(f_hi)))
+            dfz = m * ax * vehicle.cg_height_m / wb
+            dfz_hi = m * np.abs(ax) * h_hi / wb
+        else:
+            f_nom = mi * ay_tot
+            f_min = np.abs(f_nom)
+            dfz = np.zeros(t.size)
+            dfz_hi = np.zeros(t.size)
+        fz_nom = mi * G0 + (dfz if axle == "rear" else -dfz)
+        force[axle] = f_nom
+        load[axle] = fz_nom
+        grip[axle] = f_min / (mi * G0 + dfz_hi)
+    # white noise of a_y = U r (+ V̇) per sample, relative to g
+    sig_ay = np.hypot(
+        np.abs(r) * noise.velocity_mps, np.hypot(u_a, v_a) * np.deg2rad(noise.yaw_rate_dps)
+    )
+    return force, load, grip, sig_ay / G0
+
+
+def bin_bound(grip: np.ndarray, sigma: np.ndarray, z: float) -> float:
+    """Largest one-sided lower bound over the bins (NaN without bins)."""
+    if grip.size == 0:
+        return np.nan
+    return float(max(np.max(grip - z * sigma), 0.0))
+
+
+def drive_bound(ab: AxleBins, level: float) -> tuple[float, float]:
+    """Largest bin mean of the measured grip and its bound over all bins of a drive (one-sided,
+    Bonferroni over the bins so that the maximum holds at *level*).
+    """
+    n_b = ab.t0.size
+    if n_b == 0:
+        return np.nan, np.nan
+    z_all = float(norm.ppf(1.0 - (1.0 - level) / n_b))
+    return float(np.max(ab.data[:, 9])), bin_bound(ab.data[:, 9], ab.grip_sigma, z_all)
+
+
+def measured_grip(
+    wheels: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    noise: NoiseModel | None = None,
+    options: WindowOptions | None = None,
+) -> pd.DataFrame:
+    """The friction each axle used, from measurements alone (``docs/physics.md`` §14).
+
+    The axle's lateral force (m a_y share with the yaw-acceleration term) over its total load
+    (statics: known for any lateral load transfer), in bins of ``bin_s``; ``grip_used_lower``
+    is the largest bin's one-sided ``bound_level`` lower bound, corrected for the number of bins.
+    It holds for any tyre; it assumes a level road without aerodynamic downforce.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table of :func:`gripsense.estimate.friction.friction_from_motion`.
+    vehicle : Vehicle
+        Vehicle description.
+    noise : NoiseModel, optional
+        Measurement noise.
+    options : WindowOptions, optional
+        Bin length, fewest samples, bound level.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per axle: ``axle``, ``grip_used`` (largest bin mean) [-], ``grip_used_lower`` [-],
+        ``n_bins``.
+    """
+    noise = noise or NoiseModel()
+    o = options or WindowOptions()
+    rows = []
+    for axle in sorted({w.split("_")[0] for w in wheels["wheel"].astype(str).unique()}):
+        ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
+        g, lo = drive_bound(ab, o.bound_level)
+        rows.append({"axle": axle, "grip_used": g, "grip_used_lower": lo, "n_bins": ab.t0.size})
+    return pd.DataFrame(rows, columns=["axle", "grip_used", "grip_used_lower", "n_bins"])

@@ -1,0 +1,103 @@
+"""Settings of the friction estimators: the gates of the per-sample stages
+(:class:`FrictionOptions`) and the bins and windows of ``axle-window`` (:class:`WindowOptions`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gripsense.estimate.noise import NoiseModel
+
+__all__ = ["FrictionOptions", "WindowOptions"]
+
+
+@dataclass(frozen=True)
+class FrictionOptions:
+    """Gates and settings of the friction estimator.
+
+    Attributes
+    ----------
+    min_speed_mps : float
+        Below: ``low_speed`` (course undefined) [m/s].
+    min_lateral_accel_mps2 : float
+        Below: ``not_cornering`` [m/s^2].
+    min_yaw_rate_dps : float
+        Below: ``not_cornering`` [deg/s].
+    steady_window_s : float
+        Centred window over which speed and yaw rate must be steady [s].
+    steady_speed_std_mps, steady_yaw_rate_std_dps : float
+        Largest standard deviation in the window [m/s], [deg/s].
+    max_rel_sigma : float
+        Largest σ_μ/μ reported as a value (docs/physics.md §11: 0.5) [-].
+    min_valid_fraction : float
+        The summary reports a wheel's μ only when at least this fraction of its steady
+        cornering samples is valid [-]. Below it the valid samples are the tail that noise made
+        look well-conditioned (a sample whose slip angle noise pushed up reads as a tyre at its
+        limit), and their median is biased towards the lower bound.
+    calibrate_heading : bool
+        Estimate the heading offset from straight driving; falls back to the vehicle file's
+        offset when the log has too little straight driving.
+    noise : NoiseModel
+    """
+
+    min_speed_mps: float = 3.0
+    min_lateral_accel_mps2: float = 0.5
+    min_yaw_rate_dps: float = 1.0
+    steady_window_s: float = 2.0
+    steady_speed_std_mps: float = 0.3
+    steady_yaw_rate_std_dps: float = 1.5
+    max_rel_sigma: float = 0.5
+    min_valid_fraction: float = 0.5
+    calibrate_heading: bool = True
+    noise: NoiseModel = field(default_factory=NoiseModel)
+
+
+@dataclass(frozen=True)
+class WindowOptions:
+    """Settings of the ``axle-window`` estimator.
+
+    Attributes
+    ----------
+    window_s, step_s : float
+        Window length and step [s].
+    bin_s : float
+        Bin length: the unit of data (means of the samples) [s].
+    max_width : float
+        Largest width of the ``point_level`` interval for which a value is given [-].
+    point_level : float
+        Confidence level of the interval that decides abstention.
+    min_samples : int
+        Fewest usable samples in a bin.
+    screen_utilisation : float
+        Windows whose measured grip stays below this are not analysed (bound only) [-].
+    steady_tolerance : float
+        Consecutive bins whose measured grip stays within this are merged into one point of the
+        tyre curve (:func:`merge_steady`) [-].
+    mu_min, mu_max : float
+        μ grid range [-]; an interval reaching mu_max is unbounded.
+    n_mu : int
+        μ grid size (log-spaced).
+    iterations : int
+        Gauss–Newton steps per (μ, shape).
+    bound_level : float
+        One-sided confidence of the measured-grip bound (per window; the summary's bound holds
+        at this level over all windows of the drive together).
+    min_utilisation : float
+        A value is given only when the measured-grip bound is at least this fraction of the
+        interval's upper end (data near the limit) [-].
+    """
+
+    window_s: float = 3.0
+    step_s: float = 1.0
+    bin_s: float = 1.0
+    max_width: float = 0.3
+    point_level: float = 0.99
+    min_samples: int = 5
+    screen_utilisation: float = 0.15
+    steady_tolerance: float = 0.03
+    mu_min: float = 0.05
+    mu_max: float = 3.0
+    n_mu: int = 48
+    iterations: int = 3
+    bound_level: float = 0.99
+    min_utilisation: float = 0.5

@@ -1,0 +1,391 @@
+"""The profile likelihood of an axle's μ under a family of tyre-curve shapes
+(``docs/physics.md`` §15): the nuisances' priors, the profile over a μ grid with every shape,
+the interval it gives and why it is limited — shared by the batch and the online window
+estimators.
+
+Nuisances enter linearly after linearisation and are profiled by a few Gauss–Newton steps
+(:mod:`._axle_kernel`), so the cost does not grow with their number; the shape is profiled over
+the family.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+from scipy.stats import chi2
+
+from gripsense.config import Vehicle
+from gripsense.constants import CHI2_1_90
+from gripsense.estimate import _axle_kernel as K
+from gripsense.estimate.bins import force_and_linear
+from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.options import WindowOptions
+from gripsense.physics.friction_limit import linear_explains
+from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
+
+__all__ = [
+    "SHAPE_PRIOR_PEAK",
+    "STRAINED_REL",
+    "Priors",
+    "ProfileCache",
+    "axle_priors",
+    "curve_lookup",
+    "profile_mu",
+    "shape_ids",
+]
+
+STRAINED_REL = 0.02
+"""A model interval whose upper end lies within this fraction above the measured-grip bound is
+strained: its range would be (nearly) zero-width, narrower than the force model's own fidelity
+(:data:`FORCE_MODEL_REL`), so the upper end is dropped and the fit flagged ``strained``."""
+
+
+@cache
+def curve_lookup() -> tuple[np.ndarray, np.ndarray, float]:
+    """The family's force tables, their slopes and 1/Δx of the table grid (computed once)."""
+    x, f, df = curve_tables()
+    return f, df, 1.0 / (x[1] - x[0])
+
+
+SHAPE_PRIOR_PEAK = (2.9, 0.35)
+"""Prior of a curve's peak position: ln x_peak ~ N(ln 2.9, 0.35²) — the nine example ``.tir``
+files of ``tests/data/tyre/tir`` peak at x = 2.2–3.6 (brush P2 at 3, brush P4 at 5)."""
+
+
+def shape_ids(prior: str) -> np.ndarray:
+    """Indices of the shapes of :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY` a tyre's
+    ``shape`` allows (``any``, ``brush``, ``magic-formula``).
+
+    Parameters
+    ----------
+    prior : str
+        The tyre description's shape prior.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape indices (int64).
+    """
+    kinds = {"any": None, "brush": ("brush-2", "brush-4"), "magic-formula": ("magic-formula",)}
+    allowed = kinds.get(prior)
+    return np.array(
+        [i for i, s in enumerate(SHAPE_FAMILY) if allowed is None or s.kind in allowed],
+        dtype=np.int64,
+    )
+
+
+@cache
+def _shape_penalty() -> np.ndarray:
+    """−log prior weight of every shape of the family (:data:`SHAPE_PRIOR_PEAK`)."""
+    x, f, _ = curve_tables()
+    x_peak = x[np.argmax(f, axis=1)]
+    z = (np.log(x_peak) - np.log(SHAPE_PRIOR_PEAK[0])) / SHAPE_PRIOR_PEAK[1]
+    return 0.5 * z * z
+
+
+@dataclass(frozen=True)
+class Priors:
+    """Gaussian priors of the nuisances of one axle: means and 1σ of ln s, κ, λ, q, ε, the
+    slip offset c, the steering scale ς, μ's load sensitivity η and the drive exponent d; the
+    slow slip offset's drift 1σ [rad] and correlation time [s].
+    """
+
+    mean: np.ndarray  # ln s, κ, λ, q, ε
+    sd: np.ndarray
+    delta: float  # slip offset [rad]
+    tau_s: float  # its correlation time [s]
+
+
+def axle_priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> Priors:
+    """The nuisances' priors of one axle from the vehicle file and the noise model.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Vehicle description (tyre, roll gradient, camber gain).
+    axle : str
+        ``front`` or ``rear``.
+    noise : NoiseModel
+        Stiffness, load-transfer, force and heading uncertainties.
+
+    Returns
+    -------
+    Priors
+        The priors.
+    """
+    tyre = vehicle.tyres[axle]
+    s_rel = max(noise.tread_stiffness_rel, 1e-3)
+    # camber thrust: body roll (gradient, deg/g) leans the wheels (gain) and the thrust needs
+    # a slip of |C_γ/C_α| × inclination to balance: an effective slip shift per g
+    kap0 = np.deg2rad(
+        tyre.camber_thrust_ratio * vehicle.roll_camber_gain * vehicle.roll_gradient_deg_per_g
+    )
+    lam_sd = max(noise.load_transfer_rel, 0.02)
+    # slip offsets: what the heading calibration left (constant) and the slow error's drift
+    # (a Gauss–Markov process, widened by slow_error_margin: real heading errors have heavier
+    # tails than a Gaussian, and slip drift at constant force must not pass for saturation)
+    floor = np.deg2rad(max(0.5 * noise.heading_white_deg, 0.02))
+    # the calibration's own standard error when the offset was calibrated on straights (the
+    # white noise averaged over them, and ~0.03° for straights that are not quite straight);
+    # a longer straight or a better receiver then narrows the prior instead of a fixed floor
+    cal = noise.heading_calibration_deg
+    floor_cal = floor if cal is None else np.deg2rad(float(np.hypot(cal, 0.03)))
+    sd_cal = max(np.deg2rad(noise.heading_slow_deg), floor_cal)
+    # the drift is the declared slow error's (a receiver declared better than its data are is
+    # caught by the fit check); a small floor for a receiver declared without one
+    floor_drift = np.deg2rad(max(0.1 * noise.heading_white_deg, 0.02))
+    sd_drift = max(np.deg2rad(noise.slow_error_margin * noise.heading_slow_deg), floor_drift)
+    # a steered axle's body-axis force is F_y cos δ + F_x sin δ: undriven (F_x ≈ 0) F_y = F/cos δ,
+    # driven, roughly F cos δ (the drive force balances the turn's drag); the drive force is not
+    # measured, so the exponent d of cos^d δ is a nuisance around 0 (±1)
+    d0, d_sd = (0.0, 1.0) if axle == "front" else (0.0, 1e-3)
+    mean = np.array([0.0, kap0, 0.0, 0.0, 0.0, 0.0, 0.0, tyre.friction_load_sensitivity, d0])
+    sd = np.array(
+        [
+            np.log1p(s_rel),
+            max(kap0, np.deg2rad(0.2)),
+            lam_sd,
+            max(tyre.load_sensitivity_uncertainty, 1e-3),
+            max(noise.axle_force_rel, 1e-3),
+            sd_cal,
+            max(noise.steer_scale_rel, 1e-3),
+            max(tyre.friction_load_sensitivity_uncertainty, 1e-3),
+            d_sd,
+        ]
+    )
+    return Priors(mean, sd, sd_drift, noise.heading_slow_tau_s)
+
+
+def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int) -> float:
+    i = i_from
+    while 0 <= i + step < x.size:
+        j = i + step
+        if y[j] > level:
+            f = (level - y[i]) / (y[j] - y[i])
+            return float(np.exp(np.log(x[i]) + f * (np.log(x[j]) - np.log(x[i]))))
+        i = j
+    return float("inf") if step > 0 else float(x[0])
+
+
+def _rho(t0: np.ndarray, tau_s: float) -> np.ndarray:
+    """Correlation of the slow heading error between consecutive bins (0 after the last)."""
+    rho = np.zeros(t0.size)
+    if t0.size > 1:
+        rho[:-1] = np.exp(-np.maximum(np.diff(t0), 1e-3) / tau_s)
+    return rho
+
+
+@cache
+def _chi2_ppf(q: float, dof: int) -> float:
+    """χ² quantile, computed once per (q, dof): scipy's ppf costs ~0.15 ms a call."""
+    return float(chi2.ppf(q, dof))
+
+
+@cache
+def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
+    """The fine μ grid of the profile (read-only, shared between windows)."""
+    g = np.geomspace(mu_min, mu_max, n)
+    g.flags.writeable = False
+    return g
+
+
+def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
+    """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
+    physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
+    prediction, and a tolerance from the force's noise and model fidelity and the slip's white
+    noise, offset and drift.
+    """
+    if bins.shape[0] == 0:
+        return False
+    z = 1.645
+    fz = bins[:, 2] + bins[:, 3]
+    y, k = force_and_linear(bins)
+    y, k = np.abs(y), np.abs(k)
+    c_sum = bins[:, 4] + bins[:, 5]
+    slip_sd = np.sqrt(bins[:, 8] ** 2 + pri.sd[5] ** 2 + pri.delta**2)
+    tol = z * (np.hypot(bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
+    band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
+    return linear_explains(y, k, band, tol)
+
+
+def profile_mu(
+    bins: np.ndarray,
+    t0: np.ndarray,
+    pri: Priors,
+    shapes: np.ndarray,
+    p0: float,
+    o: WindowOptions,
+    grip_lower: float,
+) -> dict:
+    """The profile likelihood of μ over merged bins and what it says (``docs/physics.md`` §15).
+
+    Parameters
+    ----------
+    bins : numpy.ndarray
+        Merged bins in :data:`~gripsense.estimate.bins.BIN_COLUMNS` order.
+    t0 : numpy.ndarray
+        Their mid times [s] (the slow slip offset's correlation).
+    pri : Priors
+        The nuisances' priors (:func:`axle_priors`).
+    shapes : numpy.ndarray
+        Shapes of the family to profile over (:func:`shape_ids`).
+    p0 : float
+        Local load-sensitivity exponent of the declared stiffness [-].
+    o : WindowOptions
+        Grid, levels and the rules for a value.
+    grip_lower : float
+        The model-free measured-grip bound of the same data (NaN: none) [-].
+
+    Returns
+    -------
+    dict
+        ``mu``, ``mu_low``, ``mu_high``, ``observable``, ``fit``, ``mu_best``,
+        ``stiffness_scale``, ``heading_bias_deg``, ``camber_slip_deg_per_g``,
+        ``load_transfer_error``, ``shape``, ``limited_by``.
+    """
+    f, df, inv_dx = curve_lookup()
+    fine = _mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
+    pen = np.ascontiguousarray(_shape_penalty()[shapes])
+    b = np.ascontiguousarray(bins)
+    n, m = b.shape[0], fine.size
+    nll_f, th_f, dl_f = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
+    shp_f = np.empty(m, dtype=np.int64)
+    # every μ of the grid, warm-started upwards (a coarser pass lets the nuisances fall behind:
+    # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
+    probe = float(np.clip(1.1 * b[:, 9].max(), fine[0], fine[-1])) if n else -1.0
+    K.profile_grid(
+        fine, shapes, pen, b, _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx,
+        p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe, K.STOP_ABOVE,
+    )  # fmt: skip
+    level = _chi2_ppf(float(o.point_level), 1)
+    done = np.flatnonzero(np.isfinite(nll_f))
+    mu_g, nll, th, dl, shp = fine[done], nll_f[done], th_f[done], dl_f[done], shp_f[done]
+    n_mu = done.size
+    dev = 2.0 * (nll - nll.min())
+    im = int(np.argmin(nll))
+    mu_hat = float(mu_g[im])
+    if 0 < im < n_mu - 1:
+        x0, x1, x2 = np.log(mu_g[im - 1 : im + 2])
+        y0, y1, y2 = nll[im - 1 : im + 2]
+        den = (x0 - x1) * (x0 - x2) * (x1 - x2)
+        a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
+        bq = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
+        if a > 0:
+            mu_hat = float(np.exp(np.clip(-bq / (2 * a), x0, x2)))
+    lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
+    hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
+    lo_p = _crossing(mu_g, dev, level, im, -1)
+    hi_p = _crossing(mu_g, dev, level, im, +1)
+    n_bins = bins.shape[0]
+    z = (th[im] - pri.mean) / pri.sd
+    fit = "ok"
+    if 2.0 * nll[im] > _chi2_ppf(0.999, max(n_bins, 1)) + float(np.sum(z**2)):
+        fit = "inconsistent"
+    elif im == 0 or np.max(np.abs(z)) > 3.0 or np.max(np.abs(dl[im])) > 3.5 * pri.delta:
+        fit = "edge"  # the data are explained only at the edge of what the priors allow
+    observable = bool(fit == "ok" and np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    # a value needs data near the limit: below utilisation ~0.5 every curve of the family is
+    # nearly linear, so an interval bounded far above the measured grip comes from the model's
+    # form (a nuisance degeneracy), not from the data
+    far_from_limit = bool(
+        np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
+    )
+    # no upper end where the physics allows none: a tyre still linear at every point, with a
+    # stiffness inside the prior's 90 % band, explains the data within their noise (the
+    # slip's white noise and offsets, the force's noise and the model's fidelity) — a finite
+    # upper end there comes from a degeneracy of the other nuisances (docs/physics.md §15.8)
+    if np.isfinite(hi) and _linear_explains(bins, pri):
+        hi, hi_p, observable = np.inf, np.inf, False
+        far_from_limit = False
+    if far_from_limit:
+        # no value: the interval's lower end is not trusted (far from the limit it can come
+        # from a degeneracy of the nuisances), so the range starts at what the data prove; its
+        # upper end stays — the data exclude a tyre that linear, and dropping it would say
+        # less than the physics allows (docs/physics.md §15.5)
+        lo, observable = (grip_lower if np.isfinite(grip_lower) else 0.0), False
+    # a model interval that lies below what the data prove without a model contradicts itself
+    strained = False
+    if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
+        fit, observable = "inconsistent", False
+    elif np.isfinite(grip_lower) and hi <= (1.0 + STRAINED_REL) * grip_lower:
+        # the model's upper end reaches what the data prove: no curve of the family carries
+        # the measured force with room to spare — the model is strained, its upper end is not
+        # trusted (a zero-width or inverted range would be the result)
+        strained, observable, hi, hi_p = True, False, np.inf, np.inf
+        if fit == "ok":
+            fit = "strained"
+    names = (
+        "stiffness",
+        "camber",
+        "load transfer",
+        "load sensitivity",
+        "axle force",
+        "heading offset",
+        "steering scale",
+        "friction load sensitivity",
+        "drive force on the steered axle",
+    )
+    limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
+    if strained:
+        limited = "tyre model strained (its upper end reaches the measured grip)"
+    elif not observable and fit == "ok" and far_from_limit:
+        limited = (
+            "too little lateral acceleration (the measured grip is below half of what the "
+            "model would say: not near the limit)"
+        )
+    elif not observable and fit == "ok" and not np.isfinite(hi):
+        limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
+    if np.isfinite(grip_lower):
+        # the estimate never below what the data prove without a model
+        mu_hat = max(mu_hat, float(grip_lower))
+    return {
+        "mu": mu_hat if observable else np.nan,
+        "mu_low": float(max(lo, grip_lower)) if fit != "inconsistent" else np.nan,
+        "mu_high": float(hi) if fit != "inconsistent" else np.nan,
+        "observable": observable,
+        "fit": fit,
+        "mu_best": mu_hat,
+        "stiffness_scale": float(np.exp(th[im, 0])),
+        "heading_bias_deg": float(np.rad2deg(np.mean(dl[im]))),
+        "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
+        "load_transfer_error": float(th[im, 2]),
+        "shape": SHAPE_FAMILY[int(shp[im])].name,
+        "limited_by": limited,
+    }
+
+
+class ProfileCache:
+    """The previous window's answer, for a window whose merged data cannot be told apart from
+    it: the same number of points, every slip within its white-noise 1σ, every force within
+    its 1σ (a steady run seen through overlapping windows). Batch and online windows use it
+    the same way, so they stay equal.
+    """
+
+    def __init__(self):
+        self.data: np.ndarray | None = None
+        self.est: dict | None = None
+
+    def profile(self, merged, mid, pri, shapes, p0, o, lower) -> dict:
+        """:func:`profile_mu` of a window, or the previous window's answer when the data are
+        the same within their noise (parameters as :func:`profile_mu`).
+        """
+        d = self.data
+        if (
+            d is not None
+            and d.shape == merged.shape
+            and np.all(np.abs(d[:, :2] - merged[:, :2]) <= merged[:, 8:9])
+            and np.all(np.abs(d[:, 6] - merged[:, 6]) <= merged[:, 7])
+            and self.est["fit"] != "inconsistent"
+        ):
+            est = dict(self.est)
+            if np.isfinite(lower):
+                est["mu_low"] = max(est["mu_low"], lower)
+                est["mu"] = max(est["mu"], lower) if est["observable"] else est["mu"]
+            if not est["mu_high"] <= (1.0 + STRAINED_REL) * est["mu_low"]:
+                return est
+            # this window's bound strains the previous answer: its own profile decides
+        est = profile_mu(merged, mid, pri, shapes, p0, o, lower)
+        self.data, self.est = merged.copy(), est
+        return dict(est)

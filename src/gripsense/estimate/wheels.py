@@ -1,0 +1,414 @@
+"""The first stage of every friction estimator: wheel kinematics (``docs/physics.md`` §3, §4, §11).
+
+The chain, per epoch and wheel:
+
+1. antenna side-slip β_A = wrap(ψ − ψ₀ − χ) with the heading offset ψ₀ calibrated on straights;
+   antenna velocity (U, V) = v (cos β_A, sin β_A); ISO yaw rate r (§3.1) —
+   :func:`motion_from_epochs`;
+2. each wheel's velocity U_i = U − r dy_i, V_i = V + r dx_i, slip angle α_i = atan2(V_i, U_i) − δ_i,
+   speed and path radius v_i/|r| (§3.1);
+3. lateral acceleration of the reference point a_y = U_ref r; static axle masses, the
+   steady-state lateral load transfer (§4.2; rigid = the thesis model, §4.3) and, with a
+   wheelbase, the longitudinal transfer m a_x h/L (a_x = U̇ − V r) give each wheel's load;
+4. contact length from the l–m model (§5), cornering stiffness C = G w l²/2 (eq. 9.1);
+5. each wheel carries its load's share of the axle force m_i⁰ a_y (equal friction utilisation on
+   both wheels of an axle, the thesis's assumption, §4.4);
+6. the model-free measured grip of each axle (:func:`gripsense.estimate.grip.axle_grip`);
+7. a flag says why a sample is not steady cornering: ``low_speed``, ``not_cornering``,
+   ``not_steady``, ``wheel_lifted`` — the estimators add their own (:data:`FLAGS`).
+
+:func:`wheel_kinematics` computes this once; an estimator's per-sample stage adds μ or marks the
+samples it estimates per axle (:mod:`gripsense.estimate.estimators`), and :func:`wheel_table`
+makes the table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from gripsense.config import AXLE_OF, Vehicle
+from gripsense.constants import G0
+from gripsense.errors import InputError
+from gripsense.estimate.grip import axle_grip
+from gripsense.estimate.options import FrictionOptions
+from gripsense.io.nmea.align import align_channels
+from gripsense.physics.kinematics import (
+    antenna_sideslip,
+    heading_offset_from_straight,
+    path_radius,
+    point_velocity,
+    slip_angle,
+)
+from gripsense.physics.load_transfer import lateral_load_transfer, wheel_loads
+
+__all__ = [
+    "FLAGS",
+    "NOT_STEADY_CORNERING",
+    "WHEEL_COLUMNS",
+    "motion_from_epochs",
+    "wheel_kinematics",
+    "wheel_table",
+]
+
+NOT_STEADY_CORNERING = ("low_speed", "not_cornering", "not_steady")
+"""Flags of samples that are not steady cornering: they carry no information on μ and no bound."""
+FLAGS = (
+    "ok",
+    "low_speed",
+    "not_cornering",
+    "not_steady",
+    "no_solution",
+    "full_sliding",
+    "ill_conditioned",
+    "wheel_lifted",
+    "per_axle",
+)
+"""Why a wheel sample has no μ (``ok``: it has one). ``wheel_lifted``: the load-transfer model
+puts no load on the wheel; ``per_axle``: an ``axle-window`` sample (μ is in the windows)."""
+WHEEL_COLUMNS = [
+    "t_s",
+    "epoch",
+    "wheel",
+    "speed_mps",
+    "slip_angle_rad",
+    "steer_rad",
+    "radius_m",
+    "mass_kg",
+    "contact_length_m",
+    "load_N",
+    "force_N",
+    "slide_point_m",
+    "force_ratio",
+    "mu",
+    "kappa_beta",
+    "mu_sigma",
+    "flag",
+    "lateral_accel_mps2",
+    "utilisation",
+    "steady",
+    "cornering_stiffness_N_per_rad",
+    "slip_sigma_rad",
+    "force_sigma_N",
+    "axle_force_N",
+    "axle_load_N",
+    "grip_used",
+    "grip_sigma",
+]
+
+
+_REQUIRED = ("t_s", "heading_deg", "course_deg", "speed_mps", "yaw_rate_rps")
+
+
+def _steady(t: np.ndarray, speed: np.ndarray, yaw: np.ndarray, o: FrictionOptions) -> np.ndarray:
+    """Samples whose centred window has steady speed and yaw rate."""
+    if t.size == 0:
+        return np.zeros(0, dtype=bool)
+    idx = pd.to_timedelta(t - t[0], unit="s")
+    df = pd.DataFrame({"v": speed, "r": yaw}, index=idx)
+    win = pd.Timedelta(seconds=o.steady_window_s)
+    roll = df.rolling(win, center=True, min_periods=3)
+    sd = roll.std()
+    n = roll.count()["v"].to_numpy()
+    return (
+        (sd["v"].to_numpy() <= o.steady_speed_std_mps)
+        & (sd["r"].to_numpy() <= np.deg2rad(o.steady_yaw_rate_std_dps))
+        & (n >= 3)
+    )
+
+
+def motion_from_epochs(
+    epochs: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    options: FrictionOptions | None = None,
+    steer_rad: np.ndarray | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """GNSS-compass epochs -> motion table of the antenna point (body axes).
+
+    The heading offset is calibrated on straight driving (or taken from the vehicle file);
+    β_A = wrap(ψ − ψ₀ − χ), (U, V) = v (cos β_A, sin β_A) (docs/physics.md §3.1).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table of :func:`gripsense.io.read_nmea`.
+    vehicle : Vehicle
+        Vehicle description (antenna position, heading offset).
+    options : FrictionOptions, optional
+        Gates and the heading calibration switch.
+    steer_rad : numpy.ndarray, optional
+        Road-wheel angle per epoch row [rad].
+
+    Returns
+    -------
+    motion : pandas.DataFrame
+        ``t_s``, ``epoch`` (row of *epochs*), ``u_mps``, ``v_mps``, ``yaw_rate_rps``,
+        ``ay_mps2`` (NaN: computed from U·r downstream), ``steer_rad`` (NaN without a channel).
+    meta : dict
+    """
+    o = options or FrictionOptions()
+    missing = [c for c in _REQUIRED if c not in epochs.columns]
+    if missing:
+        raise InputError(
+            f"epochs: missing columns {missing}; read the log with gripsense.io.read_nmea"
+        )
+    # course/speed and heading at different rates (OxTS: PASHR 25 Hz, RMC 1 Hz): the course
+    # and speed are interpolated onto the heading epochs by the side slip where that is safe
+    epochs, alignment = align_channels(epochs)
+    have = np.ones(len(epochs), dtype=bool)
+    for c in _REQUIRED:
+        have &= epochs[c].notna().to_numpy()
+    rows = np.flatnonzero(have)
+    ep = epochs.iloc[rows]
+    ts = ep["t_s"].to_numpy(float)
+    ts = ts[np.isfinite(ts)]
+    back = np.flatnonzero(np.diff(ts) < 0)
+    if back.size:
+        raise InputError(
+            f"epochs: time goes backwards after t = {ts[back[0]]:.2f} s (to {ts[back[0] + 1]:.2f} s"
+            f"; {back.size} such jumps): the log holds several sessions or the receiver clock was"
+            " reset; split the log into sessions (gripsense live restarts its window instead)"
+        )
+    psi = np.deg2rad(ep["heading_deg"].to_numpy(float))
+    chi = np.deg2rad(ep["course_deg"].to_numpy(float))
+    v = ep["speed_mps"].to_numpy(float)
+    r = ep["yaw_rate_rps"].to_numpy(float)
+    meta: dict = {
+        "vehicle": vehicle.name,
+        "epochs_total": len(epochs),
+        "epochs_used": int(rows.size),
+        "epochs_missing_inputs": int(len(epochs) - rows.size),
+        "epochs_aligned": alignment.n_aligned,
+    }
+    offset = vehicle.heading_offset_rad
+    meta["heading_offset_source"] = "vehicle file"
+    if o.calibrate_heading:
+        cal, n_straight, spread = heading_offset_from_straight(psi, chi, r, v)
+        meta["straight_samples"] = n_straight
+        if np.isfinite(cal):
+            offset = cal
+            meta["heading_offset_source"] = f"straight driving ({n_straight} samples)"
+            meta["heading_offset_spread_deg"] = float(np.rad2deg(spread))
+    meta["heading_offset_deg"] = float(np.rad2deg(offset))
+    beta_a = antenna_sideslip(psi, chi, offset)
+    steer = (
+        np.full(rows.size, np.nan)
+        if steer_rad is None
+        else np.asarray(steer_rad, dtype=float)[rows]
+    )
+    motion = pd.DataFrame(
+        {
+            "t_s": ep["t_s"].to_numpy(float),
+            "epoch": rows,
+            "u_mps": v * np.cos(beta_a),
+            "v_mps": v * np.sin(beta_a),
+            "yaw_rate_rps": r,
+            "ay_mps2": np.full(rows.size, np.nan),
+            "steer_rad": steer,
+            # the velocity direction and the vehicle's heading (clockwise from north): the
+            # model-free grip differentiates the velocity in the earth frame (_axle_grip)
+            "course_rad": chi,
+            "heading_rad": psi - offset,
+        }
+    )
+    return motion, meta
+
+
+_ESTIMATED = ("slide_point_m", "force_ratio", "mu", "kappa_beta", "mu_sigma")
+"""Columns a per-sample estimator fills (NaN after the kinematics)."""
+
+
+def wheel_kinematics(
+    motion: pd.DataFrame, vehicle: Vehicle, options: FrictionOptions | None = None
+) -> tuple[list[dict], dict]:
+    """Per wheel and sample: velocity, slip angle, load, stiffness, force share, their noise,
+    the axle's measured grip and the flags of samples that are not steady cornering.
+
+    Parameters
+    ----------
+    motion : pandas.DataFrame
+        Motion table of the measurement point (:func:`motion_from_epochs`; columns as
+        :func:`gripsense.estimate.friction.friction_from_motion` describes).
+    vehicle : Vehicle
+        Vehicle description.
+    options : FrictionOptions, optional
+        Gates and the noise model.
+
+    Returns
+    -------
+    frames : list of dict
+        One per analysed wheel: the arrays of :data:`WHEEL_COLUMNS` (the estimated columns NaN,
+        ``flag`` as codes of :data:`FLAGS`, 0 where the sample is steady cornering) and what a
+        per-sample estimator needs besides (keys starting with ``_``).
+    meta : dict
+        Wheels analysed, and notes on wheels left out.
+    """
+    o = options or FrictionOptions()
+    meta: dict = {}
+    t = motion["t_s"].to_numpy(float)
+    rows = motion["epoch"].to_numpy()
+    u_a = motion["u_mps"].to_numpy(float)
+    v_a = motion["v_mps"].to_numpy(float)
+    r = motion["yaw_rate_rps"].to_numpy(float)
+    v = np.hypot(u_a, v_a)
+    st = motion["steer_rad"].to_numpy(float)
+    steer = None if np.isnan(st).all() else st
+    # reference point for a_y: the CG if known, else the middle of the known wheels (lateral)
+    if vehicle.cg_offset is not None:
+        dy_ref = vehicle.cg_offset[1]
+    else:
+        dy_ref = float(np.mean([o_[1] for o_ in vehicle.wheel_offsets.values()]))
+    ay_meas = motion["ay_mps2"].to_numpy(float)
+    ay = np.where(np.isfinite(ay_meas), ay_meas, (u_a - r * dy_ref) * r)
+    steady = _steady(t, v, r, o)
+    # quasi-static longitudinal load transfer m a_x h / L (needs the wheelbase): in a steady
+    # turn the body-axis a_x = U̇ − V r is not zero, because the CG moves sideways (V ≠ 0)
+    dfz_x = np.zeros(t.size)
+    if vehicle.wheelbase_m is not None and vehicle.cg_offset is not None and t.size > 1:
+        u_cg = u_a - r * vehicle.cg_offset[1]
+        v_cg = v_a + r * vehicle.cg_offset[0]
+        ax = np.gradient(u_cg, t) - v_cg * r if np.all(np.diff(t) > 0) else -v_cg * r
+        dfz_x = vehicle.mass_kg * ax * vehicle.cg_height_m / vehicle.wheelbase_m / 2.0
+    m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
+    dfz = dict(
+        zip(
+            ("front", "rear"),
+            lateral_load_transfer(
+                ay,
+                vehicle.mass_kg,
+                vehicle.cg_height_m,
+                vehicle.axle_masses_kg,
+                (vehicle.track_front_m, vehicle.track_rear_m),
+                vehicle.roll_centre_heights_m,
+                vehicle.roll_stiffness_front_fraction,
+                np.deg2rad(vehicle.roll_gradient_deg_per_g),
+            ),
+            strict=True,
+        )
+    )
+
+    earth = None
+    if "course_rad" in motion.columns and "heading_rad" in motion.columns:
+        earth = (motion["course_rad"].to_numpy(float), motion["heading_rad"].to_numpy(float))
+    axle_force, axle_load, grip, grip_sig = axle_grip(
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth
+    )
+
+    nz = o.noise
+    sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
+    sig_r = np.deg2rad(nz.yaw_rate_dps)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sig_f_rel = np.sqrt(sig_v_rel**2 + (sig_r / np.abs(r)) ** 2)
+
+    wheels_done, frames = [], []
+    nan = np.full(t.size, np.nan)
+    for wname, (dx, dy) in vehicle.wheel_offsets.items():
+        axle = AXLE_OF[wname]
+        if axle == "front" and steer is None:
+            continue
+        tyre = vehicle.tyres[axle]
+        delta = steer if axle == "front" else 0.0
+        u_i, v_i = point_velocity(u_a, v_a, r, dx, dy)
+        alpha = slip_angle(u_i, v_i, delta)
+        spd = np.hypot(u_i, v_i)
+        radius = path_radius(spd, r)
+        left, right = wheel_loads(m_axle[axle], dfz[axle])
+        fz = (left if wname.endswith("left") else right) + (dfz_x if axle == "rear" else -dfz_x)
+        mass = fz / G0
+        length = tyre.contact_length(mass)
+        c = vehicle.cornering_stiffness(axle, fz)
+        force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
+        sig_alpha_white = np.sqrt(
+            np.deg2rad(nz.heading_white_deg) ** 2
+            + sig_v_rel**2
+            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
+        )
+        with np.errstate(invalid="ignore"):
+            force_sigma = np.abs(force) * sig_f_rel
+        with np.errstate(divide="ignore", invalid="ignore"):
+            utilisation = np.where(fz > 0, np.abs(force) / fz, np.nan)
+        flag = np.zeros(t.size, dtype=np.int8)  # codes of FLAGS: 0 = steady cornering
+        conds = [
+            ("wheel_lifted", ~(fz > 0)),
+            ("not_steady", ~steady),
+            (
+                "not_cornering",
+                (np.abs(ay) < o.min_lateral_accel_mps2)
+                | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps)),
+            ),
+            ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
+        ]
+        for name, m in conds:  # later entries take precedence
+            flag[m] = FLAGS.index(name)
+        frame = {
+            "t_s": t,
+            "epoch": rows,
+            "wheel": np.full(t.size, list(vehicle.wheel_offsets).index(wname), np.int8),
+            "speed_mps": spd,
+            "slip_angle_rad": alpha,
+            "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
+            "radius_m": radius,
+            "mass_kg": mass,
+            "contact_length_m": length,
+            "load_N": fz,
+            "force_N": force,
+            "flag": flag,
+            "lateral_accel_mps2": ay,
+            "utilisation": utilisation,
+            "steady": steady,
+            "cornering_stiffness_N_per_rad": c,
+            "slip_sigma_rad": sig_alpha_white,
+            "force_sigma_N": force_sigma,
+            "axle_force_N": axle_force[axle],
+            "axle_load_N": axle_load[axle],
+            "grip_used": grip[axle],
+            "grip_sigma": grip_sig,
+            # for a per-sample estimator
+            "_axle": axle,
+            "_dx": dx,
+            "_u": u_i,
+            "_sig_v_rel": sig_v_rel,
+            "_sig_f_rel": sig_f_rel,
+        }
+        frames.append(frame | dict.fromkeys(_ESTIMATED, nan))
+        wheels_done.append(wname)
+    meta["wheels"] = wheels_done
+    if not wheels_done:
+        meta["note"] = "no wheel could be analysed (front wheels need a steering channel)"
+    if steer is None and any(AXLE_OF[w] == "front" for w in vehicle.wheel_offsets):
+        meta["front_wheels"] = "skipped: no steering channel (--steer-csv)"
+    return frames, meta
+
+
+def wheel_table(frames: list[dict], vehicle: Vehicle) -> pd.DataFrame:
+    """The wheel table of :func:`wheel_kinematics`' frames (after an estimator's stage).
+
+    Parameters
+    ----------
+    frames : list of dict
+        Per wheel the arrays of :data:`WHEEL_COLUMNS`.
+    vehicle : Vehicle
+        Vehicle description (the wheel names).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per wheel and sample, columns :data:`WHEEL_COLUMNS`, ``wheel`` and ``flag``
+        categorical.
+    """
+    if not frames:
+        wheels = pd.DataFrame({c: [] for c in WHEEL_COLUMNS})
+        wheels["wheel"] = pd.Categorical(wheels["wheel"], categories=list(vehicle.wheel_offsets))
+        wheels["flag"] = pd.Categorical(wheels["flag"], categories=list(FLAGS))
+        return wheels[WHEEL_COLUMNS]
+    # one table from the wheels' columns (one DataFrame, categories from their codes: the
+    # per-wheel frames, their concatenation and the string → category conversion cost ~4 ms
+    # of a 75 s log)
+    cols = {
+        c: np.concatenate([np.broadcast_to(f[c], f["t_s"].shape) for f in frames])
+        for c in WHEEL_COLUMNS
+    }
+    cols["wheel"] = pd.Categorical.from_codes(cols["wheel"], categories=list(vehicle.wheel_offsets))
+    cols["flag"] = pd.Categorical.from_codes(cols["flag"], categories=list(FLAGS))
+    return pd.DataFrame(cols)
