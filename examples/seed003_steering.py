@@ -20,8 +20,8 @@ import numpy as np
 from gripsense.config import SteeringCar
 from gripsense.data import sample_path
 from gripsense.identify.steering import identify_steering, normalise_yaw_gain
+from gripsense.physics.steering_system import simulate_release
 from gripsense.report.steering_figures import release_figure, settling_figure, yaw_gain_figure
-from gripsense.sim.steering import simulate_release
 
 OUT = Path(os.environ.get("GRIPSENSE_EXAMPLES_OUT", "docs/examples"))
 OUT.mkdir(parents=True, exist_ok=True)

@@ -43,29 +43,44 @@ def _part(module: str) -> str:
     return parts[1] if len(parts) > 1 else "__init__"
 
 
-def _imports() -> list[tuple[str, str, int]]:
-    """(importing module, imported gripsense module, line) for every import in the package."""
+def _absolute(mod: str, is_package: bool, node: ast.ImportFrom) -> str:
+    """The module an ``ImportFrom`` names, relative imports resolved."""
+    if node.level == 0:
+        return node.module or ""
+    package = mod if is_package else mod.rpartition(".")[0]
+    for _ in range(node.level - 1):
+        package = package.rpartition(".")[0]
+    return f"{package}.{node.module}" if node.module else package
+
+
+def _walk() -> list[tuple[str, str, list[str], int]]:
+    """(importing module, imported gripsense module, names imported from it, line) for every
+    import in the package — module level or inside a function, absolute or relative."""
     out = []
     for path in ROOT.rglob("*.py"):
         rel = path.relative_to(ROOT.parent).with_suffix("")
-        mod = ".".join(rel.parts)
-        if mod.endswith(".__init__"):
-            mod = mod[: -len(".__init__")]
+        mod = ".".join(rel.parts).removesuffix(".__init__")
         tree = ast.parse(path.read_text(encoding="utf-8"))
         for node in ast.walk(tree):
-            if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                names = [node.module]
+            if isinstance(node, ast.ImportFrom):
+                target = _absolute(mod, path.name == "__init__.py", node)
+                found = [(target, [a.name for a in node.names])]
             elif isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
+                found = [(a.name, []) for a in node.names]
             else:
                 continue
-            for name in names:
+            for name, names in found:
                 if name == "gripsense" or name.startswith("gripsense."):
-                    out.append((mod, name, node.lineno))
+                    out.append((mod, name, names, node.lineno))
     return out
 
 
-IMPORTS = _imports()
+WALK = _walk()
+IMPORTS = [(m, t, line) for m, t, _, line in WALK]
+MODULES = {
+    ".".join(p.relative_to(ROOT.parent).with_suffix("").parts).removesuffix(".__init__")
+    for p in ROOT.rglob("*.py")
+}
 
 
 def test_every_part_has_a_layer():
@@ -74,7 +89,8 @@ def test_every_part_has_a_layer():
     assert len(IMPORTS) > 200
 
 
-def test_imports_go_downwards_only():
+def upward_imports() -> list[str]:
+    """Imports that run up a layer or between parts that must not know each other."""
     bad = []
     for mod, target, line in IMPORTS:
         a, b = _part(mod), _part(target)
@@ -82,27 +98,40 @@ def test_imports_go_downwards_only():
             continue
         if LAYERS[b] > LAYERS[a] or (a, b) in FORBIDDEN:
             bad.append(f"{mod}:{line} imports {target} ({a}: layer {LAYERS[a]} → {b}: {LAYERS[b]})")
+    return bad
+
+
+def test_imports_go_downwards_only():
+    bad = upward_imports()
     assert not bad, "\n".join(bad)
 
 
-def test_no_package_level_cycles():
-    edges: dict[str, set[str]] = {}
-    for mod, target, _ in IMPORTS:
-        a, b = _part(mod), _part(target)
-        if a != b:
-            edges.setdefault(a, set()).add(b)
-
+def _cycles(edges: dict[str, set[str]]) -> list[str]:
     def reaches(src: str, dst: str, seen: set[str]) -> bool:
         for n in edges.get(src, ()):
             if n == dst or (n not in seen and reaches(n, dst, seen | {n})):
                 return True
         return False
 
-    cycles = sorted(f"{a} ⇄ {b}" for a, bs in edges.items() for b in bs if reaches(b, a, {b}))
-    assert not cycles, cycles
+    return sorted({" ⇄ ".join(sorted((a, b))) for a, bs in edges.items() for b in bs
+                   if reaches(b, a, {b})})  # fmt: skip
 
 
-def _estimator_branches() -> list[str]:
+def package_cycles() -> list[str]:
+    """Circles between the top-level parts."""
+    edges: dict[str, set[str]] = {}
+    for mod, target, _ in IMPORTS:
+        a, b = _part(mod), _part(target)
+        if a != b:
+            edges.setdefault(a, set()).add(b)
+    return _cycles(edges)
+
+
+def test_no_package_level_cycles():
+    assert not package_cycles()
+
+
+def estimator_branches() -> list[str]:
     """Comparisons of ``method`` (a name or attribute) with an estimator's name."""
     from gripsense.estimate import ESTIMATORS
 
@@ -131,4 +160,59 @@ def _estimator_branches() -> list[str]:
 def test_no_consumer_branches_on_an_estimator_name():
     """What a consumer needs comes from the estimator object (``gripsense.estimate.
     ESTIMATORS``: per_window, online(), needs_receiver, description), never from its name."""
-    assert not _estimator_branches()
+    assert not estimator_branches()
+
+
+def private_crossings() -> list[str]:
+    """Private names imported from another module; private modules from outside their package."""
+    bad = []
+    for mod, target, names, line in WALK:
+        parts = target.split(".")
+        for i, part in enumerate(parts):
+            if part.startswith("_") and not part.startswith("__"):
+                owner = ".".join(parts[:i])
+                if not (mod == owner or mod.startswith(owner + ".")):
+                    bad.append(f"{mod}:{line} imports the private module {target}")
+                break
+        for name in names:
+            if not name.startswith("_") or name.startswith("__"):
+                continue
+            if f"{target}.{name}" in MODULES:  # a private module of the target package
+                if not (mod == target or mod.startswith(target + ".")):
+                    bad.append(f"{mod}:{line} imports the private module {target}.{name}")
+            elif mod != target:
+                bad.append(f"{mod}:{line} imports the private name {name} from {target}")
+    return bad
+
+
+def test_no_private_name_crosses_a_module():
+    """``_name`` is the module's own; a private module (``_solve``, ``_axle_kernel``) is its
+    package's own. Anything shared is public where it lives."""
+    bad = private_crossings()
+    assert not bad, "\n".join(bad)
+
+
+def test_no_cycles_between_the_modules_of_a_subpackage():
+    """Within a part (``estimate``, ``io.nmea`` …) the module-level imports form no circle: each
+    module can be read after the ones it imports."""
+    edges: dict[str, set[str]] = {}
+    for path in ROOT.rglob("*.py"):
+        mod = ".".join(path.relative_to(ROOT.parent).with_suffix("").parts).removesuffix(
+            ".__init__"
+        )
+        if path.name == "__init__.py":
+            continue  # a package's __init__ gathers its modules by design
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in tree.body:  # module level only: imports inside functions run later
+            if isinstance(node, ast.ImportFrom):
+                t = _absolute(mod, False, node)
+                targets = [f"{t}.{a.name}" if f"{t}.{a.name}" in MODULES else t for a in node.names]
+            elif isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                continue
+            for t in targets:
+                if t in MODULES and t != mod and _part(t) == _part(mod):
+                    edges.setdefault(mod, set()).add(t)
+
+    assert not _cycles(edges)

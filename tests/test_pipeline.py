@@ -95,7 +95,7 @@ def test_run_log_errors_are_clear(tmp_path):
         FrictionRun(VEHICLE).run_log(empty)
     with pytest.raises(InputError, match="no such file"):
         FrictionRun(VEHICLE).run_log(tmp_path / "missing.nmea")
-    with pytest.raises(InputError, match="receiver"):
+    with pytest.raises(InputError, match="receiver"), pytest.warns(DeprecationWarning):
         FrictionRun(VEHICLE, noise="nonsense")
 
 
@@ -117,7 +117,7 @@ def test_tyre_fit_plugs_back_into_its_model():
 
 
 def test_tyre_model_registry_reads_every_file_type(tmp_path):
-    from gripsense.tyre_models import TYRE_FILE_TYPES, load_tyre_model
+    from gripsense.config.tyre_files import TYRE_FILE_TYPES, load_tyre_model
     from tests.conftest import DATA
 
     assert set(TYRE_FILE_TYPES) >= {".tir", ".json"}

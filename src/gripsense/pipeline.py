@@ -11,6 +11,7 @@ returns its own typed result (:class:`~gripsense.estimate.results.WheelFriction`
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import fields, replace
 from pathlib import Path
 
@@ -49,8 +50,8 @@ class FrictionRun:
         A key of :data:`gripsense.estimate.ESTIMATORS`: ``axle-window`` (default: measured
         grip and a μ estimate per axle), or a per-sample method of the thesis: ``brush-2``,
         ``brush-4``, ``thesis-2``, ``thesis-4``, ``brush``, ``thesis``.
-    noise : NoiseModel or str, optional
-        Uncertainties, or (as *receiver*) a receiver class or file.
+    noise : NoiseModel, optional
+        Uncertainties (a string here is read as *receiver*, deprecated).
     receiver : str or Path or Receiver, optional
         The receiver: ``v100``, ``white-0.3``, ``rtk`` or a TOML file with a ``[receiver]``
         table (default: the vehicle file's ``[receiver]``, else ``v100``). With it (and always
@@ -96,6 +97,12 @@ class FrictionRun:
             )
         opts = replace(FrictionOptions(), **options)
         if isinstance(noise, str | Path):
+            warnings.warn(
+                f"FrictionRun(noise={str(noise)!r}) names a receiver; write "
+                f"receiver={str(noise)!r} (noise= takes a NoiseModel)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
             receiver, noise = noise, None
         if noise is None and (receiver is not None or self.estimator.needs_receiver):
             # the receiver as the user describes it, the vehicle file's tyre and CG ranges

@@ -112,7 +112,7 @@ def test_camber_auto_mapped_and_old_flags(tmp_path):
 
 def test_steering_identify_auto_and_mapped(tmp_path):
     from gripsense.config import SteeringCar
-    from gripsense.sim.steering import simulate_release
+    from gripsense.physics.steering_system import simulate_release
 
     toml = sample_path("of18_steering.toml")
     car = SteeringCar.from_toml(toml).with_cs(70.0)

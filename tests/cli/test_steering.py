@@ -10,7 +10,7 @@ import pandas as pd
 
 import gripsense
 from gripsense.config import SteeringCar
-from gripsense.sim.steering import simulate_release, simulate_step
+from gripsense.physics.steering_system import simulate_release, simulate_step
 from tests.cli.test_commands import run
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"

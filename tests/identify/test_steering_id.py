@@ -15,7 +15,7 @@ from gripsense.identify.steering import (
     tyre_lateral_stiffness,
 )
 from gripsense.identify.steering_metrics import release_settling_time, step_metrics
-from gripsense.sim.steering import simulate_release, simulate_step
+from gripsense.physics.steering_system import simulate_release, simulate_step
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 N = 5.0  # steering ratio in the TOML

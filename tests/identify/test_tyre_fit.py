@@ -8,13 +8,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.errors import InputError
 from gripsense.identify.tyre_fit import fit_from_wheel_table, fit_mf61_lateral, fit_pac94
 from gripsense.io.pac89 import read_pac89_json
 from gripsense.physics.magic_formula.pac89 import pac89_lateral
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples, rig_samples
-from gripsense.tyre_models import load_mf_tyre
 
 DATA = Path(__file__).parents[1] / "data" / "tyre" / "tir"
 TRUTH = PAC94_EXAMPLE

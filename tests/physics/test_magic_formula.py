@@ -8,11 +8,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.errors import InputError
 from gripsense.io.pac89 import read_pac89_json
 from gripsense.io.tir import read_tir
 from gripsense.physics.magic_formula.pac89 import pac89_lateral, pac89_longitudinal
-from gripsense.tyre_models import load_mf_tyre
 
 DATA = Path(__file__).parents[1] / "data" / "tyre"
 REF_FILES = ["PacejkaBook_Defaults", "MagicFormula61_Paramerters", "MagicFormula62_Paramerters"]

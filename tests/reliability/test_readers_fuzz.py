@@ -13,6 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.config import PLAUSIBLE, SteeringCar, Vehicle
+from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.data import sample_path
 from gripsense.errors import InputError
 from gripsense.io import (
@@ -24,7 +25,6 @@ from gripsense.io import (
     read_tir,
     read_tyre_table,
 )
-from gripsense.tyre_models import load_mf_tyre
 from tests.conftest import DATA
 
 SETTINGS = settings(

@@ -12,7 +12,12 @@ from scipy.integrate import solve_ivp
 import gripsense
 from gripsense.config import SteeringCar
 from gripsense.identify.steering_metrics import settling_time, yaw_gain
-from gripsense.sim.steering import descriptor, simulate_release, simulate_step, steady_turn
+from gripsense.physics.steering_system import (
+    descriptor,
+    simulate_release,
+    simulate_step,
+    steady_turn,
+)
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 

@@ -8,12 +8,12 @@ import pandas as pd
 import pytest
 
 from gripsense.config import Vehicle
+from gripsense.config.tyre_files import load_mf_tyre, load_tyre_model
 from gripsense.constants import G0
 from gripsense.data import sample_path
 from gripsense.sim import SimParams, load_sim_tyre, run_scenario
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import axle_truth, truth_tyre, truth_vehicle, user_vehicle
-from gripsense.tyre_models import load_mf_tyre, load_tyre_model
 
 TIR = sample_path("tyres/PacejkaBook_Defaults.tir")
 

@@ -21,6 +21,14 @@ def simulate(
     scenario: Annotated[Path, typer.Argument(help="scenario TOML (see gripsense.sim.scenario)")],
     outdir: Annotated[Path, typer.Option("-o", "--outdir", help="output folder")] = Path("sim-out"),
     overwrite: Overwrite = False,
+    receiver: Annotated[
+        str | None,
+        typer.Option(
+            "--receiver",
+            help="receiver of every case: v100 | white-0.3 | rtk | none | FILE.toml (a "
+            "[receiver] table, as gripsense friction takes it; default: the scenario's)",
+        ),
+    ] = None,
 ) -> None:
     """Simulate drives with known friction and emulate the receiver (logs, truth, vehicle)."""
     from rich.progress import Progress
@@ -35,7 +43,12 @@ def simulate(
                 prog.update(task, total=n, completed=i, description=f"simulating {cid}")
 
             cases = run_scenario(
-                scenario, outdir, progress=tick, overwrite=overwrite, command=command_line()
+                scenario,
+                outdir,
+                progress=tick,
+                overwrite=overwrite,
+                command=command_line(),
+                receiver=receiver,
             )
     except GripsenseError as e:
         fail(e)

@@ -120,7 +120,7 @@ def identify(
         release_settling_time,
         step_metrics,
     )
-    from gripsense.sim.steering import simulate_release
+    from gripsense.physics.steering_system import simulate_release
 
     inputs = [config, *(release or []), *(step or [])]
     if tyre_deflection is not None:

@@ -65,7 +65,7 @@ def tyre_eval(
     overwrite: Overwrite = False,
 ) -> None:
     """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
-    from gripsense.tyre_models import load_tyre_model
+    from gripsense.config.tyre_files import load_tyre_model
 
     try:
         if output is not None:

@@ -1,5 +1,5 @@
 """The seed-003 car and steering system: parameters only (the model is
-:mod:`gripsense.sim.steering`, the identification :mod:`gripsense.identify.steering`).
+:mod:`gripsense.physics.steering_system`, the identification :mod:`gripsense.identify.steering`).
 """
 
 from __future__ import annotations

@@ -7,6 +7,7 @@ file's ``[receiver]``) and the vehicle's declared uncertainties.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -122,6 +123,7 @@ class NoiseModel:
             "heading_slow_deg": slow,
             "velocity_mps": rec.velocity_mps,
             "yaw_rate_dps": rec.yaw_rate_dps,
+            "heading_slow_tau_s": rec.heading_slow_tau_s,
         }
         if vehicle is not None:
             kw["tread_stiffness_rel"] = max(t.stiffness_uncertainty for t in vehicle.tyres.values())
@@ -133,13 +135,19 @@ class NoiseModel:
     @classmethod
     def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:
         """Noise model for an RTK-class compass (0.05° heading); by default with a calibrated
-        tyre (G known to 5 %).
+        tyre (G known to 5 %). Deprecated: use ``NoiseModel.for_vehicle(vehicle, "rtk")``,
+        built from the one receiver description.
 
         Parameters
         ----------
         tread_stiffness_rel : float
             Relative 1σ of the tyre stiffness [-].
         """
+        warnings.warn(
+            "NoiseModel.rtk() is deprecated; use NoiseModel.for_vehicle(vehicle, 'rtk')",
+            DeprecationWarning,
+            stacklevel=2,
+        )
         return cls(
             heading_deg=0.1,
             heading_white_deg=0.05,

@@ -1,6 +1,6 @@
 """Steering-system identification of seed 003: C_s from settling times, k_s from the yaw gain.
 
-docs/physics.md §9.3–9.4. The model is :mod:`gripsense.sim.steering`. Procedure:
+docs/physics.md §9.3–9.4. The model is :mod:`gripsense.physics.steering_system`. Procedure:
 
 1. C_s: simulate the hands-off release for a grid of C_s at the current k_s, keep the
    over-damped branch (the measured traces are over-damped), invert the settling-time curve at
@@ -30,7 +30,7 @@ import numpy as np
 from gripsense.config import SteeringCar
 from gripsense.errors import InputError
 from gripsense.identify.steering_metrics import settling_time, yaw_gain
-from gripsense.sim.steering import simulate_release, simulate_step
+from gripsense.physics.steering_system import simulate_release, simulate_step
 
 __all__ = [
     "CsResult",
@@ -518,7 +518,7 @@ def identify_steering(
     steer_rate_rad_s, stop_rad : float, optional
         Kingpin-referred reference steering rate and stopper angle of the step test.
     reference : str
-        Settling-time definition (:func:`gripsense.sim.steering.settling_time`).
+        Settling-time definition (:func:`gripsense.physics.steering_system.settling_time`).
     max_iter, rtol : int, float
         Fixed-point iteration limit and relative tolerance on C_s and k_s.
     method : str

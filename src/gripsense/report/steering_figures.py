@@ -24,7 +24,7 @@ def release_figure(
         Measured time [s] and angle from the release on.
     model : dict, optional
         The identified model's release response
-        (:func:`gripsense.sim.steering.simulate_release`).
+        (:func:`gripsense.physics.steering_system.simulate_release`).
     """
     fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     for i, (t, a) in enumerate(traces):

@@ -9,7 +9,8 @@ receiver's UTC time:
   and course over ground (RMC, VTG);
 * rate of turn, NMEA sign (positive to starboard) [deg/min] + noise (ROT).
 
-Noise defaults (:class:`CompassNoise`) are close to the thesis's receiver, a Hemisphere V100
+Noise defaults (:class:`CompassNoise`, the ``v100`` receiver of :data:`gripsense.config.RECEIVERS`)
+are close to the thesis's receiver, a Hemisphere V100
 (Table 13: true-heading accuracy < 0.75°, position 1 m with DGPS): heading 0.3° white + 0.4°
 slowly varying (Gauss–Markov, 20 s) — 0.5° rms in all; position 0.7 m Gauss–Markov (60 s) +
 0.3 m white per axis; velocity 0.05 m/s white per component; rate of turn 0.3°/s; latency 0;
@@ -20,10 +21,12 @@ from __future__ import annotations
 
 import datetime as dt
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from gripsense.config.receiver import EXACT, RECEIVERS, Receiver, receiver_from
 from gripsense.sim.vehicle import SimResult
 
 __all__ = ["CompassLog", "CompassNoise", "emulate_compass", "format_sentence"]
@@ -35,30 +38,31 @@ KNOT = 1852.0 / 3600.0
 DEFAULT_ORIGIN = (33.6200, 133.7195, 10.0)
 DEFAULT_START = dt.datetime(2018, 2, 8, 4, 0, 0, tzinfo=dt.UTC)
 SENTENCES = ("HDT", "GGA", "VTG", "RMC", "ROT", "HPR")
-RECEIVER_PRESETS = ("v100", "white-0.3", "rtk", "none")
 
 
 @dataclass(frozen=True)
 class CompassNoise:
-    """Noise model of the emulated receiver (1 σ values; see the module documentation).
+    """Noise model of the emulated receiver (1 σ values; see the module documentation), built
+    from the one receiver description (:meth:`from_receiver`, :meth:`preset`) plus what only an
+    installation has (latency, mounting offset).
 
     Attributes
     ----------
     heading_white_deg : float
         White heading noise [deg].
-    heading_gm_deg : float
+    heading_slow_deg : float
         Slowly varying (Gauss–Markov) heading error [deg].
-    heading_gm_tau_s : float
+    heading_slow_tau_s : float
         Its correlation time [s].
-    position_gm_m : float
+    position_slow_m : float
         Slowly varying position error [m].
-    position_gm_tau_s : float
+    position_slow_tau_s : float
         Its correlation time [s].
     position_white_m : float
         White position noise [m].
     velocity_mps : float
         Noise of each velocity component [m/s].
-    rot_dps : float
+    yaw_rate_dps : float
         Rate-of-turn noise [deg/s].
     latency_s : float
         Delay of the heading behind the velocity [s].
@@ -67,15 +71,37 @@ class CompassNoise:
     """
 
     heading_white_deg: float = 0.3
-    heading_gm_deg: float = 0.4
-    heading_gm_tau_s: float = 20.0
-    position_gm_m: float = 0.7
-    position_gm_tau_s: float = 60.0
+    heading_slow_deg: float = 0.4
+    heading_slow_tau_s: float = 20.0
+    position_slow_m: float = 0.7
+    position_slow_tau_s: float = 60.0
     position_white_m: float = 0.3
     velocity_mps: float = 0.05
-    rot_dps: float = 0.3
+    yaw_rate_dps: float = 0.3
     latency_s: float = 0.0
     mounting_offset_deg: float = 0.5
+
+    @classmethod
+    def from_receiver(cls, receiver: Receiver, mounting_offset_deg: float = 0.5) -> CompassNoise:
+        """The emulator of a receiver (:class:`gripsense.config.Receiver`).
+
+        Parameters
+        ----------
+        receiver : Receiver
+            The receiver.
+        mounting_offset_deg : float
+            Mounting offset [deg].
+        """
+        return cls(
+            heading_white_deg=receiver.heading_white_deg,
+            heading_slow_deg=receiver.heading_slow_deg,
+            heading_slow_tau_s=receiver.heading_slow_tau_s,
+            position_slow_m=receiver.position_slow_m,
+            position_white_m=receiver.position_white_m,
+            velocity_mps=receiver.velocity_mps,
+            yaw_rate_dps=receiver.yaw_rate_dps,
+            mounting_offset_deg=mounting_offset_deg,
+        )
 
     @classmethod
     def none(cls, mounting_offset_deg: float = 0.0) -> CompassNoise:
@@ -86,7 +112,7 @@ class CompassNoise:
         mounting_offset_deg : float
             Mounting offset kept [deg].
         """
-        return cls(0.0, 0.0, 20.0, 0.0, 60.0, 0.0, 0.0, 0.0, 0.0, mounting_offset_deg)
+        return cls.from_receiver(EXACT, mounting_offset_deg)
 
     @classmethod
     def rtk(cls, mounting_offset_deg: float = 0.5) -> CompassNoise:
@@ -97,37 +123,23 @@ class CompassNoise:
         mounting_offset_deg : float
             Mounting offset [deg].
         """
-        return cls(
-            heading_white_deg=0.05,
-            heading_gm_deg=0.05,
-            position_gm_m=0.02,
-            position_white_m=0.01,
-            velocity_mps=0.02,
-            rot_dps=0.1,
-            mounting_offset_deg=mounting_offset_deg,
-        )
+        return cls.from_receiver(RECEIVERS["rtk"], mounting_offset_deg)
 
     @classmethod
-    def preset(cls, name: str, mounting_offset_deg: float = 0.5) -> CompassNoise:
-        """A named receiver class: ``v100`` (the defaults), ``white-0.3`` (0.3° white heading
-        noise, no slow error), ``rtk`` (:meth:`rtk`) or ``none`` (:meth:`none`).
+    def preset(cls, name: str | Path | Receiver, mounting_offset_deg: float = 0.5) -> CompassNoise:
+        """A receiver as ``--receiver`` names it: a class of :data:`gripsense.config.RECEIVERS`
+        (``v100``, ``white-0.3`` without slow error, ``rtk``), a TOML file with a
+        ``[receiver]`` table, or ``none`` (:meth:`none`: no noise).
 
         Parameters
         ----------
-        name : str
-            The class.
+        name : str or Path or Receiver
+            The receiver.
         mounting_offset_deg : float
             Mounting offset [deg].
         """
-        if name == "v100":
-            return cls(mounting_offset_deg=mounting_offset_deg)
-        if name == "white-0.3":
-            return cls(heading_gm_deg=0.0, mounting_offset_deg=mounting_offset_deg)
-        if name == "rtk":
-            return cls.rtk(mounting_offset_deg)
-        if name == "none":
-            return cls.none(mounting_offset_deg)
-        raise ValueError(f"receiver {name!r}; use one of {', '.join(RECEIVER_PRESETS)}")
+        rec = EXACT if str(name) == EXACT.name else receiver_from(name)
+        return cls.from_receiver(rec, mounting_offset_deg)
 
     def scaled(self, k: float) -> CompassNoise:
         """All random terms multiplied by *k* (latency and mounting offset kept).
@@ -140,12 +152,22 @@ class CompassNoise:
         return replace(
             self,
             heading_white_deg=k * self.heading_white_deg,
-            heading_gm_deg=k * self.heading_gm_deg,
-            position_gm_m=k * self.position_gm_m,
+            heading_slow_deg=k * self.heading_slow_deg,
+            position_slow_m=k * self.position_slow_m,
             position_white_m=k * self.position_white_m,
             velocity_mps=k * self.velocity_mps,
-            rot_dps=k * self.rot_dps,
+            yaw_rate_dps=k * self.yaw_rate_dps,
         )
+
+
+OLD_NOISE_KEYS = {
+    "heading_gm_deg": "heading_slow_deg",
+    "heading_gm_tau_s": "heading_slow_tau_s",
+    "position_gm_m": "position_slow_m",
+    "position_gm_tau_s": "position_slow_tau_s",
+    "rot_dps": "yaw_rate_dps",
+}
+"""The emulator's former names (before 0.9) → the receiver's names (deprecated in scenarios)."""
 
 
 @dataclass
@@ -292,23 +314,23 @@ def emulate_compass(
         heading_true
         + noise.mounting_offset_deg
         + rng.normal(0, noise.heading_white_deg, n)
-        + _gauss_markov(n, step_s, noise.heading_gm_deg, noise.heading_gm_tau_s, rng)
+        + _gauss_markov(n, step_s, noise.heading_slow_deg, noise.heading_slow_tau_s, rng)
     )
     pe = (
         ex
-        + _gauss_markov(n, step_s, noise.position_gm_m, noise.position_gm_tau_s, rng)
+        + _gauss_markov(n, step_s, noise.position_slow_m, noise.position_slow_tau_s, rng)
         + rng.normal(0, noise.position_white_m, n)
     )
     pn = (
         ny
-        + _gauss_markov(n, step_s, noise.position_gm_m, noise.position_gm_tau_s, rng)
+        + _gauss_markov(n, step_s, noise.position_slow_m, noise.position_slow_tau_s, rng)
         + rng.normal(0, noise.position_white_m, n)
     )
     ve_m = ve + rng.normal(0, noise.velocity_mps, n)
     vn_m = vn + rng.normal(0, noise.velocity_mps, n)
     course = np.mod(np.rad2deg(np.arctan2(ve_m, vn_m)), 360.0)
     speed = np.hypot(ve_m, vn_m)
-    rot = -np.rad2deg(r) * 60.0 + rng.normal(0, noise.rot_dps * 60.0, n)
+    rot = -np.rad2deg(r) * 60.0 + rng.normal(0, noise.yaw_rate_dps * 60.0, n)
     lat0, lon0, alt0 = origin
     s2 = np.sin(np.deg2rad(lat0)) ** 2
     r_n = WGS84_A * (1 - WGS84_E2) / (1 - WGS84_E2 * s2) ** 1.5

@@ -44,7 +44,8 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
     radius_m = [20, 30, 40]
     mu = [0.9, 0.5]                 # optional: the road μ as a grid dimension, and
     tyre = ["brush", "PacejkaBook_Defaults.tir"]   # the tyre and
-    receiver = ["v100", "rtk"]      # the receiver class (overrides [gnss] noise)
+    receiver = ["v100", "rtk"]      # the receiver: a class, "none" or a TOML file with a
+                                    # [receiver] table (overrides [gnss] noise)
     laps = 2
 
 Output folder: ``vehicle.toml`` (the vehicle used), for cases with tyres from files
@@ -62,6 +63,7 @@ from __future__ import annotations
 
 import itertools
 import shutil
+import warnings
 from dataclasses import fields
 from pathlib import Path
 
@@ -69,12 +71,13 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
+from gripsense.config.receiver import EXACT, RECEIVERS
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
 from gripsense.io.results import ResultWriter
 from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
-from gripsense.sim.gnss import RECEIVER_PRESETS, CompassNoise, emulate_compass
+from gripsense.sim.gnss import OLD_NOISE_KEYS, CompassNoise, emulate_compass
 from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams
@@ -178,6 +181,7 @@ def run_scenario(
     progress=None,
     overwrite: bool = False,
     command: str = "",
+    receiver: str | Path | None = None,
 ) -> pd.DataFrame:
     """Simulate every case of a scenario file and write the outputs (see module docs).
 
@@ -194,6 +198,10 @@ def run_scenario(
         Replace an earlier simulation in *outdir*.
     command : str
         Command line recorded in the manifest.
+    receiver : str or Path, optional
+        The receiver of every case (``gripsense simulate --receiver``): a class of
+        :data:`gripsense.config.RECEIVERS`, ``none`` or a TOML file with a ``[receiver]`` table;
+        it replaces the scenario's ``[gnss] noise`` and the cases' ``receiver``.
 
     Returns
     -------
@@ -236,9 +244,20 @@ def run_scenario(
             _fail(src, f"[road] patches[{k}]", "needs x_m = [min, max], y_m = [min, max], mu")
         patches.append((x0, x1, y0, y1, mu))
     g = r.table("gnss", required=False)
-    r.known(g, "gnss", ("rate_hz", "noise", *(f.name for f in fields(CompassNoise))))
+    r.known(
+        g, "gnss", ("rate_hz", "noise", *(f.name for f in fields(CompassNoise)), *OLD_NOISE_KEYS)
+    )
+    for old, new in OLD_NOISE_KEYS.items():
+        if old in g:
+            warnings.warn(
+                f"{src}: [gnss] {old} is deprecated; write {new}", FutureWarning, stacklevel=2
+            )
     names = {f.name for f in fields(CompassNoise)}
-    over = {k: float(v) for k, v in g.items() if k in names}
+    over = {
+        OLD_NOISE_KEYS.get(k, k): float(v)
+        for k, v in g.items()
+        if OLD_NOISE_KEYS.get(k, k) in names
+    }
     default_receiver = g.get("noise", "v100")
     rate = float(g.get("rate_hz", 10.0))
     acc = doc.get("accelerometer")
@@ -268,12 +287,9 @@ def run_scenario(
         where = f"case {i + 1}"
         tyres = _tyres(path, spec.get("tyre", default_tyre), src, where, tyre_cache)
         params = SimParams.from_vehicle(vehicle, sim_tyres=tyres, **sim_kw)
-        rec = spec.get("receiver", default_receiver)
-        if rec not in RECEIVER_PRESETS:
-            _fail(src, where, f"receiver = {rec!r}; use one of {', '.join(RECEIVER_PRESETS)}")
-        base = CompassNoise.preset(rec)
-        noise = CompassNoise(**{**{f.name: getattr(base, f.name) for f in fields(CompassNoise)}})
-        if "receiver" not in spec:
+        rec = receiver if receiver is not None else spec.get("receiver", default_receiver)
+        noise = _compass(path, rec, src, where)
+        if "receiver" not in spec and receiver is None:
             noise = CompassNoise(**{**noise.__dict__, **over})
         setups.append((params, _maneuver(spec, src, where, params), noise, rec))
     inputs = [path, vpath, *(t for t in tyre_cache if isinstance(t, Path))]
@@ -283,6 +299,21 @@ def run_scenario(
         return _simulate_cases(
             out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress
         )
+
+
+def _compass(base: Path, rec: str | Path, src: str, where: str) -> CompassNoise:
+    """The emulator of a receiver named in a scenario (or given on the command line)."""
+    if str(rec) in RECEIVERS or str(rec) == EXACT.name:
+        return CompassNoise.preset(str(rec))
+    if Path(rec).suffix.lower() != ".toml":
+        _fail(
+            src,
+            where,
+            f"receiver = {str(rec)!r}; use one of {', '.join([*RECEIVERS, EXACT.name])} or a "
+            ".toml file with a [receiver] table",
+        )
+    path = Path(rec) if Path(rec).is_file() else base.parent / rec
+    return CompassNoise.preset(path)
 
 
 def _resolve(base: Path, ref: str, bundled_dir: str, src: str, where: str, what: str) -> Path:

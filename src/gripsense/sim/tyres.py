@@ -27,11 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from gripsense.config.tyre_files import load_tyre_model
 from gripsense.errors import InputError
-from gripsense.io.pac89 import read_pac89_json
-from gripsense.io.tir import read_tir
-from gripsense.physics.magic_formula import MFTyre
-from gripsense.physics.magic_formula.pac89 import pac89_lateral
 
 __all__ = ["SimTyre", "load_sim_tyre", "sim_tyre_from_function"]
 
@@ -102,14 +99,14 @@ class SimTyre:
         numpy.ndarray
             F_y [N].
         """
-        from gripsense.sim.vehicle import _tab_force  # the simulator's own interpolation
+        from gripsense.sim.vehicle import tab_force  # the simulator's own interpolation
 
         lam = 1.0 if mu_road is None else mu_road / self.mu_ref
         ax = np.concatenate([[1.0], self.axes()])
         a, f, g = np.broadcast_arrays(np.asarray(alpha, float) / lam, fz, gamma)
         out = np.array(
             [
-                _tab_force(self.fy, ax, x, y, z)
+                tab_force(self.fy, ax, x, y, z)
                 for x, y, z in zip(a.ravel(), f.ravel(), g.ravel(), strict=True)
             ]
         )
@@ -181,7 +178,8 @@ def sim_tyre_from_function(
 
 
 def load_sim_tyre(path: str | Path) -> SimTyre:
-    """A simulator tyre from a ``.tir`` (MF 5.2/6.1/6.2) or a PAC89 ``.json`` file.
+    """A simulator tyre from a tyre model file of the registry (:func:`gripsense.config.
+    tyre_files.load_tyre_model`: ``.tir`` MF 5.2/6.1/6.2 or a PAC89 ``.json``).
 
     Parameters
     ----------
@@ -191,24 +189,18 @@ def load_sim_tyre(path: str | Path) -> SimTyre:
     Returns
     -------
     SimTyre
-        The tabulated tyre. PAC89 coefficients in Project Chrono's layout use positive force
-        for positive slip; they are turned to ISO here.
+        The tabulated tyre, in ISO-W axes (PAC89 coefficients in Project Chrono's layout, which
+        use positive force for positive slip, are turned to ISO by the registry).
     """
     path = Path(path)
-    if path.suffix.lower() == ".json":
-        c = read_pac89_json(path)["lateral"]
-
-        def fy(fz, alpha, gamma):
-            return -pac89_lateral(c, fz, alpha, -gamma)
-
-        return sim_tyre_from_function(fy, 4000.0, path.name)
-    tir = read_tir(path)
-    tyre = MFTyre(tir.parameters(), name=tir.name)
-
-    def fy_mf(fz, alpha, gamma):
-        return tyre.forces(fz, np.zeros_like(fz), alpha, gamma).fy
-
-    sign = float(np.sign(fy_mf(np.array([4000.0]), np.array([0.05]), np.array([0.0]))[0]))
+    model = load_tyre_model(path)
+    if model.fy_iso is None:
+        raise InputError(
+            f"{path}: {model.description}: the simulator needs a model in known axes (a .tir or "
+            "a PAC89 .json)"
+        )
+    fy = model.fy_iso
+    sign = float(np.sign(fy(np.array([4000.0]), np.array([0.05]), np.array([0.0]))[0]))
     if sign > 0:
         raise InputError(f"{path}: positive slip gives positive force; expected ISO-W axes")
-    return sim_tyre_from_function(fy_mf, float(tyre.params["FNOMIN"]), path.name)
+    return sim_tyre_from_function(fy, model.fz_nominal, path.name)

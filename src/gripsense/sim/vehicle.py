@@ -320,7 +320,7 @@ def _cell(v, v0, dv, n):
 
 
 @njit(cache=True, nogil=True)
-def _tab_force(tab, ax, alpha, fz, gamma):
+def tab_force(tab, ax, alpha, fz, gamma):
     """Trilinear interpolation of F_0(α, Fz, γ) (:mod:`gripsense.sim.tyres`)."""
     i, u = _cell(alpha, ax[1], ax[2], tab.shape[0])
     j, v = _cell(fz, ax[3], ax[4], tab.shape[1])
@@ -427,7 +427,7 @@ def _deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, ta
                 lam = mu_y / tax[axle, 7]
                 tab = tab_f if axle == 0 else tab_r
                 if lam > 1e-6 and load > 0:
-                    fy_ss = lam * _tab_force(tab, tax[axle], alpha / lam, load, gamma)
+                    fy_ss = lam * tab_force(tab, tax[axle], alpha / lam, load, gamma)
                 else:
                     fy_ss = 0.0
                 pk = peak_f if axle == 0 else peak_r

@@ -9,16 +9,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from gripsense._arrays import as_float_array
+from gripsense.config.tyre_fit import TyreFit
 from gripsense.errors import InputError
 from gripsense.identify.constrained_lsq import solve_constrained_lsq
-from gripsense.identify.tyre_fit.result import TyreFit
 
 CONSTRAINT_SETS = ("none", "shape", "symmetric", "camber", "all")
-_DEG = 180.0 / np.pi
-_C_MARGIN = 1e-3
+DEG = 180.0 / np.pi
+C_MARGIN = 1e-3
 
 
-def _constraint_flags(constraints: str) -> set[str]:
+def constraint_flags(constraints: str) -> set[str]:
     if constraints not in CONSTRAINT_SETS:
         raise InputError(f"constraints={constraints!r}; use one of {', '.join(CONSTRAINT_SETS)}")
     return (
@@ -29,7 +29,7 @@ def _constraint_flags(constraints: str) -> set[str]:
 
 
 # ---------------------------------------------------------------------- data handling
-def _clean(alpha, gamma, fz, fy, weights=None):
+def clean_points(alpha, gamma, fz, fy, weights=None):
     arrs = [
         as_float_array(v, n).ravel()
         for v, n in ((alpha, "alpha"), (gamma, "gamma"), (fz, "fz"), (fy, "fy"))
@@ -47,7 +47,7 @@ def _clean(alpha, gamma, fz, fy, weights=None):
     return alpha, gamma, fz, fy, w[ok], int((~ok).sum())
 
 
-def _ranges(alpha, gamma, fz):
+def ranges(alpha, gamma, fz):
     return {
         "fz_N": (float(fz.min()), float(fz.max())),
         "alpha_rad": (float(alpha.min()), float(alpha.max())),
@@ -55,7 +55,7 @@ def _ranges(alpha, gamma, fz):
     }
 
 
-def _initial_peak_slope(alpha, fz, fy):
+def initial_peak_slope(alpha, fz, fy):
     """Data-derived start: per load bin, the slope at the origin [N/rad] and the peak |Fy| [N]."""
     nb = int(np.clip(fz.size // 200, 1, 4))
     edges = np.quantile(fz, np.linspace(0, 1, nb + 1))
@@ -116,7 +116,7 @@ def _covariance(res, free_idx, names, lb, ub, x, dof, fy):
 
 
 @dataclass
-class _Problem:
+class Problem:
     """Everything a fit needs besides the start and the fixed coefficients."""
 
     model: object  # x -> (prediction, Jacobian)
@@ -136,7 +136,7 @@ class _Problem:
     n_bad: int
 
 
-def _run(prob: _Problem, x: np.ndarray, fixed: dict, max_iter: int) -> TyreFit:
+def run_problem(prob: Problem, x: np.ndarray, fixed: dict, max_iter: int) -> TyreFit:
     model, cons, lb, ub, fy, w = prob.model, prob.cons, prob.lb, prob.ub, prob.fy, prob.w
     loss, f_scale, names, n_bad = prob.loss, prob.f_scale, prob.names, prob.n_bad
     p = x.size

@@ -4,18 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from gripsense.config.tyre_fit import MF61_LATERAL, TyreFit, mf61_parameters
 from gripsense.errors import InputError
 from gripsense.identify.tyre_fit._solve import (
-    _C_MARGIN,
-    _DEG,
-    _clean,
-    _constraint_flags,
-    _initial_peak_slope,
-    _Problem,
-    _ranges,
-    _run,
+    C_MARGIN,
+    DEG,
+    Problem,
+    clean_points,
+    constraint_flags,
+    initial_peak_slope,
+    ranges,
+    run_problem,
 )
-from gripsense.identify.tyre_fit.result import MF61_LATERAL, TyreFit, mf61_parameters
 from gripsense.physics.magic_formula.mf6 import MFTyre
 
 __all__ = ["fit_mf61_lateral"]
@@ -62,8 +62,8 @@ def fit_mf61_lateral(
     TyreFit
         ``to_tir`` writes a ``.tir`` gripsense and MFeval can read.
     """
-    flags = _constraint_flags(constraints)
-    alpha, gamma, fz, fy, w, n_bad = _clean(alpha, gamma, fz, fy, weights)
+    flags = constraint_flags(constraints)
+    alpha, gamma, fz, fy, w, n_bad = clean_points(alpha, gamma, fz, fy, weights)
     if fz.size < len(MF61_LATERAL) + 2:
         raise InputError(
             f"fit_mf61_lateral: {fz.size} usable points; need at least {len(MF61_LATERAL) + 2}"
@@ -77,14 +77,14 @@ def fit_mf61_lateral(
     ub = np.full(p, np.inf)
     fixed: dict[int, float] = {}
     if "shape" in flags:
-        lb[ix["PCY1"]], ub[ix["PCY1"]] = 1 + _C_MARGIN, 2 - _C_MARGIN
+        lb[ix["PCY1"]], ub[ix["PCY1"]] = 1 + C_MARGIN, 2 - C_MARGIN
     if "symmetric" in flags:
         fixed.update({ix[k]: 0.0 for k in ("PHY1", "PHY2", "PVY1", "PVY2", "PEY3")})
     if "camber" in flags:
         lb[ix["PDY3"]] = 0.0
     lb[ix["PKY2"]], ub[ix["PKY2"]] = 0.05 * fz.max() / fz0, 10.0 * fz.max() / fz0
     if x0 is None:
-        fzs, slopes, peaks = _initial_peak_slope(alpha, fz, fy)
+        fzs, slopes, peaks = initial_peak_slope(alpha, fz, fy)
         mu = float(np.median(peaks / fzs))
         kya = float(np.median(slopes))
         x = np.zeros(p)
@@ -101,7 +101,7 @@ def fit_mf61_lateral(
     fz_box = np.array([fz.min(), fz.max()])
     g_grid = np.linspace(gamma.min(), gamma.max(), 5)
     cf, cg, cs = (a.ravel() for a in np.meshgrid(fz_box, g_grid, [-1.0, 1.0], indexing="ij"))
-    vmax = 25.0 * _DEG / 1000.0  # |Sv/γ| < 25 N/deg per kN, in N/rad per N
+    vmax = 25.0 * DEG / 1000.0  # |Sv/γ| < 25 N/deg per kN, in N/rad per N
 
     def con_values(x):
         out = []
@@ -111,7 +111,7 @@ def fit_mf61_lateral(
                 1 + x[ix["PEY5"]] * cg**2 - (x[ix["PEY3"]] + x[ix["PEY4"]] * cg) * cs
             )
             c = x[ix["PCY1"]]
-            out += [1.0 - 1e-9 - e, e + 1 + c * c / 2 - _C_MARGIN]
+            out += [1.0 - 1e-9 - e, e + 1 + c * c / 2 - C_MARGIN]
         if "camber" in flags:
             dfz = (fz_box - fz0) / fz0
             v = x[ix["PVY3"]] + x[ix["PVY4"]] * dfz
@@ -145,7 +145,7 @@ def fit_mf61_lateral(
             jac[:, i] = (fp - fm) / (2 * h)
         return f0, jac
 
-    prob = _Problem(
+    prob = Problem(
         model,
         cons,
         lb,
@@ -158,8 +158,8 @@ def fit_mf61_lateral(
         "mf61",
         constraints,
         "published",
-        _ranges(alpha, gamma, fz),
+        ranges(alpha, gamma, fz),
         extra,
         n_bad,
     )
-    return _run(prob, x, fixed, max_iter)
+    return run_problem(prob, x, fixed, max_iter)

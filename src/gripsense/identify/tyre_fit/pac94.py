@@ -4,32 +4,32 @@ from __future__ import annotations
 
 import numpy as np
 
+from gripsense.config.tyre_fit import PAC94_NAMES, TyreFit
 from gripsense.errors import InputError
 from gripsense.identify.tyre_fit._solve import (
-    _C_MARGIN,
-    _DEG,
-    _clean,
-    _constraint_flags,
-    _initial_peak_slope,
-    _Problem,
-    _ranges,
-    _run,
+    C_MARGIN,
+    DEG,
+    Problem,
+    clean_points,
+    constraint_flags,
+    initial_peak_slope,
+    ranges,
+    run_problem,
 )
-from gripsense.identify.tyre_fit.result import PAC94_NAMES, TyreFit
 from gripsense.physics.magic_formula.pac94 import N_COEF, VARIANTS, pac94_lateral_native
 
 __all__ = ["fit_pac94"]
 
 
 def _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0):
-    fz_kn, al_deg, g_deg = fz / 1000.0, alpha * _DEG, gamma * _DEG
+    fz_kn, al_deg, g_deg = fz / 1000.0, alpha * DEG, gamma * DEG
     lb = np.full(N_COEF, -np.inf)
     ub = np.full(N_COEF, np.inf)
     # a4 = load of the cornering-stiffness maximum: far beyond the data only a3/a4 is seen
     lb[4], ub[4] = 0.05 * fz_kn.max(), 10.0 * fz_kn.max()
     fixed: dict[int, float] = {}
     if "shape" in flags:
-        lb[0], ub[0] = 1.0 + _C_MARGIN, 2.0 - _C_MARGIN
+        lb[0], ub[0] = 1.0 + C_MARGIN, 2.0 - C_MARGIN
     if "symmetric" in flags:
         fixed.update({8: 0.0, 9: 0.0, 11: 0.0, 12: 0.0, 17: 0.0})
     g_box = np.array([g_deg.min(), g_deg.max()])
@@ -48,7 +48,7 @@ def _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0):
         lb[i], ub[i] = max(lb[i], lo), min(ub[i], hi)
     # start from the data
     if x0 is None:
-        fzs, slopes, peaks = _initial_peak_slope(alpha, fz, fy)
+        fzs, slopes, peaks = initial_peak_slope(alpha, fz, fy)
         sgn = np.sign(np.median(slopes)) or 1.0
         fzk = fzs / 1000.0
         if fzk.size >= 2 and np.ptp(fzk) > 0:
@@ -56,7 +56,7 @@ def _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0):
         else:
             a1, a2 = 0.0, sgn * peaks[0] / fzk[0]
         a4 = 2.0 * fz_kn.max()
-        a3 = float(np.median(slopes / _DEG / np.sin(2 * np.arctan(fzk / a4))))
+        a3 = float(np.median(slopes / DEG / np.sin(2 * np.arctan(fzk / a4))))
         x = np.zeros(N_COEF)
         x[[0, 1, 2, 3, 4]] = [1.3, a1, a2, a3, a4]
         if sgn * (a1 * fz_box + a2).min() <= 0:  # keep the start inside the sign constraint
@@ -91,7 +91,7 @@ def _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0):
             de[:, 7] = h
             de[:, 16] = -(x[6] * cf + x[7]) * cg * cs
             de[:, 17] = -(x[6] * cf + x[7]) * cs
-            cs_list += [1.0 - 1e-9 - e, e + 1 + x[0] ** 2 / 2 - _C_MARGIN]
+            cs_list += [1.0 - 1e-9 - e, e + 1 + x[0] ** 2 / 2 - C_MARGIN]
             lo = de.copy()
             lo[:, 0] += x[0]
             a_list += [-de, lo]
@@ -170,12 +170,12 @@ def fit_pac94(
     """
     if variant not in VARIANTS:
         raise InputError(f"variant={variant!r}; use one of {VARIANTS}")
-    flags = _constraint_flags(constraints)
-    alpha, gamma, fz, fy, w, n_bad = _clean(alpha, gamma, fz, fy, weights)
+    flags = constraint_flags(constraints)
+    alpha, gamma, fz, fy, w, n_bad = clean_points(alpha, gamma, fz, fy, weights)
     if fz.size < N_COEF + 2:
         raise InputError(f"fit_pac94: {fz.size} usable points; need at least {N_COEF + 2}")
     x, lb, ub, fixed, cons, model = _pac94_setup(alpha, gamma, fz, fy, flags, variant, bounds, x0)
-    prob = _Problem(
+    prob = Problem(
         model,
         cons,
         lb,
@@ -188,7 +188,7 @@ def fit_pac94(
         "pac94",
         constraints,
         variant,
-        _ranges(alpha, gamma, fz),
+        ranges(alpha, gamma, fz),
         {},
         n_bad,
     )
@@ -196,9 +196,9 @@ def fit_pac94(
     if x0 is None:
         # continuation: the core curve (C, D(Fz), BCD(Fz), E) first, then every coefficient
         core = {i: x[i] for i in range(N_COEF) if i not in (0, 1, 2, 3, 4, 6, 7)}
-        stage = _run(prob, x, {**core, **fixed}, 50)
+        stage = run_problem(prob, x, {**core, **fixed}, 50)
         x = np.array([stage.coefficients[n] for n in PAC94_NAMES])
         nfev0 = stage.nfev
-    fit = _run(prob, x, fixed, max_iter)
+    fit = run_problem(prob, x, fixed, max_iter)
     fit.nfev += nfev0
     return fit

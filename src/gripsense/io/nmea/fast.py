@@ -26,7 +26,7 @@ import pandas as pd
 
 from gripsense.io.nmea import kernels as K
 from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, _type_key, classify_line
+from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, classify_line, type_key
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, lines_at
 
 __all__ = ["tokenize_fast"]
@@ -102,7 +102,7 @@ def _tokenize_array(data, n: int | None = None) -> Tokens:
         ucode = np.empty(len(uniq), dtype=np.int32)
         for j, u in enumerate(uniq.tolist()):
             a = int(u).to_bytes(8, "little").rstrip(b"\0")
-            key = _type_key(a, b"") if a[:1] == b"P" else a[2:].decode()
+            key = type_key(a, b"") if a[:1] == b"P" else a[2:].decode()
             ucode[j] = NAME.setdefault(key, len(NAME))
         key_code[typed] = ucode[inv]
         for j in np.flatnonzero(np.isin(uniq, _SUBTYPED_WORDS)).tolist():
@@ -111,7 +111,7 @@ def _tokenize_array(data, n: int | None = None) -> Tokens:
             sinv, su = pd.factorize(sub[sel], sort=False)
             scode = np.empty(len(su), dtype=np.int32)
             for jj, u in enumerate(su.tolist()):
-                key = _type_key(name, int(u).to_bytes(8, "little").rstrip(b"\0")) or name.decode()
+                key = type_key(name, int(u).to_bytes(8, "little").rstrip(b"\0")) or name.decode()
                 scode[jj] = NAME.setdefault(key, len(NAME))
             key_code[sel] = scode[sinv]
     # fewest fields of the label's sentence type (-1: not a type gripsense reads); index + 1

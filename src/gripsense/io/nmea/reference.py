@@ -53,7 +53,7 @@ SUBTYPED = ("PSAT", "PSTI")  # proprietary addresses whose type includes field 1
 _HEX = re.compile(rb"[0-9A-Fa-f]{2}")
 
 
-def _type_key(addr: bytes, rest: bytes) -> str | None:
+def type_key(addr: bytes, rest: bytes) -> str | None:
     """Type key of a valid address, or None when the address is not NMEA."""
     if len(addr) > MAX_ADDRESS or not _ADDR.fullmatch(addr):
         return None
@@ -105,7 +105,7 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
     junk = d > 0
     body = s[d + 1 : limit]
     addr, _, rest = body.partition(b",")
-    key = _type_key(addr, rest)
+    key = type_key(addr, rest)
     if key is None:
         return REJECTED, S.NOT_NMEA, f"address {addr[:12]!r} is not an NMEA address", None, junk
     spec = S.SENTENCES.get(key)

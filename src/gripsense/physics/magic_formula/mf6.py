@@ -103,7 +103,7 @@ class MFTyre:
     ----------
     params : dict
         ``{KEY: value}`` in SI (as from :meth:`gripsense.io.tir.TirFile.parameters`; build
-        one from a file with :func:`gripsense.tyre_models.load_mf_tyre`).
+        one from a file with :func:`gripsense.config.tyre_files.load_mf_tyre`).
     name : str
         Used in messages.
     """

@@ -325,7 +325,7 @@ class TyreFit:
         Path
             The file written.
         """
-        from gripsense.identify.tyre_fit.tir_template import fit_to_tir
+        from gripsense.config.tir_template import fit_to_tir
 
         return fit_to_tir(self, path, template)
 

@@ -25,19 +25,49 @@ response is computed exactly on the sample grid (scipy ``lsim``, first-order hol
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 from scipy.signal import lsim
 
-from gripsense.config import SteeringCar
 from gripsense.errors import InputError
 
 __all__ = [
     "RELEASE_STATES",
     "STEP_STATES",
+    "SteeringSystem",
     "descriptor",
     "simulate_release",
     "simulate_step",
 ]
+
+
+class SteeringSystem(Protocol):
+    """The parameters the model reads (:class:`gripsense.config.SteeringCar` has them): SI
+    units, steering-wheel inertia and damping referred to the kingpin (``ih``, ``ch``).
+    """
+
+    speed_mps: float
+    lf_m: float
+    lr_m: float
+    mass_kg: float
+    yaw_inertia_kgm2: float
+    cornering_stiffness_front_N_per_rad: float
+    cornering_stiffness_rear_N_per_rad: float
+    tyre_lateral_stiffness_N_per_m: float
+    trail_m: float
+    kingpin_inertia_kgm2: float
+    kingpin_damping_Nms: float
+
+    @property
+    def ks(self) -> float: ...  # noqa: D102
+
+    @property
+    def ih(self) -> float: ...  # noqa: D102
+
+    @property
+    def ch(self) -> float: ...  # noqa: D102
+
 
 STEP_STATES = ("beta", "r", "delta", "delta_dot", "Y_f1", "Y_f2", "Y_r1", "Y_r2")
 RELEASE_STATES = (
@@ -54,12 +84,12 @@ RELEASE_STATES = (
 )
 
 
-def descriptor(car: SteeringCar, case: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def descriptor(car: SteeringSystem, case: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Matrices (M, A, B) of M ẋ = A x + B u (docs/physics.md §9.2).
 
     Parameters
     ----------
-    car : SteeringCar
+    car : SteeringSystem
     case : {"step", "release"}
         ``step``: states :data:`STEP_STATES`, input α [rad];
         ``release``: states :data:`RELEASE_STATES`, input T_h [N·m].
@@ -137,7 +167,7 @@ def descriptor(car: SteeringCar, case: str) -> tuple[np.ndarray, np.ndarray, np.
     return m_, a_, b_
 
 
-def _state_space(car: SteeringCar, case: str) -> tuple[np.ndarray, np.ndarray]:
+def _state_space(car: SteeringSystem, case: str) -> tuple[np.ndarray, np.ndarray]:
     m_, a_, b_ = descriptor(car, case)
     try:
         mi = np.linalg.inv(m_)
@@ -162,7 +192,7 @@ def _foh_response(
 
 
 def simulate_step(
-    car: SteeringCar,
+    car: SteeringSystem,
     *,
     steer_rate_rad_s: float,
     stop_rad: float,
@@ -174,7 +204,7 @@ def simulate_step(
 
     Parameters
     ----------
-    car : SteeringCar
+    car : SteeringSystem
     steer_rate_rad_s : float
         Kingpin-referred steering rate α_v [rad/s] (steering-wheel rate / N).
     stop_rad : float
@@ -208,20 +238,20 @@ def simulate_step(
     }
 
 
-def steady_turn(car: SteeringCar, alpha_rad: float) -> np.ndarray:
+def steady_turn(car: SteeringSystem, alpha_rad: float) -> np.ndarray:
     """Steady state of test (i) held at kingpin angle α: [β, r, δ, δ̇, Y_f1, Y_f2, Y_r1, Y_r2]."""
     a, b = _state_space(car, "step")
     return np.linalg.solve(a, -b[:, 0] * alpha_rad)
 
 
 def simulate_release(
-    car: SteeringCar, *, alpha0_rad: float, duration_s: float = 3.0, dt_s: float = 1e-3
+    car: SteeringSystem, *, alpha0_rad: float, duration_s: float = 3.0, dt_s: float = 1e-3
 ) -> dict:
     """Test (ii): hands off (T_h = 0) at t = 0 from a steady turn held at kingpin angle α0.
 
     Parameters
     ----------
-    car : SteeringCar
+    car : SteeringSystem
         The car.
     alpha0_rad : float
         Kingpin angle held before the release [rad].
