@@ -123,7 +123,7 @@ def breakdown(drives: list[Path], tmp: Path, method: str, n_logs: int, dt_total:
     from gripsense.config import Vehicle
     from gripsense.fleet.aggregate import aggregate_cells
     from gripsense.fleet.tasks import _cells
-    from gripsense.io.results import write_parquet
+    from gripsense.io.output_folder import write_parquet
     from gripsense.pipeline import FrictionRun
 
     veh = Vehicle.from_toml(VEHICLE)

@@ -11,7 +11,7 @@ from rich.table import Table
 from gripsense.cli._common import Overwrite, console, fail, say
 from gripsense.cli.friction import RECEIVER_HELP
 from gripsense.errors import GripsenseError
-from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.io.output_folder import check_output_file, write_file_atomic
 
 __all__ = ["calibrate"]
 

@@ -14,7 +14,7 @@ from rich.text import Text
 from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
-from gripsense.io.results import check_output_file, check_output_folder, write_file_atomic
+from gripsense.io.output_folder import check_output_file, check_output_folder, write_file_atomic
 
 __all__ = ["RECEIVER_HELP", "friction", "print_friction", "report_cmd", "stiffness"]
 
@@ -118,7 +118,7 @@ def report_cmd(
     overwrite: Overwrite = False,
 ) -> None:
     """Write a self-contained HTML report (images embedded) of a friction result folder."""
-    from gripsense.io.results import add_to_folder
+    from gripsense.io.output_folder import add_to_folder
     from gripsense.report.html import render_report
 
     try:
@@ -329,7 +329,7 @@ def stiffness(
     for name, i, sw in sweeps:
         console.print(f"G sweep {name} condition {i}: chosen {sw.chosen:.3g} N/m³ — {sw.reason}")
     if outdir:
-        from gripsense.io.results import ResultWriter
+        from gripsense.io.output_folder import ResultWriter
 
         try:
             with ResultWriter(

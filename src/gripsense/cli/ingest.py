@@ -16,7 +16,7 @@ from gripsense.io import NmeaLog, read_nmea
 from gripsense.io.nmea.align import align_channels
 from gripsense.io.nmea.epochs import EPOCH_COLUMNS
 from gripsense.io.nmea.reader import MAX_LINES
-from gripsense.io.results import check_output_file, write_file_atomic, write_parquet
+from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
 
 __all__ = ["check_table_output", "ingest", "print_ingest", "write_table"]
 
@@ -103,7 +103,7 @@ def check_table_output(out: Path, kind: str, columns: list[str], *, overwrite: b
     out : Path
         ``.parquet`` or ``.csv`` file.
     kind : str
-        Output kind (:func:`gripsense.io.results.is_own_file`).
+        Output kind (:func:`gripsense.io.output_folder.is_own_file`).
     columns : list of str
         Columns of the table (how a CSV of this kind is recognised).
     overwrite : bool

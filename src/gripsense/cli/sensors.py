@@ -12,7 +12,7 @@ from rich.text import Text
 
 from gripsense.cli._common import Columns, Overwrite, console, fail, old_column_flags, say
 from gripsense.errors import GripsenseError
-from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.io.output_folder import check_output_file, write_file_atomic
 from gripsense.report.figures import save_png
 
 __all__ = ["brake_mu", "camber", "camera_slip"]

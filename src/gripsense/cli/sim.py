@@ -12,7 +12,7 @@ from rich.table import Table
 
 from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
-from gripsense.io.results import ResultWriter, check_output_folder
+from gripsense.io.output_folder import ResultWriter, check_output_folder
 
 __all__ = ["demo", "simulate"]
 

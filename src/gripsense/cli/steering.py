@@ -13,7 +13,7 @@ import typer
 
 from gripsense.cli._common import Columns, Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError, InputError
-from gripsense.io.results import ResultWriter, check_output_folder
+from gripsense.io.output_folder import ResultWriter, check_output_folder
 from gripsense.io.table import Quantity
 
 steering_app = typer.Typer(

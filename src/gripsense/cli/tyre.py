@@ -13,7 +13,7 @@ from rich.text import Text
 
 from gripsense.cli._common import Columns, Overwrite, console, fail, say
 from gripsense.errors import GripsenseError, InputError
-from gripsense.io.results import check_output_file, write_file_atomic
+from gripsense.io.output_folder import check_output_file, write_file_atomic
 from gripsense.io.table import Quantity
 from gripsense.report.figures import save_png
 

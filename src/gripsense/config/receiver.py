@@ -23,32 +23,58 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from gripsense.config.schema import Key, Table
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
 from gripsense.io.text import read_toml
 
-__all__ = ["EXACT", "RECEIVERS", "RECEIVER_KEYS", "Receiver", "receiver_from"]
+__all__ = ["EXACT", "RECEIVER", "RECEIVERS", "RECEIVER_KEYS", "Receiver", "receiver_from"]
 
-RECEIVER_KEYS = (
-    "name",
-    "heading_white_deg",
-    "heading_slow_deg",
-    "velocity_mps",
-    "yaw_rate_dps",
-    "heading_slow_tau_s",
-    "position_slow_m",
-    "position_white_m",
+RECEIVER = Table(
+    "receiver",
+    (
+        Key("name", "", "label (default: the file's name)", kind="text"),
+        Key(
+            "heading_white_deg",
+            "deg",
+            "heading error independent from sample to sample, 1σ",
+            0.3,
+            (0.0, 10.0),
+        ),
+        Key(
+            "heading_slow_deg",
+            "deg",
+            "slowly varying heading error (multipath), 1σ",
+            0.4,
+            (0.0, 10.0),
+        ),
+        Key("velocity_mps", "mps", "each horizontal velocity component, 1σ", 0.05, (0.0, 5.0)),
+        Key("yaw_rate_dps", "dps", "rate of turn, 1σ", 0.3, (0.0, 20.0)),
+        Key(
+            "heading_slow_tau_s",
+            "s",
+            "correlation time of the slow heading error",
+            20.0,
+            (0.5, 3600.0),
+        ),
+        Key(
+            "position_slow_m",
+            "m",
+            "slowly varying position error per axis, 1σ (simulator)",
+            0.7,
+            (0.0, 100.0),
+        ),
+        Key(
+            "position_white_m",
+            "m",
+            "white position noise per axis, 1σ (simulator)",
+            0.3,
+            (0.0, 100.0),
+        ),
+    ),
+    "the GNSS compass (defaults: the v100 class)",
 )
-# key → (unit, plausible range)
-_RANGES = {
-    "heading_white_deg": ("deg", (0.0, 10.0)),
-    "heading_slow_deg": ("deg", (0.0, 10.0)),
-    "velocity_mps": ("mps", (0.0, 5.0)),
-    "yaw_rate_dps": ("dps", (0.0, 20.0)),
-    "heading_slow_tau_s": ("s", (0.5, 3600.0)),
-    "position_slow_m": ("m", (0.0, 100.0)),
-    "position_white_m": ("m", (0.0, 100.0)),
-}
+RECEIVER_KEYS = RECEIVER.names
 
 
 @dataclass(frozen=True)
@@ -77,13 +103,13 @@ class Receiver:
     """
 
     name: str = "v100"
-    heading_white_deg: float = 0.3
-    heading_slow_deg: float = 0.4
-    velocity_mps: float = 0.05
-    yaw_rate_dps: float = 0.3
-    heading_slow_tau_s: float = 20.0
-    position_slow_m: float = 0.7
-    position_white_m: float = 0.3
+    heading_white_deg: float = RECEIVER["heading_white_deg"].default  # 0.3
+    heading_slow_deg: float = RECEIVER["heading_slow_deg"].default  # 0.4
+    velocity_mps: float = RECEIVER["velocity_mps"].default  # 0.05
+    yaw_rate_dps: float = RECEIVER["yaw_rate_dps"].default  # 0.3
+    heading_slow_tau_s: float = RECEIVER["heading_slow_tau_s"].default  # 20.0
+    position_slow_m: float = RECEIVER["position_slow_m"].default  # 0.7
+    position_white_m: float = RECEIVER["position_white_m"].default  # 0.3
 
     @classmethod
     def from_dict(cls, t: dict, *, source: str = "<dict>", table: str = "receiver") -> Receiver:
@@ -103,14 +129,8 @@ class Receiver:
         Receiver
             The receiver (keys not given keep the V100-class defaults).
         """
-        r = TomlReader({table: t}, source)
-        r.known(t, table, RECEIVER_KEYS)
-        kw = {"name": str(t.get("name", Path(source).stem))}
-        for key, (unit, plausible) in _RANGES.items():
-            v = r.num(t, table, key, unit=unit, required=False, plausible=plausible)
-            if v is not None:
-                kw[key] = v
-        return cls(**kw)
+        v = RECEIVER.read(TomlReader({table: t}, source), t, table)
+        return cls(**{**v, "name": str(v["name"] or Path(source).stem)})
 
 
 RECEIVERS = {

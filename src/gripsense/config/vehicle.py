@@ -43,6 +43,18 @@ import numpy as np
 
 from gripsense.config.receiver import Receiver
 from gripsense.config.toml_reader import TomlReader
+from gripsense.config.vehicle_schema import (
+    ANTENNA,
+    CALIBRATION,
+    CG_HEIGHT_RANGE_FACTORS,
+    CONTACT_LENGTH,
+    DRIVES,
+    PRESSURES,
+    SHAPES,
+    TOP_KEYS,
+    TYRE,
+    VEHICLE,
+)
 from gripsense.constants import G0
 from gripsense.io.text import read_toml
 from gripsense.physics.contact import contact_length_lm
@@ -52,70 +64,22 @@ __all__ = ["PLAUSIBLE", "WHEELS", "Tyre", "Vehicle"]
 WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
 
-TOP_KEYS = ("vehicle", "antenna", "tyre", "receiver", "calibration")
-VEHICLE_KEYS = (
-    "name",
-    "mass_kg",
-    "front_weight_fraction",
-    "cg_to_front_axle_m",
-    "wheelbase_m",
-    "cg_height_m",
-    "track_front_m",
-    "track_rear_m",
-    "roll_stiffness_front_fraction",
-    "roll_centre_height_front_m",
-    "roll_centre_height_rear_m",
-    "steering_ratio",
-    "drive",
-    "yaw_inertia_kgm2",
-    "cg_height_range_m",
-    "roll_stiffness_front_fraction_range",
-    "roll_gradient_deg_per_g",
-    "roll_camber_gain",
-)
-ANTENNA_KEYS = ("x_m", "y_m", "heading_offset_deg", "wheels")
-TYRE_KEYS = (
-    "width_m",
-    "tread_stiffness_N_per_m3",
-    "cornering_stiffness_N_per_rad",
-    "contact_length",
-    "pressure",
-    "stiffness_uncertainty",
-    "load_sensitivity",
-    "load_sensitivity_uncertainty",
-    "shape",
-    "relaxation_length_m",
-    "camber_thrust_ratio",
-    "friction_load_sensitivity",
-    "friction_load_sensitivity_uncertainty",
-)
-SHAPES = ("any", "brush", "magic-formula")
-DRIVES = ("front", "rear", "all")
-PLAUSIBLE = {  # (low, high) of a road or race vehicle; outside: most likely a unit mistake
-    "mass_kg": (50.0, 60000.0),
-    "wheelbase_m": (0.5, 10.0),
-    "cg_height_m": (0.05, 3.0),
-    "track_m": (0.5, 3.5),
-    "roll_centre_height_m": (-0.5, 3.0),
-    "steering_ratio": (1.0, 40.0),
-    "offset_x_m": (-10.0, 10.0),
-    "offset_y_m": (-3.0, 3.0),
-    "tyre_width_m": (0.03, 1.0),
-    "tread_stiffness_N_per_m3": (1e5, 1e10),
-    "cornering_stiffness_N_per_rad": (1e3, 2e6),
-    "contact_length_m": (0.02, 0.6),
-    "yaw_inertia_kgm2": (5.0, 2e6),
-    "roll_gradient_deg_per_g": (0.0, 15.0),
-    "roll_camber_gain": (0.0, 1.5),
-    "stiffness_uncertainty": (0.0, 1.0),
-    "load_sensitivity": (0.0, 1.5),
-    "load_sensitivity_uncertainty": (0.0, 1.0),
-    "relaxation_length_m": (0.0, 3.0),
-    "camber_thrust_ratio": (0.0, 1.0),
-    "friction_load_sensitivity": (-0.5, 1.0),
-    "friction_load_sensitivity_uncertainty": (0.0, 1.0),
+_KEY_OF = {k.name: k for t in (VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH) for k in t.keys}
+PLAUSIBLE = {
+    name: k.plausible
+    for name, k in _KEY_OF.items()
+    if k.plausible is not None and name != "fixed_m"
+} | {
+    # the names of the shared ranges (kept for code that reads them)
+    "track_m": _KEY_OF["track_front_m"].plausible,
+    "roll_centre_height_m": _KEY_OF["roll_centre_height_front_m"].plausible,
+    "offset_x_m": _KEY_OF["x_m"].plausible,
+    "offset_y_m": _KEY_OF["y_m"].plausible,
+    "tyre_width_m": _KEY_OF["width_m"].plausible,
+    "contact_length_m": _KEY_OF["fixed_m"].plausible,
 }
-"""Plausible ranges of the vehicle file's numbers (docs/friction.md, "The vehicle file")."""
+"""Plausible ranges of the vehicle file's numbers (from :mod:`gripsense.config.vehicle_schema`;
+``docs/configuration.md``)."""
 MIN_STABILITY_FACTOR = 0.5
 """Smallest track/(2 × CG height): below it the inner wheels would lift under 0.5 g."""
 
@@ -168,15 +132,17 @@ class Tyre:
     contact_a: float | None = None
     contact_b: float | None = None
     contact_length_m: float | None = None
-    pressure: str = "parabolic"
-    stiffness_uncertainty: float = 0.2
-    load_sensitivity: float = 0.5
-    load_sensitivity_uncertainty: float = 0.5
-    shape: str = "any"
-    relaxation_length_m: float = 0.5
-    camber_thrust_ratio: float = 0.1
-    friction_load_sensitivity: float = 0.2
-    friction_load_sensitivity_uncertainty: float = 0.15
+    pressure: str = TYRE["pressure"].default  # "parabolic"
+    stiffness_uncertainty: float = TYRE["stiffness_uncertainty"].default  # 0.2
+    load_sensitivity: float = TYRE["load_sensitivity"].default  # 0.5
+    load_sensitivity_uncertainty: float = TYRE["load_sensitivity_uncertainty"].default  # 0.5
+    shape: str = TYRE["shape"].default  # "any"
+    relaxation_length_m: float = TYRE["relaxation_length_m"].default  # 0.5
+    camber_thrust_ratio: float = TYRE["camber_thrust_ratio"].default  # 0.1
+    friction_load_sensitivity: float = TYRE["friction_load_sensitivity"].default  # 0.2
+    friction_load_sensitivity_uncertainty: float = TYRE[
+        "friction_load_sensitivity_uncertainty"
+    ].default  # 0.15
 
     def contact_length(self, mass_kg) -> np.ndarray:
         """Contact length [m] for the mass the wheel carries [kg].
@@ -271,8 +237,8 @@ class Vehicle:
     yaw_inertia_kgm2: float | None = None
     cg_height_range_m: tuple[float, float] | None = None
     roll_stiffness_front_fraction_range: tuple[float, float] | None = None
-    roll_gradient_deg_per_g: float = 4.0
-    roll_camber_gain: float = 0.8
+    roll_gradient_deg_per_g: float = VEHICLE["roll_gradient_deg_per_g"].default  # 4.0
+    roll_camber_gain: float = VEHICLE["roll_camber_gain"].default  # 0.8
     receiver: Receiver | None = None
     calibration_file: str | None = None
     name: str = "vehicle"
@@ -374,42 +340,10 @@ class Vehicle:
         r = TomlReader(doc, source)
         r.known(doc, "", TOP_KEYS)
         veh = r.table("vehicle", required=True)
-        r.known(veh, "vehicle", VEHICLE_KEYS)
-        pl = PLAUSIBLE
-        mass = r.num(
-            veh, "vehicle", "mass_kg", positive=True, unit="kg", plausible=PLAUSIBLE["mass_kg"]
-        )
-        wb = r.num(
-            veh,
-            "vehicle",
-            "wheelbase_m",
-            unit="m",
-            required=False,
-            plausible=PLAUSIBLE["wheelbase_m"],
-        )
-        frac = r.num(veh, "vehicle", "front_weight_fraction", unit="-", required=False)
-        lf = r.num(veh, "vehicle", "cg_to_front_axle_m", positive=True, unit="m", required=False)
-        if frac is None and lf is None:
-            r.fail(
-                "vehicle",
-                "front_weight_fraction",
-                "missing; give it (0..1) or cg_to_front_axle_m with wheelbase_m",
-            )
-        if frac is None:
-            if wb is None:
-                r.fail("vehicle", "wheelbase_m", "needed with cg_to_front_axle_m [m]")
-            if not lf < wb:
-                r.fail(
-                    "vehicle",
-                    "cg_to_front_axle_m",
-                    f"= {lf} [m] must be shorter than the wheelbase",
-                )
-            frac = (wb - lf) / wb
-        if not 0.0 < frac < 1.0:
-            r.fail("vehicle", "front_weight_fraction", f"= {frac}: must be between 0 and 1")
-        h = r.num(veh, "vehicle", "cg_height_m", unit="m", plausible=PLAUSIBLE["cg_height_m"])
-        tf = r.num(veh, "vehicle", "track_front_m", unit="m", plausible=PLAUSIBLE["track_m"])
-        tr = r.num(veh, "vehicle", "track_rear_m", unit="m", plausible=PLAUSIBLE["track_m"])
+        v = VEHICLE.read(r, veh)
+        mass, wb = v["mass_kg"], v["wheelbase_m"]
+        frac = _front_weight_fraction(r, v)
+        h, tf, tr = v["cg_height_m"], v["track_front_m"], v["track_rear_m"]
         ssf = min(tf, tr) / (2.0 * h)  # static stability factor: inner wheel lifts at this a_y/g
         if ssf < MIN_STABILITY_FACTOR:
             r.fail(
@@ -419,16 +353,10 @@ class Vehicle:
                 f"{ssf:.2f} g (track/(2 h) must be ≥ {MIN_STABILITY_FACTOR}); check the CG height "
                 "and the track (metres)",
             )
-        kf = r.num(veh, "vehicle", "roll_stiffness_front_fraction", unit="-", required=False)
+        kf = v["roll_stiffness_front_fraction"]
         if kf is not None and not 0.0 <= kf <= 1.0:
             r.fail("vehicle", "roll_stiffness_front_fraction", f"= {kf}: must be in 0..1")
-        rc = PLAUSIBLE["roll_centre_height_m"]
-        hf = r.num(
-            veh, "vehicle", "roll_centre_height_front_m", unit="m", required=False, plausible=rc
-        )
-        hr = r.num(
-            veh, "vehicle", "roll_centre_height_rear_m", unit="m", required=False, plausible=rc
-        )
+        hf, hr = v["roll_centre_height_front_m"], v["roll_centre_height_rear_m"]
         if (hf is None) != (hr is None):
             r.fail(
                 "vehicle",
@@ -436,51 +364,13 @@ class Vehicle:
                 "give both roll-centre heights or "
                 "neither (neither: at CG height, the thesis's rigid model)",
             )
-        ratio = r.num(
-            veh,
-            "vehicle",
-            "steering_ratio",
-            unit="-",
-            required=False,
-            plausible=PLAUSIBLE["steering_ratio"],
-        )
-        drive = veh.get("drive")
+        drive = v["drive"]
         if drive is not None and drive not in DRIVES:
             r.fail("vehicle", "drive", f"= {drive!r}: use one of {', '.join(DRIVES)}")
-        name = str(veh.get("name", Path(source).stem))
-        iz = r.num(
-            veh,
-            "vehicle",
-            "yaw_inertia_kgm2",
-            unit="kg m^2",
-            required=False,
-            plausible=pl["yaw_inertia_kgm2"],
-        )
-        h_range = _range(r, veh, "cg_height_range_m", (0.7 * h, 1.4 * h), pl["cg_height_m"])
+        name = str(v["name"] or Path(source).stem)
+        h_range = v["cg_height_range_m"] or tuple(f * h for f in CG_HEIGHT_RANGE_FACTORS)
         kf0 = kf if kf is not None else frac
-        k_range = _range(
-            r,
-            veh,
-            "roll_stiffness_front_fraction_range",
-            (max(kf0 - 0.1, 0), min(kf0 + 0.1, 1)),
-            (0.0, 1.0),
-        )
-        roll_grad = r.num(
-            veh,
-            "vehicle",
-            "roll_gradient_deg_per_g",
-            unit="deg/g",
-            required=False,
-            plausible=pl["roll_gradient_deg_per_g"],
-        )
-        camber_gain = r.num(
-            veh,
-            "vehicle",
-            "roll_camber_gain",
-            unit="-",
-            required=False,
-            plausible=pl["roll_camber_gain"],
-        )
+        k_range = v["roll_stiffness_front_fraction_range"] or (max(kf0 - 0.1, 0), min(kf0 + 0.1, 1))
         receiver = None
         if "receiver" in doc:
             rt = r.table("receiver", required=False)
@@ -488,7 +378,7 @@ class Vehicle:
         cal_file = None
         if "calibration" in doc:
             ct = r.table("calibration", required=False)
-            r.known(ct, "calibration", ("file",))
+            r.known(ct, "calibration", CALIBRATION.names)
             cal_file = ct.get("file")
             if not isinstance(cal_file, str) or not cal_file:
                 r.fail("calibration", "file", "the path of a calibration file is needed")
@@ -496,64 +386,10 @@ class Vehicle:
                 cal_file = str(Path(source).parent / cal_file)
 
         ant = r.table("antenna", required=True)
-        r.known(ant, "antenna", ANTENNA_KEYS)
-        off_deg = (
-            r.num(
-                ant,
-                "antenna",
-                "heading_offset_deg",
-                unit="deg",
-                required=False,
-                plausible=(-180, 180),
-            )
-            or 0.0
-        )
-        ax = r.num(
-            ant, "antenna", "x_m", unit="m", required=False, plausible=PLAUSIBLE["offset_x_m"]
-        )
-        ay = r.num(
-            ant, "antenna", "y_m", unit="m", required=False, plausible=PLAUSIBLE["offset_y_m"]
-        )
-        explicit = ant.get("wheels", {})
-        if not isinstance(explicit, dict):
-            r.fail("antenna", "wheels", "must be a table of wheel = [x_m, y_m]")
-        offsets: dict[str, tuple[float, float]] = {}
-        cg = None
-        if (ax is None) != (ay is None):
-            r.fail("antenna", "x_m", "give both x_m and y_m (antenna position relative to CG)")
-        if ax is not None:
-            cg = (-ax, -ay)
-            if wb is not None:
-                l_f = wb * (1.0 - frac)
-                l_r = wb * frac
-                for wname, (x, y) in {
-                    "front_left": (l_f, tf / 2),
-                    "front_right": (l_f, -tf / 2),
-                    "rear_left": (-l_r, tr / 2),
-                    "rear_right": (-l_r, -tr / 2),
-                }.items():
-                    offsets[wname] = (x - ax, y - ay)
-        for wname, xy in explicit.items():
-            if wname not in WHEELS:
-                r.fail("antenna.wheels", wname, f"unknown wheel; use one of {WHEELS}")
-            if (
-                not isinstance(xy, list)
-                or len(xy) != 2
-                or not all(isinstance(v, int | float) for v in xy)
-            ):
-                r.fail("antenna.wheels", wname, "must be [x_m, y_m] relative to the antenna")
-            if abs(xy[0]) > PLAUSIBLE["offset_x_m"][1] or abs(xy[1]) > PLAUSIBLE["offset_y_m"][1]:
-                r.fail(
-                    "antenna.wheels", wname, f"= {xy}: more than 10 m / 3 m from the antenna [m]"
-                )
-            offsets[wname] = (float(xy[0]), float(xy[1]))
-        if not offsets:
-            r.fail(
-                "antenna",
-                "wheels",
-                "no wheel position: give [antenna] x_m, y_m with "
-                "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...",
-            )
+        a = ANTENNA.read(r, ant)
+        off_deg, ax, ay = a["heading_offset_deg"], a["x_m"], a["y_m"]
+        cg = (-ax, -ay) if ax is not None and ay is not None else None
+        offsets = _wheel_offsets(r, ant, ax, ay, wb, frac, tf, tr)
 
         tyres_doc = r.table("tyre", required=True)
         r.known(tyres_doc, "tyre", ("front", "rear"))
@@ -579,13 +415,13 @@ class Vehicle:
             wheelbase_m=wb,
             roll_stiffness_front_fraction=kf,
             roll_centre_heights_m=(hf, hr) if hf is not None else None,
-            steering_ratio=ratio,
+            steering_ratio=v["steering_ratio"],
             drive=drive,
-            yaw_inertia_kgm2=iz,
+            yaw_inertia_kgm2=v["yaw_inertia_kgm2"],
             cg_height_range_m=h_range,
             roll_stiffness_front_fraction_range=k_range,
-            roll_gradient_deg_per_g=4.0 if roll_grad is None else roll_grad,
-            roll_camber_gain=0.8 if camber_gain is None else camber_gain,
+            roll_gradient_deg_per_g=v["roll_gradient_deg_per_g"],
+            roll_camber_gain=v["roll_camber_gain"],
             receiver=receiver,
             calibration_file=cal_file,
             name=name,
@@ -593,42 +429,78 @@ class Vehicle:
         )
 
 
-def _range(r: TomlReader, t: dict, key: str, default, plausible) -> tuple[float, float]:
-    """An optional ``key = [low, high]`` of table [vehicle]."""
-    if key not in t:
-        return (float(default[0]), float(default[1]))
-    v = t[key]
-    if (
-        not isinstance(v, list)
-        or len(v) != 2
-        or not all(isinstance(x, int | float) and not isinstance(x, bool) for x in v)
-        or not plausible[0] <= v[0] <= v[1] <= plausible[1]
-    ):
-        r.fail("vehicle", key, f"= {v!r}: give [low, high] within {plausible[0]}–{plausible[1]}")
-    return (float(v[0]), float(v[1]))
+def _front_weight_fraction(r: TomlReader, v: dict) -> float:
+    """The static front weight share, given or from the CG's position on the wheelbase."""
+    wb, frac, lf = v["wheelbase_m"], v["front_weight_fraction"], v["cg_to_front_axle_m"]
+    if frac is None and lf is None:
+        r.fail(
+            "vehicle",
+            "front_weight_fraction",
+            "missing; give it (0..1) or cg_to_front_axle_m with wheelbase_m",
+        )
+    if frac is None:
+        if wb is None:
+            r.fail("vehicle", "wheelbase_m", "needed with cg_to_front_axle_m [m]")
+        if not lf < wb:
+            r.fail(
+                "vehicle",
+                "cg_to_front_axle_m",
+                f"= {lf} [m] must be shorter than the wheelbase",
+            )
+        frac = (wb - lf) / wb
+    if not 0.0 < frac < 1.0:
+        r.fail("vehicle", "front_weight_fraction", f"= {frac}: must be between 0 and 1")
+    return frac
+
+
+def _wheel_offsets(r: TomlReader, ant: dict, ax, ay, wb, frac, tf, tr) -> dict:
+    """Wheel positions relative to the antenna: from the antenna's position relative to the CG
+    with wheelbase and tracks, and/or measured (``[antenna.wheels]``).
+    """
+    explicit = ant.get("wheels", {})
+    if not isinstance(explicit, dict):
+        r.fail("antenna", "wheels", "must be a table of wheel = [x_m, y_m]")
+    offsets: dict[str, tuple[float, float]] = {}
+    if (ax is None) != (ay is None):
+        r.fail("antenna", "x_m", "give both x_m and y_m (antenna position relative to CG)")
+    if ax is not None:
+        if wb is not None:
+            l_f = wb * (1.0 - frac)
+            l_r = wb * frac
+            for wname, (x, y) in {
+                "front_left": (l_f, tf / 2),
+                "front_right": (l_f, -tf / 2),
+                "rear_left": (-l_r, tr / 2),
+                "rear_right": (-l_r, -tr / 2),
+            }.items():
+                offsets[wname] = (x - ax, y - ay)
+    for wname, xy in explicit.items():
+        if wname not in WHEELS:
+            r.fail("antenna.wheels", wname, f"unknown wheel; use one of {WHEELS}")
+        if (
+            not isinstance(xy, list)
+            or len(xy) != 2
+            or not all(isinstance(v, int | float) for v in xy)
+        ):
+            r.fail("antenna.wheels", wname, "must be [x_m, y_m] relative to the antenna")
+        if abs(xy[0]) > PLAUSIBLE["offset_x_m"][1] or abs(xy[1]) > PLAUSIBLE["offset_y_m"][1]:
+            r.fail("antenna.wheels", wname, f"= {xy}: more than 10 m / 3 m from the antenna [m]")
+        offsets[wname] = (float(xy[0]), float(xy[1]))
+    if not offsets:
+        r.fail(
+            "antenna",
+            "wheels",
+            "no wheel position: give [antenna] x_m, y_m with "
+            "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...",
+        )
+    return offsets
 
 
 def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
     if not isinstance(t, dict):
         r.fail("tyre", where, "must be a table")
-    r.known(t, where, TYRE_KEYS)
-    w = r.num(t, where, "width_m", unit="m", plausible=PLAUSIBLE["tyre_width_m"])
-    g = r.num(
-        t,
-        where,
-        "tread_stiffness_N_per_m3",
-        unit="N/m^3",
-        required=False,
-        plausible=PLAUSIBLE["tread_stiffness_N_per_m3"],
-    )
-    c = r.num(
-        t,
-        where,
-        "cornering_stiffness_N_per_rad",
-        unit="N/rad",
-        required=False,
-        plausible=PLAUSIBLE["cornering_stiffness_N_per_rad"],
-    )
+    v = TYRE.read(r, t, where)
+    w, g, c = v["width_m"], v["tread_stiffness_N_per_m3"], v["cornering_stiffness_N_per_rad"]
     if (g is None) == (c is None):
         r.fail(
             where,
@@ -643,13 +515,9 @@ def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
             "contact_length",
             "missing; give { a = ..., b = ... } (l = a sqrt(m) + b m) or { fixed_m = ... }",
         )
-    r.known(cl, f"{where}.contact_length", ("a", "b", "fixed_m"))
-    a = r.num(cl, f"{where}.contact_length", "a", unit="m/kg^0.5", required=False)
-    b = r.num(cl, f"{where}.contact_length", "b", unit="m/kg", required=False)
-    lo, hi = PLAUSIBLE["contact_length_m"]
-    fixed = r.num(
-        cl, f"{where}.contact_length", "fixed_m", unit="m", required=False, plausible=(lo, hi)
-    )
+    lv = CONTACT_LENGTH.read(r, cl, f"{where}.contact_length")
+    a, b, fixed = lv["a"], lv["b"], lv["fixed_m"]
+    lo, hi = CONTACT_LENGTH["fixed_m"].plausible
     if fixed is None and (a is None or b is None):
         r.fail(f"{where}.contact_length", "a", "give both a and b, or fixed_m")
     if fixed is None:
@@ -661,32 +529,16 @@ def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
                 f"gives l = {l0:.3g} m at the static wheel mass {wheel_mass_kg:.0f} kg, outside "
                 f"{lo}–{hi} m; check a [m/kg^0.5] and b [m/kg]",
             )
-    pressure = t.get("pressure", "parabolic")
-    if pressure not in ("parabolic", "quartic"):
+    pressure, shape = v["pressure"], v["shape"]
+    if pressure not in PRESSURES:
         r.fail(where, "pressure", f"= {pressure!r}: use 'parabolic' or 'quartic'")
-    shape = t.get("shape", "any")
     if shape not in SHAPES:
         r.fail(where, "shape", f"= {shape!r}: use one of {', '.join(SHAPES)}")
-    extra = {}
-    for key in (
-        "stiffness_uncertainty",
-        "load_sensitivity",
-        "load_sensitivity_uncertainty",
-        "relaxation_length_m",
-        "camber_thrust_ratio",
-        "friction_load_sensitivity",
-        "friction_load_sensitivity_uncertainty",
-    ):
-        v = r.num(
-            t,
-            where,
-            key,
-            unit="-" if not key.endswith("_m") else "m",
-            required=False,
-            plausible=PLAUSIBLE[key],
-        )
-        if v is not None:
-            extra[key] = v
+    extra = {
+        k.name: v[k.name]
+        for k in TYRE.keys
+        if k.kind == "number" and k.default is not None and not k.required
+    }
     return Tyre(
         shape=shape,
         **extra,

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gripsense.config import Receiver, Vehicle, receiver_from
+from gripsense.config.vehicle_schema import CG_HEIGHT_RANGE_FACTORS
 
 __all__ = ["NoiseModel", "receiver_noise"]
 
@@ -128,7 +129,8 @@ class NoiseModel:
         if vehicle is not None:
             kw["tread_stiffness_rel"] = max(t.stiffness_uncertainty for t in vehicle.tyres.values())
             h = vehicle.cg_height_m
-            lo, hi = vehicle.cg_height_range_m or (0.7 * h, 1.4 * h)
+            f_lo, f_hi = CG_HEIGHT_RANGE_FACTORS
+            lo, hi = vehicle.cg_height_range_m or (f_lo * h, f_hi * h)
             kw["load_transfer_rel"] = max((hi - lo) / (2 * 1.645 * h), 0.02)
         return cls(**kw)
 

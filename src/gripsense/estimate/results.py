@@ -27,7 +27,7 @@ from gripsense.errors import InputError
 from gripsense.estimate.conditions import condition_table, conditions
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.wheels import FLAGS, NOT_STEADY_CORNERING
-from gripsense.io.results import read_result_folder, write_result_folder
+from gripsense.io.output_folder import read_result_folder, write_result_folder
 from gripsense.physics.surface import slippery_call, surface_class_interval
 
 __all__ = [
@@ -210,7 +210,7 @@ class FrictionResult:
     ) -> dict[str, Path]:
         """Write the result folder: ``wheels.parquet``, ``summary.json`` (and
         ``windows.parquet``, ``epochs.parquet``, ``ingest.json``, ``vehicle.toml`` when known)
-        plus ``manifest.json``, atomically (:func:`gripsense.io.results.write_result_folder`).
+        plus ``manifest.json``, atomically (:func:`gripsense.io.output_folder.write_result_folder`).
 
         Parameters
         ----------

@@ -27,7 +27,7 @@ from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
 from gripsense.fleet.tasks import calibration_batch, process_batch
-from gripsense.io.results import ResultWriter
+from gripsense.io.output_folder import ResultWriter
 
 __all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet", "safe_id"]
 
@@ -149,7 +149,7 @@ def run_fleet(
     outdir : path
         Output folder: ``epochs/`` (partitioned Parquet), ``cells.parquet``, ``cells.geojson``,
         ``map.html``, ``logs.csv``, ``problems.csv`` and ``manifest.json``, written atomically
-        (:class:`gripsense.io.results.ResultWriter`): a run in which no log can be used raises
+        (:class:`gripsense.io.output_folder.ResultWriter`): a run in which no log can be used raises
         and leaves the previous result as it was.
     vehicle, vehicle_map : path, optional
         One vehicle TOML for all logs, and/or a CSV mapping log patterns to vehicles.

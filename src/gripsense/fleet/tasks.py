@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import GripsenseError
-from gripsense.io.results import write_parquet
+from gripsense.io.output_folder import write_parquet
 
 __all__ = ["ROW_COLUMNS", "calibration_batch", "process_batch", "process_log"]
 

@@ -14,8 +14,8 @@ from gripsense.io.nmea import (
     align_channels,
     read_nmea,
 )
+from gripsense.io.output_folder import read_result_folder, write_result_folder
 from gripsense.io.pac89 import read_pac89_json
-from gripsense.io.results import read_result_folder, write_result_folder
 from gripsense.io.steer import read_steer_csv, steer_at
 from gripsense.io.table import numeric_column, parse_columns, read_motion_table, read_table
 from gripsense.io.text import read_text, read_toml

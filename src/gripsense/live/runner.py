@@ -27,7 +27,7 @@ import pandas as pd
 
 from gripsense.errors import GripsenseError, InputError
 from gripsense.estimate.results import UNIT_COLUMNS
-from gripsense.io.results import check_output_file, write_file_atomic, write_parquet
+from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
 from gripsense.live.incremental import LiveIngest
 
 __all__ = [

@@ -418,7 +418,7 @@ def g_sweep_figure(sweep) -> Figure:
 
 def save_png(fig: Figure, path, kind: str, dpi: int = 90) -> None:
     """Save *fig* as PNG with ``Software: gripsense <kind>`` in its metadata, so a later run
-    recognises the file as its own (:func:`gripsense.io.results.is_own_file`), and close it.
+    recognises the file as its own (:func:`gripsense.io.output_folder.is_own_file`), and close it.
 
     Parameters
     ----------

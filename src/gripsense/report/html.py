@@ -14,7 +14,7 @@ import pandas as pd
 
 from gripsense.estimate.estimators import estimator_of
 from gripsense.estimate.results import FrictionResult
-from gripsense.io.results import write_file_atomic
+from gripsense.io.output_folder import write_file_atomic
 from gripsense.report import figures as F
 
 __all__ = ["fig_to_data_uri", "html_table", "render_report", "write_report"]

@@ -2,11 +2,12 @@
 
 from gripsense.physics.steering_system import descriptor, simulate_release, simulate_step
 from gripsense.sim.gnss import CompassLog, CompassNoise, emulate_compass
+from gripsense.sim.integrate import simulate
 from gripsense.sim.maneuvers import Maneuver
 from gripsense.sim.scenario import run_scenario
 from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
-from gripsense.sim.vehicle import SimParams, SimResult, simulate
+from gripsense.sim.vehicle import SimParams, SimResult
 
 __all__ = [
     "CompassLog",

@@ -12,7 +12,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from gripsense.sim import vehicle as V
+from gripsense.sim import control as C
+from gripsense.sim.integrate import simulate
+from gripsense.sim.vehicle import SimParams, SimResult
 
 __all__ = [
     "Maneuver",
@@ -62,12 +64,12 @@ class Maneuver:
 
 
 def _ctrl(**kw) -> np.ndarray:
-    c = np.zeros(V.N_CTRL)
-    c[V.C_KP] = 3000.0  # speed controller gain [N per m/s]
-    c[V.C_FXMAX] = 6000.0  # [N]
-    c[V.C_LOOK] = 6.0  # pure-pursuit look-ahead [m]
+    c = np.zeros(C.N_CTRL)
+    c[C.C_KP] = 3000.0  # speed controller gain [N per m/s]
+    c[C.C_FXMAX] = 6000.0  # [N]
+    c[C.C_LOOK] = 6.0  # pure-pursuit look-ahead [m]
     for k, v in kw.items():
-        c[getattr(V, k)] = v
+        c[getattr(C, k)] = v
     return c
 
 
@@ -79,7 +81,7 @@ def circle(
     left: bool = True,
     lead_s: float = 6.0,
     settle_s: float = 6.0,
-    params: V.SimParams | None = None,
+    params: SimParams | None = None,
 ) -> Maneuver:
     """Steady circle at constant speed: a straight lead-in of *lead_s* (which also lets the
     heading offset be calibrated), then the circle, followed with pure pursuit.
@@ -89,13 +91,13 @@ def circle(
     look = float(np.clip(0.6 * speed_mps, 4.0, 0.5 * radius_m))
     x_in = speed_mps * lead_s  # where the circle starts (tangent to the lead-in line)
     ctrl = _ctrl(
-        C_STEER_MODE=V.STEER_CIRCLE,
+        C_STEER_MODE=C.STEER_CIRCLE,
         C_CX=x_in,
         C_CY=sgn * radius_m,
         C_R=radius_m,
         C_DIR=sgn,
         C_LOOK=look,
-        C_SPEED_MODE=V.SPEED_HOLD,
+        C_SPEED_MODE=C.SPEED_HOLD,
         C_V=speed_mps,
         C_T_LEAD=lead_s,
     )
@@ -127,7 +129,7 @@ def constant_radius(
     accel_mps2: float = 0.1,
     lead_s: float = 6.0,
     settle_s: float = 6.0,
-    params: V.SimParams | None = None,
+    params: SimParams | None = None,
 ) -> Maneuver:
     """ISO 4138 steady-state circular driving, constant-radius method with the speed rising:
     a straight lead-in, the circle at *speed_start_mps*, then the speed raised slowly
@@ -156,9 +158,9 @@ def constant_radius(
     """
     m = circle(speed_start_mps, radius_m, laps=0.0, lead_s=lead_s, settle_s=settle_s,
                params=params)  # fmt: skip
-    m.controller[V.C_SPEED_MODE] = V.SPEED_RAMP
-    m.controller[V.C_ACCEL] = accel_mps2
-    m.controller[V.C_T_BRAKE] = lead_s + settle_s
+    m.controller[C.C_SPEED_MODE] = C.SPEED_RAMP
+    m.controller[C.C_ACCEL] = accel_mps2
+    m.controller[C.C_T_BRAKE] = lead_s + settle_s
     sweep = max(speed_end_mps - speed_start_mps, 0.0) / accel_mps2
     m.duration_s = lead_s + settle_s + sweep
     m.name = (
@@ -216,7 +218,7 @@ def everyday(
         v += [lv, lv]
     t.append(t[-1] + 2.0)
     v.append(0.0)
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     return Maneuver(
         f"everyday v={speed_mps * 3.6:.0f}km/h",
         ctrl,
@@ -275,7 +277,7 @@ def sine_with_dwell(
             [0.0],
         ]
     )
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     return Maneuver(
         f"sine with dwell v={speed_mps * 3.6:.0f}km/h {np.rad2deg(amplitude_rad):.1f}deg",
         ctrl,
@@ -291,7 +293,7 @@ def fixed_steer(
     speed_mps: float, steer_rad: float, *, duration_s: float = 30.0, settle_s: float = 6.0
 ) -> Maneuver:
     """Constant road-wheel angle at constant speed (the thesis's 2016 experiments)."""
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     table = (np.array([0.0, 1.0]), np.array([steer_rad, steer_rad]))
     return Maneuver(
         f"steer {np.rad2deg(steer_rad):.0f}° v={speed_mps * 3.6:.0f}km/h",
@@ -315,7 +317,7 @@ def ramp_steer(
     t_end = hold_s + max_steer_rad / rate_rad_s
     table = (np.array([0.0, hold_s, t_end]), np.array([0.0, 0.0, max_steer_rad]))
     ctrl = _ctrl(
-        C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps, C_FXMAX=8000.0
+        C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps, C_FXMAX=8000.0
     )
     return Maneuver(
         f"ramp steer v={speed_mps * 3.6:.0f}km/h",
@@ -338,7 +340,7 @@ def slalom(
     """Sinusoidal steering at constant speed."""
     t = np.linspace(0.0, cycles * period_s, 50 * cycles + 1)
     table = (t, amplitude_rad * np.sin(2 * np.pi * t / period_s))
-    ctrl = _ctrl(C_STEER_MODE=V.STEER_TABLE, C_SPEED_MODE=V.SPEED_HOLD, C_V=speed_mps)
+    ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     return Maneuver(
         f"slalom v={speed_mps * 3.6:.0f}km/h",
         ctrl,
@@ -353,10 +355,10 @@ def slalom(
 def braking(speed_mps: float, *, cruise_s: float = 3.0) -> Maneuver:
     """Straight line at speed, then all wheels locked until standstill (thesis ch. 8)."""
     ctrl = _ctrl(
-        C_STEER_MODE=V.STEER_LINE,
+        C_STEER_MODE=C.STEER_LINE,
         C_R=0.0,
         C_LOOK=8.0,
-        C_SPEED_MODE=V.SPEED_BRAKE_LOCK,
+        C_SPEED_MODE=C.SPEED_BRAKE_LOCK,
         C_V=speed_mps,
         C_T_BRAKE=cruise_s,
     )
@@ -373,7 +375,7 @@ def braking(speed_mps: float, *, cruise_s: float = 3.0) -> Maneuver:
 
 
 def thesis_grid_2018(
-    params: V.SimParams | None = None,
+    params: SimParams | None = None,
     *,
     speeds_kmh=(20, 30, 40, 50),
     radii_m=(20, 25, 30, 35, 40),
@@ -395,16 +397,16 @@ def thesis_grid_2016(
 
 
 def run(
-    params: V.SimParams,
+    params: SimParams,
     m: Maneuver,
     *,
     mu: float = 0.9,
     patches=None,
     dt: float = 0.002,
     output_hz: float = 100.0,
-) -> V.SimResult:
+) -> SimResult:
     """Simulate a manoeuvre."""
-    res = V.simulate(
+    res = simulate(
         params,
         m.controller,
         m.duration_s,

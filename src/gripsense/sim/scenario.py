@@ -74,7 +74,7 @@ from gripsense.config import Vehicle
 from gripsense.config.receiver import EXACT, RECEIVERS
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
-from gripsense.io.results import ResultWriter
+from gripsense.io.output_folder import ResultWriter
 from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import OLD_NOISE_KEYS, CompassNoise, emulate_compass
@@ -190,7 +190,7 @@ def run_scenario(
     path : path
         Scenario TOML.
     outdir : path
-        Output folder: written atomically with a manifest (:class:`gripsense.io.results.
+        Output folder: written atomically with a manifest (:class:`gripsense.io.output_folder.
         ResultWriter`); an earlier simulation there is replaced only with *overwrite*.
     progress : callable or None
         Called as ``progress(i, n, case_id)`` before each case.

@@ -99,7 +99,7 @@ class SimTyre:
         numpy.ndarray
             F_y [N].
         """
-        from gripsense.sim.vehicle import tab_force  # the simulator's own interpolation
+        from gripsense.sim.dynamics import tab_force  # the simulator's own interpolation
 
         lam = 1.0 if mu_road is None else mu_road / self.mu_ref
         ax = np.concatenate([[1.0], self.axes()])

@@ -1,0 +1,110 @@
+"""One schema per configuration kind drives reading, validation, did-you-mean, the docs' key
+tables and the templates: a key's plausible range, unit and default are written once."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from gripsense.config import Receiver, Tyre, Vehicle
+from gripsense.config.docs import SCHEMAS, configuration_markdown
+from gripsense.config.receiver import RECEIVER
+from gripsense.config.schema import REQUIRED
+from gripsense.config.vehicle_schema import ANTENNA, CONTACT_LENGTH, TYRE, VEHICLE
+from gripsense.data import path as data_path
+from gripsense.errors import InputError
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "configuration.md"
+BASE = tomllib.loads(data_path("corolla_sim.toml").read_text(encoding="utf-8"))
+
+
+def _where(table: str) -> list[str]:
+    """Where a table's keys stand in BASE."""
+    return {
+        "vehicle": ["vehicle"],
+        "antenna": ["antenna"],
+        "tyre.front / tyre.rear": ["tyre", "rear"],
+        "tyre.*.contact_length": ["tyre", "rear", "contact_length"],
+        "receiver": ["receiver"],
+    }[table]
+
+
+def _with(table, key: str, value) -> dict:
+    doc = copy.deepcopy(BASE)
+    t = doc
+    for part in _where(table.name):
+        t = t.setdefault(part, {})
+    if table is CONTACT_LENGTH:
+        t.clear()  # a or b or fixed_m: the key under test alone (with its partner)
+        t.update({"a": 0.0104, "b": -1.017e-4} if key != "fixed_m" else {})
+    if table is TYRE and key == "cornering_stiffness_N_per_rad":
+        t.pop("tread_stiffness_N_per_m3")
+    t[key] = value
+    return doc
+
+
+def test_docs_are_the_schemas():
+    assert DOCS.read_text(encoding="utf-8") == configuration_markdown(), (
+        "docs/configuration.md is out of date: python -m gripsense.config.docs > "
+        "docs/configuration.md"
+    )
+    for t in SCHEMAS:
+        for k in t.keys:
+            assert f"| `{k.name}` |" in DOCS.read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    "table",
+    [VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH, RECEIVER],
+    ids=lambda t: t.name,
+)
+def test_every_plausible_range_is_enforced_by_the_reader(table):
+    checked = 0
+    for k in table.keys:
+        if k.kind != "number" or k.plausible is None:
+            continue
+        lo, hi = k.plausible
+        inside = min(max(0.5 * (lo + hi), lo), hi)
+        if k.name in ("cg_height_m",):
+            inside = 0.55  # the track must carry it (a rule across keys)
+        if k.name in ("x_m", "y_m", "fixed_m", "width_m", "cornering_stiffness_N_per_rad"):
+            inside = {"x_m": -0.8, "y_m": -0.53, "fixed_m": 0.13, "width_m": 0.185}.get(k.name, 5e4)
+        for value, ok in ((inside, True), (hi + abs(hi) + 1.0, False), (lo - abs(lo) - 1.0, False)):
+            doc = _with(table, k.name, value)
+            if ok:
+                Vehicle.from_dict(doc, source="v.toml")
+                continue
+            with pytest.raises(InputError, match=rf"{k.name}.*(plausible range|must be > 0)"):
+                Vehicle.from_dict(doc, source="v.toml")
+        checked += 1
+    assert checked >= 1
+
+
+@pytest.mark.parametrize("table", [VEHICLE, ANTENNA, TYRE, RECEIVER], ids=lambda t: t.name)
+def test_a_misspelt_key_names_the_closest(table):
+    k = next(k for k in table.keys if k.kind == "number")
+    doc = _with(table, k.name[:-1] + "x", 1.0)
+    with pytest.raises(InputError, match=rf"did you mean '{k.name}'"):
+        Vehicle.from_dict(doc, source="v.toml")
+
+
+def test_dataclass_defaults_are_the_schemas():
+    for cls, table in ((Tyre, TYRE), (Receiver, RECEIVER), (Vehicle, VEHICLE)):
+        fields = {f.name: f for f in dataclasses.fields(cls)}
+        for k in table.keys:
+            if k.name in fields and k.default not in (None, REQUIRED) and k.kind == "number":
+                assert fields[k.name].default == k.default, (cls.__name__, k.name)
+
+
+def test_template_with_values_reads_back():
+    values = {k: BASE["vehicle"][k] for k in VEHICLE.names if k in BASE["vehicle"]}
+    text = VEHICLE.template(values) + ANTENNA.template(BASE["antenna"]) + RECEIVER.template()
+    doc = tomllib.loads(text)
+    doc["tyre"] = BASE["tyre"]
+    v = Vehicle.from_dict(doc, source="template.toml")
+    assert v.mass_kg == BASE["vehicle"]["mass_kg"] and v.roll_camber_gain == 0.8
+    assert v.receiver is not None and v.receiver.heading_slow_tau_s == 20.0
