@@ -41,6 +41,7 @@ test-fast: $(VENV)/.installed-test
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/ruff format --check src tests benchmarks examples
+	$(BIN)/mypy
 
 # the examples gallery in full: figures into docs/examples/, notebooks regenerated from the
 # scripts (the tests run both in a reduced form)

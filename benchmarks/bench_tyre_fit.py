@@ -6,7 +6,7 @@ with 40 N force noise. Both solvers minimise the same cost ½Σ(Fy_model − Fy)
 coefficients, from the same data-derived start, with the same bounds and the same seed-002
 constraints (``--constraints``, default ``all``):
 
-* gripsense: :func:`gripsense.identify.tyre_fit.fit_pac94` (exact Jacobian, Gauss–Newton SQP);
+* gripsense: :func:`gripsense.identify.tyre_fit.pac94_fit` (exact Jacobian, Gauss–Newton SQP);
 * baseline: ``scipy.optimize.minimize(method="SLSQP")`` with no gradients supplied, so SLSQP uses
   finite differences for the cost and constraint gradients (its default), ``maxiter=2000``,
   ``ftol=1e-12``. To give it a fair chance the variables are scaled to unit curvature
@@ -31,7 +31,7 @@ from scipy.optimize import minimize
 
 from gripsense.identify.tyre_fit import fit_pac94
 from gripsense.identify.tyre_fit._solve import _constraint_flags
-from gripsense.identify.tyre_fit.pac94 import _pac94_setup
+from gripsense.identify.tyre_fit.pac94_fit import _pac94_setup
 from gripsense.physics.magic_formula.pac94 import pac94_lateral, pac94_lateral_native
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
 

@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Receiver, Vehicle, receiver_from
-from gripsense.config.calibration import Calibration, calibrated_vehicle
+from gripsense.config.calibration import AxleCalibration, Calibration, calibrated_vehicle
 from gripsense.errors import InputError
 from gripsense.estimate.estimators import Estimator, get_estimator
 from gripsense.estimate.friction import friction_from_motion
@@ -367,7 +367,7 @@ def solve_calibration(
         if (d.sha256, d.axle) not in seen:
             kept.append(d)
             seen.add((d.sha256, d.axle))
-    axles = {}
+    axles: dict[str, AxleCalibration] = {}
     for axle in ("front", "rear"):
         if axle not in vehicle.tyres:
             continue

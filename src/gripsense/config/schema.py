@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 from gripsense.config.toml_reader import TomlReader
 
@@ -54,7 +55,7 @@ class Key:
     name: str
     unit: str
     doc: str
-    default: object = None
+    default: Any = None
     plausible: tuple[float, float] | None = None
     positive: bool = False
     kind: str = "number"

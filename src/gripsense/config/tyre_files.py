@@ -107,12 +107,12 @@ def _json(path: Path, lenient: bool) -> TyreModel:
     if isinstance(doc, dict) and doc.get("model") in ("pac94", "mf61"):
         fit = TyreFit.from_dict(doc, source=str(path))
 
-        def forces(fz, kappa, alpha, gamma, side=None):
+        def fit_forces(fz, kappa, alpha, gamma, side=None):
             fy = fit.predict(fz, alpha, gamma)
             return np.full(np.shape(fy), np.nan), fy
 
         return TyreModel(
-            forces,
+            fit_forces,
             f"{fit.model.upper()} fit ({path.name}, {fit.variant} shifts; lateral only; the "
             "fitted data's sign convention)",
         )

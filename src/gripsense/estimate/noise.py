@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -91,7 +92,7 @@ class NoiseModel:
     def for_vehicle(
         cls,
         vehicle: Vehicle | None,
-        receiver: Receiver | str | None = None,
+        receiver: Receiver | str | Path | None = None,
     ) -> NoiseModel:
         """The noise model of a receiver on a vehicle: heading, velocity and yaw-rate noise
         from the receiver; the stiffness uncertainty from the tyres (the larger of the two
@@ -102,7 +103,7 @@ class NoiseModel:
         ----------
         vehicle : Vehicle or None
             Vehicle description (None: defaults).
-        receiver : Receiver or str, optional
+        receiver : Receiver or str or Path, optional
             Receiver, its name or file; default the vehicle file's ``[receiver]``, else
             ``v100``.
 

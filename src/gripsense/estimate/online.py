@@ -107,7 +107,7 @@ class OnlineAxleWindow:
         dict or None
             The window row (keys as :func:`estimate_windows`' windows).
         """
-        if len(self._bins) < self._bins.maxlen:
+        if len(self._bins) < (self._bins.maxlen or 1):
             return None
         t0 = np.array([b[0] for b in self._bins])
         t1 = np.array([b[1] for b in self._bins])

@@ -363,7 +363,7 @@ class ProfileCache:
     the same way, so they stay equal.
     """
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.data: np.ndarray | None = None
         self.est: dict | None = None
 
@@ -371,15 +371,16 @@ class ProfileCache:
         """:func:`profile_mu` of a window, or the previous window's answer when the data are
         the same within their noise (parameters as :func:`profile_mu`).
         """
-        d = self.data
+        d, prev = self.data, self.est
         if (
             d is not None
+            and prev is not None
             and d.shape == merged.shape
             and np.all(np.abs(d[:, :2] - merged[:, :2]) <= merged[:, 8:9])
             and np.all(np.abs(d[:, 6] - merged[:, 6]) <= merged[:, 7])
-            and self.est["fit"] != "inconsistent"
+            and prev["fit"] != "inconsistent"
         ):
-            est = dict(self.est)
+            est = dict(prev)
             if np.isfinite(lower):
                 est["mu_low"] = max(est["mu_low"], lower)
                 est["mu"] = max(est["mu"], lower) if est["observable"] else est["mu"]

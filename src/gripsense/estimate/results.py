@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -388,7 +388,8 @@ class AxleFriction(FrictionResult):
 
     unit: ClassVar[str] = "axle"
 
-    windows: pd.DataFrame = field(default_factory=pd.DataFrame)
+    # an instance field where the base class has a class-level None (WheelFriction has none)
+    windows: pd.DataFrame = field(default_factory=pd.DataFrame)  # type: ignore[misc]
 
     def _tables(self) -> dict[str, pd.DataFrame]:
         return {**super()._tables(), "windows": self.windows}
@@ -502,7 +503,7 @@ def summarize_wheels(
         sig = g.loc[ok, "mu_sigma"]
         cornering = ~g["flag"].isin(NOT_STEADY_CORNERING)
         util = g.loc[cornering, "utilisation"]
-        rec = {"wheel": str(wname), "n_total": len(g), "n_valid": int(ok.sum())}
+        rec: dict[str, Any] = {"wheel": str(wname), "n_total": len(g), "n_valid": int(ok.sum())}
         n_corner = int(cornering.sum())
         rec["valid_fraction"] = float(ok.sum() / n_corner) if n_corner else 0.0
         rec["observable"] = bool(ok.any() and rec["valid_fraction"] >= min_valid_fraction)

@@ -308,7 +308,7 @@ def wheel_kinematics(
         if axle == "front" and steer is None:
             continue
         tyre = vehicle.tyres[axle]
-        delta = steer if axle == "front" else 0.0
+        delta: np.ndarray | float = steer if axle == "front" and steer is not None else 0.0
         u_i, v_i = point_velocity(u_a, v_a, r, dx, dy)
         alpha = slip_angle(u_i, v_i, delta)
         spd = np.hypot(u_i, v_i)

@@ -21,8 +21,10 @@ import json
 import os
 import shutil
 import tempfile
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 
@@ -198,7 +200,7 @@ def check_output_file(
     kind: str,
     *,
     overwrite: bool,
-    inputs: list[str | Path] = (),
+    inputs: Sequence[str | Path] = (),
     header: list[str] | None = None,
 ) -> None:
     """Check before any work that *path* may receive an output file of *kind*.
@@ -359,7 +361,7 @@ class ResultFolder:
     path: Path
     manifest: dict
     tables: dict[str, pd.DataFrame] = field(default_factory=dict)
-    documents: dict[str, object] = field(default_factory=dict)
+    documents: dict[str, Any] = field(default_factory=dict)
     files: dict[str, Path] = field(default_factory=dict)
 
 
@@ -396,7 +398,7 @@ class ResultWriter:
         *,
         overwrite: bool = False,
         command: str = "",
-        inputs: list[str | Path] | None = None,
+        inputs: Sequence[str | Path] | None = None,
         extra: dict | None = None,
     ):
         self.folder = Path(folder)
@@ -457,10 +459,10 @@ def write_result_folder(
     kind: str,
     *,
     tables: dict[str, pd.DataFrame] | None = None,
-    documents: dict[str, object] | None = None,
-    copies: dict[str, str | Path] | None = None,
+    documents: Mapping[str, Any] | None = None,
+    copies: Mapping[str, str | Path] | None = None,
     texts: dict[str, str] | None = None,
-    inputs: list[str | Path] | None = None,
+    inputs: Sequence[str | Path] | None = None,
     command: str = "",
     extra: dict | None = None,
     overwrite: bool = False,

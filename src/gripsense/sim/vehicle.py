@@ -162,7 +162,7 @@ class SimParams:
             track_front_m=v.track_front_m,
             track_rear_m=v.track_rear_m,
             roll_front_fraction=kf,
-            roll_centre_heights_m=tuple(rc),
+            roll_centre_heights_m=(float(rc[0]), float(rc[1])),
             tyres=dict(v.tyres),
             relaxation_length_m=relaxation_length_m,
             drive=drive,

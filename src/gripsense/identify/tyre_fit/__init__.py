@@ -28,8 +28,8 @@ exact Jacobian (PAC94: analytic, sympy-checked; MF 6.1: central differences).
 from gripsense.config.tyre_fit import MF61_LATERAL, PAC94_NAMES, TyreFit
 from gripsense.identify.tyre_fit._solve import CONSTRAINT_SETS
 from gripsense.identify.tyre_fit.from_wheels import FITTERS, fit_from_wheel_table
-from gripsense.identify.tyre_fit.mf61 import fit_mf61_lateral
-from gripsense.identify.tyre_fit.pac94 import fit_pac94
+from gripsense.identify.tyre_fit.mf61_fit import fit_mf61_lateral
+from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
 __all__ = [
     "CONSTRAINT_SETS",

@@ -7,8 +7,8 @@ import pandas as pd
 
 from gripsense.config.tyre_fit import TyreFit
 from gripsense.errors import InputError
-from gripsense.identify.tyre_fit.mf61 import fit_mf61_lateral
-from gripsense.identify.tyre_fit.pac94 import fit_pac94
+from gripsense.identify.tyre_fit.mf61_fit import fit_mf61_lateral
+from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
 __all__ = ["FITTERS", "fit_from_wheel_table"]
 
