@@ -108,3 +108,40 @@ def test_template_with_values_reads_back():
     v = Vehicle.from_dict(doc, source="template.toml")
     assert v.mass_kg == BASE["vehicle"]["mass_kg"] and v.roll_camber_gain == 0.8
     assert v.receiver is not None and v.receiver.heading_slow_tau_s == 20.0
+
+
+def test_steering_car_file_is_read_through_its_schema(tmp_path):
+    """Every number key of a steering-system file: absent → its default or a 'missing' error,
+    not positive → an error naming it; the dataclass keeps the schema's defaults."""
+    from gripsense.config import SteeringCar
+    from gripsense.config.steering import STEERING_TABLES
+
+    base = tomllib.loads(data_path("of18_steering.toml").read_text(encoding="utf-8"))
+    f = tmp_path / "car.toml"
+
+    def write(doc):
+        lines = []
+        for table, t in doc.items():
+            lines.append(f"[{table}]")
+            lines += [f"{k} = {v!r}" if not isinstance(v, str) else f'{k} = "{v}"'
+                      for k, v in t.items()]  # fmt: skip
+        f.write_text("\n".join(lines) + "\n")
+
+    for table in STEERING_TABLES:
+        for k in table.keys:
+            if k.kind != "number":
+                continue
+            doc = copy.deepcopy(base)
+            doc[table.name][k.name] = -1.0
+            write(doc)
+            with pytest.raises(InputError, match=rf"\[{table.name}\] {k.name}.*> 0"):
+                SteeringCar.from_toml(f)
+            doc[table.name].pop(k.name)
+            write(doc)
+            if k.required:
+                with pytest.raises(InputError, match=rf"\[{table.name}\] {k.name}: missing"):
+                    SteeringCar.from_toml(f)
+            else:
+                car = SteeringCar.from_toml(f)
+                if k.default is not None:
+                    assert getattr(car, k.name) == k.default

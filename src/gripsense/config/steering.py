@@ -8,30 +8,137 @@ import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from gripsense.config.schema import REQUIRED, Key, Table
 from gripsense.config.toml_reader import TomlReader
 from gripsense.io.text import read_toml
 
-__all__ = ["SteeringCar"]
+__all__ = ["STEERING_TABLES", "SteeringCar"]
 
-_KEYS = {
-    "car": ("name", "mass_kg", "yaw_inertia_kgm2", "lf_m", "lr_m"),
-    "steering": (
-        "kingpin_inertia_kgm2",
-        "kingpin_damping_Nms",
-        "ks1_Nm_per_rad",
-        "ks2_Nm_per_rad",
-        "trail_m",
-        "steering_ratio",
-        "wheel_inertia_kgm2",
-        "wheel_damping_Nms",
+_NMS = "N·m·s/rad"
+CAR = Table(
+    "car",
+    (
+        Key("name", "", "label (default: the file's name)", kind="text"),
+        Key("mass_kg", "kg", "mass m", REQUIRED, positive=True),
+        Key("yaw_inertia_kgm2", "kg·m²", "yaw inertia I", REQUIRED, positive=True),
+        Key("lf_m", "m", "CG to front axle", REQUIRED, positive=True),
+        Key("lr_m", "m", "CG to rear axle", REQUIRED, positive=True),
     ),
-    "tyre": (
-        "cornering_stiffness_front_N_per_rad",
-        "cornering_stiffness_rear_N_per_rad",
-        "lateral_stiffness_N_per_m",
+    "the car of a steering-system file (seed 003)",
+)
+STEERING = Table(
+    "steering",
+    (
+        Key(
+            "kingpin_inertia_kgm2",
+            "kg·m²",
+            "I_s: steered wheels and knuckles about their kingpins",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "kingpin_damping_Nms",
+            _NMS,
+            "C_s: viscous friction about the kingpins (the identification's start)",
+            50.0,
+            positive=True,
+        ),
+        Key(
+            "ks1_Nm_per_rad",
+            "N·m/rad",
+            "k_s1: steering stiffness from drawings",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "ks2_Nm_per_rad",
+            "N·m/rad",
+            "k_s2: the part that is not (joints, play); absent: rigid",
+            None,
+            positive=True,
+        ),
+        Key(
+            "trail_m",
+            "m",
+            "ξ: kingpin-to-force-point distance per front wheel",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "steering_ratio",
+            "-",
+            "steering-wheel angle / road-wheel angle N",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "wheel_inertia_kgm2",
+            "kg·m²",
+            "steering-wheel inertia (at the wheel)",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "wheel_damping_Nms",
+            _NMS,
+            "steering-wheel damping (at the wheel)",
+            REQUIRED,
+            positive=True,
+        ),
     ),
-    "test": ("speed_mps", "release_angle_deg", "step_stop_deg", "reference_steer_rate_dps"),
-}
+    "the steering system",
+)
+TYRES = Table(
+    "tyre",
+    (
+        Key(
+            "cornering_stiffness_front_N_per_rad",
+            "N/rad",
+            "K per front tyre",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "cornering_stiffness_rear_N_per_rad",
+            "N/rad",
+            "K per rear tyre",
+            REQUIRED,
+            positive=True,
+        ),
+        Key(
+            "lateral_stiffness_N_per_m",
+            "N/m",
+            "k_y: the tyre's lateral stiffness",
+            REQUIRED,
+            positive=True,
+        ),
+    ),
+    "the tyres of a steering-system file",
+)
+TEST = Table(
+    "test",
+    (
+        Key("speed_mps", "m/s", "constant forward speed V", REQUIRED, positive=True),
+        Key("release_angle_deg", "deg", "steering-wheel angle released from", 30.0, positive=True),
+        Key(
+            "step_stop_deg",
+            "deg",
+            "steering-wheel angle of the step's stopper",
+            90.0,
+            positive=True,
+        ),
+        Key(
+            "reference_steer_rate_dps",
+            "deg/s",
+            "steering-wheel rate the yaw gain refers to",
+            70.0,
+            positive=True,
+        ),
+    ),
+    "the tests of a steering-system file",
+)
+STEERING_TABLES = (CAR, STEERING, TYRES, TEST)
+"""The tables of a steering-system file (``gripsense/data/of18_steering.toml``)."""
 
 
 @dataclass(frozen=True)
@@ -88,9 +195,9 @@ class SteeringCar:
     steering_ratio: float
     wheel_inertia_kgm2: float
     wheel_damping_Nms: float
-    reference_steer_rate_dps: float = 70.0
-    step_stop_deg: float = 90.0
-    release_angle_deg: float = 30.0
+    reference_steer_rate_dps: float = TEST["reference_steer_rate_dps"].default  # 70
+    step_stop_deg: float = TEST["step_stop_deg"].default  # 90
+    release_angle_deg: float = TEST["release_angle_deg"].default  # 30
 
     @property
     def ks(self) -> float:
@@ -142,58 +249,28 @@ class SteeringCar:
         """
         doc = read_toml(path, "steering car file")
         r = TomlReader(doc, str(path))
-        r.known(doc, "", _KEYS)
-        car, st, ty, te = (r.table(n, True) for n in ("car", "steering", "tyre", "test"))
-        for name, t in zip(("car", "steering", "tyre", "test"), (car, st, ty, te), strict=True):
-            r.known(t, name, _KEYS[name])
-        ks2 = r.num(st, "steering", "ks2_Nm_per_rad", unit="N·m/rad", positive=True, required=False)
+        r.known(doc, "", [t.name for t in STEERING_TABLES])
+        v: dict = {}
+        for t in STEERING_TABLES:
+            v |= t.read(r, r.table(t.name, True))
         return cls(
-            mass_kg=r.num(car, "car", "mass_kg", unit="kg", positive=True),
-            yaw_inertia_kgm2=r.num(car, "car", "yaw_inertia_kgm2", unit="kg·m²", positive=True),
-            lf_m=r.num(car, "car", "lf_m", unit="m", positive=True),
-            lr_m=r.num(car, "car", "lr_m", unit="m", positive=True),
-            speed_mps=r.num(te, "test", "speed_mps", unit="m/s", positive=True),
-            kingpin_inertia_kgm2=r.num(
-                st, "steering", "kingpin_inertia_kgm2", unit="kg·m²", positive=True
-            ),
-            kingpin_damping_Nms=r.num(
-                st,
-                "steering",
-                "kingpin_damping_Nms",
-                unit="N·m·s/rad",
-                positive=True,
-                required=False,
-            )
-            or 50.0,
-            ks1_Nm_per_rad=r.num(st, "steering", "ks1_Nm_per_rad", unit="N·m/rad", positive=True),
-            ks2_Nm_per_rad=math.inf if ks2 is None else ks2,
-            trail_m=r.num(st, "steering", "trail_m", unit="m", positive=True),
-            cornering_stiffness_front_N_per_rad=r.num(
-                ty, "tyre", "cornering_stiffness_front_N_per_rad", unit="N/rad", positive=True
-            ),
-            cornering_stiffness_rear_N_per_rad=r.num(
-                ty, "tyre", "cornering_stiffness_rear_N_per_rad", unit="N/rad", positive=True
-            ),
-            tyre_lateral_stiffness_N_per_m=r.num(
-                ty, "tyre", "lateral_stiffness_N_per_m", unit="N/m", positive=True
-            ),
-            steering_ratio=r.num(st, "steering", "steering_ratio", unit="-", positive=True),
-            wheel_inertia_kgm2=r.num(
-                st, "steering", "wheel_inertia_kgm2", unit="kg·m²", positive=True
-            ),
-            wheel_damping_Nms=r.num(
-                st, "steering", "wheel_damping_Nms", unit="N·m·s/rad", positive=True
-            ),
-            reference_steer_rate_dps=r.num(
-                te, "test", "reference_steer_rate_dps", unit="deg/s", positive=True, required=False
-            )
-            or 70.0,
-            step_stop_deg=r.num(
-                te, "test", "step_stop_deg", unit="deg", positive=True, required=False
-            )
-            or 90.0,
-            release_angle_deg=r.num(
-                te, "test", "release_angle_deg", unit="deg", positive=True, required=False
-            )
-            or 30.0,
+            mass_kg=v["mass_kg"],
+            yaw_inertia_kgm2=v["yaw_inertia_kgm2"],
+            lf_m=v["lf_m"],
+            lr_m=v["lr_m"],
+            speed_mps=v["speed_mps"],
+            kingpin_inertia_kgm2=v["kingpin_inertia_kgm2"],
+            kingpin_damping_Nms=v["kingpin_damping_Nms"],
+            ks1_Nm_per_rad=v["ks1_Nm_per_rad"],
+            ks2_Nm_per_rad=math.inf if v["ks2_Nm_per_rad"] is None else v["ks2_Nm_per_rad"],
+            trail_m=v["trail_m"],
+            cornering_stiffness_front_N_per_rad=v["cornering_stiffness_front_N_per_rad"],
+            cornering_stiffness_rear_N_per_rad=v["cornering_stiffness_rear_N_per_rad"],
+            tyre_lateral_stiffness_N_per_m=v["lateral_stiffness_N_per_m"],
+            steering_ratio=v["steering_ratio"],
+            wheel_inertia_kgm2=v["wheel_inertia_kgm2"],
+            wheel_damping_Nms=v["wheel_damping_Nms"],
+            reference_steer_rate_dps=v["reference_steer_rate_dps"],
+            step_stop_deg=v["step_stop_deg"],
+            release_angle_deg=v["release_angle_deg"],
         )
