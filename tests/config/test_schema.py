@@ -145,3 +145,20 @@ def test_steering_car_file_is_read_through_its_schema(tmp_path):
                 car = SteeringCar.from_toml(f)
                 if k.default is not None:
                     assert getattr(car, k.name) == k.default
+
+
+def test_scenario_defaults_are_the_emulators():
+    """The scenario tables' defaults are those of the emulators they configure (their own
+    signatures and dataclass, read here independently of the schema)."""
+    import inspect
+
+    from gripsense.config.scenario_schema import ACCELEROMETER, GNSS, STEERING_CHANNEL
+    from gripsense.sim.gnss import CompassNoise
+    from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
+
+    for f in dataclasses.fields(CompassNoise):
+        assert GNSS[f.name].default == f.default, f.name
+    for table, fn in ((ACCELEROMETER, emulate_accelerometer), (STEERING_CHANNEL, emulate_steering)):
+        sig = inspect.signature(fn).parameters
+        for k in table.keys:
+            assert sig[k.name].default == k.default, (table.name, k.name)

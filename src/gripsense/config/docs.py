@@ -5,25 +5,39 @@
 from __future__ import annotations
 
 from gripsense.config.receiver import RECEIVER
+from gripsense.config.scenario_schema import SCENARIO_TABLES
 from gripsense.config.steering import STEERING_TABLES
 from gripsense.config.vehicle_schema import ANTENNA, CALIBRATION, CONTACT_LENGTH, TYRE, VEHICLE
 
 __all__ = ["SCHEMAS", "configuration_markdown"]
 
-SCHEMAS = (VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH, CALIBRATION, RECEIVER, *STEERING_TABLES)
+SCHEMAS = (
+    VEHICLE,
+    ANTENNA,
+    TYRE,
+    CONTACT_LENGTH,
+    CALIBRATION,
+    RECEIVER,
+    *STEERING_TABLES,
+    *SCENARIO_TABLES,
+)
 """Every table of a vehicle file (``[receiver]`` may also stand in a file of its own), then the
-tables of a steering-system file (``gripsense steering identify``)."""
+tables of a steering-system file (``gripsense steering identify``) and of a scenario file
+(``gripsense simulate``)."""
 
 _HEAD = """# Configuration keys
 
-Every key of the vehicle file, of a receiver file and of a steering-system file (`[car]`,
-`[steering]`, `[tyre]`, `[test]`; `gripsense steering identify`), with its unit, default and
-plausible range (a value outside is an error naming the range: most often a unit mistake).
-Unknown keys are errors that suggest the closest known key. Generated from the schemas in
-`gripsense.config.vehicle_schema`, `gripsense.config.receiver` and `gripsense.config.steering`
-— the same entries the readers check — by `python -m gripsense.config.docs`; rules that tie
-keys together (a weight share or a CG position, both roll-centre heights or neither, the track
-against the CG height) are stated in the meaning column and checked by `Vehicle.from_dict`.
+Every key of the vehicle file, of a receiver file, of a steering-system file (`[car]`,
+`[steering]`, `[tyre]`, `[test]`; `gripsense steering identify`) and of a scenario file
+(`[scenario]`, `[road]`, `[gnss]`, `[accelerometer]`, `[steering]`; `gripsense simulate`; the
+manoeuvres' keys are in `gripsense.sim.scenario`), with its unit, default and plausible range
+(a value outside is an error naming the range: most often a unit mistake). Unknown keys are
+errors that suggest the closest known key. Generated from the schemas in
+`gripsense.config.vehicle_schema`, `gripsense.config.receiver`, `gripsense.config.steering` and
+`gripsense.config.scenario_schema` — the same entries the readers check — by
+`python -m gripsense.config.docs`; rules that tie keys together (a weight share or a CG
+position, both roll-centre heights or neither, the track against the CG height) are stated in
+the meaning column and checked by `Vehicle.from_dict`.
 """
 
 

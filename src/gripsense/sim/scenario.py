@@ -64,7 +64,6 @@ from __future__ import annotations
 import itertools
 import shutil
 import warnings
-from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
@@ -72,6 +71,14 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.config.receiver import EXACT, RECEIVERS
+from gripsense.config.scenario_schema import (
+    ACCELEROMETER,
+    GNSS,
+    ROAD,
+    SCENARIO,
+    STEERING_CHANNEL,
+)
+from gripsense.config.scenario_schema import SCENARIO_TABLES as TABLES
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
 from gripsense.io.output_folder import ResultWriter
@@ -84,9 +91,7 @@ from gripsense.sim.vehicle import SimParams
 
 __all__ = ["run_scenario"]
 
-SCENARIO_TABLES = ("scenario", "road", "gnss", "accelerometer", "steering", "case", "grid")
-ACCEL_KEYS = ("rate_hz", "pitch_deg", "roll_deg", "noise_g")
-STEER_KEYS = ("rate_hz", "noise_deg", "scale_error", "offset_deg")
+SCENARIO_TABLES = (*(t.name for t in TABLES), "case", "grid")
 CASE_KEYS = ("maneuver", "mu", "name", "tyre", "receiver")  # besides the manoeuvre's own
 
 _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
@@ -213,9 +218,8 @@ def run_scenario(
     doc = read_toml(path, "scenario file")
     r = TomlReader(doc, src)
     r.known(doc, "", SCENARIO_TABLES)
-    sc = r.table("scenario", required=True)
-    r.known(sc, "scenario", ("name", "vehicle", "seed", "drive", "relaxation_length_m", "tyre"))
-    vref = sc.get("vehicle")
+    sc = SCENARIO.read(r, r.table("scenario", required=True))
+    vref = sc["vehicle"]
     if not vref:
         _fail(src, "[scenario] vehicle", "missing (a vehicle TOML path or bundled name)")
     vpath = _resolve(path, vref, "", src, "[scenario] vehicle", "vehicle")
@@ -227,45 +231,33 @@ def run_scenario(
             f"{vpath.name} needs [antenna] x_m, y_m (the antenna "
             "position relative to the CG) to emulate the receiver",
         )
-    sim_kw = {
-        "drive": sc.get("drive"),
-        "relaxation_length_m": float(sc.get("relaxation_length_m", 0)),
-    }
-    default_tyre = sc.get("tyre", "brush")
-    seed = int(sc.get("seed", 0))
-    road = r.table("road", required=False)
-    r.known(road, "road", ("mu", "patches"))
-    mu0 = float(road.get("mu", 0.9))
+    sim_kw = {"drive": sc["drive"], "relaxation_length_m": sc["relaxation_length_m"]}
+    default_tyre = sc["tyre"]
+    seed = int(sc["seed"])
+    road = ROAD.read(r, r.table("road", required=False))
+    mu0 = road["mu"]
     patches = []
-    for k, pt in enumerate(road.get("patches", [])):
+    for k, pt in enumerate(road["patches"] or []):
         try:
             (x0, x1), (y0, y1), mu = pt["x_m"], pt["y_m"], float(pt["mu"])
         except (KeyError, TypeError, ValueError):
             _fail(src, f"[road] patches[{k}]", "needs x_m = [min, max], y_m = [min, max], mu")
         patches.append((x0, x1, y0, y1, mu))
-    g = r.table("gnss", required=False)
-    r.known(
-        g, "gnss", ("rate_hz", "noise", *(f.name for f in fields(CompassNoise)), *OLD_NOISE_KEYS)
-    )
+    g = dict(r.table("gnss", required=False))
     for old, new in OLD_NOISE_KEYS.items():
         if old in g:
             warnings.warn(
                 f"{src}: [gnss] {old} is deprecated; write {new}", FutureWarning, stacklevel=2
             )
-    names = {f.name for f in fields(CompassNoise)}
-    over = {
-        OLD_NOISE_KEYS.get(k, k): float(v)
-        for k, v in g.items()
-        if OLD_NOISE_KEYS.get(k, k) in names
-    }
-    default_receiver = g.get("noise", "v100")
-    rate = float(g.get("rate_hz", 10.0))
-    acc = doc.get("accelerometer")
-    if acc is not None:
-        r.known(r.table("accelerometer", required=False), "accelerometer", ACCEL_KEYS)
-    steer = doc.get("steering")
-    if steer is not None:
-        r.known(r.table("steering", required=False), "steering", STEER_KEYS)
+            g[new] = g.pop(old)
+    gnss = GNSS.read(r, g)
+    over = {k: gnss[k] for k in g if k not in ("rate_hz", "noise")}
+    default_receiver, rate = gnss["noise"], gnss["rate_hz"]
+    acc = steer = None
+    if "accelerometer" in doc:
+        acc = ACCELEROMETER.read(r, r.table("accelerometer", required=False))
+    if "steering" in doc:
+        steer = STEERING_CHANNEL.read(r, r.table("steering", required=False))
 
     specs: list[tuple[dict, float]] = []
     for c in doc.get("case", []):
@@ -395,10 +387,10 @@ def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, stee
         if acc is not None:
             a = emulate_accelerometer(
                 res,
-                rate_hz=float(acc.get("rate_hz", 50.0)),
-                pitch_deg=float(acc.get("pitch_deg", 0.0)),
-                roll_deg=float(acc.get("roll_deg", 0.0)),
-                noise_g=float(acc.get("noise_g", 0.01)),
+                rate_hz=acc["rate_hz"],
+                pitch_deg=acc["pitch_deg"],
+                roll_deg=acc["roll_deg"],
+                noise_g=acc["noise_g"],
                 seed=seed + i,
             )
             a.to_csv(out / f"{cid}_accel.csv", index=False, float_format="%.5f")
@@ -406,10 +398,10 @@ def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, stee
         if steer is not None:
             st = emulate_steering(
                 res,
-                rate_hz=float(steer.get("rate_hz", 50.0)),
-                noise_deg=float(steer.get("noise_deg", 0.05)),
-                scale_error=float(steer.get("scale_error", 0.03)),
-                offset_deg=float(steer.get("offset_deg", 0.0)),
+                rate_hz=steer["rate_hz"],
+                noise_deg=steer["noise_deg"],
+                scale_error=steer["scale_error"],
+                offset_deg=steer["offset_deg"],
                 seed=seed + 7919 + i,
             )
             st.to_csv(out / f"{cid}_steer.csv", index=False, float_format="%.5f")
