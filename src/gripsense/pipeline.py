@@ -65,7 +65,7 @@ class FrictionRun:
         calibrated axle's stiffness and uncertainty replace the vehicle file's (default: the
         vehicle file's ``[calibration] file``, if any).
     **options
-        Fields of :class:`~gripsense.estimate.friction.FrictionOptions`
+        Fields of :class:`~gripsense.estimate.options.FrictionOptions`
         (e.g. ``min_speed_mps=4.0``, ``calibrate_heading=False``).
 
     Examples

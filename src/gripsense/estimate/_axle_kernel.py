@@ -616,7 +616,7 @@ def profile_nll(
 
 @njit(cache=True, nogil=True)
 def merge_runs(t0, t1, n, data, tol, noise_cols):
-    """The loop of :func:`gripsense.estimate.axle_window.merge_steady`: runs of bins whose
+    """The loop of :func:`gripsense.estimate.bins.merge_steady`: runs of bins whose
     measured grip (column 9) stays within *tol* of the run's first bin, without a time gap, as
     count-weighted means; the columns in *noise_cols* combine as white noise of a mean,
     √(Σ nᵢ² σᵢ²) / Σ nᵢ. Sums in bin order, as ``np.bincount`` would. Returns (mid, merged).

@@ -2,7 +2,7 @@
 
 In the linear range of the tyres the axle force per load is the declared stiffness's linear
 prediction times a scale s, bent a little by the start of the curve's saturation. Per 1 s bin of
-:func:`~gripsense.estimate.axle_window.axle_bins` (slips lagged by the relaxation length, loads
+:func:`~gripsense.estimate.bins.axle_bins` (slips lagged by the relaxation length, loads
 with transfer, the axle force):
 
     y = F / (Fz_L + Fz_R),   k = −(C_L tan α_L + C_R tan α_R) / (Fz_L + Fz_R)

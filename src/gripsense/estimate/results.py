@@ -84,7 +84,7 @@ class FrictionResult:
     Attributes
     ----------
     wheels : pandas.DataFrame
-        One row per wheel and epoch (:data:`gripsense.estimate.friction.WHEEL_COLUMNS`).
+        One row per wheel and epoch (:data:`gripsense.estimate.wheels.WHEEL_COLUMNS`).
     summary : pandas.DataFrame
         One row per wheel (:class:`WheelFriction`) or axle (:class:`AxleFriction`).
     meta : dict
@@ -297,7 +297,7 @@ class WheelFriction(FrictionResult):
     ``mu`` (median over valid steady samples), ``mu_low``/``mu_high`` (90 % interval),
     ``n_valid``/``n_total``, ``surface``, the measured grip of the wheel's axle (``grip_used``,
     largest bin mean, and ``grip_used_lower``, its model-free bound; see
-    :func:`gripsense.estimate.axle_window.measured_grip`), ``utilisation_p95`` (95th percentile of
+    :func:`gripsense.estimate.grip.measured_grip`), ``utilisation_p95`` (95th percentile of
     the wheel's own |F|/Fz, which depends on the load-transfer model) and one ``n_<flag>``
     column per flag.
     """
@@ -480,7 +480,7 @@ def summarize_wheels(
     standard error of the median: the dominant errors (heading offset, G, pressure shape) are
     shared by all samples and do not average out. A μ is given only when at least
     *min_valid_fraction* of the steady cornering samples are valid (see
-    :class:`~gripsense.estimate.friction.FrictionOptions`); ``observable`` says whether it was.
+    :class:`~gripsense.estimate.options.FrictionOptions`); ``observable`` says whether it was.
 
     Parameters
     ----------
@@ -489,7 +489,7 @@ def summarize_wheels(
     min_valid_fraction : float
         Fewest valid samples, as a fraction of the steady cornering ones, for a value [-].
     measured : pandas.DataFrame, optional
-        Measured grip per axle (:func:`gripsense.estimate.axle_window.measured_grip`).
+        Measured grip per axle (:func:`gripsense.estimate.grip.measured_grip`).
 
     Returns
     -------
