@@ -253,24 +253,9 @@ class SteeringCar:
         v: dict = {}
         for t in STEERING_TABLES:
             v |= t.read(r, r.table(t.name, True))
-        return cls(
-            mass_kg=v["mass_kg"],
-            yaw_inertia_kgm2=v["yaw_inertia_kgm2"],
-            lf_m=v["lf_m"],
-            lr_m=v["lr_m"],
-            speed_mps=v["speed_mps"],
-            kingpin_inertia_kgm2=v["kingpin_inertia_kgm2"],
-            kingpin_damping_Nms=v["kingpin_damping_Nms"],
-            ks1_Nm_per_rad=v["ks1_Nm_per_rad"],
-            ks2_Nm_per_rad=math.inf if v["ks2_Nm_per_rad"] is None else v["ks2_Nm_per_rad"],
-            trail_m=v["trail_m"],
-            cornering_stiffness_front_N_per_rad=v["cornering_stiffness_front_N_per_rad"],
-            cornering_stiffness_rear_N_per_rad=v["cornering_stiffness_rear_N_per_rad"],
-            tyre_lateral_stiffness_N_per_m=v["lateral_stiffness_N_per_m"],
-            steering_ratio=v["steering_ratio"],
-            wheel_inertia_kgm2=v["wheel_inertia_kgm2"],
-            wheel_damping_Nms=v["wheel_damping_Nms"],
-            reference_steer_rate_dps=v["reference_steer_rate_dps"],
-            step_stop_deg=v["step_stop_deg"],
-            release_angle_deg=v["release_angle_deg"],
-        )
+        # the file's keys are the fields, but for the label, k_y's name and a rigid k_s2
+        v.pop("name")
+        v["tyre_lateral_stiffness_N_per_m"] = v.pop("lateral_stiffness_N_per_m")
+        if v["ks2_Nm_per_rad"] is None:
+            v["ks2_Nm_per_rad"] = math.inf
+        return cls(**v)
