@@ -23,7 +23,8 @@ A unit after a colon converts, with the same words in every command that reads a
 (``friction --table``, ``brake-mu``, ``tyre fit``, ``camber``, ``fit-contact``, ``steering
 identify``, ``--steer``): ``s``, ``ms``; ``m/s`` (``mps``), ``km/h`` (``kmh``), ``mph``, ``kn``;
 ``mps2``, ``g``; ``deg``, ``rad``; ``dps``, ``rps``; ``N``, ``kN``, ``lbf``; ``m``, ``cm``,
-``mm``; ``kg``. A unit must be of the quantity's kind (``slip=beta:kmh`` is an error). A leading
+``mm``; ``kg``; ``Nm``. A unit must be of the quantity's kind (``slip=beta:kmh`` is an
+error). A leading
 ``-`` flips the sign (``yaw_rate=-YawRate:dps`` for a clockwise-positive source). Without
 ``--columns``, headers that carry a known name and a unit suffix are mapped by themselves
 (``time_s``, ``speed_kmh``, ``slip_deg``, ``yaw_rate_dps``, ``ax_mps2``, ``fz_kN`` …;
@@ -80,6 +81,7 @@ UNITS = {
     "cm": 1e-2,
     "mm": 1e-3,
     "kg": 1.0,
+    "Nm": 1.0,
 }
 """Unit word -> factor to SI; the same words in every command's ``--columns``."""
 
@@ -92,6 +94,7 @@ UNIT_DIMENSIONS = {
     **dict.fromkeys(("N", "kN", "lbf"), "force"),
     **dict.fromkeys(("m", "cm", "mm"), "length"),
     "kg": "mass",
+    "Nm": "torque",
 }
 """Unit word -> what it measures; a unit is accepted only for a quantity of its kind."""
 
@@ -105,6 +108,7 @@ _SUFFIX_EXAMPLE = {
     "force": "N",
     "length": "mm",
     "mass": "kg",
+    "torque": "Nm",
 }
 
 

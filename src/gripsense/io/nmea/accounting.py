@@ -1,4 +1,6 @@
-"""Line accounting of an ingest: every input line is in exactly one bucket."""
+"""Accounting of an ingest: every input line (or binary frame, or data record) is in exactly one
+bucket — the same report for NMEA, VBOX, UBX, MDF4 and CAN logs (``docs/ingest.md``).
+"""
 
 from __future__ import annotations
 
@@ -32,20 +34,23 @@ class RejectedLine:
 
 @dataclass
 class IngestReport:
-    """Where every line of an NMEA input went.
+    """Where every line (or frame, or record) of an input went.
 
     Attributes
     ----------
     source : str
         File name (or ``<lines>`` / ``<stream>``).
     total_lines : int
-        Lines in the input.
+        Input units: lines of a text log; lines plus frames of a mixed UBX/NMEA stream;
+        records of an MDF4 or CAN log (:attr:`unit` says which).
     parsed : dict
-        Sentence type -> number of lines read into the epoch table.
+        Sentence, message or channel type -> number of units read into the epoch table.
     ignored : dict
-        Type -> number of valid lines not used (other sentence types, ``(blank)``, ``(comment)``).
+        Type -> number of valid units not used (other sentence types, ``(blank)``, ``(comment)``,
+        UBX messages gripsense does not read, CAN frames of unmapped messages).
     rejected : dict
-        Reason -> number of lines rejected (all five reasons, zeros included).
+        Reason -> number of units rejected (all NMEA reasons, zeros included, and any
+        format-specific reason).
     first_rejects : list of RejectedLine
         The first rejected lines (up to 20), with line number and detail.
     junk_prefix_lines : int
@@ -56,6 +61,13 @@ class IngestReport:
         Whether a date (RMC, ZDA) was found; without one ``time_utc`` is NaT.
     notes : list of str
         What else happened to the input (a cut-off gzip stream, lines beyond the size limits).
+    format : str
+        The log format (``NMEA 0183``, ``VBOX VBO``, ``u-blox UBX``, ``MDF4``, ``CAN BLF`` …).
+    unit : str
+        What :attr:`total_lines` counts (``lines``, ``lines and frames``, ``records``).
+    channels : dict
+        Epoch-table channel -> the rate it came at [Hz] (median interval of the rows that have
+        it).
     """
 
     source: str
@@ -69,6 +81,9 @@ class IngestReport:
     epochs_without_time: int = 0
     has_date: bool = False
     notes: list[str] = field(default_factory=list)
+    format: str = "NMEA 0183"
+    unit: str = "lines"
+    channels: dict[str, float] = field(default_factory=dict)
 
     @property
     def n_parsed(self) -> int:
@@ -94,7 +109,8 @@ class IngestReport:
         """The accounting as a table: bucket, kind (type or reason), lines."""
         rows = [("parsed", k, v) for k, v in sorted(self.parsed.items())]
         rows += [("ignored", k, v) for k, v in sorted(self.ignored.items())]
-        rows += [("rejected", k, self.rejected.get(k, 0)) for k in REASONS]
+        reasons = [*REASONS, *(k for k in self.rejected if k not in REASONS)]
+        rows += [("rejected", k, self.rejected.get(k, 0)) for k in reasons]
         return pd.DataFrame(rows, columns=["bucket", "kind", "lines"])
 
     def to_dict(self) -> dict:
@@ -111,4 +127,7 @@ class IngestReport:
             "epochs_without_time": self.epochs_without_time,
             "notes": list(self.notes),
             "has_date": self.has_date,
+            "format": self.format,
+            "unit": self.unit,
+            "channels": dict(self.channels),
         }

@@ -46,7 +46,15 @@ from numba import njit
 
 from gripsense.io.nmea.schema import SENTENCES
 
-__all__ = ["EPOCH_COLUMNS", "assemble_epochs", "epoch_boundaries", "epoch_boundaries_loop"]
+__all__ = [
+    "EPOCH_COLUMNS",
+    "HEADING_SOURCES",
+    "YAW_RATE_SOURCES",
+    "assemble_epochs",
+    "epoch_boundaries",
+    "epoch_boundaries_loop",
+    "yaw_from_heading",
+]
 
 EPOCH_COLUMNS = [
     "time_utc",
@@ -71,9 +79,11 @@ EPOCH_COLUMNS = [
 _MIN_PARALLEL_EPOCHS = 100_000  # shorter logs fill their columns on the calling thread
 ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
 HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "PSTI,036", "THS", "HDT")
-# categories of ``heading_source``, by priority
-HEADING_SOURCES = ["HPR", "PASHR", "PSTI", "THS", "HDT"]
-YAW_RATE_SOURCES = ["ROT", "heading"]  # categories of ``yaw_rate_source``
+# categories of ``heading_source``: the NMEA sentences by priority, then the other formats
+# (VBOX True_Head, UBX NAV-RELPOSNED / NAV-ATT, a mapped MDF4 or CAN channel)
+HEADING_SOURCES = ["HPR", "PASHR", "PSTI", "THS", "HDT", "VBOX", "RELPOSNED", "NAV-ATT", "channel"]
+# categories of ``yaw_rate_source``: NMEA ROT, the heading's rate, VBOX Yaw_Rate, a mapped channel
+YAW_RATE_SOURCES = ["ROT", "heading", "VBOX", "channel"]
 
 
 def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
@@ -331,7 +341,7 @@ def _fill_yaw(t, hdg, max_gap, yaw, src):
             src[i] = -1
 
 
-def _yaw_from_heading(t: np.ndarray, hdg: np.ndarray, yaw: np.ndarray, src: np.ndarray) -> None:
+def yaw_from_heading(t: np.ndarray, hdg: np.ndarray, yaw: np.ndarray, src: np.ndarray) -> None:
     """Fill the missing ISO yaw rate [rad/s] from compass heading [deg] by central differences.
 
     Uses (ψ[i+1] − ψ[i−1]) / (t[i+1] − t[i−1]) over the epochs that have a heading, with each
@@ -472,7 +482,7 @@ def assemble_epochs(
     yaw = -rot * ROT_TO_RPS
     ysrc = np.zeros(n_ep, dtype=np.int8)
     if np.isnan(rot).any():
-        _yaw_from_heading(t_s, heading, yaw, ysrc)
+        yaw_from_heading(t_s, heading, yaw, ysrc)
     ep["yaw_rate_rps"] = yaw
     ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 

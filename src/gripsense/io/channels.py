@@ -1,0 +1,257 @@
+"""Named channels of measurement logs (VBOX, MDF4, CAN) mapped onto the epoch table.
+
+One ``--columns`` convention for every format (the same words as the tables of
+:mod:`gripsense.io.table`): ``heading=True_Head,steer=SteerAngle:deg,torque=-TrqCol:Nm``. A
+unit after the colon overrides the file's own; without one the unit the file states for the
+channel is used (MDF4 and DBC signals carry units, a VBOX file its ``[channel units]``), and a
+channel without either is an error naming it. A leading ``-`` flips the sign.
+
+==============  ===================================================  =========================
+key             epoch-table column                                   kind (unit words)
+==============  ===================================================  =========================
+heading         ``heading_deg``: true heading, clockwise from north  angle (deg, rad)
+course          ``course_deg``: course over ground                   angle
+speed           ``speed_mps``: speed over ground                     speed (m/s, km/h, mph, kn)
+lat, lon        ``lat_deg``, ``lon_deg`` (north, east positive)      angle
+alt             ``alt_m``                                            length (m, cm, mm)
+yaw_rate        ``yaw_rate_rps``: ISO, counter-clockwise positive    angular rate (dps, rps)
+pitch, roll     ``pitch_deg``, ``roll_deg``                          angle
+steer           ``steer_rad``: road-wheel angle, ISO left positive   angle
+steering_wheel  ``steering_wheel_rad``: hand-wheel angle (÷ ratio)   angle
+torque          ``torque_nm``: steering-column torque                torque (Nm)
+==============  ===================================================  =========================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gripsense.errors import InputError
+from gripsense.io.table import UNIT_DIMENSIONS, UNITS
+
+__all__ = ["CHANNEL_KEYS", "ChannelSpec", "file_unit_factor", "parse_channel_spec"]
+
+
+@dataclass(frozen=True)
+class ChannelKey:
+    """One quantity a log channel can give.
+
+    Parameters
+    ----------
+    column : str
+        Epoch-table column it fills.
+    dimension : str
+        What it measures (a value of :data:`gripsense.io.table.UNIT_DIMENSIONS`).
+    to_column : float
+        Factor from SI to the column's unit (degrees for angles stored in degrees) [-].
+    """
+
+    column: str
+    dimension: str
+    to_column: float = 1.0
+
+
+_DEG = 180.0 / np.pi
+CHANNEL_KEYS = {
+    "heading": ChannelKey("heading_deg", "angle", _DEG),
+    "course": ChannelKey("course_deg", "angle", _DEG),
+    "speed": ChannelKey("speed_mps", "speed"),
+    "lat": ChannelKey("lat_deg", "angle", _DEG),
+    "lon": ChannelKey("lon_deg", "angle", _DEG),
+    "alt": ChannelKey("alt_m", "length"),
+    "yaw_rate": ChannelKey("yaw_rate_rps", "angular rate"),
+    "pitch": ChannelKey("pitch_deg", "angle", _DEG),
+    "roll": ChannelKey("roll_deg", "angle", _DEG),
+    "steer": ChannelKey("steer_rad", "angle"),
+    "steering_wheel": ChannelKey("steering_wheel_rad", "angle"),
+    "torque": ChannelKey("torque_nm", "torque"),
+}
+"""``--columns`` key of a log -> the epoch-table column it fills."""
+
+_FILE_UNITS = {
+    "°": "deg",
+    "degrees": "deg",
+    "degree": "deg",
+    "deg": "deg",
+    "rad": "rad",
+    "radians": "rad",
+    "°/s": "dps",
+    "deg/s": "dps",
+    "degrees/s": "dps",
+    "dps": "dps",
+    "rad/s": "rps",
+    "km/h": "kmh",
+    "kmh": "kmh",
+    "kph": "kmh",
+    "m/s": "mps",
+    "mps": "mps",
+    "mph": "mph",
+    "knots": "kn",
+    "kn": "kn",
+    "kts": "kn",
+    "m": "m",
+    "metres": "m",
+    "meters": "m",
+    "cm": "cm",
+    "mm": "mm",
+    "nm": "Nm",
+    "n·m": "Nm",
+    "n.m": "Nm",
+    "n m": "Nm",
+    "n": "N",
+    "kn·m": None,  # not a unit gripsense converts silently (kN·m on a column is suspicious)
+    "s": "s",
+    "sec": "s",
+    "secs": "s",
+    "ms": "ms",
+    "g": "g",
+    "m/s²": "mps2",
+    "m/s^2": "mps2",
+    "m/s2": "mps2",
+}
+
+
+def file_unit_factor(unit: str | None, dimension: str) -> float | None:
+    """The factor to SI of a unit as a file writes it, if it is one of *dimension*.
+
+    Parameters
+    ----------
+    unit : str or None
+        The file's unit text (``"deg"``, ``"°/s"``, ``"km/h"``, ``"Nm"`` …).
+    dimension : str
+        The quantity's kind.
+
+    Returns
+    -------
+    float or None
+        Factor to SI [-]; None when the text is empty, unknown or of another kind.
+    """
+    if not unit:
+        return None
+    word = _FILE_UNITS.get(unit.strip().lower())
+    if word is None and unit.strip() in UNITS:
+        word = unit.strip()
+    if word is None or UNIT_DIMENSIONS.get(word) != dimension:
+        return None
+    return UNITS[word]
+
+
+@dataclass(frozen=True)
+class ChannelSpec:
+    """One mapped channel: ``key=[-]CHANNEL[:unit]``.
+
+    Parameters
+    ----------
+    key : str
+        A key of :data:`CHANNEL_KEYS`.
+    channel : str
+        The channel (signal) name in the file.
+    sign : float
+        +1, or −1 for a leading ``-`` [-].
+    factor : float or None
+        Factor to SI of the unit given after the colon [-]; None: take the file's unit.
+    """
+
+    key: str
+    channel: str
+    sign: float
+    factor: float | None
+
+    def column_values(self, raw: np.ndarray, file_unit: str | None, where: str) -> np.ndarray:
+        """The channel's values in the epoch-table column's unit.
+
+        Parameters
+        ----------
+        raw : numpy.ndarray
+            Values as the file stores them [the file's unit].
+        file_unit : str or None
+            The unit the file states for the channel.
+        where : str
+            File (and section) for the message.
+
+        Returns
+        -------
+        numpy.ndarray
+            Values [the column's unit].
+        """
+        ck = CHANNEL_KEYS[self.key]
+        factor = self.factor
+        if factor is None:
+            factor = file_unit_factor(file_unit, ck.dimension)
+        if factor is None:
+            stated = (
+                f"its unit {file_unit!r} is not one of {ck.dimension}"
+                if file_unit
+                else ("it has no unit")
+            )
+            raise InputError(
+                f"{where}: channel {self.channel!r} ({self.key}): {stated}; give it in --columns "
+                f"({self.key}={self.channel}:UNIT, e.g. "
+                f"{self.key}={self.channel}:{_EXAMPLE[ck.dimension]})"
+            )
+        return np.asarray(raw, dtype=float) * (self.sign * factor * ck.to_column)
+
+
+_EXAMPLE = {
+    "angle": "deg",
+    "speed": "kmh",
+    "length": "m",
+    "angular rate": "dps",
+    "torque": "Nm",
+}
+
+
+def parse_channel_spec(spec: str | dict | None) -> dict[str, ChannelSpec]:
+    """``--columns`` of a log -> mapped channels.
+
+    Parameters
+    ----------
+    spec : str, dict or None
+        ``key=[-]CHANNEL[:unit],…`` or a dict key -> ``"[-]CHANNEL[:unit]"``.
+
+    Returns
+    -------
+    dict
+        Key -> :class:`ChannelSpec`.
+    """
+    if not spec:
+        return {}
+    if isinstance(spec, dict):
+        items = list(spec.items())
+    else:
+        items = []
+        for part in spec.split(","):
+            if not part.strip():
+                continue
+            if "=" not in part:
+                raise InputError(f"--columns: {part.strip()!r} is not key=CHANNEL[:unit]")
+            k, v = part.split("=", 1)
+            items.append((k, v))
+    out = {}
+    for key, value in items:
+        key = key.strip()
+        if key not in CHANNEL_KEYS:
+            raise InputError(
+                f"--columns: unknown key {key!r} for a log; use {', '.join(CHANNEL_KEYS)}"
+            )
+        v = str(value).strip()
+        sign = -1.0 if v.startswith("-") else 1.0
+        v = v.lstrip("-")
+        factor = None
+        if ":" in v:
+            v, unit = v.rsplit(":", 1)
+            dim = CHANNEL_KEYS[key].dimension
+            if unit not in UNITS:
+                raise InputError(f"--columns: {key}: unknown unit {unit!r}; use {sorted(UNITS)}")
+            if UNIT_DIMENSIONS[unit] != dim:
+                raise InputError(
+                    f"--columns: {key}={v}:{unit}: {unit} is a unit of {UNIT_DIMENSIONS[unit]}, "
+                    f"but {key} needs a unit of {dim}"
+                )
+            factor = UNITS[unit]
+        if not v:
+            raise InputError(f"--columns: {key}: no channel name")
+        out[key] = ChannelSpec(key, v, sign, factor)
+    return out

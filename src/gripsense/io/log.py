@@ -1,0 +1,164 @@
+"""One entry point for every log format: :func:`read_log` -> the epoch table and its accounting.
+
+The format is recognised from the file's content (a suffix alone can lie: a ``.log`` may hold
+UBX, a ``.txt`` a VBOX file); gzip is decompressed first, whatever the format:
+
+==============  ===========================================  ====================================
+format          recognised by                                read with
+==============  ===========================================  ====================================
+MDF4            ``MDF     `` identification block            asammdf (:mod:`gripsense.io.mdf`)
+CAN BLF         ``LOGG`` signature                           python-can + cantools (``--dbc``)
+CAN ASC         ``date``/``base hex`` header of a Vector ASC python-can + cantools (``--dbc``)
+VBOX VBO        ``[column names]`` / ``File created on``     by hand (:mod:`gripsense.io.vbo`)
+UBX (+ NMEA)    a UBX frame with a good checksum             compiled scan (:mod:`gripsense.io.ubx`)
+NMEA 0183       anything else                                :func:`gripsense.io.read_nmea`
+==============  ===========================================  ====================================
+
+Every reader returns the same :class:`~gripsense.io.nmea.reader.NmeaLog`: the epoch table
+(``docs/ingest.md``), an :class:`~gripsense.io.nmea.accounting.IngestReport` whose
+``format`` names the format, ``unit`` what it counted (lines, frames, records) and
+``channels`` the rate of each channel it gave, and the decoded rows.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from gripsense.errors import InputError
+from gripsense.io.epoch_table import channel_rates
+from gripsense.io.nmea.reader import MAX_BYTES, MAX_LINES, NmeaLog, read_log_bytes, read_nmea
+from gripsense.io.text import read_bytes
+
+__all__ = ["FORMATS", "LogOptions", "detect_format", "read_log"]
+
+FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc")
+"""Format names of :func:`detect_format` (and ``--format`` of ``gripsense simulate``)."""
+
+
+@dataclass(frozen=True)
+class LogOptions:
+    """How to read a log beyond its own content.
+
+    Parameters
+    ----------
+    columns : str or dict, optional
+        Channels to map (``heading=…,steer=…:deg,torque=…:Nm``; :mod:`gripsense.io.channels`);
+        needed for MDF4 and CAN logs, optional for VBOX.
+    dbc : str or Path, optional
+        The DBC database that decodes a CAN log.
+    time_offset : float, optional
+        Seconds added to a log's relative time to make it UTC seconds since 1970, for MDF4 or
+        CAN logs without an absolute start time [s].
+    strict : bool
+        Stop at the first rejected line, frame or record.
+    max_lines : int
+        Largest number of NMEA lines read (the rest counted).
+    """
+
+    columns: str | dict | None = None
+    dbc: str | Path | None = None
+    time_offset: float | None = None
+    strict: bool = False
+    max_lines: int = MAX_LINES
+
+
+def detect_format(head: bytes) -> str:
+    """The format of a log from its first bytes (decompressed).
+
+    Parameters
+    ----------
+    head : bytes
+        The first 64 KiB or so.
+
+    Returns
+    -------
+    str
+        One of :data:`FORMATS`.
+    """
+    from gripsense.io.ubx import is_ubx
+    from gripsense.io.vbo import is_vbo
+
+    if head.startswith(b"MDF     ") or head.startswith(b"UnFinMF "):
+        return "mf4"
+    if head.startswith(b"LOGG"):
+        return "blf"
+    start = head[:4096].lstrip().lower()
+    if start.startswith(b"date ") or b"\nbase hex" in start[:2048] or start.startswith(b"base "):
+        return "asc"
+    if is_vbo(head):
+        return "vbo"
+    if is_ubx(head):
+        return "ubx"
+    return "nmea"
+
+
+def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -> NmeaLog:
+    """Read a GNSS-compass or measurement log of any supported format (see the module
+    documentation) into the epoch table.
+
+    Parameters
+    ----------
+    path : str or Path
+        The log (plain or gzip-compressed).
+    options : LogOptions, optional
+        Channel mapping, DBC, time offset, strict mode.
+    **kw
+        Fields of :class:`LogOptions` given directly (``columns=…``, ``strict=True``).
+
+    Returns
+    -------
+    NmeaLog
+        ``epochs``, ``report`` (with ``format``, ``unit`` and ``channels``) and the decoded
+        rows.
+
+    Examples
+    --------
+    >>> from gripsense.data import demo_path  # doctest: +SKIP
+    >>> read_log(demo_path("case001.nmea.gz")).report.format  # doctest: +SKIP
+    'NMEA 0183'
+    """
+    o = options if options is not None else LogOptions(**kw)
+    if options is not None and kw:
+        raise TypeError("read_log: give options or keyword fields, not both")
+    p = Path(path)
+    raw = read_bytes(p, "file; give the path of a log")
+    fmt = detect_format(raw[:65536])
+    if raw[:2] == b"\x1f\x8b":
+        data, notes = read_log_bytes(p, max_bytes=MAX_BYTES)
+        fmt = detect_format(data[:65536])
+    else:
+        data, notes = raw, []
+    if fmt in ("mf4", "blf", "asc") and o.columns is None:
+        raise InputError(
+            f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
+            "course and speed with --columns (e.g. --columns heading=True_Head:deg,"
+            "course=Course:deg,speed=Speed:kmh; docs/ingest.md)"
+        )
+    if fmt == "nmea":
+        log = read_nmea(p, strict=o.strict, max_lines=o.max_lines)
+    elif fmt == "ubx":
+        from gripsense.io.ubx import parse_ubx
+
+        log = parse_ubx(data, str(p), strict=o.strict)
+        log.report.notes[:0] = notes
+    elif fmt == "vbo":
+        from gripsense.io.vbo import parse_vbo
+
+        text = data.decode("utf-8", errors="replace") if data else ""
+        log = parse_vbo(text, str(p), columns=o.columns, strict=o.strict)
+        log.report.notes[:0] = notes
+    elif fmt == "mf4":
+        from gripsense.io.mdf import read_mdf
+
+        log = read_mdf(p, data, columns=o.columns, time_offset=o.time_offset, strict=o.strict)
+    else:
+        from gripsense.io.canlog import read_can
+
+        if o.dbc is None:
+            raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
+        log = read_can(p, data, fmt, dbc=o.dbc, columns=o.columns, time_offset=o.time_offset,
+                       strict=o.strict)  # fmt: skip
+    log.report.channels = channel_rates(log.epochs)
+    return log

@@ -1,0 +1,542 @@
+"""u-blox UBX binary logs (mixed with NMEA on one stream, as receivers send them).
+
+A ZED-F9P moving-base rover gives its heading only in UBX: ``NAV-RELPOSNED`` carries the
+heading of the base→rover baseline with its accuracy and validity flags. gripsense reads:
+
+=================  =========================================================================
+message            what is read
+=================  =========================================================================
+NAV-PVT (01 07)    UTC date and time (when valid), fix type, carrier solution, satellites,
+                   position, height above MSL, ground speed and its accuracy (``sAcc``),
+                   course (``headMot``) — position and speed only with ``gnssFixOK``
+NAV-RELPOSNED      true heading of the baseline (``relPosHeading``) and its accuracy — only
+(01 3C, v1)        when ``gnssFixOK``, ``relPosValid``, ``relPosHeadingValid`` and the carrier
+                   solution is fixed (``carrSoln`` = 2); other frames are counted as ignored
+                   with the reason
+NAV-ATT (01 05)    roll, pitch and vehicle heading (dead-reckoning receivers); the heading
+                   is used where RELPOSNED gives none
+=================  =========================================================================
+
+Frames are grouped into epochs by ``iTOW`` (GPS time of week); UTC comes from NAV-PVT (the
+offset of UTC from ``iTOW`` includes the leap seconds). Every frame is accounted for: read
+(``parsed``), a message gripsense does not use (``ignored``), or rejected: ``bad checksum``
+(the Fletcher checksum of the frame does not match), ``truncated`` (the stream ends inside the
+frame), ``malformed field`` (a known message with the wrong length). The bytes that are not
+UBX frames are read as NMEA (:func:`gripsense.io.read_nmea`), and the NMEA epochs fill what
+the UBX epochs lack at the same UTC time.
+
+The frame scan is one compiled pass over the bytes and the fields are decoded with vectorised
+reads of the frame payloads (``benchmarks/bench_ingest.py`` compares it with pyubx2, which
+the tests use as the reference decoder).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from numba import njit
+
+from gripsense.io.epoch_table import build_epochs
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.reader import NmeaLog, read_nmea
+from gripsense.io.nmea.schema import BAD_CHECKSUM, MALFORMED, REASONS, TRUNCATED
+
+__all__ = ["MESSAGES", "is_ubx", "parse_ubx", "scan_frames", "write_ubx"]
+
+SYNC = b"\xb5\x62"
+MAX_PAYLOAD = 4096
+"""Longest payload taken as a frame [bytes]; a longer length field means the sync bytes were
+data (the messages gripsense reads are at most 92 bytes)."""
+
+MESSAGES = {
+    (0x01, 0x07): ("NAV-PVT", (92,)),
+    (0x01, 0x3C): ("NAV-RELPOSNED", (64, 40)),
+    (0x01, 0x05): ("NAV-ATT", (32,)),
+}
+"""(class, id) -> name and accepted payload lengths of the messages read."""
+
+_NAMES = {
+    0x01: "NAV",
+    0x02: "RXM",
+    0x04: "INF",
+    0x05: "ACK",
+    0x06: "CFG",
+    0x09: "UPD",
+    0x0A: "MON",
+    0x0D: "TIM",
+    0x10: "ESF",
+    0x13: "MGA",
+    0x21: "LOG",
+    0x27: "SEC",
+    0x28: "HNR",
+}
+
+# frame status codes of the scan
+OK, BAD_CK, CUT = 0, 1, 2
+
+
+@njit(cache=True, nogil=True)
+def _scan(d, max_payload):
+    """Find UBX frames: start, payload length and status (OK / BAD_CK / CUT) of each, and a
+    mask of the bytes that belong to frames.
+    """
+    n = d.size
+    starts = np.empty(n // 8 + 1, dtype=np.int64)
+    lengths = np.empty(n // 8 + 1, dtype=np.int64)
+    status = np.empty(n // 8 + 1, dtype=np.int8)
+    mask = np.zeros(n, dtype=np.bool_)
+    k = 0
+    i = 0
+    while i + 1 < n:
+        if d[i] != 0xB5 or d[i + 1] != 0x62:
+            i += 1
+            continue
+        if i + 6 > n:  # header cut off
+            starts[k] = i
+            lengths[k] = -1
+            status[k] = CUT
+            mask[i:n] = True
+            k += 1
+            break
+        ln = np.int64(d[i + 4]) | (np.int64(d[i + 5]) << 8)
+        if ln > max_payload:
+            i += 1
+            continue
+        end = i + 8 + ln
+        if end > n:
+            starts[k] = i
+            lengths[k] = ln
+            status[k] = CUT
+            mask[i:n] = True
+            k += 1
+            break
+        a = np.uint8(0)
+        b = np.uint8(0)
+        for j in range(i + 2, i + 6 + ln):
+            a = np.uint8(a + d[j])
+            b = np.uint8(b + a)
+        starts[k] = i
+        lengths[k] = ln
+        status[k] = OK if (a == d[end - 2] and b == d[end - 1]) else BAD_CK
+        mask[i:end] = True
+        k += 1
+        i = end
+    return starts[:k], lengths[:k], status[:k], mask
+
+
+def scan_frames(data: bytes | np.ndarray) -> pd.DataFrame:
+    """The UBX frames of a byte stream.
+
+    Parameters
+    ----------
+    data : bytes or numpy.ndarray
+        The stream.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per frame: ``start`` (byte offset), ``cls``, ``id``, ``length`` (payload
+        bytes; −1 when the header is cut off) and ``status`` (0 checksum good, 1 bad checksum,
+        2 cut off); ``attrs["mask"]`` marks the bytes that belong to frames.
+    """
+    d = np.frombuffer(data, dtype=np.uint8) if isinstance(data, bytes | bytearray) else data
+    starts, lengths, status, mask = _scan(d, MAX_PAYLOAD)
+    cls = np.where(starts + 2 < d.size, d[np.minimum(starts + 2, d.size - 1)], 0)
+    mid = np.where(starts + 3 < d.size, d[np.minimum(starts + 3, d.size - 1)], 0)
+    out = pd.DataFrame(
+        {"start": starts, "cls": cls, "id": mid, "length": lengths, "status": status}
+    )
+    out.attrs["mask"] = mask
+    return out
+
+
+def is_ubx(head: bytes) -> bool:
+    """Whether the start of a stream holds a UBX frame with a good checksum.
+
+    Parameters
+    ----------
+    head : bytes
+        The first few kilobytes.
+    """
+    if SYNC not in head[:65536]:
+        return False
+    fr = scan_frames(head[:65536])
+    return bool((fr["status"] == OK).any())
+
+
+def _u(d: np.ndarray, off: np.ndarray, size: int, signed: bool = False) -> np.ndarray:
+    """Little-endian integers of *size* bytes at offsets *off*."""
+    v = np.zeros(off.size, dtype=np.int64)
+    for b in range(size):
+        v |= d[off + b].astype(np.int64) << (8 * b)
+    if signed:
+        top = np.int64(1) << (8 * size - 1)
+        v = np.where(v >= top, v - (top << 1), v)
+    return v
+
+
+def _msg_name(cls: int, mid: int) -> str:
+    return f"UBX {_NAMES.get(cls, f'0x{cls:02X}')}-0x{mid:02X}"
+
+
+def _pvt(d: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
+    """Decode NAV-PVT payloads at offsets *p* (u-blox interface description, UBX-NAV-PVT)."""
+    itow = _u(d, p, 4)
+    year, month, day = _u(d, p + 4, 2), d[p + 6].astype(int), d[p + 7].astype(int)
+    hour, minute, sec = d[p + 8].astype(int), d[p + 9].astype(int), d[p + 10].astype(int)
+    valid = d[p + 11].astype(int)
+    nano = _u(d, p + 16, 4, True)
+    fix_type = d[p + 20].astype(int)
+    flags = d[p + 21].astype(int)
+    ok = (flags & 1).astype(bool) & (fix_type >= 2) & (fix_type != 5)
+    carr = (flags >> 6) & 3
+    gga = np.where(~ok, 0, np.where(carr == 2, 4, np.where(carr == 1, 5, np.where(
+        flags & 2, 2, np.where(fix_type == 1, 6, 1)))))  # fmt: skip
+    utc = np.full(p.size, np.nan)
+    good_t = ((valid & 3) == 3) & (year >= 1980) & (month >= 1) & (month <= 12) & (day >= 1)
+    if good_t.any():
+        days = (
+            pd.to_datetime(
+                {"year": year[good_t], "month": month[good_t], "day": day[good_t]}, errors="coerce"
+            )
+            .to_numpy("M8[D]")
+            .astype("int64")
+        )
+        utc[good_t] = days * 86400.0 + hour[good_t] * 3600 + minute[good_t] * 60 + sec[good_t]
+        utc[good_t] += nano[good_t] * 1e-9
+    nan_unless = np.where(ok, 1.0, np.nan)
+    return {
+        "itow": itow,
+        "utc": utc,
+        "fix_quality": gga.astype(float),
+        "n_sats": d[p + 23].astype(float),
+        "lon_deg": _u(d, p + 24, 4, True) * 1e-7 * nan_unless,
+        "lat_deg": _u(d, p + 28, 4, True) * 1e-7 * nan_unless,
+        "alt_m": _u(d, p + 36, 4, True) * 1e-3 * nan_unless,
+        "speed_mps": _u(d, p + 60, 4, True) * 1e-3 * nan_unless,
+        "course_deg": np.mod(_u(d, p + 64, 4, True) * 1e-5, 360.0) * nan_unless,
+        "speed_acc_mps": _u(d, p + 68, 4) * 1e-3 * nan_unless,
+        "hdop": _u(d, p + 76, 2) * 0.01 * nan_unless,  # pDOP: the nearest UBX has
+    }
+
+
+def _relposned(d: np.ndarray, p: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Decode NAV-RELPOSNED v1 payloads; the second value says why a heading is not used
+    (0 used, 1 no fix / relative position invalid, 2 carrier not fixed, 3 heading invalid).
+    """
+    flags = _u(d, p + 60, 4)
+    fix_ok = ((flags & 1) != 0) & ((flags & 4) != 0)
+    fixed = ((flags >> 3) & 3) == 2
+    hdg_ok = (flags & (1 << 8)) != 0
+    why = np.where(~fix_ok, 1, np.where(~fixed, 2, np.where(~hdg_ok, 3, 0)))
+    use = np.where(why == 0, 1.0, np.nan)
+    return {
+        "itow": _u(d, p + 4, 4),
+        "heading_deg": np.mod(_u(d, p + 24, 4, True) * 1e-5, 360.0) * use,
+        "heading_acc_deg": _u(d, p + 52, 4) * 1e-5 * use,
+    }, why
+
+
+def _att(d: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
+    """Decode NAV-ATT payloads (roll, pitch, heading [1e-5 deg])."""
+    return {
+        "itow": _u(d, p, 4),
+        "roll_deg": _u(d, p + 8, 4, True) * 1e-5,
+        "pitch_deg": _u(d, p + 12, 4, True) * 1e-5,
+        "att_heading_deg": np.mod(_u(d, p + 16, 4, True) * 1e-5, 360.0),
+    }
+
+
+_WHY = {
+    1: "UBX NAV-RELPOSNED (no fix or relative position invalid)",
+    2: "UBX NAV-RELPOSNED (carrier solution not fixed)",
+    3: "UBX NAV-RELPOSNED (heading not valid)",
+}
+_WEEK_MS = 604_800_000
+
+
+def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> NmeaLog:
+    """Read a UBX (or mixed UBX and NMEA) byte stream into the epoch table.
+
+    Parameters
+    ----------
+    data : bytes
+        The stream.
+    name : str
+        File name, for messages.
+    strict : bool
+        Raise at the first rejected frame or line instead of counting it.
+
+    Returns
+    -------
+    NmeaLog
+        ``epochs``, ``report`` (lines and frames) and ``sentences`` (the NMEA sentences, and
+        per UBX message its decoded rows with the byte offset ``start`` of each frame).
+    """
+    from gripsense.errors import InputError
+
+    d = np.frombuffer(data, dtype=np.uint8)
+    fr = scan_frames(d)
+    mask = fr.attrs["mask"]
+    parsed: dict[str, int] = {}
+    ignored: dict[str, int] = {}
+    rejected = dict.fromkeys(REASONS, 0)
+    rejects: list[tuple[int, str, str]] = []
+
+    def reject(start: int, reason: str, detail: str) -> None:
+        rejected[reason] = rejected.get(reason, 0) + 1
+        if strict:
+            raise InputError(f"{name}: byte {start}: UBX frame: {reason}: {detail} (strict mode)")
+        if len(rejects) < 20:
+            rejects.append((start, reason, detail))
+
+    for row in fr[fr["status"] != OK].itertuples(index=False):
+        what = _msg_name(int(row.cls), int(row.id)) if row.length >= 0 else "UBX frame"
+        if row.status == BAD_CK:
+            reject(int(row.start), BAD_CHECKSUM, f"{what}, {row.length}-byte payload")
+        else:
+            reject(int(row.start), TRUNCATED, f"{what}: the stream ends inside the frame")
+    good = fr[fr["status"] == OK]
+    tables: dict[str, pd.DataFrame] = {}
+    why_counts: dict[str, int] = {}
+    for (c, i), (mname, lengths) in MESSAGES.items():
+        sel = good[(good["cls"] == c) & (good["id"] == i)]
+        if sel.empty:
+            continue
+        ln_ok = sel["length"].isin(lengths[:1]).to_numpy()
+        for row in sel[~ln_ok].itertuples(index=False):
+            if mname == "NAV-RELPOSNED" and row.length == 40:
+                ignored["UBX NAV-RELPOSNED v0 (no heading)"] = (
+                    ignored.get("UBX NAV-RELPOSNED v0 (no heading)", 0) + 1
+                )
+                continue
+            reject(int(row.start), MALFORMED, f"UBX {mname} with a {row.length}-byte payload "
+                   f"(expected {lengths[0]})")  # fmt: skip
+        sel = sel[ln_ok]
+        if sel.empty:
+            continue
+        p = sel["start"].to_numpy() + 6
+        if mname == "NAV-PVT":
+            cols = _pvt(d, p)
+        elif mname == "NAV-RELPOSNED":
+            cols, why = _relposned(d, p)
+            for code, label in _WHY.items():
+                nw = int((why == code).sum())
+                if nw:
+                    why_counts[label] = nw
+        else:
+            cols = _att(d, p)
+        t = pd.DataFrame(cols)
+        t.insert(0, "start", sel["start"].to_numpy())
+        tables[mname] = t
+        unused = int((why != 0).sum()) if mname == "NAV-RELPOSNED" else 0
+        if len(t) > unused:
+            parsed[f"UBX {mname}"] = len(t) - unused
+    ignored.update(why_counts)
+    known = set(MESSAGES)
+    for (c, i), k in good.groupby(["cls", "id"]).size().items():
+        if (c, i) not in known:
+            ignored[_msg_name(int(c), int(i))] = int(k)
+
+    # the NMEA part: the bytes outside the frames
+    text = d[~mask].tobytes()
+    nlog = read_nmea(text, strict=strict, decompress=False) if text.strip() else None
+    epochs = _ubx_epochs(tables)
+    if nlog is not None and len(nlog.epochs):
+        epochs = _merge_nmea(epochs, nlog.epochs)
+    rep_n = nlog.report if nlog is not None else None
+    first = [RejectedLine(s + 1, r, f"byte {s}: {det}") for s, r, det in rejects]
+    if rep_n is not None:
+        for k, v in rep_n.parsed.items():
+            parsed[k] = parsed.get(k, 0) + v
+        for k, v in rep_n.ignored.items():
+            ignored[k] = ignored.get(k, 0) + v
+        for k, v in rep_n.rejected.items():
+            rejected[k] = rejected.get(k, 0) + v
+        first += [
+            RejectedLine(r.line, r.reason, f"line {r.line} of the NMEA text: {r.detail}")
+            for r in rep_n.first_rejects
+        ]
+    n_frames = len(fr)
+    n_lines = rep_n.total_lines if rep_n is not None else 0
+    has_date = bool(epochs["time_utc"].notna().any()) if len(epochs) else False
+    sentences = dict(nlog.sentences) if nlog is not None else {}
+    sentences.update({f"UBX {k}": v for k, v in tables.items()})
+    report = IngestReport(
+        source=name,
+        total_lines=n_frames + n_lines,
+        parsed=dict(sorted(parsed.items())),
+        ignored=dict(sorted(ignored.items())),
+        rejected=rejected,
+        first_rejects=first[:20],
+        junk_prefix_lines=rep_n.junk_prefix_lines if rep_n is not None else 0,
+        n_epochs=len(epochs),
+        epochs_without_time=int(epochs["t_s"].isna().sum()),
+        has_date=has_date,
+        notes=list(rep_n.notes) if rep_n is not None else [],
+        format="u-blox UBX" + (" + NMEA 0183" if n_lines else ""),
+        unit="lines and frames" if n_lines else "frames",
+    )
+    return NmeaLog(epochs=epochs, report=report, sentences=sentences)
+
+
+def _ubx_epochs(tables: dict[str, pd.DataFrame]) -> pd.DataFrame:
+    """One epoch per iTOW of the UBX navigation messages, in stream order."""
+    itows = [t[["start", "itow"]] for t in tables.values()]
+    if not itows:
+        return build_epochs({}, np.zeros(0), has_date=False, heading_source="RELPOSNED")
+    allt = pd.concat(itows).sort_values("start", kind="stable")
+    order = allt.drop_duplicates("itow")["itow"].to_numpy()
+    n = order.size
+    pos = {int(v): k for k, v in enumerate(order)}
+    values: dict[str, np.ndarray] = {}
+
+    def put(t: pd.DataFrame, src: str, dst: str | None = None) -> None:
+        rows = np.fromiter((pos[int(v)] for v in t["itow"]), dtype=np.int64, count=len(t))
+        out = values.setdefault(dst or src, np.full(n, np.nan))
+        v = t[src].to_numpy(float)
+        fill = np.isnan(out[rows])
+        out[rows[fill]] = v[fill]
+
+    pvt = tables.get("NAV-PVT")
+    utc = np.full(n, np.nan)
+    if pvt is not None:
+        for c in ("fix_quality", "n_sats", "lat_deg", "lon_deg", "alt_m", "speed_mps",
+                  "course_deg", "speed_acc_mps", "hdop"):  # fmt: skip
+            put(pvt, c)
+        put(pvt, "utc", "utc")
+        utc = values.pop("utc")
+    rel = tables.get("NAV-RELPOSNED")
+    if rel is not None:
+        put(rel, "heading_deg")
+        put(rel, "heading_acc_deg")
+    att = tables.get("NAV-ATT")
+    hsrc = "RELPOSNED"
+    if att is not None:
+        put(att, "roll_deg")
+        put(att, "pitch_deg")
+        if rel is None:
+            put(att, "att_heading_deg", "heading_deg")
+            hsrc = "NAV-ATT"
+    # UTC of every epoch: iTOW + the UTC−GPS offset that NAV-PVT shows (leap seconds included)
+    has_date = bool(np.isfinite(utc).any())
+    if has_date:
+        off = utc - order / 1000.0
+        off0 = float(np.nanmedian(off))
+        seconds = np.where(np.isfinite(utc), utc, order / 1000.0 + off0)
+    else:
+        seconds = order / 1000.0
+    # a week rollover of iTOW inside the log
+    back = np.concatenate([[0], np.cumsum(np.diff(order) < -_WEEK_MS // 2)])
+    if not has_date:
+        seconds = seconds + back * (_WEEK_MS / 1000.0)
+    ep = build_epochs(values, seconds, has_date=has_date, heading_source=hsrc)
+    return ep
+
+
+def _merge_nmea(ubx: pd.DataFrame, nmea: pd.DataFrame) -> pd.DataFrame:
+    """Fill the UBX epochs' missing values from NMEA epochs at the same UTC time (to the
+    millisecond), and add the NMEA epochs at other times.
+    """
+    if not len(ubx):
+        return nmea
+    if not ubx["time_utc"].notna().any() or not nmea["time_utc"].notna().any():
+        return ubx
+    key_u = ubx["time_utc"].dt.round("ms")
+    key_n = nmea["time_utc"].dt.round("ms")
+    n_idx = pd.Series(np.arange(len(nmea)), index=key_n.to_numpy())
+    n_idx = n_idx[~n_idx.index.duplicated()]
+    match = n_idx.reindex(key_u.to_numpy()).to_numpy()
+    has = ~np.isnan(match)
+    out = ubx.copy()
+    rows = match[has].astype(int)
+    for c in nmea.columns:
+        if c in ("time_utc", "t_s") or c not in out.columns:
+            continue
+        dst = out[c]
+        fill = dst.isna().to_numpy() & has
+        if fill.any():
+            src = nmea[c].to_numpy()[match[fill].astype(int)]
+            if isinstance(dst.dtype, pd.CategoricalDtype):
+                out[c] = dst.astype(object).where(~fill, pd.Series(np.nan, index=dst.index))
+                vals = out[c].to_numpy(object)
+                vals[fill] = src
+                out[c] = pd.Categorical(vals, categories=dst.cat.categories)
+            else:
+                vals = dst.to_numpy(float).copy()
+                vals[fill] = src
+                out[c] = vals
+    used = np.zeros(len(nmea), dtype=bool)
+    used[rows] = True
+    rest = nmea[~used & nmea["time_utc"].notna().to_numpy()]
+    if len(rest):
+        out = pd.concat([out, rest], ignore_index=True)
+        out = out.sort_values("time_utc", kind="stable").reset_index(drop=True)
+        t = out["time_utc"]
+        out["t_s"] = (t - t.dropna().iloc[0]).dt.total_seconds()
+    return out
+
+
+def write_ubx(
+    epochs: pd.DataFrame,
+    path: str | Path,
+    *,
+    nmea_lines: list[str] | None = None,
+    heading_acc_deg: float = 0.2,
+) -> None:
+    """Write an epoch table as a u-blox moving-base rover would send it (NAV-PVT and
+    NAV-RELPOSNED per epoch, encoded with pyubx2), optionally interleaved with NMEA lines.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
+        ``heading_deg``.
+    path : str or Path
+        Output file.
+    nmea_lines : list of str, optional
+        NMEA sentences written after each epoch's frames, in equal shares per epoch.
+    heading_acc_deg : float
+        The heading accuracy the frames state [deg].
+    """
+    from gripsense.io.formats import require
+
+    pyubx2 = require("pyubx2", "writing UBX")
+    t = pd.DatetimeIndex(epochs["time_utc"])
+    gps = (t.tz_convert(None) - pd.Timestamp("1980-01-06")).total_seconds().to_numpy() + 18.0
+    itow = np.round(np.mod(gps, 604800.0) * 1000).astype(np.int64)
+    lat = epochs["lat_deg"].to_numpy(float)
+    lon = epochs["lon_deg"].to_numpy(float)
+    alt = epochs["alt_m"].to_numpy(float)
+    spd = epochs["speed_mps"].to_numpy(float)
+    crs = epochs["course_deg"].to_numpy(float)
+    hdg = np.mod(epochs["heading_deg"].to_numpy(float), 360.0)
+    per = (len(nmea_lines) // len(t)) if nmea_lines and len(t) else 0
+    out = bytearray()
+    for k, when in enumerate(t):
+        ns = round(when.microsecond * 1e3)
+        whole = when.replace(microsecond=0)
+        pvt = pyubx2.UBXMessage(
+            "NAV", "NAV-PVT", pyubx2.GET, iTOW=int(itow[k]), year=whole.year, month=whole.month,
+            day=whole.day, hour=whole.hour, min=whole.minute, second=whole.second, validDate=1,
+            validTime=1, fullyResolved=1, tAcc=20, nano=ns, fixType=3, gnssFixOk=1, diffSoln=1,
+            carrSoln=2, numSV=14, lon=float(lon[k]), lat=float(lat[k]),
+            height=round(alt[k] * 1000 + 30000), hMSL=round(alt[k] * 1000), hAcc=14,
+            vAcc=20, velN=round(spd[k] * np.cos(np.deg2rad(crs[k])) * 1000),
+            velE=round(spd[k] * np.sin(np.deg2rad(crs[k])) * 1000), velD=0,
+            gSpeed=round(spd[k] * 1000), headMot=float(crs[k]), sAcc=50, headAcc=0.5,
+            pDOP=1.2,
+        )  # fmt: skip
+        rel = pyubx2.UBXMessage(
+            "NAV", "NAV-RELPOSNED", pyubx2.GET, version=1, iTOW=int(itow[k]),
+            relPosN=round(100 * np.cos(np.deg2rad(hdg[k]))),
+            relPosE=round(100 * np.sin(np.deg2rad(hdg[k]))), relPosLength=100,
+            relPosHeading=float(hdg[k]), accHeading=heading_acc_deg, gnssFixOK=1, diffSoln=1,
+            relPosValid=1, carrSoln=2, isMoving=1, relPosHeadingValid=1,
+        )  # fmt: skip
+        out += pvt.serialize() + rel.serialize()
+        if per:
+            out += "".join(s + "\r\n" for s in nmea_lines[k * per : (k + 1) * per]).encode()
+    Path(path).write_bytes(bytes(out))

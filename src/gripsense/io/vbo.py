@@ -1,0 +1,463 @@
+"""Racelogic VBOX ``.vbo`` files: read into the epoch table, and write (for the simulator).
+
+The format (Racelogic, "VBO file format"): a text file with an optional preamble line
+(``File created on 31/07/2006 @ 09:55:20``), then sections ``[header]`` (one channel title per
+line, e.g. ``velocity kmh``), ``[channel units]`` (the units of the module/CAN channels),
+``[comments]``, ``[module information]``, ``[column names]`` (one line, space separated) and
+``[data]`` (one space-separated row per sample). Conventions of the standard channels:
+
+===============  =========================================================================
+column           meaning
+===============  =========================================================================
+sats             satellites; +64 brake trigger, +128 DGPS
+time             UTC time of day, ``hhmmss.ss``
+lat, long        minutes of arc; latitude north positive, **longitude west positive**
+velocity         speed over ground, km/h (``velocity knots`` / ``velocity mph`` in the header)
+heading          course over ground [deg]
+height           altitude [m]
+True_Head        dual-antenna true heading [deg] (``True_Heading`` in some firmware)
+Yaw_Rate         dual-antenna yaw rate [deg/s], the rate of True_Head (clockwise positive)
+Pitch_Ang        dual-antenna pitch [deg] (``Pitch_Angle``); Roll_Angle roll [deg]
+Solution_Type    0 none, 1 GNSS, 2 DGNSS, 3 RTK float, 4 RTK fixed
+Date             ``ddmmyy`` (some loggers); else the preamble's date
+===============  =========================================================================
+
+Other channels (slip angle, velocities, accelerations, CAN channels such as a steering angle)
+are read only when ``--columns`` maps them (:mod:`gripsense.io.channels`); their unit is the
+one ``[channel units]`` gives or the one ``--columns`` states. Every line is accounted for:
+the data rows are ``parsed`` (or rejected with a reason: a short row is ``truncated``, a
+non-number ``malformed field``), the other lines ``ignored`` as ``(header)`` or ``(blank)``.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import io
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.io.channels import ChannelSpec, parse_channel_spec
+from gripsense.io.epoch_table import build_epochs
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.reader import NmeaLog
+from gripsense.io.nmea.schema import MALFORMED, REASONS, TRUNCATED
+
+__all__ = ["VBO_SECTIONS", "is_vbo", "parse_vbo", "read_vbo", "write_vbo"]
+
+VBO_SECTIONS = ("header", "column names", "data")
+"""Sections a ``.vbo`` file must have."""
+
+_SECTION = re.compile(r"^\s*\[([^\]]+)\]\s*$")
+_CREATED = re.compile(
+    r"File created on\s+(\d{1,2})/(\d{1,2})/(\d{4})"
+    r"(?:\s*(?:@|at)\s*(\d{1,2}):(\d{2})(?::(\d{2}))?)?",
+    re.IGNORECASE,
+)
+_MINUTES_TO_DEG = 1.0 / 60.0
+_KMH = 1 / 3.6
+_SPEED_HEADER = {"kmh": _KMH, "km/h": _KMH, "knots": 1852 / 3600, "mph": 0.44704, "m/s": 1.0}
+
+# standard channel (lower-case column name) -> its role
+_ALIASES = {
+    "sats": "sats",
+    "time": "time",
+    "lat": "lat",
+    "long": "long",
+    "velocity": "velocity",
+    "heading": "course",
+    "height": "height",
+    "true_head": "heading",
+    "true_heading": "heading",
+    "truehead": "heading",
+    "yaw_rate": "yaw_rate",
+    "pitch_ang": "pitch",
+    "pitch_angle": "pitch",
+    "roll_angle": "roll",
+    "roll_ang": "roll",
+    "solution_type": "solution",
+    "date": "date",
+}
+_SOLUTION_TO_GGA = {0: 0, 1: 1, 2: 2, 3: 5, 4: 4}
+
+
+def is_vbo(head: bytes) -> bool:
+    """Whether the start of a file looks like a VBOX ``.vbo`` file.
+
+    Parameters
+    ----------
+    head : bytes
+        The first few kilobytes of the file.
+    """
+    low = head[:8192].lower()
+    return b"[column names]" in low or (b"[header]" in low and b"file created on" in low)
+
+
+@dataclass
+class _Sections:
+    lines: list[str]
+    start: dict[str, int] = field(default_factory=dict)  # section -> index of its title line
+    created: dt.date | None = None
+
+    def body(self, name: str) -> list[tuple[int, str]]:
+        """(0-based line index, text) of the non-blank lines of a section."""
+        if name not in self.start:
+            return []
+        i0 = self.start[name] + 1
+        later = [i for i in self.start.values() if i > self.start[name]]
+        i1 = min(later) if later else len(self.lines)
+        return [(i, ln.strip()) for i, ln in enumerate(self.lines[i0:i1], i0) if ln.strip()]
+
+
+def _sections(text: str) -> _Sections:
+    lines = text.splitlines()
+    sec = _Sections(lines)
+    for i, ln in enumerate(lines):
+        m = _SECTION.match(ln)
+        if m:
+            name = m.group(1).strip().lower()
+            sec.start.setdefault(name, i)
+            if name == "data":
+                break  # the data rows follow; no section after them
+        elif not sec.start and sec.created is None:
+            c = _CREATED.search(ln)
+            if c:
+                d, mo, y = int(c.group(1)), int(c.group(2)), int(c.group(3))
+                try:
+                    sec.created = dt.date(y, mo, d)
+                except ValueError:
+                    sec.created = None
+    return sec
+
+
+def _units(sec: _Sections, names: list[str]) -> dict[str, str]:
+    """Channel -> unit from ``[channel units]``: one unit per column, or one per trailing
+    (module) column when there are fewer units than columns.
+    """
+    units = [u for _, u in sec.body("channel units")]
+    if not units:
+        return {}
+    if len(units) >= len(names):
+        return dict(zip(names, units, strict=False))
+    return dict(zip(names[len(names) - len(units) :], units, strict=True))
+
+
+def _speed_factor(sec: _Sections) -> float:
+    for _, title in sec.body("header"):
+        t = title.lower()
+        if t.startswith("velocity") and "vertical" not in t:
+            unit = t.split()[-1] if len(t.split()) > 1 else "kmh"
+            return _SPEED_HEADER.get(unit, _KMH)
+    return _KMH
+
+
+def parse_vbo(
+    text: str, name: str = "<vbo>", *, columns: str | dict | None = None, strict: bool = False
+) -> NmeaLog:
+    """Read the text of a ``.vbo`` file into the epoch table (see the module documentation).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    name : str
+        File name, for messages.
+    columns : str or dict, optional
+        Further channels (``steer=Steering_Angle:deg``, ``torque=TrqCol``) or overrides of the
+        standard ones (:mod:`gripsense.io.channels`).
+    strict : bool
+        Raise at the first rejected row instead of counting it.
+
+    Returns
+    -------
+    NmeaLog
+        ``epochs``, ``report`` (line accounting) and ``sentences`` (``{"VBO": rows}`` with the
+        1-based ``line`` of each epoch).
+    """
+    sec = _sections(text)
+    missing = [s for s in VBO_SECTIONS if s not in sec.start]
+    if missing:
+        raise InputError(
+            f"{name}: not a complete VBOX file: no [{missing[0]}] section (a .vbo has [header], "
+            "[column names] and [data]); was the file cut off or edited?"
+        )
+    names_lines = sec.body("column names")
+    if not names_lines:
+        raise InputError(f"{name}:{sec.start['column names'] + 2}: [column names] is empty")
+    cols = names_lines[0][1].split()
+    ncol = len(cols)
+    role = {}
+    for j, c in enumerate(cols):
+        r = _ALIASES.get(c.lower())
+        if r and r not in role:
+            role[r] = j
+    if "time" not in role:
+        raise InputError(
+            f"{name}:{names_lines[0][0] + 1}: [column names] has no 'time' column ({cols[:12]})"
+        )
+    mapped = parse_channel_spec(columns)
+    for spec in mapped.values():
+        if spec.channel not in cols:
+            raise InputError(
+                f"{name}: --columns {spec.key}={spec.channel}: no such column; the file has "
+                f"{', '.join(cols[:30])}"
+            )
+    units = _units(sec, cols)
+
+    # data rows: every line after [data] is one row (or blank)
+    d0 = sec.start["data"] + 1
+    rows = sec.lines[d0:]
+    n_lines = len(sec.lines)
+    blank = 0
+    good_idx: list[int] = []
+    good_text: list[str] = []
+    rejects: list[RejectedLine] = []
+    rej_count = dict.fromkeys(REASONS, 0)
+    for k, ln in enumerate(rows):
+        s = ln.strip()
+        if not s:
+            blank += 1
+            continue
+        nf = s.count(" ") + 1 if "  " not in s and "\t" not in s else len(s.split())
+        if nf != ncol:
+            reason = TRUNCATED if nf < ncol else MALFORMED
+            detail = f"{nf} fields, [column names] has {ncol}"
+            rej_count[reason] += 1
+            if strict:
+                raise InputError(f"{name}:{d0 + k + 1}: {reason}: {detail} (strict mode)")
+            if len(rejects) < 20:
+                rejects.append(RejectedLine(d0 + k + 1, reason, detail))
+            continue
+        good_idx.append(d0 + k)
+        good_text.append(s)
+    if good_text:
+        raw = pd.read_csv(
+            io.StringIO("\n".join(good_text)), sep=r"\s+", header=None, dtype=str, engine="c"
+        )
+        num = raw.apply(pd.to_numeric, errors="coerce")
+        bad = (num.isna() & raw.notna()).any(axis=1).to_numpy().copy()
+        bad |= np.isnan(num.iloc[:, role["time"]].to_numpy(float))
+    else:
+        num = pd.DataFrame(np.empty((0, ncol)))
+        bad = np.zeros(0, dtype=bool)
+    if bad.any():
+        for r in np.flatnonzero(bad):
+            j = int(np.flatnonzero(num.iloc[r].isna().to_numpy())[0])
+            detail = f"column {cols[j]!r} is not a number"
+            rej_count[MALFORMED] += 1
+            if strict:
+                raise InputError(f"{name}:{good_idx[r] + 1}: {MALFORMED}: {detail} (strict mode)")
+            if len(rejects) < 20:
+                rejects.append(RejectedLine(good_idx[r] + 1, MALFORMED, detail))
+        keep = ~bad
+        num = num[keep].reset_index(drop=True)
+        good_idx = [i for i, k in zip(good_idx, keep, strict=True) if k]
+    rejects.sort(key=lambda r: r.line)
+    a = num.to_numpy(float)
+
+    def col(r: str) -> np.ndarray | None:
+        return a[:, role[r]] if r in role else None
+
+    n = a.shape[0]
+    values: dict[str, np.ndarray] = {}
+    sats = col("sats")
+    if sats is not None:
+        s_int = sats.astype(np.int64) if n else np.zeros(0, np.int64)
+        values["n_sats"] = (s_int & 63).astype(float)
+        fix = np.where(s_int & 63 == 0, 0, np.where(s_int & 128, 2, 1)).astype(float)
+        values["fix_quality"] = fix
+    sol = col("solution")
+    if sol is not None:
+        values["fix_quality"] = np.array([_SOLUTION_TO_GGA.get(int(v), np.nan) for v in sol])
+    lat, lon = col("lat"), col("long")
+    if lat is not None:
+        values["lat_deg"] = lat * _MINUTES_TO_DEG
+    if lon is not None:
+        values["lon_deg"] = -lon * _MINUTES_TO_DEG  # the file's longitude is west positive
+    v = col("velocity")
+    if v is not None:
+        values["speed_mps"] = v * _speed_factor(sec)
+    for r, c in (("course", "course_deg"), ("heading", "heading_deg"), ("height", "alt_m")):
+        x = col(r)
+        if x is not None:
+            values[c] = x
+    for r in ("pitch", "roll"):
+        x = col(r)
+        if x is not None:
+            values[f"{r}_deg"] = x
+    yaw_src = None
+    yr = col("yaw_rate")
+    if yr is not None:
+        values["yaw_rate_rps"] = -np.deg2rad(yr)  # clockwise (compass) -> ISO
+        yaw_src = "VBOX"
+    for spec in mapped.values():
+        _mapped_channel(values, spec, a[:, cols.index(spec.channel)], units, name)
+        if spec.key == "yaw_rate":
+            yaw_src = "channel"
+
+    # time: hhmmss.ss of day, rolled over at midnight, on the file's date
+    hms = col("time")
+    tod = (hms // 10000) * 3600 + ((hms // 100) % 100) * 60 + hms % 100
+    roll = np.concatenate([[0], np.cumsum(np.diff(tod) < -43200)]) if n else np.zeros(0)
+    tod = tod + 86400.0 * roll
+    day = _day(col("date"), sec.created)
+    has_date = day is not None
+    seconds = tod + (day if day is not None else 0.0)
+    hsrc = "channel" if "heading" in mapped else "VBOX"
+    epochs = build_epochs(
+        values, seconds, has_date=has_date, heading_source=hsrc, yaw_rate_source=yaw_src
+    )
+    used = list(mapped)
+    pre_blank = _blank(sec.lines[:d0])
+    report = IngestReport(
+        source=name,
+        total_lines=n_lines,
+        parsed={"VBO data": n} if n else {},
+        ignored={
+            k: c for k, c in (("(header)", d0 - pre_blank), ("(blank)", blank + pre_blank)) if c
+        },
+        rejected=rej_count,
+        first_rejects=rejects,
+        n_epochs=n,
+        epochs_without_time=0,
+        has_date=has_date,
+        format="VBOX VBO",
+        notes=[f"mapped by --columns: {', '.join(used)}"] if used else [],
+    )
+    rows_t = pd.DataFrame({"line": np.asarray(good_idx, dtype=np.int64) + 1, "epoch": np.arange(n)})
+    return NmeaLog(epochs=epochs, report=report, sentences={"VBO": rows_t})
+
+
+def _blank(lines: list[str]) -> int:
+    return sum(1 for ln in lines if not ln.strip())
+
+
+def _day(date_col: np.ndarray | None, created: dt.date | None) -> float | None:
+    """Seconds since 1970 of the log's first day (``Date`` column ddmmyy, else the preamble)."""
+    if date_col is not None and date_col.size and np.isfinite(date_col[0]) and date_col[0] > 0:
+        d = int(date_col[0])
+        try:
+            day = dt.date(2000 + d % 100, (d // 100) % 100, d // 10000)
+        except ValueError:
+            day = None
+        if day is not None:
+            return float((day - dt.date(1970, 1, 1)).days * 86400)
+    if created is not None:
+        return float((created - dt.date(1970, 1, 1)).days * 86400)
+    return None
+
+
+def _mapped_channel(
+    values: dict, spec: ChannelSpec, raw: np.ndarray, units: dict[str, str], name: str
+) -> None:
+    from gripsense.io.channels import CHANNEL_KEYS
+
+    column = CHANNEL_KEYS[spec.key].column
+    values[column] = spec.column_values(raw, units.get(spec.channel), f"{name} [channel units]")
+
+
+def read_vbo(
+    path: str | Path, *, columns: str | dict | None = None, strict: bool = False
+) -> NmeaLog:
+    """Read a Racelogic VBOX ``.vbo`` file (see the module documentation).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (plain text; gzip is decompressed by :func:`gripsense.io.log.read_log`).
+    columns : str or dict, optional
+        Further channels to read (:mod:`gripsense.io.channels`).
+    strict : bool
+        Raise at the first rejected row.
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and line accounting.
+    """
+    from gripsense.io.text import read_text
+
+    return parse_vbo(read_text(path, "VBOX file", latin1=True), str(path), columns=columns,
+                     strict=strict)  # fmt: skip
+
+
+def _minutes(deg: np.ndarray) -> list[str]:
+    return [f"{m:+014.8f}" for m in deg * 60.0]
+
+
+def write_vbo(
+    epochs: pd.DataFrame,
+    path: str | Path,
+    *,
+    steering_wheel_deg: np.ndarray | None = None,
+    created: str = "VBOX 3i dual antenna (emulated by gripsense)",
+) -> None:
+    """Write an epoch table as a VBOX 3i dual-antenna ``.vbo`` file.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
+        ``heading_deg``, ``yaw_rate_rps`` (ISO) and optionally ``n_sats``.
+    path : str or Path
+        Output file.
+    steering_wheel_deg : numpy.ndarray, optional
+        Steering-wheel angle per epoch (ISO, left positive) [deg]: a module channel
+        ``Steering_Angle`` with its unit in ``[channel units]``.
+    created : str
+        The ``[comments]`` line naming the device.
+    """
+    t = pd.DatetimeIndex(epochs["time_utc"])
+    first = t[0]
+    sats = epochs["n_sats"].fillna(12).to_numpy(int) if "n_sats" in epochs else np.full(len(t), 12)
+    tod = (t - t.normalize()).total_seconds().to_numpy()
+    hms = [f"{int(s // 3600):02d}{int(s // 60 % 60):02d}{s % 60:06.3f}" for s in np.round(tod, 3)]
+    cols = {
+        "sats": [f"{s:03d}" for s in sats],
+        "time": hms,
+        "lat": _minutes(epochs["lat_deg"].to_numpy(float)),
+        "long": _minutes(-epochs["lon_deg"].to_numpy(float)),
+        "velocity": [f"{v:07.3f}" for v in epochs["speed_mps"].to_numpy(float) * 3.6],
+        "heading": [f"{h:06.2f}" for h in epochs["course_deg"].to_numpy(float)],
+        "height": [f"{h:+08.2f}" for h in epochs["alt_m"].to_numpy(float)],
+        "True_Head": [f"{h:07.3f}" for h in np.mod(epochs["heading_deg"].to_numpy(float), 360)],
+        "Yaw_Rate": [f"{r:+08.3f}" for r in -np.rad2deg(epochs["yaw_rate_rps"].to_numpy(float))],
+    }
+    header = ["satellites", "time", "latitude", "longitude", "velocity kmh", "heading", "height",
+              "True Heading", "Yaw Rate"]  # fmt: skip
+    units = []
+    if steering_wheel_deg is not None:
+        cols["Steering_Angle"] = [f"{a:+.6E}" for a in steering_wheel_deg]
+        header.append("Steering_Angle")
+        units.append("deg")
+    rows = [" ".join(r) for r in zip(*cols.values(), strict=True)]
+    text = "\n".join(
+        [
+            f"File created on {first.day:02d}/{first.month:02d}/{first.year} @ "
+            f"{first.hour:02d}:{first.minute:02d}:{first.second:02d}",
+            "",
+            "[header]",
+            *header,
+            "",
+            "[channel units]",
+            *units,
+            "",
+            "[comments]",
+            created,
+            f"Log Rate (Hz) : {1 / np.median(np.diff(tod)):.2f}"
+            if len(tod) > 1
+            else "Log Rate (Hz) : 0",
+            "",
+            "[column names]",
+            " ".join(cols),
+            "",
+            "[data]",
+            *rows,
+            "",
+        ]
+    )
+    Path(path).write_text(text, encoding="ascii", newline="\r\n")
