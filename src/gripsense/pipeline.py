@@ -27,7 +27,7 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import FrictionOptions, WindowOptions
 from gripsense.estimate.results import FrictionResult
 from gripsense.estimate.wheels import motion_from_epochs
-from gripsense.io import read_nmea
+from gripsense.io.log import LogOptions, log_steer, read_log
 from gripsense.io.steer import read_steer_csv, steer_at
 
 __all__ = [
@@ -121,21 +121,26 @@ class FrictionRun:
         steer_csv: str | Path | None = None,
         strict: bool = False,
         since: pd.Timestamp | None = None,
+        log_options: LogOptions | None = None,
     ) -> FrictionResult:
-        """Estimate μ from an NMEA log file (plain or ``.gz``): ingest, friction, and the
+        """Estimate μ from a log file of any supported format (NMEA, VBOX, UBX, MDF4, CAN;
+        plain or ``.gz``; :func:`gripsense.io.log.read_log`): ingest, friction, and the
         ingest accounting and epochs kept in the result.
 
         Parameters
         ----------
         log : str or Path
-            NMEA log of the drive.
+            Log of the drive.
         steer_csv : str or Path, optional
             Steering channel (:func:`gripsense.io.steer.read_steer_csv`); enables the front
-            wheels.
+            wheels. Without it, a steering channel of the log itself is used (a mapped
+            ``steer`` or ``steering_wheel`` channel of a VBOX, MDF4 or CAN log).
         strict : bool
             Stop at the first rejected line.
         since : pandas.Timestamp, optional
             Ignore epochs before this UTC time.
+        log_options : LogOptions, optional
+            Channel mapping, DBC and time offset of a measurement log.
 
         Returns
         -------
@@ -143,12 +148,15 @@ class FrictionRun:
             :class:`~gripsense.estimate.results.WheelFriction` or
             :class:`~gripsense.estimate.results.AxleFriction`.
         """
-        nlog = read_nmea(log, strict=strict)
+        opts = log_options or LogOptions()
+        if strict:
+            opts = replace(opts, strict=True)
+        nlog = read_log(log, opts)
         ep, rep = nlog.epochs, nlog.report
         if ep.empty:
             raise InputError(
-                f"{log}: no epochs ({rep.total_lines} lines, {rep.n_rejected} rejected, "
-                f"{rep.n_ignored} ignored); is this an NMEA log of a GNSS compass?"
+                f"{log}: no epochs ({rep.total_lines} {rep.unit}, {rep.n_rejected} rejected, "
+                f"{rep.n_ignored} ignored); is this a log of a GNSS compass?"
             )
         if since is not None:
             ep = ep[ep["time_utc"] >= since].reset_index(drop=True)
@@ -156,6 +164,8 @@ class FrictionRun:
         if steer_csv is not None:
             ch = read_steer_csv(steer_csv, steering_ratio=self.vehicle.steering_ratio)
             steer = steer_at(ch, ep["t_s"].to_numpy())
+        else:
+            steer = log_steer(ep, self.vehicle.steering_ratio, str(log))
         return self.run(ep, steer_rad=steer, ingest=rep.to_dict())
 
     def run(
@@ -297,7 +307,11 @@ def _same_vehicle(previous: Calibration | None, vehicle: Vehicle) -> None:
 
 
 def log_drive_sums(
-    log: str | Path, run: FrictionRun, *, steer_csv: str | Path | None = None
+    log: str | Path,
+    run: FrictionRun,
+    *,
+    steer_csv: str | Path | None = None,
+    log_options: LogOptions | None = None,
 ) -> list:
     """The linear-range sums of one log per axle (:func:`gripsense.estimate.calibration.
     drive_sums`), tagged with the log's name and SHA-256 — the part of :func:`learn_calibration`
@@ -306,11 +320,13 @@ def log_drive_sums(
     Parameters
     ----------
     log : str or Path
-        NMEA log.
+        Log of any supported format (:func:`gripsense.io.log.read_log`).
     run : FrictionRun
         The run (vehicle without calibration, receiver).
     steer_csv : str or Path, optional
-        The log's steering channel (the front axle needs it).
+        The log's steering channel (the front axle needs it; else the log's own, if mapped).
+    log_options : LogOptions, optional
+        Channel mapping, DBC and time offset of a measurement log.
 
     Returns
     -------
@@ -322,10 +338,12 @@ def log_drive_sums(
     from gripsense.estimate.calibration import drive_sums
 
     digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
-    epochs = read_nmea(log).epochs
+    epochs = read_log(log, log_options or LogOptions()).epochs
     steer = None
     if steer_csv is not None:
         steer = steer_at(read_steer_csv(steer_csv), epochs["t_s"].to_numpy(float))
+    else:
+        steer = log_steer(epochs, run.vehicle.steering_ratio, str(log))
     wheels, _ = run.wheel_table(epochs, steer_rad=steer)
     if wheels.empty:
         return []

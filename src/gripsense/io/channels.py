@@ -31,7 +31,15 @@ import numpy as np
 from gripsense.errors import InputError
 from gripsense.io.table import UNIT_DIMENSIONS, UNITS
 
-__all__ = ["CHANNEL_KEYS", "ChannelSpec", "file_unit_factor", "parse_channel_spec"]
+__all__ = [
+    "CHANNEL_KEYS",
+    "Channel",
+    "ChannelSpec",
+    "channels_to_epochs",
+    "file_unit_factor",
+    "parse_channel_spec",
+    "resample",
+]
 
 
 @dataclass(frozen=True)
@@ -255,3 +263,112 @@ def parse_channel_spec(spec: str | dict | None) -> dict[str, ChannelSpec]:
             raise InputError(f"--columns: {key}: no channel name")
         out[key] = ChannelSpec(key, v, sign, factor)
     return out
+
+
+@dataclass
+class Channel:
+    """One decoded channel of a measurement log.
+
+    Parameters
+    ----------
+    name : str
+        Channel (signal) name in the file.
+    t : numpy.ndarray
+        Sample times [s] (the log's clock).
+    values : numpy.ndarray
+        Samples [the file's unit].
+    unit : str
+        The unit the file states ("" when none).
+    """
+
+    name: str
+    t: np.ndarray
+    values: np.ndarray
+    unit: str = ""
+
+
+_ANGLES = ("heading", "course")
+_GAP = 2.5  # a channel is not interpolated across intervals longer than this × its median
+
+
+def resample(t_to: np.ndarray, t: np.ndarray, v: np.ndarray, *, circular: bool = False):
+    """Linear interpolation of a channel onto other times, NaN outside its span and across its
+    gaps (intervals over 2.5 × its median interval).
+
+    Parameters
+    ----------
+    t_to : numpy.ndarray
+        Target times [s].
+    t, v : numpy.ndarray
+        The channel's times [s] (increasing) and values.
+    circular : bool
+        Values are compass angles in degrees (interpolated unwrapped, returned in [0, 360)).
+
+    Returns
+    -------
+    numpy.ndarray
+        Values at *t_to*.
+    """
+    ok = np.isfinite(t) & np.isfinite(v)
+    t, v = t[ok], v[ok]
+    out = np.full(np.shape(t_to), np.nan)
+    if t.size < 1:
+        return out
+    if t.size == 1:
+        out[t_to == t[0]] = v[0]
+        return out
+    x = np.rad2deg(np.unwrap(np.deg2rad(v))) if circular else v
+    out = np.interp(t_to, t, x)
+    out[(t_to < t[0]) | (t_to > t[-1])] = np.nan
+    dt = np.diff(t)
+    big = np.flatnonzero(dt > _GAP * np.median(dt))
+    if big.size:
+        k = np.searchsorted(t, t_to, side="right") - 1
+        inside = np.isin(k, big) & (t_to > t[np.clip(k, 0, t.size - 1)])
+        out[inside] = np.nan
+    return np.mod(out, 360.0) if circular else out
+
+
+def channels_to_epochs(
+    mapped: dict[str, ChannelSpec], found: dict[str, Channel], where: str
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Mapped channels on one time base: the heading channel's samples (else the speed's, else
+    the first mapped channel's); the others interpolated onto it (:func:`resample`).
+
+    Parameters
+    ----------
+    mapped : dict
+        Key -> :class:`ChannelSpec` (``--columns``).
+    found : dict
+        Key -> the decoded :class:`Channel`.
+    where : str
+        File, for messages.
+
+    Returns
+    -------
+    t : numpy.ndarray
+        Epoch times [s] (the log's clock).
+    values : dict
+        Epoch-table column -> values [the column's unit].
+    """
+    base_key = next((k for k in ("heading", "speed", *found) if k in found), None)
+    if base_key is None:
+        return np.zeros(0), {}
+    base = found[base_key]
+    ok = np.isfinite(base.t) & np.isfinite(base.values)
+    t = base.t[ok]
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    values = {}
+    for key, ch in found.items():
+        spec = mapped[key]
+        si = spec.column_values(ch.values, ch.unit, where)
+        srt = np.argsort(ch.t, kind="stable")
+        col = CHANNEL_KEYS[key].column
+        if key == base_key:
+            values[col] = si[ok][order]
+        else:
+            values[col] = resample(t, ch.t[srt], si[srt], circular=key in _ANGLES)
+        if key in _ANGLES:
+            values[col] = np.mod(values[col], 360.0)
+    return t, values

@@ -31,7 +31,7 @@ from gripsense.io.epoch_table import channel_rates
 from gripsense.io.nmea.reader import MAX_BYTES, MAX_LINES, NmeaLog, read_log_bytes, read_nmea
 from gripsense.io.text import read_bytes
 
-__all__ = ["FORMATS", "LogOptions", "detect_format", "read_log"]
+__all__ = ["FORMATS", "LogOptions", "detect_format", "log_steer", "read_log"]
 
 FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc")
 """Format names of :func:`detect_format` (and ``--format`` of ``gripsense simulate``)."""
@@ -162,3 +162,32 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
                        strict=o.strict)  # fmt: skip
     log.report.channels = channel_rates(log.epochs)
     return log
+
+
+def log_steer(epochs, steering_ratio: float | None, name: str = "log"):
+    """The road-wheel steer angle per epoch that a log itself carries, if it does.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table of :func:`read_log`.
+    steering_ratio : float or None
+        Steering-wheel / road-wheel angle [-], for a ``steering_wheel`` channel.
+    name : str
+        The log, for the message.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        Road-wheel angle [rad] per epoch, or None when the log has no steering channel.
+    """
+    if "steer_rad" in epochs.columns:
+        return epochs["steer_rad"].to_numpy(float)
+    if "steering_wheel_rad" in epochs.columns:
+        if not steering_ratio:
+            raise InputError(
+                f"{name}: the log's steering-wheel angle needs [vehicle] steering_ratio in the "
+                "vehicle file (or map the road-wheel angle: --columns steer=…)"
+            )
+        return epochs["steering_wheel_rad"].to_numpy(float) / steering_ratio
+    return None

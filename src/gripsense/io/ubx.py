@@ -452,22 +452,24 @@ def _merge_nmea(ubx: pd.DataFrame, nmea: pd.DataFrame) -> pd.DataFrame:
     has = ~np.isnan(match)
     out = ubx.copy()
     rows = match[has].astype(int)
+    # a receiver's own rate of turn (NMEA ROT) beats the rate differenced from the heading
+    rot = np.zeros(len(out), dtype=bool)
+    n_src = nmea["yaw_rate_source"].to_numpy(object)
+    rot[has] = (n_src[match[has].astype(int)] == "ROT") & (
+        out["yaw_rate_source"].to_numpy(object)[has] != "ROT"
+    )
     for c in nmea.columns:
         if c in ("time_utc", "t_s") or c not in out.columns:
             continue
-        dst = out[c]
-        fill = dst.isna().to_numpy() & has
-        if fill.any():
-            src = nmea[c].to_numpy()[match[fill].astype(int)]
-            if isinstance(dst.dtype, pd.CategoricalDtype):
-                out[c] = dst.astype(object).where(~fill, pd.Series(np.nan, index=dst.index))
-                vals = out[c].to_numpy(object)
-                vals[fill] = src
-                out[c] = pd.Categorical(vals, categories=dst.cat.categories)
-            else:
-                vals = dst.to_numpy(float).copy()
-                vals[fill] = src
-                out[c] = vals
+        categorical = isinstance(out[c].dtype, pd.CategoricalDtype)
+        vals = np.array(out[c].to_numpy(object if categorical else float), copy=True)
+        fill = pd.isna(vals) & has
+        if c in ("yaw_rate_rps", "yaw_rate_source"):
+            fill |= rot
+        if not fill.any():
+            continue
+        vals[fill] = nmea[c].to_numpy(object if categorical else float)[match[fill].astype(int)]
+        out[c] = pd.Categorical(vals, categories=out[c].cat.categories) if categorical else vals
     used = np.zeros(len(nmea), dtype=bool)
     used[rows] = True
     rest = nmea[~used & nmea["time_utc"].notna().to_numpy()]

@@ -1,0 +1,165 @@
+"""ASAM MDF4 measurement files (CANape, INCA, IPEmotion, vehicle loggers) via asammdf.
+
+The channels ``--columns`` names are read with :mod:`asammdf` (``MDF.get``) with the unit the
+file states for each (overridable after a colon); they are put on the heading channel's time
+base by linear interpolation (angles unwrapped, nothing across a channel's gaps; see
+:func:`gripsense.io.channels.resample`). Times are absolute from the file's start time
+(``HD`` block), or from ``--time-offset``. Channels not mapped are not read.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import io
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.io.channels import Channel, parse_channel_spec
+from gripsense.io.formats import require
+from gripsense.io.measurement import log_from_channels, missing_channel
+from gripsense.io.nmea.reader import NmeaLog
+
+__all__ = ["MDF_CHANNELS", "mdf_columns", "read_mdf", "write_mdf"]
+
+MDF_CHANNELS = {
+    "heading": ("GNSS_TrueHeading", "deg"),
+    "course": ("GNSS_Course", "deg"),
+    "speed": ("GNSS_Speed", "km/h"),
+    "lat": ("GNSS_Latitude", "deg"),
+    "lon": ("GNSS_Longitude", "deg"),
+    "alt": ("GNSS_Height", "m"),
+    "yaw_rate": ("GNSS_YawRate", "deg/s"),
+    "steering_wheel": ("SteeringWheelAngle", "deg"),
+}
+"""Channel names and units :func:`write_mdf` (``gripsense simulate --format mf4``) uses."""
+
+
+def read_mdf(
+    path: str | Path,
+    data: bytes | None = None,
+    *,
+    columns: str | dict | None,
+    time_offset: float | None = None,
+    strict: bool = False,
+) -> NmeaLog:
+    """Read the mapped channels of an MDF4 file into the epoch table.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    data : bytes, optional
+        Its (decompressed) content, when already read.
+    columns : str or dict
+        ``heading=…,course=…,speed=…[,steer=…:deg,torque=…:Nm]`` (:mod:`gripsense.io.channels`).
+    time_offset : float, optional
+        Seconds since 1970 UTC of the file's time zero, replacing its start time [s].
+    strict : bool
+        Raise at the first sample that is not a number.
+
+    Returns
+    -------
+    NmeaLog
+    """
+    asammdf = require("asammdf", "reading MDF4")
+    name = str(path)
+    mapped = parse_channel_spec(columns)
+    if not mapped:
+        raise InputError(f"{name}: give the channels with --columns (heading=…,course=…,speed=…)")
+    src = io.BytesIO(data) if data is not None else str(path)
+    try:
+        mdf = asammdf.MDF(src)
+    except Exception as e:  # asammdf raises many kinds on a damaged file
+        raise InputError(f"{name}: not a readable MDF file ({type(e).__name__}: {e})") from None
+    try:
+        available = list(mdf.channels_db)
+        found = {}
+        for key, spec in mapped.items():
+            if spec.channel not in mdf.channels_db:
+                raise missing_channel(name, spec, available)
+            try:
+                sig = mdf.get(spec.channel)
+            except Exception as e:
+                raise InputError(
+                    f"{name}: channel {spec.channel!r}: cannot be read ({e})"
+                ) from None
+            v = np.asarray(sig.samples)
+            if v.dtype.kind not in "fiub":
+                raise InputError(
+                    f"{name}: channel {spec.channel!r} ({key}) holds {v.dtype} values, not numbers"
+                )
+            found[key] = Channel(spec.channel, np.asarray(sig.timestamps, float), v.astype(float),
+                                 str(sig.unit or ""))  # fmt: skip
+        start = mdf.header.start_time
+    finally:
+        mdf.close()
+    if start.tzinfo is None:
+        start = start.replace(tzinfo=dt.UTC)
+    start_s = start.timestamp()
+    used = {s.channel for s in mapped.values()}
+    n_other = len({c for c in available if c not in used and c.lower() not in ("time", "t")})
+    notes = [f"{n_other} channels of the file not mapped (not read)"] if n_other else []
+    return log_from_channels(mapped, found, name=name, fmt="MDF4", start_s=start_s,
+                             time_offset=time_offset, strict=strict, notes=notes)  # fmt: skip
+
+
+def mdf_columns(*, steering: bool = False) -> str:
+    """The ``--columns`` that read a file of :func:`write_mdf`.
+
+    Parameters
+    ----------
+    steering : bool
+        Include the steering-wheel channel.
+    """
+    keys = [k for k in MDF_CHANNELS if steering or k != "steering_wheel"]
+    return ",".join(f"{k}={MDF_CHANNELS[k][0]}" for k in keys)
+
+
+def write_mdf(
+    epochs: pd.DataFrame,
+    path: str | Path,
+    *,
+    steering_wheel: pd.DataFrame | None = None,
+) -> None:
+    """Write an epoch table as an MDF4 file with asammdf (channels :data:`MDF_CHANNELS`).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
+        ``heading_deg``, ``yaw_rate_rps`` (ISO).
+    path : str or Path
+        Output file.
+    steering_wheel : pandas.DataFrame, optional
+        ``t_s`` (the epochs' clock) and ``steering_wheel_deg``: a channel at its own rate.
+    """
+    asammdf = require("asammdf", "writing MDF4")
+    t_utc = pd.DatetimeIndex(epochs["time_utc"])
+    start = t_utc[0].to_pydatetime()
+    t = (t_utc - t_utc[0]).total_seconds().to_numpy()
+    vals = {
+        "heading": np.mod(epochs["heading_deg"].to_numpy(float), 360.0),
+        "course": epochs["course_deg"].to_numpy(float),
+        "speed": epochs["speed_mps"].to_numpy(float) * 3.6,
+        "lat": epochs["lat_deg"].to_numpy(float),
+        "lon": epochs["lon_deg"].to_numpy(float),
+        "alt": epochs["alt_m"].to_numpy(float),
+        "yaw_rate": np.rad2deg(epochs["yaw_rate_rps"].to_numpy(float)),
+    }
+    gnss = [
+        asammdf.Signal(vals[k], t, name=MDF_CHANNELS[k][0], unit=MDF_CHANNELS[k][1]) for k in vals
+    ]
+    mdf = asammdf.MDF(version="4.10")
+    mdf.header.start_time = start
+    mdf.append(gnss, comment="GNSS compass")
+    if steering_wheel is not None:
+        t0 = float(epochs["t_s"].iloc[0])
+        ts = steering_wheel["t_s"].to_numpy(float) - t0
+        n, u = MDF_CHANNELS["steering_wheel"]
+        sw = steering_wheel["steering_wheel_deg"].to_numpy(float)
+        mdf.append([asammdf.Signal(sw, ts, name=n, unit=u)], comment="steering")
+    mdf.save(str(path), overwrite=True)
+    mdf.close()
