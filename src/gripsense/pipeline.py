@@ -260,6 +260,7 @@ def learn_calibration(
     receiver: str | Path | Receiver | None = None,
     steer_csvs: list[str | Path] | None = None,
     previous: Calibration | None = None,
+    log_options: LogOptions | None = None,
 ) -> Calibration:
     """Learn each axle's cornering stiffness from drives of one vehicle (``docs/physics.md``
     §15.7): the linear-range fit of :mod:`gripsense.estimate.calibration` over every drive,
@@ -268,7 +269,7 @@ def learn_calibration(
     Parameters
     ----------
     logs : list of str or Path
-        NMEA logs of everyday driving.
+        Logs of everyday driving (any format of :func:`gripsense.io.log.read_log`).
     vehicle : Vehicle or str or Path
         The vehicle file (its declared stiffness is the reference; a calibration it names is
         not applied: learning starts from the declaration).
@@ -278,6 +279,8 @@ def learn_calibration(
         A steering channel per log, in the same order (the front axle needs it).
     previous : Calibration, optional
         An earlier calibration of this vehicle to update.
+    log_options : LogOptions, optional
+        Channel mapping, DBC and time offset of measurement logs.
 
     Returns
     -------
@@ -295,7 +298,8 @@ def learn_calibration(
     run = FrictionRun(veh, receiver=receiver)
     drives = []
     for i, log in enumerate(logs):
-        drives += log_drive_sums(log, run, steer_csv=steer_csvs[i] if steer_csvs else None)
+        steer = steer_csvs[i] if steer_csvs else None
+        drives += log_drive_sums(log, run, steer_csv=steer, log_options=log_options)
     return solve_calibration(veh, drives, previous=previous)
 
 
@@ -370,6 +374,8 @@ def solve_calibration(
         Sums of the new drives (:func:`log_drive_sums`).
     previous : Calibration, optional
         An earlier calibration of this vehicle to update.
+    log_options : LogOptions, optional
+        Channel mapping, DBC and time offset of measurement logs.
 
     Returns
     -------

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+from pathlib import Path
 from typing import Annotated, NoReturn
 
 import typer
@@ -11,12 +12,16 @@ from rich.console import Console
 from rich.text import Text
 
 __all__ = [
+    "LOG_COLUMNS_HELP",
     "Columns",
+    "Dbc",
     "Overwrite",
+    "TimeOffset",
     "command_line",
     "console",
     "err_console",
     "fail",
+    "log_options",
     "old_column_flags",
     "say",
 ]
@@ -127,3 +132,39 @@ def old_column_flags(used: list[str], columns: str | None, example: str) -> bool
             "suffix)"
         )
     return bool(used)
+
+
+LOG_COLUMNS_HELP = (
+    "channels of a VBOX, MDF4 or CAN log: heading=…,course=…,speed=…, optionally lat=…,lon=…,"
+    "yaw_rate=…,steer=…:deg,steering_wheel=…:deg,torque=…:Nm (units after ':', else the "
+    "file's; docs/ingest.md)"
+)
+Dbc = Annotated[
+    Path | None, typer.Option("--dbc", help="DBC database that decodes a CAN log (BLF, ASC)")
+]
+TimeOffset = Annotated[
+    float | None,
+    typer.Option(
+        "--time-offset",
+        help="seconds since 1970 UTC of an MDF4/CAN log's time zero (when it has no start time)",
+    ),
+]
+
+
+def log_options(columns: str | None, dbc: Path | None, time_offset: float | None, **kw):
+    """The :class:`~gripsense.io.log.LogOptions` of a command's log flags.
+
+    Parameters
+    ----------
+    columns : str or None
+        ``--columns``.
+    dbc : Path or None
+        ``--dbc``.
+    time_offset : float or None
+        ``--time-offset`` [s].
+    **kw
+        Further fields (``strict``, ``max_lines``).
+    """
+    from gripsense.io.log import LogOptions
+
+    return LogOptions(columns=columns, dbc=dbc, time_offset=time_offset, **kw)

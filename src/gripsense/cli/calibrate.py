@@ -8,7 +8,16 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from gripsense.cli._common import Overwrite, console, fail, say
+from gripsense.cli._common import (
+    LOG_COLUMNS_HELP,
+    Dbc,
+    Overwrite,
+    TimeOffset,
+    console,
+    fail,
+    log_options,
+    say,
+)
 from gripsense.cli.friction import RECEIVER_HELP
 from gripsense.errors import GripsenseError
 from gripsense.io.output_folder import check_output_file, write_file_atomic
@@ -17,7 +26,9 @@ __all__ = ["calibrate"]
 
 
 def calibrate(
-    logs: Annotated[list[Path], typer.Argument(help="NMEA logs of everyday driving")],
+    logs: Annotated[
+        list[Path], typer.Argument(help="logs of everyday driving (NMEA, VBOX, UBX, MDF4, CAN)")
+    ],
     vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
     output: Annotated[
         Path, typer.Option("-o", "--output", help="calibration file to write (TOML)")
@@ -37,6 +48,9 @@ def calibrate(
             help="an earlier calibration of this vehicle: the new drives are added to it",
         ),
     ] = None,
+    columns: Annotated[str | None, typer.Option("--columns", help=LOG_COLUMNS_HELP)] = None,
+    dbc: Dbc = None,
+    time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
 ) -> None:
     """Learn each axle's cornering stiffness (one wheel, at the static load) and its
@@ -59,6 +73,7 @@ def calibrate(
             receiver=receiver,
             steer_csvs=[str(p) for p in steer_csv] if steer_csv else None,
             previous=previous,
+            log_options=log_options(columns, dbc, time_offset),
         )
         text = calibration_toml(cal)
     except GripsenseError as e:

@@ -8,7 +8,17 @@ from typing import Annotated
 import typer
 from rich.progress import Progress
 
-from gripsense.cli._common import Overwrite, command_line, console, fail, say
+from gripsense.cli._common import (
+    LOG_COLUMNS_HELP,
+    Dbc,
+    Overwrite,
+    TimeOffset,
+    command_line,
+    console,
+    fail,
+    log_options,
+    say,
+)
 from gripsense.errors import GripsenseError
 
 
@@ -49,6 +59,9 @@ def fleet(
             "(written to OUTPUT/calibration/; starts from the vehicle file's calibration)",
         ),
     ] = False,
+    columns: Annotated[str | None, typer.Option("--columns", help=LOG_COLUMNS_HELP)] = None,
+    dbc: Dbc = None,
+    time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
 ) -> None:
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
@@ -81,6 +94,7 @@ def fleet(
                 overwrite=overwrite,
                 command=command_line(),
                 calibrate=calibrate,
+                log_options=log_options(columns, dbc, time_offset),
             )
     except GripsenseError as e:
         fail(e)

@@ -11,7 +11,17 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import Overwrite, command_line, console, fail, say
+from gripsense.cli._common import (
+    LOG_COLUMNS_HELP,
+    Dbc,
+    Overwrite,
+    TimeOffset,
+    command_line,
+    console,
+    fail,
+    log_options,
+    say,
+)
 from gripsense.errors import GripsenseError
 from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
 from gripsense.io.output_folder import check_output_file, check_output_folder, write_file_atomic
@@ -25,7 +35,10 @@ RECEIVER_HELP = (
 
 
 def friction(
-    log: Annotated[Path | None, typer.Argument(help="NMEA log of the drive (plain or .gz)")] = None,
+    log: Annotated[
+        Path | None,
+        typer.Argument(help="log of the drive: NMEA, VBOX .vbo, UBX, MDF4 or CAN (plain or .gz)"),
+    ] = None,
     vehicle: Annotated[
         Path | None, typer.Option("--vehicle", help="vehicle description (TOML)")
     ] = None,
@@ -53,9 +66,11 @@ def friction(
             "--columns",
             help="mapping for --table: t=...,vx=...,vy=...,yaw_rate=...,ay=...,steer=... "
             "(units after ':', e.g. yaw_rate=YawRate:dps; default: headers named like "
-            "time_s, speed_kmh, slip_deg, yaw_rate_dps)",
+            "time_s, speed_kmh, slip_deg, yaw_rate_dps); for a log, its " + LOG_COLUMNS_HELP,
         ),
     ] = None,
+    dbc: Dbc = None,
+    time_offset: TimeOffset = None,
     outdir: Annotated[
         Path, typer.Option("-o", "--outdir", help="folder for the result files")
     ] = Path("friction-results"),
@@ -88,7 +103,8 @@ def friction(
             say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")
             result = run.run_motion(motion, meta={"vehicle": veh.name, "source": str(table)})
         else:
-            result = run.run_log(log, steer_csv=steer_csv)
+            opts = log_options(columns, dbc, time_offset)
+            result = run.run_log(log, steer_csv=steer_csv, log_options=opts)
     except GripsenseError as e:
         fail(e)
     print_friction(result)
@@ -98,7 +114,7 @@ def friction(
             from gripsense.report.html import render_report
 
             texts["report.html"] = render_report(result, title=f"Friction — {(log or table).name}")
-        inputs = [p for p in (log, table, vehicle, steer_csv, calibration) if p is not None]
+        inputs = [p for p in (log, table, vehicle, steer_csv, calibration, dbc) if p is not None]
         paths = result.to_files(
             outdir, overwrite=overwrite, command=command_line(), inputs=inputs, texts=texts
         )

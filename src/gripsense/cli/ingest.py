@@ -1,4 +1,4 @@
-"""``gripsense ingest``: an NMEA log into the epoch table, with its line accounting."""
+"""``gripsense ingest``: a log of any supported format into the epoch table, with its accounting."""
 
 from __future__ import annotations
 
@@ -10,9 +10,18 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from gripsense.cli._common import Overwrite, console, fail, say
+from gripsense.cli._common import (
+    LOG_COLUMNS_HELP,
+    Dbc,
+    Overwrite,
+    TimeOffset,
+    console,
+    fail,
+    log_options,
+    say,
+)
 from gripsense.errors import GripsenseError
-from gripsense.io import NmeaLog, read_nmea
+from gripsense.io import NmeaLog
 from gripsense.io.nmea.align import align_channels
 from gripsense.io.nmea.epochs import EPOCH_COLUMNS
 from gripsense.io.nmea.reader import MAX_LINES
@@ -30,10 +39,12 @@ def print_ingest(log: NmeaLog) -> None:
         The ingested log.
     """
     rep = log.report
-    table = Table(title=Text(f"Line accounting — {Path(rep.source).name}"))
+    unit = rep.unit
+    title = f"Accounting ({rep.format}, {unit}) — {Path(rep.source).name}"
+    table = Table(title=Text(title))
     table.add_column("bucket")
     table.add_column("type / reason")
-    table.add_column("lines", justify="right")
+    table.add_column(unit, justify="right")
     for row in rep.to_frame().itertuples(index=False):
         if row.bucket == "rejected" and row.lines == 0:
             continue
@@ -43,7 +54,7 @@ def print_ingest(log: NmeaLog) -> None:
     ok = "[green]yes[/]" if rep.balanced else "[red]NO[/]"
     console.print(
         f"parsed {rep.n_parsed} + ignored {rep.n_ignored} + rejected {rep.n_rejected} "
-        f"= {rep.total_lines} lines; balanced: {ok}"
+        f"= {rep.total_lines} {unit}; balanced: {ok}"
     )
     if rep.junk_prefix_lines:
         console.print(
@@ -52,7 +63,7 @@ def print_ingest(log: NmeaLog) -> None:
     for note in rep.notes:
         say(f"note: {note}")
     for r in rep.first_rejects[:5]:
-        say(f"  line {r.line}: {r.reason} — {r.detail}")
+        say(f"  {r.line}: {r.reason} — {r.detail}")
     ep = log.epochs
     t = ep["t_s"].to_numpy()
     timed = t[~np.isnan(t)]
@@ -84,6 +95,8 @@ def print_ingest(log: NmeaLog) -> None:
         vc = vc[vc > 0]
         if len(vc):
             say(f"{col}: " + ", ".join(f"{k} {v}" for k, v in vc.items()))
+    if rep.channels:
+        say("channels: " + ", ".join(f"{k} {v:g} Hz" for k, v in rep.channels.items()))
     if len(ep):
         say(align_channels(ep)[1].describe())
 
@@ -135,7 +148,9 @@ def write_table(df, out: Path, kind: str = "epochs") -> None:
 
 
 def ingest(
-    log: Annotated[Path, typer.Argument(help="NMEA log (plain or .gz)")],
+    log: Annotated[
+        Path, typer.Argument(help="log: NMEA, VBOX .vbo, UBX, MDF4 or CAN BLF/ASC (plain or .gz)")
+    ],
     output: Annotated[
         Path | None, typer.Option("-o", "--output", help="write epochs to .parquet or .csv")
     ] = None,
@@ -145,13 +160,21 @@ def ingest(
     max_lines: Annotated[
         int, typer.Option(help="read at most this many lines; the rest are counted (memory)")
     ] = MAX_LINES,
+    columns: Annotated[str | None, typer.Option("--columns", help=LOG_COLUMNS_HELP)] = None,
+    dbc: Dbc = None,
+    time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
 ) -> None:
-    """Read an NMEA log into the epoch table and print its line accounting."""
+    """Read a log (format recognised from its content) into the epoch table and print its
+    accounting: every line, frame or sample used, ignored or rejected with the reason.
+    """
+    from gripsense.io.log import read_log
+
     try:
         if output is not None:
             check_table_output(output, "epochs", EPOCH_COLUMNS, overwrite=overwrite, inputs=[log])
-        nlog = read_nmea(log, strict=strict, max_lines=max_lines)
+        opts = log_options(columns, dbc, time_offset, strict=strict, max_lines=max_lines)
+        nlog = read_log(log, opts)
         print_ingest(nlog)
         if output is not None:
             write_table(nlog.epochs, output)

@@ -139,13 +139,14 @@ def run_fleet(
     overwrite: bool = False,
     command: str = "",
     calibrate: bool = False,
+    log_options=None,
 ) -> FleetResult:
     """Process every log matching *patterns* and build the cell table and the map.
 
     Parameters
     ----------
     patterns : list of str
-        Glob patterns of NMEA logs (``LOGS/**/*.nmea``).
+        Glob patterns of logs of any supported format (``LOGS/**/*.nmea``, ``*.vbo``, …).
     outdir : path
         Output folder: ``epochs/`` (partitioned Parquet), ``cells.parquet``, ``cells.geojson``,
         ``map.html``, ``logs.csv``, ``problems.csv`` and ``manifest.json``, written atomically
@@ -180,6 +181,8 @@ def run_fleet(
         Command line recorded in the manifest.
     calibrate : bool
         Learn each vehicle id's tyre stiffness from its logs and apply it (module docstring).
+    log_options : gripsense.io.log.LogOptions, optional
+        Channel mapping and DBC of MDF4 / CAN logs (every format is recognised by content).
     """
     if receiver is not None:
         from gripsense.config import receiver_from
@@ -199,7 +202,7 @@ def run_fleet(
         ResultWriter(outdir, "fleet", overwrite=overwrite, command=command, inputs=inputs) as tmp,
         _client(scheduler, workers) as client,
     ):
-        calibrations = _calibrate(client, batches, tmp, receiver) if calibrate else {}
+        calibrations = _calibrate(client, batches, tmp, receiver, log_options) if calibrate else {}
         records = _map(
             client,
             process_batch,
@@ -211,6 +214,7 @@ def run_fleet(
             since=since,
             receiver=receiver,
             calibrations=calibrations,
+            log_options=log_options,
         )
         logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
         problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
@@ -247,7 +251,7 @@ def _one_file_per_id(items: list[tuple[str, str, str]]) -> None:
             )
 
 
-def _calibrate(client, batches, outdir: Path, receiver) -> dict[str, str]:
+def _calibrate(client, batches, outdir: Path, receiver, log_options=None) -> dict[str, str]:
     """First pass: the logs' sums on the workers, one calibration per vehicle id written to
     ``outdir/calibration/`` (id → file).
     """
@@ -257,7 +261,9 @@ def _calibrate(client, batches, outdir: Path, receiver) -> dict[str, str]:
     from gripsense.config.calibration import calibration_toml, read_calibration
     from gripsense.pipeline import solve_calibration
 
-    records = _map(client, calibration_batch, batches, None, receiver=receiver)
+    records = _map(
+        client, calibration_batch, batches, None, receiver=receiver, log_options=log_options
+    )
     files = {vid: vfile for b in batches for _, vfile, vid in b}
     out = {}
     folder = Path(outdir) / "calibration"

@@ -70,6 +70,7 @@ def process_log(
     h3_res: int = 11,
     since: pd.Timestamp | None = None,
     receiver: str | None = None,
+    log_options=None,
 ) -> pd.DataFrame:
     """Rows of one log (schema :data:`ROW_COLUMNS`).
 
@@ -90,6 +91,8 @@ def process_log(
     receiver : str, optional
         Receiver class or file (:func:`gripsense.config.receiver_from`); default the vehicle
         file's ``[receiver]``, else ``v100``.
+    log_options : gripsense.io.log.LogOptions, optional
+        Channel mapping and DBC of MDF4 / CAN logs (:func:`gripsense.io.log.read_log`).
 
     Returns
     -------
@@ -106,7 +109,7 @@ def process_log(
     from gripsense.pipeline import FrictionRun
 
     run = FrictionRun(vehicle, method=method, receiver=receiver)
-    res = run.run_log(path, since=since)
+    res = run.run_log(path, since=since, log_options=log_options)
     ep = res.epochs
     if ep.empty:
         return pd.DataFrame(columns=ROW_COLUMNS)
@@ -158,7 +161,7 @@ def process_log(
 
 
 def calibration_batch(
-    items: list[tuple[str, str, str]], *, receiver: str | None = None
+    items: list[tuple[str, str, str]], *, receiver: str | None = None, log_options=None
 ) -> list[dict]:
     """The first pass of a calibrating fleet run: each log's linear-range sums per axle.
 
@@ -168,6 +171,8 @@ def calibration_batch(
         ``(log path, vehicle toml, vehicle id)``.
     receiver : str, optional
         Receiver class or file (default: the vehicle file's, else ``v100``).
+    log_options : gripsense.io.log.LogOptions, optional
+        Channel mapping and DBC of MDF4 / CAN logs.
 
     Returns
     -------
@@ -192,7 +197,7 @@ def calibration_batch(
                 if vfile not in runs:
                     veh = dataclasses.replace(Vehicle.from_toml(vfile), calibration_file=None)
                     runs[vfile] = FrictionRun(veh, receiver=receiver)
-                rec["sums"] = log_drive_sums(path, runs[vfile])
+                rec["sums"] = log_drive_sums(path, runs[vfile], log_options=log_options)
             except Exception as e:  # the second pass reports it with its reason
                 rec["problem"] = f"{type(e).__name__}: {e}"
             out.append(rec)
@@ -210,6 +215,7 @@ def process_batch(
     since: str | None,
     receiver: str | None = None,
     calibrations: dict[str, str] | None = None,
+    log_options=None,
 ) -> list[dict]:
     """Process ``(log path, vehicle toml, vehicle id)`` items; write
     ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log. A vehicle id
@@ -222,12 +228,16 @@ def process_batch(
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        return _process_items(items, outdir, method, h3_res, since, receiver, calibrations or {})
+        return _process_items(
+            items, outdir, method, h3_res, since, receiver, calibrations or {}, log_options
+        )
     finally:
         numba.set_num_threads(threads)
 
 
-def _process_items(items, outdir, method, h3_res, since, receiver, calibrations) -> list[dict]:
+def _process_items(
+    items, outdir, method, h3_res, since, receiver, calibrations, log_options=None
+) -> list[dict]:
     """The loop of :func:`process_batch`."""
     from gripsense.config.calibration import calibrated_vehicle
 
@@ -250,6 +260,7 @@ def _process_items(items, outdir, method, h3_res, since, receiver, calibrations)
                 h3_res=h3_res,
                 since=since_ts,
                 receiver=receiver,
+                log_options=log_options,
             )
             if len(rows):
                 d = Path(outdir) / "epochs" / f"vehicle={vid}"
