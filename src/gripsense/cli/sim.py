@@ -29,6 +29,14 @@ def simulate(
             "[receiver] table, as gripsense friction takes it; default: the scenario's)",
         ),
     ] = None,
+    fmt: Annotated[
+        str,
+        typer.Option(
+            "--format",
+            help="format of the emulated logs: nmea | vbo (VBOX) | ubx (u-blox UBX with the "
+            "NMEA sentences) | mf4 (MDF4); vbo and mf4 carry the steering channel inside",
+        ),
+    ] = "nmea",
 ) -> None:
     """Simulate drives with known friction and emulate the receiver (logs, truth, vehicle)."""
     from rich.progress import Progress
@@ -49,6 +57,7 @@ def simulate(
                 overwrite=overwrite,
                 command=command_line(),
                 receiver=receiver,
+                fmt=fmt,
             )
     except GripsenseError as e:
         fail(e)

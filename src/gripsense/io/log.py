@@ -31,7 +31,17 @@ from gripsense.io.epoch_table import channel_rates
 from gripsense.io.nmea.reader import MAX_BYTES, MAX_LINES, NmeaLog, read_log_bytes, read_nmea
 from gripsense.io.text import read_bytes
 
-__all__ = ["FORMATS", "LogOptions", "detect_format", "log_steer", "read_log"]
+__all__ = [
+    "FORMATS",
+    "SUFFIXES",
+    "WRITABLE",
+    "LogOptions",
+    "detect_format",
+    "log_steer",
+    "read_log",
+    "write_log",
+    "write_nmea_lines",
+]
 
 FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc")
 """Format names of :func:`detect_format` (and ``--format`` of ``gripsense simulate``)."""
@@ -191,3 +201,88 @@ def log_steer(epochs, steering_ratio: float | None, name: str = "log"):
             )
         return epochs["steering_wheel_rad"].to_numpy(float) / steering_ratio
     return None
+
+
+WRITABLE = ("nmea", "vbo", "ubx", "mf4")
+"""Formats :func:`write_log` writes (``gripsense simulate --format``)."""
+SUFFIXES = {"nmea": ".nmea.gz", "vbo": ".vbo", "ubx": ".ubx", "mf4": ".mf4"}
+"""File suffix of each writable format."""
+
+
+def write_log(
+    epochs,
+    path: str | os.PathLike,
+    fmt: str,
+    *,
+    nmea_lines: list[str] | None = None,
+    steer=None,
+) -> str | None:
+    """Write a drive's epoch table in one of the field's formats.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``t_s``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``,
+        ``course_deg``, ``heading_deg``, ``yaw_rate_rps``.
+    path : str or Path
+        Output file.
+    fmt : {"nmea", "vbo", "ubx", "mf4"}
+        Format: NMEA (the *nmea_lines*, gzip when the name ends in ``.gz``), VBOX ``.vbo``
+        (written by hand), UBX (pyubx2; the NMEA lines interleaved as a receiver sends them) or
+        MDF4 (asammdf).
+    nmea_lines : list of str, optional
+        The receiver's NMEA sentences (needed for ``nmea``; interleaved in ``ubx``).
+    steer : pandas.DataFrame, optional
+        ``t_s`` and ``road_wheel_deg``: a steering channel inside a VBOX or MDF4 file.
+
+    Returns
+    -------
+    str or None
+        The ``--columns`` that read the file back (VBOX with a steering channel, MDF4), else
+        None.
+    """
+    if fmt == "nmea":
+        if nmea_lines is None:
+            raise ValueError("write_log: the nmea format needs nmea_lines")
+        write_nmea_lines(nmea_lines, path)
+        return None
+    if fmt == "vbo":
+        from gripsense.io.vbo import write_vbo
+
+        write_vbo(epochs, path, steer=steer)
+        return "steer=RoadWheelAngle" if steer is not None else None
+    if fmt == "ubx":
+        from gripsense.io.ubx import write_ubx
+
+        write_ubx(epochs, path, nmea_lines=nmea_lines)
+        return None
+    if fmt == "mf4":
+        from gripsense.io.mdf import mdf_columns, write_mdf
+
+        write_mdf(epochs, path, steer=steer)
+        return mdf_columns(steering=steer is not None)
+    raise InputError(f"--format {fmt!r}: use one of {', '.join(WRITABLE)}")
+
+
+def write_nmea_lines(lines: list[str], path: str | os.PathLike, *, crlf: bool = True) -> None:
+    """Write NMEA sentences to a file (gzip-compressed when the name ends in ``.gz``).
+
+    Parameters
+    ----------
+    lines : list of str
+        Sentences without line terminators.
+    path : str or Path
+        Output file.
+    crlf : bool
+        End lines with CR LF as NMEA does.
+    """
+    import gzip
+
+    eol = "\r\n" if crlf else "\n"
+    text = eol.join(lines) + eol
+    if str(path).endswith(".gz"):
+        with gzip.open(path, "wt", encoding="ascii", newline="") as f:
+            f.write(text)
+    else:
+        with open(path, "w", encoding="ascii", newline="") as f:
+            f.write(text)

@@ -32,7 +32,7 @@ MDF_CHANNELS = {
     "lon": ("GNSS_Longitude", "deg"),
     "alt": ("GNSS_Height", "m"),
     "yaw_rate": ("GNSS_YawRate", "deg/s"),
-    "steering_wheel": ("SteeringWheelAngle", "deg"),
+    "steer": ("RoadWheelAngle", "deg"),
 }
 """Channel names and units :func:`write_mdf` (``gripsense simulate --format mf4``) uses."""
 
@@ -112,9 +112,9 @@ def mdf_columns(*, steering: bool = False) -> str:
     Parameters
     ----------
     steering : bool
-        Include the steering-wheel channel.
+        Include the road-wheel angle channel.
     """
-    keys = [k for k in MDF_CHANNELS if steering or k != "steering_wheel"]
+    keys = [k for k in MDF_CHANNELS if steering or k != "steer"]
     return ",".join(f"{k}={MDF_CHANNELS[k][0]}" for k in keys)
 
 
@@ -122,7 +122,7 @@ def write_mdf(
     epochs: pd.DataFrame,
     path: str | Path,
     *,
-    steering_wheel: pd.DataFrame | None = None,
+    steer: pd.DataFrame | None = None,
 ) -> None:
     """Write an epoch table as an MDF4 file with asammdf (channels :data:`MDF_CHANNELS`).
 
@@ -133,8 +133,9 @@ def write_mdf(
         ``heading_deg``, ``yaw_rate_rps`` (ISO).
     path : str or Path
         Output file.
-    steering_wheel : pandas.DataFrame, optional
-        ``t_s`` (the epochs' clock) and ``steering_wheel_deg``: a channel at its own rate.
+    steer : pandas.DataFrame, optional
+        ``t_s`` (the epochs' clock) and ``road_wheel_deg`` (ISO, left positive): a channel at
+        its own rate (``RoadWheelAngle``).
     """
     asammdf = require("asammdf", "writing MDF4")
     t_utc = pd.DatetimeIndex(epochs["time_utc"])
@@ -155,11 +156,11 @@ def write_mdf(
     mdf = asammdf.MDF(version="4.10")
     mdf.header.start_time = start
     mdf.append(gnss, comment="GNSS compass")
-    if steering_wheel is not None:
+    if steer is not None:
         t0 = float(epochs["t_s"].iloc[0])
-        ts = steering_wheel["t_s"].to_numpy(float) - t0
-        n, u = MDF_CHANNELS["steering_wheel"]
-        sw = steering_wheel["steering_wheel_deg"].to_numpy(float)
+        ts = steer["t_s"].to_numpy(float) - t0
+        n, u = MDF_CHANNELS["steer"]
+        sw = steer["road_wheel_deg"].to_numpy(float)
         mdf.append([asammdf.Signal(sw, ts, name=n, unit=u)], comment="steering")
     mdf.save(str(path), overwrite=True)
     mdf.close()

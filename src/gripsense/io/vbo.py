@@ -393,7 +393,7 @@ def write_vbo(
     epochs: pd.DataFrame,
     path: str | Path,
     *,
-    steering_wheel_deg: np.ndarray | None = None,
+    steer: pd.DataFrame | None = None,
     created: str = "VBOX 3i dual antenna (emulated by gripsense)",
 ) -> None:
     """Write an epoch table as a VBOX 3i dual-antenna ``.vbo`` file.
@@ -405,9 +405,10 @@ def write_vbo(
         ``heading_deg``, ``yaw_rate_rps`` (ISO) and optionally ``n_sats``.
     path : str or Path
         Output file.
-    steering_wheel_deg : numpy.ndarray, optional
-        Steering-wheel angle per epoch (ISO, left positive) [deg]: a module channel
-        ``Steering_Angle`` with its unit in ``[channel units]``.
+    steer : pandas.DataFrame, optional
+        ``t_s`` (the epochs' clock) and ``road_wheel_deg`` (ISO, left positive): interpolated
+        onto the rows as the module channel ``RoadWheelAngle``, its unit in
+        ``[channel units]``.
     created : str
         The ``[comments]`` line naming the device.
     """
@@ -430,9 +431,11 @@ def write_vbo(
     header = ["satellites", "time", "latitude", "longitude", "velocity kmh", "heading", "height",
               "True Heading", "Yaw Rate"]  # fmt: skip
     units = []
-    if steering_wheel_deg is not None:
-        cols["Steering_Angle"] = [f"{a:+.6E}" for a in steering_wheel_deg]
-        header.append("Steering_Angle")
+    if steer is not None:
+        a = np.interp(epochs["t_s"].to_numpy(float), steer["t_s"].to_numpy(float),
+                      steer["road_wheel_deg"].to_numpy(float))  # fmt: skip
+        cols["RoadWheelAngle"] = [f"{x:+.6E}" for x in a]
+        header.append("RoadWheelAngle")
         units.append("deg")
     rows = [" ".join(r) for r in zip(*cols.values(), strict=True)]
     text = "\n".join(

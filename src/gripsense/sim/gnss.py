@@ -184,11 +184,17 @@ class CompassLog:
     truth : pandas.DataFrame
         Per epoch and wheel: ``t_s``, ``wheel``, ``mu_true``, ``slip_angle_rad``, ``load_N``,
         ``force_N``, ``speed_mps`` (from the simulator).
+    epochs : pandas.DataFrame or None
+        What the receiver measured, as an epoch table (``time_utc``, ``t_s``, ``lat_deg``,
+        ``lon_deg``, ``alt_m``, ``n_sats``, ``speed_mps``, ``course_deg``, ``heading_deg``,
+        ``yaw_rate_rps``): the same drive for the other log formats
+        (:func:`gripsense.io.log.write_log`).
     """
 
     lines: list[str]
     antenna: pd.DataFrame
     truth: pd.DataFrame
+    epochs: pd.DataFrame | None = None
 
     def write(self, path, *, crlf: bool = True) -> None:
         """Write the sentences to a file (gzip-compressed when the name ends in .gz).
@@ -200,16 +206,9 @@ class CompassLog:
         crlf : bool
             End lines with CR LF as NMEA does.
         """
-        import gzip
+        from gripsense.io.log import write_nmea_lines
 
-        eol = "\r\n" if crlf else "\n"
-        text = eol.join(self.lines) + eol
-        if str(path).endswith(".gz"):
-            with gzip.open(path, "wt", encoding="ascii", newline="") as f:
-                f.write(text)
-        else:
-            with open(path, "w", encoding="ascii", newline="") as f:
-                f.write(text)
+        write_nmea_lines(self.lines, path, crlf=crlf)
 
 
 def format_sentence(body: str) -> str:
@@ -391,4 +390,18 @@ def emulate_compass(
     truth = w[keep].reset_index(drop=True)
     if lag:
         truth["t_s"] = truth["t_s"] + lag / out_hz
-    return CompassLog(lines=lines, antenna=antenna, truth=truth)
+    measured = pd.DataFrame(
+        {
+            "time_utc": pd.DatetimeIndex([start + dt.timedelta(seconds=float(x)) for x in t]),
+            "t_s": t,
+            "lat_deg": lat,
+            "lon_deg": lon,
+            "alt_m": np.full(n, float(alt0)),
+            "n_sats": np.full(n, 12.0),
+            "speed_mps": speed,
+            "course_deg": course,
+            "heading_deg": np.mod(hdg, 360.0),
+            "yaw_rate_rps": -np.deg2rad(rot / 60.0),
+        }
+    )
+    return CompassLog(lines=lines, antenna=antenna, truth=truth, epochs=measured)

@@ -52,8 +52,10 @@ Output folder: ``vehicle.toml`` (the vehicle used), for cases with tyres from fi
 ``vehicle_<tyre>.toml`` (the vehicle file a user would write for them: the tyre's cornering
 stiffness at the static load instead of the brush parameters, :func:`gripsense.sim.drives.
 user_vehicle_toml`), ``cases.csv`` (one row per case with its parameters, road μ, receiver,
-the vehicle file to estimate with and file names), and per case ``<id>.nmea.gz`` (the emulated
-receiver),
+the vehicle file to estimate with and file names: ``log``, and ``columns`` when reading it
+needs a channel mapping), and per case the emulated receiver's log: ``<id>.nmea.gz`` (NMEA),
+or with ``--format`` ``<id>.vbo`` (VBOX, with the steering channel inside), ``<id>.ubx`` (UBX
+frames interleaved with the NMEA sentences) or ``<id>.mf4`` (MDF4, with the steering channel),
 ``<id>_truth.parquet`` (per epoch and wheel: true μ — the wheel's peak friction at its load and
 inclination —, road μ, inclination, slip angle, load, lateral force), with ``[accelerometer]``
 ``<id>_accel.csv`` and with ``[steering]`` ``<id>_steer.csv``.
@@ -81,6 +83,7 @@ from gripsense.config.scenario_schema import (
 from gripsense.config.scenario_schema import SCENARIO_TABLES as TABLES
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
+from gripsense.io.log import SUFFIXES, WRITABLE, write_log
 from gripsense.io.output_folder import ResultWriter
 from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
@@ -187,6 +190,7 @@ def run_scenario(
     overwrite: bool = False,
     command: str = "",
     receiver: str | Path | None = None,
+    fmt: str = "nmea",
 ) -> pd.DataFrame:
     """Simulate every case of a scenario file and write the outputs (see module docs).
 
@@ -207,12 +211,17 @@ def run_scenario(
         The receiver of every case (``gripsense simulate --receiver``): a class of
         :data:`gripsense.config.RECEIVERS`, ``none`` or a TOML file with a ``[receiver]`` table;
         it replaces the scenario's ``[gnss] noise`` and the cases' ``receiver``.
+    fmt : {"nmea", "vbo", "ubx", "mf4"}
+        Format of the emulated logs (``gripsense simulate --format``;
+        :func:`gripsense.io.log.write_log`).
 
     Returns
     -------
     pandas.DataFrame
         The case index written to ``cases.csv``.
     """
+    if fmt not in WRITABLE:
+        raise InputError(f"--format {fmt!r}: use one of {', '.join(WRITABLE)}")
     path = Path(path)
     src = str(path)
     doc = read_toml(path, "scenario file")
@@ -289,7 +298,7 @@ def run_scenario(
         outdir, "simulation", overwrite=overwrite, command=command, inputs=inputs
     ) as out:
         return _simulate_cases(
-            out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress
+            out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt
         )
 
 
@@ -341,7 +350,9 @@ def _tyres(base: Path, spec, src: str, where: str, cache: dict) -> dict[str, Sim
     return out
 
 
-def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress):
+def _simulate_cases(
+    out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt="nmea"
+):
     shutil.copyfile(vpath, out / "vehicle.toml")
     antenna = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     rows = []
@@ -352,7 +363,18 @@ def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, stee
             progress(i, len(specs), cid)
         res = M.run(params, m, mu=mu, patches=np.array(patches) if patches else None)
         log = emulate_compass(res, antenna, rate_hz=rate, noise=noise, seed=seed + i)
-        log.write(out / f"{cid}.nmea.gz")
+        st = None
+        if steer is not None:
+            st = emulate_steering(
+                res,
+                rate_hz=steer["rate_hz"],
+                noise_deg=steer["noise_deg"],
+                scale_error=steer["scale_error"],
+                offset_deg=steer["offset_deg"],
+                seed=seed + 7919 + i,
+            )
+        log_name = f"{cid}{SUFFIXES[fmt]}"
+        log_columns = write_log(log.epochs, out / log_name, fmt, nmea_lines=log.lines, steer=st)
         key = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
         if key and key not in user_files:
             from gripsense.sim.drives import user_vehicle_toml
@@ -377,7 +399,9 @@ def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, stee
                 for k, v in spec.items()
                 if k not in ("maneuver", "mu")
             },
-            "nmea": f"{cid}.nmea.gz",
+            **({"nmea": log_name} if fmt == "nmea" else {}),
+            "log": log_name,
+            **({"columns": log_columns} if log_columns else {}),
             "truth": f"{cid}_truth.parquet",
             "settle_s": m.settle_s,
             "sim_s": float(res.body["t_s"].iloc[-1]),
@@ -395,15 +419,7 @@ def _simulate_cases(out, specs, setups, vehicle, vpath, patches, rate, acc, stee
             )
             a.to_csv(out / f"{cid}_accel.csv", index=False, float_format="%.5f")
             row["accel"] = f"{cid}_accel.csv"
-        if steer is not None:
-            st = emulate_steering(
-                res,
-                rate_hz=steer["rate_hz"],
-                noise_deg=steer["noise_deg"],
-                scale_error=steer["scale_error"],
-                offset_deg=steer["offset_deg"],
-                seed=seed + 7919 + i,
-            )
+        if st is not None:
             st.to_csv(out / f"{cid}_steer.csv", index=False, float_format="%.5f")
             row["steer"] = f"{cid}_steer.csv"
         rows.append(row)
