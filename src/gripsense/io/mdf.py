@@ -10,7 +10,10 @@ base by linear interpolation (angles unwrapped, nothing across a channel's gaps;
 from __future__ import annotations
 
 import datetime as dt
+import gc
 import io
+import logging
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -70,11 +73,9 @@ def read_mdf(
     if not mapped:
         raise InputError(f"{name}: give the channels with --columns (heading=…,course=…,speed=…)")
     src = io.BytesIO(data) if data is not None else str(path)
+    mdf = _open(asammdf, src, name)
     try:
-        mdf = asammdf.MDF(src)
-    except Exception as e:  # asammdf raises many kinds on a damaged file
-        raise InputError(f"{name}: not a readable MDF file ({type(e).__name__}: {e})") from None
-    try:
+        _check_records(mdf, name)
         available = list(mdf.channels_db)
         found = {}
         for key, spec in mapped.items():
@@ -104,6 +105,53 @@ def read_mdf(
     notes = [f"{n_other} channels of the file not mapped (not read)"] if n_other else []
     return log_from_channels(mapped, found, name=name, fmt="MDF4", start_s=start_s,
                              time_offset=time_offset, strict=strict, notes=notes)  # fmt: skip
+
+
+def _open(asammdf, src, name: str):
+    """``asammdf.MDF(src)``, or one InputError: a damaged file makes asammdf raise many kinds
+    of exception, and its half-built object complains when collected; that is kept quiet.
+    """
+    err = ""
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda _: None
+    logger = logging.getLogger("asammdf")  # its log lines on a damaged file: the error says it
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        try:
+            return asammdf.MDF(src)
+        except Exception as e:
+            err = f"{type(e).__name__}: {e}"
+        gc.collect()  # the half-built object, while its complaint is silenced
+    finally:
+        sys.unraisablehook = hook
+        logger.setLevel(level)
+    raise InputError(f"{name}: not a readable MDF file ({err})")
+
+
+def _check_records(mdf, name: str) -> None:
+    """Refuse a file whose channel groups point outside their records or data: asammdf's
+    compiled reader would read past its buffers (a crash, not an error) on such a damaged
+    file.
+    """
+    for gi, g in enumerate(mdf.groups):
+        cg = g.channel_group
+        record = int(cg.samples_byte_nr) + int(getattr(cg, "invalidation_bytes_nr", 0))
+        for ch in g.channels:
+            if int(getattr(ch, "channel_type", 0)) not in (0, 2, 4):
+                continue  # variable-length and virtual channels hold no record bytes
+            end = int(ch.byte_offset) + (int(ch.bit_offset) + int(ch.bit_count) + 7) // 8
+            if ch.bit_count <= 0 or ch.bit_count > 64 * 8 or end > int(cg.samples_byte_nr):
+                raise InputError(
+                    f"{name}: damaged MDF file: channel {ch.name!r} of group {gi} lies outside "
+                    f"its {cg.samples_byte_nr}-byte record (bytes up to {end})"
+                )
+        held = sum(int(b.original_size) for b in g.get_data_blocks())
+        if record and int(cg.cycles_nr) * record > held:
+            raise InputError(
+                f"{name}: damaged MDF file: group {gi} declares {cg.cycles_nr} records of "
+                f"{record} bytes but its data hold {held} bytes (cut off?)"
+            )
 
 
 def mdf_columns(*, steering: bool = False) -> str:

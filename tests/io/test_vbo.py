@@ -1,0 +1,146 @@
+"""VBOX .vbo: a real Racelogic file read against the format's description, round trips, and
+every kind of bad input as one clear error or a counted line."""
+
+from __future__ import annotations
+
+import datetime as dt
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from gripsense.errors import InputError
+from gripsense.io.log import read_log
+from gripsense.io.vbo import parse_vbo, read_vbo, write_vbo
+from tests.conftest import DATA
+
+SAMPLE = DATA / "formats" / "sample.vbo"
+SAMPLE_TEXT = SAMPLE.read_text()
+
+
+def test_real_sample_against_the_format_description():
+    """The Racelogic sample: latitude in minutes north, longitude in minutes **west**
+    positive, speed in km/h, time hhmmss.ss UTC on the preamble's date (worked by hand)."""
+    log = read_vbo(SAMPLE)
+    ep = log.epochs
+    assert len(ep) == 6
+    # first data row: 019 105633.680 +3119.37247163 +0059.48225769 000.153 218.05 +0155.06
+    assert ep["lat_deg"].iloc[0] == pytest.approx(51 + 59.37247163 / 60, abs=1e-12)
+    assert ep["lon_deg"].iloc[0] == pytest.approx(-(0 + 59.48225769 / 60), abs=1e-12)
+    assert ep["speed_mps"].iloc[0] == pytest.approx(0.153 / 3.6)
+    assert ep["course_deg"].iloc[0] == 218.05
+    assert ep["alt_m"].iloc[0] == 155.06
+    assert ep["n_sats"].iloc[0] == 19 and ep["fix_quality"].iloc[0] == 1
+    assert ep["time_utc"].iloc[0] == pd.Timestamp("2013-12-03 10:56:33.680", tz="UTC")
+    assert ep["t_s"].iloc[-1] == pytest.approx(0.05)
+    # no dual-antenna channel: no heading (and so no yaw rate from it)
+    assert ep["heading_deg"].isna().all()
+    rep = log.report
+    assert rep.format == "VBOX VBO" and rep.balanced
+    assert rep.parsed == {"VBO data": 6}
+    assert rep.total_lines == len(SAMPLE_TEXT.splitlines())
+
+
+def _epochs(n: int = 50, rate: float = 10.0, seed: int = 0) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / rate
+    return pd.DataFrame(
+        {
+            "time_utc": pd.Timestamp("2026-03-01 23:59:57", tz="UTC") + pd.to_timedelta(t, "s"),
+            "t_s": t,
+            "lat_deg": 35.5 + rng.normal(0, 1e-4, n),
+            "lon_deg": -120.25 + rng.normal(0, 1e-4, n),  # west: negative here, positive in .vbo
+            "alt_m": 12.0 + rng.normal(0, 1, n),
+            "n_sats": np.full(n, 14.0),
+            "speed_mps": rng.uniform(5, 30, n),
+            "course_deg": rng.uniform(0, 360, n),
+            "heading_deg": rng.uniform(0, 360, n),
+            "yaw_rate_rps": rng.normal(0, 0.3, n),
+        }
+    )
+
+
+def test_round_trip_to_the_format_resolution_across_midnight(tmp_path):
+    ep = _epochs()
+    steer = pd.DataFrame({"t_s": ep["t_s"], "road_wheel_deg": np.linspace(-2, 3, len(ep))})
+    write_vbo(ep, tmp_path / "d.vbo", steer=steer)
+    log = read_vbo(tmp_path / "d.vbo", columns="steer=RoadWheelAngle")
+    got = log.epochs
+    # the file's resolutions: 1e-8 minute, 0.001 km/h, 0.01° course, 0.001° heading
+    np.testing.assert_allclose(got["lat_deg"], ep["lat_deg"], atol=1e-9)
+    np.testing.assert_allclose(got["lon_deg"], ep["lon_deg"], atol=1e-9)
+    np.testing.assert_allclose(got["speed_mps"], ep["speed_mps"], atol=0.0005 / 3.6 + 1e-12)
+    np.testing.assert_allclose(got["course_deg"], ep["course_deg"], atol=0.005 + 1e-9)
+    np.testing.assert_allclose(got["heading_deg"], ep["heading_deg"], atol=0.0005 + 1e-9)
+    np.testing.assert_allclose(got["yaw_rate_rps"], ep["yaw_rate_rps"], atol=np.deg2rad(5e-4))
+    np.testing.assert_allclose(np.rad2deg(got["steer_rad"]), steer["road_wheel_deg"], atol=1e-5)
+    assert (got["yaw_rate_source"] == "VBOX").all() and (got["heading_source"] == "VBOX").all()
+    # the time of day rolls over midnight onto the next date
+    assert (got["time_utc"] - ep["time_utc"]).abs().max() < pd.Timedelta("1ms")
+    assert got["time_utc"].iloc[-1].date() == dt.date(2026, 3, 2)
+    assert log.report.balanced
+
+
+def test_short_and_non_numeric_rows_are_counted_with_their_line(tmp_path):
+    lines = SAMPLE_TEXT.splitlines()
+    k = lines.index("[data]")
+    lines[k + 2] = lines[k + 2][:40]  # cut short
+    lines[k + 3] = lines[k + 3].replace("197.16", "19?.16")  # not a number
+    log = parse_vbo("\n".join(lines), "bad.vbo")
+    rep = log.report
+    assert rep.rejected["truncated"] == 1 and rep.rejected["malformed field"] == 1
+    assert [r.line for r in rep.first_rejects] == [k + 3, k + 4]  # 1-based
+    assert rep.balanced and len(log.epochs) == 4
+    with pytest.raises(InputError, match=rf"bad.vbo:{k + 3}: truncated"):
+        parse_vbo("\n".join(lines), "bad.vbo", strict=True)
+
+
+@pytest.mark.parametrize("section", ["[header]", "[column names]", "[data]"])
+def test_a_missing_section_is_one_clear_error(section):
+    text = SAMPLE_TEXT.replace(section, "")
+    with pytest.raises(InputError, match=rf"x.vbo: .*no \{section[:-1]}\] section"):
+        parse_vbo(text, "x.vbo")
+
+
+def test_a_mapped_channel_without_a_unit_names_the_channel_and_the_fix(tmp_path):
+    ep = _epochs(5)
+    steer = pd.DataFrame({"t_s": ep["t_s"], "road_wheel_deg": np.ones(5)})
+    write_vbo(ep, tmp_path / "d.vbo", steer=steer)
+    text = (tmp_path / "d.vbo").read_text().replace("[channel units]\ndeg\n", "[channel units]\n")
+    with pytest.raises(InputError, match=r"'RoadWheelAngle' \(steer\): it has no unit.*:deg"):
+        parse_vbo(text, "d.vbo", columns="steer=RoadWheelAngle")
+    # the unit given in --columns is enough
+    got = parse_vbo(text, "d.vbo", columns="steer=RoadWheelAngle:deg").epochs
+    np.testing.assert_allclose(got["steer_rad"], np.deg2rad(1.0))
+    with pytest.raises(InputError, match="no such column; the file has"):
+        parse_vbo(text, "d.vbo", columns="steer=Steer")
+
+
+def test_content_not_the_suffix_decides(tmp_path):
+    import gzip
+
+    (tmp_path / "drive.txt").write_bytes(SAMPLE.read_bytes())
+    (tmp_path / "drive.log.gz").write_bytes(gzip.compress(SAMPLE.read_bytes()))
+    for name in ("drive.txt", "drive.log.gz"):
+        log = read_log(tmp_path / name)
+        assert log.report.format == "VBOX VBO" and len(log.epochs) == 6
+        assert log.report.channels["speed_mps"] == pytest.approx(100.0)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    cut=st.integers(0, len(SAMPLE_TEXT)),
+    junk=st.text(min_size=0, max_size=30),
+    at=st.integers(0, len(SAMPLE_TEXT)),
+)
+def test_fuzz_never_a_traceback(cut, junk, at):
+    """Any cut or insertion: a log with every line accounted for, or one InputError."""
+    text = SAMPLE_TEXT[:at] + junk + SAMPLE_TEXT[at:cut] if cut > at else SAMPLE_TEXT[:cut]
+    try:
+        log = parse_vbo(text, "f.vbo")
+    except InputError:
+        return
+    assert log.report.balanced
+    assert log.report.total_lines == len(text.splitlines())
