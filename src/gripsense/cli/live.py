@@ -7,7 +7,16 @@ from typing import Annotated
 
 import typer
 
-from gripsense.cli._common import Overwrite, console, fail, say
+from gripsense.cli._common import (
+    LOG_COLUMNS_HELP,
+    Dbc,
+    Overwrite,
+    TimeOffset,
+    console,
+    fail,
+    log_options,
+    say,
+)
 from gripsense.errors import GripsenseError, InputError
 
 
@@ -16,7 +25,10 @@ def live(
     serial: Annotated[str | None, typer.Option(help="Serial device, e.g. /dev/ttyUSB0")] = None,
     baud: Annotated[int, typer.Option(help="Serial baud rate")] = 115200,
     tcp: Annotated[str | None, typer.Option(help="HOST:PORT of a receiver streaming NMEA")] = None,
-    replay: Annotated[Path | None, typer.Option(help="Replay a log file (plain or .gz)")] = None,
+    replay: Annotated[
+        Path | None,
+        typer.Option(help="Replay a log file: NMEA, UBX, VBOX, MDF4 or CAN (plain or .gz)"),
+    ] = None,
     speed: Annotated[float, typer.Option(help="Replay speed (1 = real time, 0 = max)")] = 1.0,
     method: Annotated[
         str, typer.Option(help="Friction method (as gripsense friction)")
@@ -42,12 +54,17 @@ def live(
         Path | None,
         typer.Option(help="Convert OUTPUT.parquet.partial.csv left by a killed run, then exit"),
     ] = None,
+    columns: Annotated[
+        str | None, typer.Option("--columns", help="for --replay: " + LOG_COLUMNS_HELP)
+    ] = None,
+    dbc: Dbc = None,
+    time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
 ) -> None:
-    """Read NMEA as it arrives (serial, TCP or replay), update μ continuously, show and record
-    it; Ctrl-C (SIGINT) or SIGTERM stops cleanly.
+    """Read NMEA or UBX as it arrives (serial, TCP or replay), update μ continuously, show and
+    record it; Ctrl-C (SIGINT) or SIGTERM stops cleanly.
     """
-    from gripsense.live import ReplaySource, SerialSource, TcpSource, run_live
+    from gripsense.live import SerialSource, TcpSource, open_replay, run_live
     from gripsense.live import recover as do_recover
     from gripsense.live.display import LiveDisplay, render
     from gripsense.live.runner import check_live_outputs, output_paths
@@ -70,7 +87,7 @@ def live(
         if output is not None:  # before the source is opened: nothing is lost to a bad -o
             check_live_outputs(output, overwrite=overwrite, inputs=[replay] if replay else [])
         if replay is not None:
-            src = ReplaySource(replay, speed=speed)
+            src = open_replay(replay, speed, log_options(columns, dbc, time_offset))
         elif tcp is not None:
             host, _, port = tcp.rpartition(":")
             if not host or not port.isdigit():
@@ -108,7 +125,7 @@ def live(
     if quiet:
         console.print(render(res["summary"], st, _Ing(rep), src))
     console.print(
-        f"stopped: {res['stopped_by']}; {rep.total_lines} lines "
+        f"stopped: {res['stopped_by']}; {rep.total_lines} {rep.unit} "
         f"({sum(rep.parsed.values())} parsed, {sum(rep.ignored.values())} ignored, "
         f"{sum(rep.rejected.values())} rejected), {rep.n_epochs} epochs, "
         f"{getattr(src, 'reconnects', 0)} reconnects"

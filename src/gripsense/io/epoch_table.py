@@ -86,14 +86,20 @@ def build_epochs(
             continue
         v = values.get(c)
         cols[c] = np.full(n, np.nan) if v is None else np.asarray(v, dtype=float)
-    us = np.round(abs_s * 1e6)  # to the microsecond: float seconds since 1970 hold ~0.2 µs
-    nat = np.isnan(abs_s) | (not has_date)
-    us[nat] = 0
-    stamp = us.astype(np.int64) * 1000
+    # to the microsecond: float seconds since 1970 hold ~0.2 µs, and t_s from the rounded
+    # stamps is exact to it (0.1 s steps stay 0.1 s)
+    finite = ~np.isnan(abs_s)
+    us = np.zeros(n, dtype=np.int64)
+    us[finite] = np.round(abs_s[finite] * 1e6).astype(np.int64)
+    nat = ~finite | (not has_date)
+    stamp = us * 1000
     stamp[nat] = np.iinfo(np.int64).min
     cols["time_utc"] = pd.DatetimeIndex(stamp.view("M8[ns]")).tz_localize("UTC")
-    first = np.flatnonzero(~np.isnan(abs_s))
-    cols["t_s"] = abs_s - abs_s[first[0]] if first.size else abs_s
+    first = np.flatnonzero(finite)
+    t_s = np.full(n, np.nan)
+    if first.size:
+        t_s[finite] = (us[finite] - us[first[0]]) * 1e-6
+    cols["t_s"] = t_s
     heading = cols["heading_deg"]
     hcode = np.where(np.isnan(heading), -1, HEADING_SOURCES.index(heading_source))
     cols["heading_source"] = pd.Categorical.from_codes(

@@ -390,11 +390,12 @@ def _ubx_epochs(tables: dict[str, pd.DataFrame]) -> pd.DataFrame:
     allt = pd.concat(itows).sort_values("start", kind="stable")
     order = allt.drop_duplicates("itow")["itow"].to_numpy()
     n = order.size
-    pos = {int(v): k for k, v in enumerate(order)}
+    by_itow = np.argsort(order, kind="stable")
     values: dict[str, np.ndarray] = {}
 
     def put(t: pd.DataFrame, src: str, dst: str | None = None) -> None:
-        rows = np.fromiter((pos[int(v)] for v in t["itow"]), dtype=np.int64, count=len(t))
+        k = np.searchsorted(order, t["itow"].to_numpy(), sorter=by_itow)
+        rows = by_itow[k]
         out = values.setdefault(dst or src, np.full(n, np.nan))
         v = t[src].to_numpy(float)
         fill = np.isnan(out[rows])

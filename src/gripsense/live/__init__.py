@@ -2,6 +2,18 @@
 
 from gripsense.live.incremental import LiveIngest
 from gripsense.live.runner import recover, run_live
-from gripsense.live.sources import ReplaySource, SerialSource, TcpSource
+from gripsense.live.sources import EpochReplay, ReplaySource, SerialSource, TcpSource, open_replay
+from gripsense.live.stream_ingest import AutoIngest, LiveUbxIngest
 
-__all__ = ["LiveIngest", "ReplaySource", "SerialSource", "TcpSource", "recover", "run_live"]
+__all__ = [
+    "AutoIngest",
+    "EpochReplay",
+    "LiveIngest",
+    "LiveUbxIngest",
+    "ReplaySource",
+    "SerialSource",
+    "TcpSource",
+    "open_replay",
+    "recover",
+    "run_live",
+]

@@ -48,7 +48,7 @@ def render(summary, stats, ingest, source):
     head = Text.assemble(
         (f"{source.status}  ", "bold"),
         ("STALE  " if stale else "", "bold red"),
-        f"{rep.total_lines} lines ({rep.total_lines / el:.0f}/s), {stats.epochs} epochs, "
+        f"{rep.total_lines} {rep.unit} ({rep.total_lines / el:.0f}/s), {stats.epochs} epochs, "
         f"{rejected} rejected, {len(stats.gaps)} gaps",
     )
     t = Table(expand=False)

@@ -28,7 +28,7 @@ import pandas as pd
 from gripsense.errors import GripsenseError, InputError
 from gripsense.estimate.results import UNIT_COLUMNS
 from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
-from gripsense.live.incremental import LiveIngest
+from gripsense.live.stream_ingest import AutoIngest
 
 __all__ = [
     "LiveFriction",
@@ -404,7 +404,9 @@ def run_live(
 
     Parameters
     ----------
-    source : ReplaySource | TcpSource | SerialSource
+    source : ReplaySource | EpochReplay | TcpSource | SerialSource
+        A byte stream (NMEA or UBX, recognised from its first bytes) or an epoch replay of a
+        VBOX, MDF4 or CAN log.
     vehicle : Vehicle or path
     method : str
         Friction method (``gripsense friction --method``).
@@ -432,7 +434,8 @@ def run_live(
     dict
         ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``.
     """
-    ingest = LiveIngest(source=getattr(source, "name", "<live>"))
+    reads_epochs = hasattr(source, "read_epochs")  # a VBOX, MDF4 or CAN replay
+    ingest = source.ingest if reads_epochs else AutoIngest(source=getattr(source, "name", "<live>"))
     est = LiveFriction(vehicle, method, window_s, receiver=receiver)
     rec = Recorder(
         output,
@@ -515,7 +518,12 @@ def run_live(
     t_end = None if duration_s is None else time.monotonic() + duration_s
     try:
         while stop["why"] is None:
-            data = source.read(0.05)
+            if reads_epochs:
+                ep = source.read_epochs(0.05)
+                if len(ep):
+                    stats.last_data = time.monotonic()
+                    take(ep)
+            data = source.read(0.05) if not reads_epochs else b""
             now = time.monotonic()
             if data:
                 stats.bytes += len(data)

@@ -17,7 +17,7 @@ from pathlib import Path
 from gripsense.errors import InputError
 from gripsense.io.nmea.reader import read_log_bytes
 
-__all__ = ["ReplaySource", "SerialSource", "TcpSource"]
+__all__ = ["EpochReplay", "ReplaySource", "SerialSource", "TcpSource", "open_replay"]
 
 _TIME = re.compile(rb"^\s*\$..(?:GGA|RMC|ZDA),(\d{2})(\d{2})(\d{2}(?:\.\d*)?)")
 _BACKOFF = (0.1, 5.0)
@@ -50,7 +50,7 @@ class ReplaySource:
         self._pos = 0
         self._t0_wall: float | None = None
         self._t0_log: float | None = None
-        self._lines = data.split(b"\n") if speed > 0 else None
+        self._lines = _pieces(data) if speed > 0 else None
         self._line_i = 0
         self._last_tod: float | None = None
         self._day = 0.0
@@ -87,10 +87,8 @@ class ReplaySource:
         out = []
         deadline = now + timeout
         while self._line_i < len(self._lines):
-            line = self._lines[self._line_i]
-            m = _TIME.match(line)
-            if m:
-                tod = int(m.group(1)) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
+            piece, tod = self._lines[self._line_i]
+            if tod is not None:
                 if self._last_tod is not None and tod < self._last_tod - 43200:
                     self._day += 86400.0
                 self._last_tod = tod
@@ -100,7 +98,6 @@ class ReplaySource:
                 if tod - self._t0_log > budget:
                     break
             self._line_i += 1
-            piece = line + (b"\n" if self._line_i < len(self._lines) else b"")
             out.append(piece)
             self._pos += len(piece)
         if not out:
@@ -110,6 +107,165 @@ class ReplaySource:
     def close(self) -> None:
         """Release the source."""
         pass
+
+
+def _pieces(data: bytes) -> list[tuple[bytes, float | None]]:
+    """The log cut into the pieces a replay sends, each with its time of day when it has one:
+    NMEA lines (GGA/RMC/ZDA times) and UBX frames (NAV-PVT's UTC time of day).
+    """
+    from gripsense.io.ubx import scan_frames
+
+    fr = scan_frames(data) if b"\xb5\x62" in data else None
+    if fr is None or not len(fr):
+        return [(ln, _tod(ln)) for ln in _split_lines(data)]
+    out: list[tuple[bytes, float | None]] = []
+    pos = 0
+    for start, length, status in zip(fr["start"], fr["length"], fr["status"], strict=True):
+        start = int(start)
+        out += [(ln, _tod(ln)) for ln in _split_lines(data[pos:start])]
+        end = len(data) if status == 2 else start + 8 + int(length)
+        frame = data[start:end]
+        tod = None
+        if frame[2:4] == b"\x01\x07" and len(frame) >= 6 + 11:  # NAV-PVT: hour, min, sec
+            tod = frame[6 + 8] * 3600 + frame[6 + 9] * 60 + frame[6 + 10]
+            tod += int.from_bytes(frame[6 + 16 : 6 + 20], "little", signed=True) * 1e-9
+        out.append((frame, tod))
+        pos = end
+    out += [(ln, _tod(ln)) for ln in _split_lines(data[pos:])]
+    return out
+
+
+def _split_lines(data: bytes) -> list[bytes]:
+    parts = data.split(b"\n")
+    return [p + b"\n" for p in parts[:-1]] + ([parts[-1]] if parts[-1] else [])
+
+
+def _tod(line: bytes) -> float | None:
+    m = _TIME.match(line)
+    if not m:
+        return None
+    return int(m.group(1)) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
+
+
+class EpochReplay:
+    """Replay a log that is not a byte stream (VBOX, MDF4, CAN) at ``speed`` × real time: the
+    file is read once (:func:`gripsense.io.log.read_log`) and its epochs are handed out as
+    their time comes.
+
+    Parameters
+    ----------
+    path : str or Path
+        The log.
+    speed : float
+        Replay speed (1 real time, 0 as fast as possible) [-].
+    log_options : gripsense.io.log.LogOptions, optional
+        Channel mapping, DBC, time offset.
+    """
+
+    def __init__(self, path: str | Path, speed: float = 1.0, log_options=None):
+        from gripsense.io.log import read_log
+
+        if speed < 0:
+            raise InputError("--speed must be >= 0 (0 = as fast as possible)")
+        self.path = Path(path)
+        self.name = str(path)
+        log = read_log(path, log_options)
+        self._epochs = log.epochs
+        self._report = log.report
+        self._speed = speed
+        self._i = 0
+        self._t0_wall: float | None = None
+        self.reconnects = 0
+        self.notes = list(log.report.notes)
+        self.ingest = _ReadIngest(log.report)
+
+    @property
+    def eof(self) -> bool:
+        """Whether every epoch was handed out."""
+        return self._i >= len(self._epochs)
+
+    @property
+    def status(self) -> str:
+        """One word or phrase for the display."""
+        return f"replay {100 * self._i / max(len(self._epochs), 1):.0f} %"
+
+    def read(self, timeout: float = 0.1) -> bytes:
+        """No bytes: the epochs come from :meth:`read_epochs`.
+
+        Parameters
+        ----------
+        timeout : float
+            Unused [s].
+        """
+        return b""
+
+    def read_epochs(self, timeout: float = 0.1):
+        """The epochs whose time has come (maybe none).
+
+        Parameters
+        ----------
+        timeout : float
+            Longest wait when none is due [s].
+        """
+        ep = self._epochs
+        if self.eof:
+            return ep.iloc[0:0]
+        if self._speed == 0:
+            out = ep.iloc[self._i : self._i + 1000]
+            self._i += len(out)
+            return out
+        now = time.monotonic()
+        if self._t0_wall is None:
+            self._t0_wall = now
+        t = ep["t_s"].to_numpy(float)
+        due = (now - self._t0_wall) * self._speed + float(t[0])
+        j = self._i + int((t[self._i :] <= due).sum())
+        if j == self._i:
+            time.sleep(timeout)
+        out = ep.iloc[self._i : j]
+        self._i = j
+        return out
+
+    def close(self) -> None:
+        """Release the source."""
+
+
+class _ReadIngest:
+    """The ingest of an :class:`EpochReplay`: the file was read whole; nothing to feed."""
+
+    def __init__(self, report):
+        self.report = report
+
+    def feed(self, data: bytes):
+        import pandas as pd
+
+        return pd.DataFrame()
+
+    def finish(self):
+        import pandas as pd
+
+        return pd.DataFrame()
+
+
+def open_replay(path: str | Path, speed: float = 1.0, log_options=None):
+    """A replay source for a log of any format: byte streams (NMEA, UBX) through
+    :class:`ReplaySource`, the others (VBOX, MDF4, CAN) through :class:`EpochReplay`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The log.
+    speed : float
+        Replay speed [-].
+    log_options : gripsense.io.log.LogOptions, optional
+        Channel mapping, DBC, time offset (VBOX, MDF4, CAN).
+    """
+    from gripsense.io.log import detect_format
+
+    data, _ = read_log_bytes(path)
+    if detect_format(data[:65536]) in ("nmea", "ubx"):
+        return ReplaySource(path, speed=speed)
+    return EpochReplay(path, speed=speed, log_options=log_options)
 
 
 class TcpSource:
