@@ -21,6 +21,17 @@ counted as rejected, none may crash it — and the baselines get only the senten
 ``str`` with undecodable bytes replaced.
 
 Usage: python benchmarks/bench_ingest.py [--sentences 1000000] [--log PATH ...] [--repeat 7]
+
+``--formats`` (issue 28) times the other readers on one simulated drive written in each format
+(``--minutes`` of a 10 Hz moving-base rover): UBX (``read_log``: frame scan, NAV-PVT /
+NAV-RELPOSNED decode, NMEA between the frames, accounting, epochs) against pyubx2's
+``UBXReader`` parsing every frame (target ≥ 10×); MDF4 (``read_log`` with ``--columns``:
+channels, units, resampling onto the heading's epochs) against asammdf's own
+``MDF.to_dataframe`` of the same channels (target: no slower); CAN BLF against python-can
+reading plus cantools' per-frame ``decode_message`` (the path gripsense takes, so ≈ 1×); VBOX
+against NMEA of the same drive (no reference library exists).
+
+Usage: python benchmarks/bench_ingest.py --formats [--minutes 30] [--repeat 3]
 """
 
 from __future__ import annotations
@@ -95,7 +106,12 @@ def main() -> None:
     ap.add_argument("--log", type=Path, action="append", default=None)
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--skip-pynmeagps", action="store_true", help="pynmeagps is slow (~1 min)")
+    ap.add_argument("--formats", action="store_true", help="UBX, MDF4, CAN and VBOX readers")
+    ap.add_argument("--minutes", type=float, default=30.0, help="drive length for --formats")
     args = ap.parse_args()
+    if args.formats:
+        bench_formats(args.minutes, args.repeat)
+        return
     gpsd = Path(__file__).resolve().parents[1] / "tests" / "data" / "gpsd"
     logs = args.log or [
         sample_path("rst39.log"),
@@ -160,3 +176,102 @@ def bench_one(log: Path, args) -> tuple[float, float]:
 
 if __name__ == "__main__":
     main()
+
+
+def _drive(minutes: float):
+    """A drive's epoch table and NMEA lines: the demo circle repeated on one clock to
+    *minutes* (10 Hz)."""
+    import gzip
+
+    import pandas as pd
+
+    from gripsense.data import path as data_path
+
+    src = data_path("demo") / "case001.nmea.gz"
+    ep0 = read_nmea(src).epochs
+    lines0 = gzip.decompress(src.read_bytes()).decode().splitlines()
+    reps = max(1, int(np.ceil(minutes * 600 / len(ep0))))
+    span = pd.Timedelta(seconds=len(ep0) / 10)
+    step = span.total_seconds()
+    eps = [
+        ep0.assign(time_utc=ep0["time_utc"] + k * span, t_s=ep0["t_s"] + k * step)
+        for k in range(reps)
+    ]
+    return pd.concat(eps, ignore_index=True), lines0 * reps
+
+
+def bench_formats(minutes: float, repeat: int) -> None:
+    """The ``--formats`` table (see the module documentation)."""
+    import io
+    import tempfile
+
+    import asammdf
+    import can
+    import cantools
+    import pyubx2
+
+    from gripsense.io.canlog import CAN_SIGNALS, write_can
+    from gripsense.io.log import read_log
+    from gripsense.io.mdf import mdf_columns, write_mdf
+    from gripsense.io.ubx import write_ubx
+    from gripsense.io.vbo import write_vbo
+
+    ep, lines = _drive(minutes)
+    n = len(ep)
+    print(f"python {platform.python_version()}, numpy {np.__version__}; {n} epochs "
+          f"({n / 36000:.2f} h at 10 Hz)")  # fmt: skip
+    d = Path(tempfile.mkdtemp())
+    dbc = Path(__file__).resolve().parents[1] / "tests" / "data" / "formats" / "vehicle.dbc"
+    steer = ep[["t_s"]].assign(road_wheel_deg=np.sin(ep["t_s"].to_numpy()))
+    write_ubx(ep, d / "d.ubx")
+    write_mdf(ep, d / "d.mf4", steer=steer)
+    write_vbo(ep, d / "d.vbo")
+    (d / "d.nmea").write_text("\r\n".join(lines) + "\r\n")
+    can_minutes = min(minutes, 5.0)  # cantools encoding is slow: a shorter CAN log
+    write_can(ep.iloc[: int(can_minutes * 600)], d / "d.blf", dbc)
+    read_log(d / "d.ubx")  # warm-up (compiled scan)
+
+    def best(fn) -> float:
+        return min(timed(fn) for _ in range(repeat))
+
+    rows = []
+    data = (d / "d.ubx").read_bytes()
+    g = best(lambda: read_log(d / "d.ubx"))
+
+    def pyubx2_all():
+        for _ in pyubx2.UBXReader(io.BytesIO(data), protfilter=pyubx2.UBX_PROTOCOL):
+            pass
+
+    r = timed(pyubx2_all)
+    rows.append(("UBX (NAV-PVT + NAV-RELPOSNED)", len(data), g, "pyubx2 UBXReader", r, 10.0))
+    cols = mdf_columns(steering=True)
+    names = [c.split("=")[1] for c in cols.split(",")]
+    g = best(lambda: read_log(d / "d.mf4", columns=cols))
+
+    def asammdf_df():
+        with asammdf.MDF(str(d / "d.mf4")) as m:
+            m.to_dataframe(channels=names, raster="GNSS_TrueHeading", time_from_zero=False)
+
+    r = best(asammdf_df)
+    rows.append(("MDF4 (8 channels, 100 Hz steering)", (d / "d.mf4").stat().st_size, g,
+                 "asammdf to_dataframe", r, 1.0))  # fmt: skip
+    cc = ",".join(f"{k}={v}" for k, v in CAN_SIGNALS.items())
+    g = best(lambda: read_log(d / "d.blf", columns=cc, dbc=dbc))
+    db = cantools.database.load_file(str(dbc))
+
+    def cantools_all():
+        for m in can.BLFReader(str(d / "d.blf")):
+            db.decode_message(m.arbitration_id, m.data)
+
+    r = timed(cantools_all)
+    rows.append((f"CAN BLF ({can_minutes:g} min, 3 messages)", (d / "d.blf").stat().st_size, g,
+                 "python-can + cantools per frame", r, None))  # fmt: skip
+    g = best(lambda: read_log(d / "d.vbo"))
+    r = best(lambda: read_log(d / "d.nmea"))
+    rows.append(("VBOX VBO (hand-written reader)", (d / "d.vbo").stat().st_size, g,
+                 "gripsense NMEA, same drive", r, None))  # fmt: skip
+    print(f"\n{'format':38s} {'MB':>6s} {'gripsense':>10s} {'reference':>32s} {'ratio':>7s}")
+    for name, size, g, ref, r, target in rows:
+        verdict = "" if target is None else (" met" if r / g >= target else " NOT met")
+        print(f"{name:38s} {size / 1e6:6.1f} {g:9.3f}s {ref + f' {r:.3f}s':>32s} "
+              f"{r / g:6.1f}x{verdict}")  # fmt: skip

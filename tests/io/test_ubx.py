@@ -188,3 +188,29 @@ def test_fuzz_never_a_traceback_and_every_unit_counted(cuts, flips, junk):
     assert rep.balanced
     n_frames = len(scan_frames(bytes(b)))
     assert rep.total_lines >= n_frames
+
+
+def test_a_real_zed_f9p_stream_frame_for_frame_as_pyubx2():
+    """GPSD's ZED-F9P capture (UBX RXM-RAWX/MEASX and NAV-CLOCK between NMEA sentences): the
+    frame scan finds exactly the frames pyubx2 parses, each is accounted for, and the NMEA
+    between them gives the epochs it gives alone."""
+    from tests.conftest import DATA
+
+    data = (DATA / "gpsd" / "ublox-zed-f9p_hpg1.11.log").read_bytes()
+    ref: dict[str, int] = {}
+    for _, msg in pyubx2.UBXReader(io.BytesIO(data), protfilter=pyubx2.UBX_PROTOCOL):
+        ref[msg.identity] = ref.get(msg.identity, 0) + 1
+    fr = scan_frames(data)
+    assert (fr["status"] == 0).all() and len(fr) == sum(ref.values())
+    log = parse_ubx(data, "f9p.log")
+    rep = log.report
+    names = {"NAV-CLOCK": "UBX NAV-0x22", "RXM-RAWX": "UBX RXM-0x15", "RXM-MEASX": "UBX RXM-0x14"}
+    assert {names[k]: v for k, v in ref.items()} == {
+        k: v for k, v in rep.ignored.items() if k.startswith("UBX")
+    }
+    assert rep.balanced
+    from gripsense.io import read_nmea
+
+    text = np.frombuffer(data, np.uint8)[~fr.attrs["mask"]].tobytes()
+    text_only = read_nmea(text, decompress=False)
+    pd.testing.assert_frame_equal(log.epochs, text_only.epochs)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import io
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -103,7 +104,7 @@ def read_can(
     if not mapped:
         raise InputError(f"{name}: give the signals with --columns (heading=…,course=…,speed=…)")
     db = load_dbc(dbc)
-    where: dict[str, object] = {}
+    where: dict[str, Any] = {}  # signal -> its cantools Message
     known = {m.frame_id for m in db.messages}
     for m in db.messages:
         for s in m.signals:

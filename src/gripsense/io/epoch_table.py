@@ -100,7 +100,7 @@ def build_epochs(
     if first.size:
         t_s[finite] = (us[finite] - us[first[0]]) * 1e-6
     cols["t_s"] = t_s
-    heading = cols["heading_deg"]
+    heading = np.asarray(cols["heading_deg"], dtype=float)
     hcode = np.where(np.isnan(heading), -1, HEADING_SOURCES.index(heading_source))
     cols["heading_source"] = pd.Categorical.from_codes(
         hcode.astype(np.int8), categories=HEADING_SOURCES

@@ -246,6 +246,7 @@ def write_log(
             raise ValueError("write_log: the nmea format needs nmea_lines")
         write_nmea_lines(nmea_lines, path)
         return None
+    path = Path(path)
     if fmt == "vbo":
         from gripsense.io.vbo import write_vbo
 

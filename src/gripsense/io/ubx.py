@@ -540,6 +540,6 @@ def write_ubx(
             relPosValid=1, carrSoln=2, isMoving=1, relPosHeadingValid=1,
         )  # fmt: skip
         out += pvt.serialize() + rel.serialize()
-        if per:
+        if per and nmea_lines is not None:
             out += "".join(s + "\r\n" for s in nmea_lines[k * per : (k + 1) * per]).encode()
     Path(path).write_bytes(bytes(out))

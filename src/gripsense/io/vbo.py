@@ -246,8 +246,8 @@ def parse_vbo(
         bad = np.zeros(0, dtype=bool)
     if bad.any():
         for r in np.flatnonzero(bad):
-            j = int(np.flatnonzero(num.iloc[r].isna().to_numpy())[0])
-            detail = f"column {cols[j]!r} is not a number"
+            jj = int(np.flatnonzero(num.iloc[r].isna().to_numpy())[0])
+            detail = f"column {cols[jj]!r} is not a number"
             rej_count[MALFORMED] += 1
             if strict:
                 raise InputError(f"{name}:{good_idx[r] + 1}: {MALFORMED}: {detail} (strict mode)")
@@ -300,7 +300,7 @@ def parse_vbo(
             yaw_src = "channel"
 
     # time: hhmmss.ss of day, rolled over at midnight, on the file's date
-    hms = col("time")
+    hms = a[:, role["time"]]
     tod = (hms // 10000) * 3600 + ((hms // 100) % 100) * 60 + hms % 100
     roll = np.concatenate([[0], np.cumsum(np.diff(tod) < -43200)]) if n else np.zeros(0)
     tod = tod + 86400.0 * roll

@@ -262,11 +262,14 @@ class AutoIngest:
             return "undecided"
         return "ubx" if isinstance(self._inner, LiveUbxIngest) else "nmea"
 
-    def _decide(self, final: bool) -> None:
+    def _has_ubx(self) -> bool:
         fr = scan_frames(self._seen)
-        if len(fr) and (fr["status"] == 0).any():
+        return bool(len(fr) and (fr["status"] == 0).any())
+
+    def _decide(self) -> None:
+        if self._has_ubx():
             self._inner = LiveUbxIngest(source=self.source)
-        elif final or len(self._seen) >= self.decide_bytes or self._seen.count(b"\n$") >= 3:
+        elif len(self._seen) >= self.decide_bytes or self._seen.count(b"\n$") >= 3:
             self._inner = LiveIngest(source=self.source)
 
     def feed(self, data: bytes) -> pd.DataFrame:
@@ -280,7 +283,7 @@ class AutoIngest:
         if self._inner is not None:
             return self._inner.feed(data)
         self._seen += data
-        self._decide(final=False)
+        self._decide()
         if self._inner is None:
             return pd.DataFrame()
         seen, self._seen = self._seen, b""
@@ -290,10 +293,14 @@ class AutoIngest:
         """End of stream: emit every remaining epoch."""
         first = pd.DataFrame()
         if self._inner is None:
-            self._decide(final=True)
+            self._inner = (
+                LiveUbxIngest(source=self.source)
+                if self._has_ubx()
+                else LiveIngest(source=self.source)
+            )
             seen, self._seen = self._seen, b""
-            first = self._inner.feed(seen)  # type: ignore[union-attr]
-        last = self._inner.finish()  # type: ignore[union-attr]
+            first = self._inner.feed(seen)
+        last = self._inner.finish()
         parts = [x for x in (first, last) if len(x)]
         return pd.concat(parts, ignore_index=True) if parts else pd.DataFrame()
 

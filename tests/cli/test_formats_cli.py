@@ -1,0 +1,77 @@
+"""The formats on the command line: simulate --format, then ingest and friction read the files
+with the --columns the case index names; bad input is one line."""
+
+from __future__ import annotations
+
+import pandas as pd
+import pytest
+
+from tests.cli.test_commands import run
+
+pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
+
+SCENARIO = """
+[scenario]
+vehicle = "corolla_sim.toml"
+seed = 5
+[road]
+mu = 0.5
+[gnss]
+rate_hz = 10
+noise = "v100"
+[steering]
+rate_hz = 20
+[[case]]
+maneuver = "circle"
+speed_kmh = 35
+radius_m = 25
+laps = 1
+"""
+
+
+def _front(stdout: str) -> str:
+    line = next(ln for ln in stdout.splitlines() if ln.startswith("front axle"))
+    return line.split(";")[0]
+
+
+def test_simulate_each_format_and_read_it_back(tmp_path):
+    sc = tmp_path / "sc.toml"
+    sc.write_text(SCENARIO)
+    fronts = {}
+    for fmt in ("nmea", "vbo", "ubx", "mf4"):
+        out = tmp_path / fmt
+        r = run("simulate", str(sc), "-o", str(out), "--format", fmt)
+        assert r.returncode == 0, r.stderr
+        c = pd.read_csv(out / "cases.csv").iloc[0]
+        log = out / c["log"]
+        assert log.exists() and ("nmea" in c) == (fmt == "nmea")
+        cols = c.get("columns")
+        columns = ["--columns", cols] if isinstance(cols, str) else []
+        # VBOX and MDF4 carry the steering channel inside; NMEA and UBX need the CSV
+        steer = ["--steer-csv", str(out / c["steer"])] if fmt in ("nmea", "ubx") else []
+        r = run("ingest", str(log), *columns)
+        assert r.returncode == 0, r.stderr
+        assert "balanced: yes" in r.stdout and "channels:" in r.stdout
+        vehicle = str(out / "vehicle.toml")
+        r = run("friction", str(log), "--vehicle", vehicle, *columns, *steer, "-o",
+                str(tmp_path / f"fr-{fmt}"))  # fmt: skip
+        assert r.returncode == 0, r.stderr
+        fronts[fmt] = _front(r.stdout)
+    assert len(set(fronts.values())) == 1, fronts
+
+
+def test_bad_format_input_is_one_line(tmp_path):
+    (tmp_path / "cut.vbo").write_text("File created on 1/1/2026 @ 10:00\n[header]\ntime\n")
+    r = run("ingest", str(tmp_path / "cut.vbo"))
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+    assert "no [column names] section" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    r = run("simulate", "nothing.toml", "--format", "csv", "-o", str(tmp_path / "x"))
+    assert r.returncode != 0 and "--format 'csv': use one of nmea, vbo, ubx, mf4" in r.stderr
+    (tmp_path / "x.mf4").write_bytes(b"MDF     4.10    " + bytes(64))
+    r = run("ingest", str(tmp_path / "x.mf4"), "--columns", "heading=H")
+    assert r.returncode != 0 and "Traceback" not in r.stderr and "x.mf4" in r.stderr
+
+
+def test_help_names_the_formats():
+    r = run("ingest", "--help")
+    assert "VBOX" in r.stdout and "--dbc" in r.stdout
