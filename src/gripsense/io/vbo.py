@@ -245,14 +245,14 @@ def parse_vbo(
         num = pd.DataFrame(np.empty((0, ncol)))
         bad = np.zeros(0, dtype=bool)
     if bad.any():
-        for r in np.flatnonzero(bad):
-            jj = int(np.flatnonzero(num.iloc[r].isna().to_numpy())[0])
+        for row in np.flatnonzero(bad):
+            jj = int(np.flatnonzero(num.iloc[row].isna().to_numpy())[0])
             detail = f"column {cols[jj]!r} is not a number"
             rej_count[MALFORMED] += 1
             if strict:
-                raise InputError(f"{name}:{good_idx[r] + 1}: {MALFORMED}: {detail} (strict mode)")
+                raise InputError(f"{name}:{good_idx[row] + 1}: {MALFORMED}: {detail} (strict mode)")
             if len(rejects) < 20:
-                rejects.append(RejectedLine(good_idx[r] + 1, MALFORMED, detail))
+                rejects.append(RejectedLine(good_idx[row] + 1, MALFORMED, detail))
         keep = ~bad
         num = num[keep].reset_index(drop=True)
         good_idx = [i for i, k in zip(good_idx, keep, strict=True) if k]
