@@ -88,7 +88,7 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     th = threading.Thread(target=to_pty, daemon=True)
     th.start()
     got: list = []
-    run_live(SerialSource(os.ttyname(slave), 115200), VEHICLE, duration_s=4.0,
+    run_live(SerialSource(os.ttyname(slave), 115200), VEHICLE, duration_s=8.0,
              on_epochs=got.append, handle_signals=False)  # fmt: skip
     th.join()
     os.close(master)
@@ -111,7 +111,7 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     th = threading.Thread(target=serve, daemon=True)
     th.start()
     got = []
-    res = run_live(TcpSource("127.0.0.1", srv.getsockname()[1]), VEHICLE, duration_s=3.0,
+    res = run_live(TcpSource("127.0.0.1", srv.getsockname()[1]), VEHICLE, duration_s=6.0,
                    on_epochs=got.append, handle_signals=False)  # fmt: skip
     th.join()
     _same(pd.concat(got, ignore_index=True), batch)

@@ -194,18 +194,11 @@ def _pvt(d: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
     carr = (flags >> 6) & 3
     gga = np.where(~ok, 0, np.where(carr == 2, 4, np.where(carr == 1, 5, np.where(
         flags & 2, 2, np.where(fix_type == 1, 6, 1)))))  # fmt: skip
-    utc = np.full(p.size, np.nan)
     good_t = ((valid & 3) == 3) & (year >= 1980) & (month >= 1) & (month <= 12) & (day >= 1)
-    if good_t.any():
-        days = (
-            pd.to_datetime(
-                {"year": year[good_t], "month": month[good_t], "day": day[good_t]}, errors="coerce"
-            )
-            .to_numpy("M8[D]")
-            .astype("int64")
-        )
-        utc[good_t] = days * 86400.0 + hour[good_t] * 3600 + minute[good_t] * 60 + sec[good_t]
-        utc[good_t] += nano[good_t] * 1e-9
+    good_t &= (day <= 31) & (hour < 24) & (minute < 60) & (sec <= 60)
+    days = _days_from_civil(year, month, day)
+    utc = days * 86400.0 + hour * 3600 + minute * 60 + sec + nano * 1e-9
+    utc[~good_t] = np.nan
     nan_unless = np.where(ok, 1.0, np.nan)
     return {
         "itow": itow,
@@ -220,6 +213,16 @@ def _pvt(d: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
         "speed_acc_mps": _u(d, p + 68, 4) * 1e-3 * nan_unless,
         "hdop": _u(d, p + 76, 2) * 0.01 * nan_unless,  # pDOP: the nearest UBX has
     }
+
+
+def _days_from_civil(y: np.ndarray, m: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Days since 1970-01-01 of proleptic Gregorian dates (H. Hinnant's ``days_from_civil``)."""
+    y = y - (m <= 2)
+    era = np.floor_divide(y, 400)
+    yoe = y - era * 400
+    doy = (153 * (m + np.where(m > 2, -3, 9)) + 2) // 5 + d - 1
+    doe = yoe * 365 + yoe // 4 - yoe // 100 + doy
+    return era * 146097 + doe - 719468
 
 
 def _relposned(d: np.ndarray, p: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -278,8 +281,9 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
     from gripsense.errors import InputError
 
     d = np.frombuffer(data, dtype=np.uint8)
-    fr = scan_frames(d)
-    mask = fr.attrs["mask"]
+    starts, lengths, status, mask = _scan(d, MAX_PAYLOAD)
+    cls = np.where(starts + 2 < d.size, d[np.minimum(starts + 2, max(d.size - 1, 0))], 0)
+    mid = np.where(starts + 3 < d.size, d[np.minimum(starts + 3, max(d.size - 1, 0))], 0)
     parsed: dict[str, int] = {}
     ignored: dict[str, int] = {}
     rejected = dict.fromkeys(REASONS, 0)
@@ -292,53 +296,56 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
         if len(rejects) < 20:
             rejects.append((start, reason, detail))
 
-    for row in fr[fr["status"] != OK].itertuples(index=False):
-        what = _msg_name(int(row.cls), int(row.id)) if row.length >= 0 else "UBX frame"
-        if row.status == BAD_CK:
-            reject(int(row.start), BAD_CHECKSUM, f"{what}, {row.length}-byte payload")
+    for k in np.flatnonzero(status != OK):
+        ln = int(lengths[k])
+        what = _msg_name(int(cls[k]), int(mid[k])) if ln >= 0 else "UBX frame"
+        if status[k] == BAD_CK:
+            reject(int(starts[k]), BAD_CHECKSUM, f"{what}, {ln}-byte payload")
         else:
-            reject(int(row.start), TRUNCATED, f"{what}: the stream ends inside the frame")
-    good = fr[fr["status"] == OK]
-    tables: dict[str, pd.DataFrame] = {}
+            reject(int(starts[k]), TRUNCATED, f"{what}: the stream ends inside the frame")
+    good = status == OK
+    tables: dict[str, dict[str, np.ndarray]] = {}
     why_counts: dict[str, int] = {}
-    for (c, i), (mname, lengths) in MESSAGES.items():
-        sel = good[(good["cls"] == c) & (good["id"] == i)]
-        if sel.empty:
+    for (c, i), (mname, accepted) in MESSAGES.items():
+        sel = good & (cls == c) & (mid == i)
+        if not sel.any():
             continue
-        ln_ok = sel["length"].isin(lengths[:1]).to_numpy()
-        for row in sel[~ln_ok].itertuples(index=False):
-            if mname == "NAV-RELPOSNED" and row.length == 40:
-                ignored["UBX NAV-RELPOSNED v0 (no heading)"] = (
-                    ignored.get("UBX NAV-RELPOSNED v0 (no heading)", 0) + 1
-                )
+        ln_ok = sel & (lengths == accepted[0])
+        for k in np.flatnonzero(sel & ~ln_ok):
+            ln = int(lengths[k])
+            if mname == "NAV-RELPOSNED" and ln == 40:
+                key = "UBX NAV-RELPOSNED v0 (no heading)"
+                ignored[key] = ignored.get(key, 0) + 1
                 continue
-            reject(int(row.start), MALFORMED, f"UBX {mname} with a {row.length}-byte payload "
-                   f"(expected {lengths[0]})")  # fmt: skip
-        sel = sel[ln_ok]
-        if sel.empty:
+            reject(int(starts[k]), MALFORMED, f"UBX {mname} with a {ln}-byte payload "
+                   f"(expected {accepted[0]})")  # fmt: skip
+        if not ln_ok.any():
             continue
-        p = sel["start"].to_numpy() + 6
+        at = starts[ln_ok]
+        p = at + 6
+        unused = 0
         if mname == "NAV-PVT":
             cols = _pvt(d, p)
         elif mname == "NAV-RELPOSNED":
             cols, why = _relposned(d, p)
+            unused = int((why != 0).sum())
             for code, label in _WHY.items():
                 nw = int((why == code).sum())
                 if nw:
                     why_counts[label] = nw
         else:
             cols = _att(d, p)
-        t = pd.DataFrame(cols)
-        t.insert(0, "start", sel["start"].to_numpy())
-        tables[mname] = t
-        unused = int((why != 0).sum()) if mname == "NAV-RELPOSNED" else 0
-        if len(t) > unused:
-            parsed[f"UBX {mname}"] = len(t) - unused
+        tables[mname] = {"start": at, **cols}
+        if at.size > unused:
+            parsed[f"UBX {mname}"] = int(at.size - unused)
     ignored.update(why_counts)
-    known = set(MESSAGES)
-    for (c, i), k in good.groupby(["cls", "id"]).size().items():
-        if (c, i) not in known:
-            ignored[_msg_name(int(c), int(i))] = int(k)
+    other = good.copy()
+    for c, i in MESSAGES:
+        other &= ~((cls == c) & (mid == i))
+    if other.any():
+        key2 = cls[other].astype(np.int64) * 256 + mid[other]
+        for v, nk in zip(*np.unique(key2, return_counts=True), strict=True):
+            ignored[_msg_name(int(v) // 256, int(v) % 256)] = int(nk)
 
     # the NMEA part: the bytes outside the frames
     text = d[~mask].tobytes()
@@ -349,21 +356,21 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
     rep_n = nlog.report if nlog is not None else None
     first = [RejectedLine(s + 1, r, f"byte {s}: {det}") for s, r, det in rejects]
     if rep_n is not None:
-        for k, v in rep_n.parsed.items():
-            parsed[k] = parsed.get(k, 0) + v
-        for k, v in rep_n.ignored.items():
-            ignored[k] = ignored.get(k, 0) + v
-        for k, v in rep_n.rejected.items():
-            rejected[k] = rejected.get(k, 0) + v
+        for kind, v in rep_n.parsed.items():
+            parsed[kind] = parsed.get(kind, 0) + v
+        for kind, v in rep_n.ignored.items():
+            ignored[kind] = ignored.get(kind, 0) + v
+        for kind, v in rep_n.rejected.items():
+            rejected[kind] = rejected.get(kind, 0) + v
         first += [
             RejectedLine(r.line, r.reason, f"line {r.line} of the NMEA text: {r.detail}")
             for r in rep_n.first_rejects
         ]
-    n_frames = len(fr)
+    n_frames = int(starts.size)
     n_lines = rep_n.total_lines if rep_n is not None else 0
     has_date = bool(epochs["time_utc"].notna().any()) if len(epochs) else False
     sentences = dict(nlog.sentences) if nlog is not None else {}
-    sentences.update({f"UBX {k}": v for k, v in tables.items()})
+    sentences.update({f"UBX {k}": pd.DataFrame(v) for k, v in tables.items()})
     report = IngestReport(
         source=name,
         total_lines=n_frames + n_lines,
@@ -382,22 +389,24 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
 
 
-def _ubx_epochs(tables: dict[str, pd.DataFrame]) -> pd.DataFrame:
+def _ubx_epochs(tables: dict[str, dict[str, np.ndarray]]) -> pd.DataFrame:
     """One epoch per iTOW of the UBX navigation messages, in stream order."""
-    itows = [t[["start", "itow"]] for t in tables.values()]
-    if not itows:
+    if not tables:
         return build_epochs({}, np.zeros(0), has_date=False, heading_source="RELPOSNED")
-    allt = pd.concat(itows).sort_values("start", kind="stable")
-    order = allt.drop_duplicates("itow")["itow"].to_numpy()
+    st = np.concatenate([t["start"] for t in tables.values()])
+    it = np.concatenate([t["itow"] for t in tables.values()])
+    it = it[np.argsort(st, kind="stable")]
+    _, first = np.unique(it, return_index=True)
+    order = it[np.sort(first)]
     n = order.size
     by_itow = np.argsort(order, kind="stable")
     values: dict[str, np.ndarray] = {}
 
-    def put(t: pd.DataFrame, src: str, dst: str | None = None) -> None:
-        k = np.searchsorted(order, t["itow"].to_numpy(), sorter=by_itow)
+    def put(t: dict[str, np.ndarray], src: str, dst: str | None = None) -> None:
+        k = np.searchsorted(order, t["itow"], sorter=by_itow)
         rows = by_itow[k]
         out = values.setdefault(dst or src, np.full(n, np.nan))
-        v = t[src].to_numpy(float)
+        v = np.asarray(t[src], dtype=float)
         fill = np.isnan(out[rows])
         out[rows[fill]] = v[fill]
 
@@ -445,32 +454,34 @@ def _merge_nmea(ubx: pd.DataFrame, nmea: pd.DataFrame) -> pd.DataFrame:
         return nmea
     if not ubx["time_utc"].notna().any() or not nmea["time_utc"].notna().any():
         return ubx
-    key_u = ubx["time_utc"].dt.round("ms")
-    key_n = nmea["time_utc"].dt.round("ms")
-    n_idx = pd.Series(np.arange(len(nmea)), index=key_n.to_numpy())
-    n_idx = n_idx[~n_idx.index.duplicated()]
-    match = n_idx.reindex(key_u.to_numpy()).to_numpy()
-    has = ~np.isnan(match)
-    out = ubx.copy()
-    rows = match[has].astype(int)
+    ms = np.iinfo(np.int64).min
+    key_u = _ms(ubx["time_utc"])
+    key_n = _ms(nmea["time_utc"])
+    srt = np.argsort(key_n, kind="stable")
+    k = np.clip(np.searchsorted(key_n, key_u, sorter=srt), 0, key_n.size - 1)
+    match = srt[k]
+    has = (key_n[match] == key_u) & (key_u != ms)
+    rows = match[has]
     # a receiver's own rate of turn (NMEA ROT) beats the rate differenced from the heading
-    rot = np.zeros(len(out), dtype=bool)
+    rot = np.zeros(len(ubx), dtype=bool)
     n_src = nmea["yaw_rate_source"].to_numpy(object)
-    rot[has] = (n_src[match[has].astype(int)] == "ROT") & (
-        out["yaw_rate_source"].to_numpy(object)[has] != "ROT"
-    )
-    for c in nmea.columns:
-        if c in ("time_utc", "t_s") or c not in out.columns:
+    rot[has] = (n_src[rows] == "ROT") & (ubx["yaw_rate_source"].to_numpy(object)[has] != "ROT")
+    cols: dict[str, object] = {}
+    for c in ubx.columns:
+        col = ubx[c]
+        if c in ("time_utc", "t_s") or c not in nmea.columns:
+            cols[c] = col
             continue
-        categorical = isinstance(out[c].dtype, pd.CategoricalDtype)
-        vals = np.array(out[c].to_numpy(object if categorical else float), copy=True)
+        categorical = isinstance(col.dtype, pd.CategoricalDtype)
+        vals = np.array(col.to_numpy(object if categorical else float), copy=True)
         fill = pd.isna(vals) & has
         if c in ("yaw_rate_rps", "yaw_rate_source"):
             fill |= rot
-        if not fill.any():
-            continue
-        vals[fill] = nmea[c].to_numpy(object if categorical else float)[match[fill].astype(int)]
-        out[c] = pd.Categorical(vals, categories=out[c].cat.categories) if categorical else vals
+        if fill.any():
+            src = nmea[c].to_numpy(object if categorical else float)
+            vals[fill] = src[match[fill]]
+        cols[c] = pd.Categorical(vals, categories=col.cat.categories) if categorical else vals
+    out = pd.DataFrame(cols)
     used = np.zeros(len(nmea), dtype=bool)
     used[rows] = True
     rest = nmea[~used & nmea["time_utc"].notna().to_numpy()]
@@ -479,6 +490,13 @@ def _merge_nmea(ubx: pd.DataFrame, nmea: pd.DataFrame) -> pd.DataFrame:
         out = out.sort_values("time_utc", kind="stable").reset_index(drop=True)
         t = out["time_utc"]
         out["t_s"] = (t - t.dropna().iloc[0]).dt.total_seconds()
+    return out
+
+
+def _ms(t: pd.Series) -> np.ndarray:
+    """Milliseconds since 1970 of a UTC time column (NaT: the int64 minimum)."""
+    v = t.dt.tz_convert("UTC").dt.tz_localize(None).to_numpy("M8[ns]").view(np.int64)
+    out = np.where(v == np.iinfo(np.int64).min, v, np.round(v / 1e6).astype(np.int64))
     return out
 
 
