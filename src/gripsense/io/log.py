@@ -104,6 +104,24 @@ def detect_format(head: bytes) -> str:
     return "nmea"
 
 
+def _head(path: Path, size: int = 65536) -> bytes:
+    """The first *size* bytes of a log, decompressed when it is gzip."""
+    import zlib
+
+    try:
+        with open(path, "rb") as f:
+            raw = f.read(size)
+    except OSError:
+        read_bytes(path, "file")  # raises the clear error
+        raise
+    if raw[:2] != b"\x1f\x8b":
+        return raw
+    try:
+        return zlib.decompressobj(16 + zlib.MAX_WBITS).decompress(raw, size)
+    except zlib.error:
+        return raw
+
+
 def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -> NmeaLog:
     """Read a GNSS-compass or measurement log of any supported format (see the module
     documentation) into the epoch table.
@@ -133,13 +151,11 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     if options is not None and kw:
         raise TypeError("read_log: give options or keyword fields, not both")
     p = Path(path)
-    raw = read_bytes(p, "file; give the path of a log")
-    fmt = detect_format(raw[:65536])
-    if raw[:2] == b"\x1f\x8b":
+    fmt = detect_format(_head(p))
+    data: bytes = b""
+    notes: list[str] = []
+    if fmt != "nmea":  # NMEA: read_nmea reads the file itself (once)
         data, notes = read_log_bytes(p, max_bytes=MAX_BYTES)
-        fmt = detect_format(data[:65536])
-    else:
-        data, notes = raw, []
     if fmt in ("mf4", "blf", "asc") and o.columns is None:
         raise InputError(
             f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
