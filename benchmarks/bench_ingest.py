@@ -174,10 +174,6 @@ def bench_one(log: Path, args) -> tuple[float, float]:
     return results["pynmea2 parse only"] / g, results["pynmea2 + values"] / g
 
 
-if __name__ == "__main__":
-    main()
-
-
 def _drive(minutes: float):
     """A drive's epoch table and NMEA lines: the demo circle repeated on one clock to
     *minutes* (10 Hz)."""
@@ -275,3 +271,7 @@ def bench_formats(minutes: float, repeat: int) -> None:
         verdict = "" if target is None else (" met" if r / g >= target else " NOT met")
         print(f"{name:38s} {size / 1e6:6.1f} {g:9.3f}s {ref + f' {r:.3f}s':>32s} "
               f"{r / g:6.1f}x{verdict}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

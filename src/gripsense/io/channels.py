@@ -367,6 +367,8 @@ def channels_to_epochs(
         col = CHANNEL_KEYS[key].column
         if key == base_key:
             values[col] = si[ok][order]
+        elif ch.t.shape == base.t.shape and np.array_equal(ch.t, base.t):
+            values[col] = si[ok][order]  # sampled with the heading: nothing to interpolate
         else:
             values[col] = resample(t, ch.t[srt], si[srt], circular=key in _ANGLES)
         if key in _ANGLES:

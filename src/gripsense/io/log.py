@@ -178,7 +178,10 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     elif fmt == "mf4":
         from gripsense.io.mdf import read_mdf
 
-        log = read_mdf(p, data, columns=o.columns, time_offset=o.time_offset, strict=o.strict)
+        with open(p, "rb") as f:
+            packed = f.read(2) == b"\x1f\x8b"  # gzip: read from memory, else from the file
+        log = read_mdf(p, data if packed else None, columns=o.columns,
+                       time_offset=o.time_offset, strict=o.strict)  # fmt: skip
     else:
         from gripsense.io.canlog import read_can
 

@@ -78,15 +78,14 @@ def read_mdf(
         _check_records(mdf, name)
         available = list(mdf.channels_db)
         found = {}
-        for key, spec in mapped.items():
+        for spec in mapped.values():
             if spec.channel not in mdf.channels_db:
                 raise missing_channel(name, spec, available)
-            try:
-                sig = mdf.get(spec.channel)
-            except Exception as e:
-                raise InputError(
-                    f"{name}: channel {spec.channel!r}: cannot be read ({e})"
-                ) from None
+        try:  # one pass over each channel group's records for all the mapped channels
+            sigs = mdf.select([spec.channel for spec in mapped.values()])
+        except Exception as e:
+            raise InputError(f"{name}: the mapped channels cannot be read ({e})") from None
+        for (key, spec), sig in zip(mapped.items(), sigs, strict=True):
             v = np.asarray(sig.samples)
             if v.dtype.kind not in "fiub":
                 raise InputError(

@@ -112,7 +112,9 @@ def log_from_channels(
         format=fmt,
         unit=unit,
     )
-    rows = {k: pd.DataFrame({"t_s": ch.t, "value": ch.values}) for k, ch in found.items()}
+    rows = {
+        k: pd.DataFrame({"t_s": ch.t, "value": ch.values}, copy=False) for k, ch in found.items()
+    }
     return NmeaLog(epochs=epochs, report=report, sentences=rows)
 
 
