@@ -235,12 +235,16 @@ def parse_vbo(
         good_idx.append(d0 + k)
         good_text.append(s)
     if good_text:
-        raw = pd.read_csv(
-            io.StringIO("\n".join(good_text)), sep=r"\s+", header=None, dtype=str, engine="c"
-        )
-        num = raw.apply(pd.to_numeric, errors="coerce")
-        bad = (num.isna() & raw.notna()).any(axis=1).to_numpy().copy()
-        bad |= np.isnan(num.iloc[:, role["time"]].to_numpy(float))
+        body = "\n".join(good_text)
+        try:  # every field a number (the usual file): one parse to floats
+            num = pd.read_csv(io.StringIO(body), sep=r"\s+", header=None, dtype=np.float64,
+                              engine="c")  # fmt: skip
+            bad = np.isnan(num.iloc[:, role["time"]].to_numpy(float))
+        except ValueError:  # a field that is not a number: find the rows
+            raw = pd.read_csv(io.StringIO(body), sep=r"\s+", header=None, dtype=str, engine="c")
+            num = raw.apply(pd.to_numeric, errors="coerce")
+            bad = (num.isna() & raw.notna()).any(axis=1).to_numpy().copy()
+            bad |= np.isnan(num.iloc[:, role["time"]].to_numpy(float))
     else:
         num = pd.DataFrame(np.empty((0, ncol)))
         bad = np.zeros(0, dtype=bool)
