@@ -124,12 +124,14 @@ def _quality(epochs: pd.DataFrame | None, ingest: dict | None) -> str:
         rows = [("parsed", k, v) for k, v in ingest.get("parsed", {}).items()]
         rows += [("ignored", k, v) for k, v in ingest.get("ignored", {}).items()]
         rows += [("rejected", k, v) for k, v in ingest.get("rejected", {}).items() if v]
+        unit = str(ingest.get("unit", "lines"))
+        fmt = html.escape(str(ingest.get("format", "NMEA 0183")))
         parts.append(
-            f"<p>{ingest.get('total_lines', 0)} input lines from "
-            f"<code>{html.escape(str(ingest.get('source', '')))}</code>; every line is "
+            f"<p>{ingest.get('total_lines', 0)} input {html.escape(unit)} ({fmt}) from "
+            f"<code>{html.escape(str(ingest.get('source', '')))}</code>; every one is "
             "accounted for below.</p>"
         )
-        parts.append(html_table(pd.DataFrame(rows, columns=["bucket", "type / reason", "lines"])))
+        parts.append(html_table(pd.DataFrame(rows, columns=["bucket", "type / reason", unit])))
     if epochs is not None and len(epochs):
         t = epochs["t_s"].dropna().to_numpy()
         dts = np.diff(np.sort(t))
