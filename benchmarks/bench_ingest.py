@@ -204,6 +204,7 @@ def bench_formats(minutes: float, repeat: int) -> None:
     import asammdf
     import can
     import cantools
+    import pandas as pd
     import pyubx2
 
     from gripsense.io.canlog import CAN_SIGNALS, write_can
@@ -218,7 +219,8 @@ def bench_formats(minutes: float, repeat: int) -> None:
           f"({n / 36000:.2f} h at 10 Hz)")  # fmt: skip
     d = Path(tempfile.mkdtemp())
     dbc = Path(__file__).resolve().parents[1] / "tests" / "data" / "formats" / "vehicle.dbc"
-    steer = ep[["t_s"]].assign(road_wheel_deg=np.sin(ep["t_s"].to_numpy()))
+    t100 = np.arange(0.0, float(ep["t_s"].iloc[-1]), 0.01)  # a 100 Hz steering channel
+    steer = pd.DataFrame({"t_s": t100, "road_wheel_deg": np.sin(t100)})
     write_ubx(ep, d / "d.ubx")
     write_mdf(ep, d / "d.mf4", steer=steer)
     write_vbo(ep, d / "d.vbo")

@@ -144,7 +144,9 @@ def channel_rates(epochs: pd.DataFrame) -> dict[str, float]:
         tc = t[epochs[c].notna().to_numpy() & np.isfinite(t)]
         if tc.size < 2:
             continue
-        dt = np.diff(tc)
+        step = max(1, tc.size // 20_000)  # the median of ≤ 20 000 evenly spread intervals
+        i = np.arange(step, tc.size, step)
+        dt = tc[i] - tc[i - 1]
         dt = dt[dt > 0]
         if dt.size:
             out[c] = round(float(1.0 / np.median(dt)), 3)

@@ -154,7 +154,9 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     fmt = detect_format(_head(p))
     data: bytes = b""
     notes: list[str] = []
-    if fmt != "nmea":  # NMEA: read_nmea reads the file itself (once)
+    with open(p, "rb") as f:
+        packed = f.read(2) == b"\x1f\x8b"
+    if fmt != "nmea" and (fmt != "mf4" or packed):  # NMEA and MDF4 read the file themselves
         data, notes = read_log_bytes(p, max_bytes=MAX_BYTES)
     if fmt in ("mf4", "blf", "asc") and o.columns is None:
         raise InputError(
@@ -178,8 +180,6 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     elif fmt == "mf4":
         from gripsense.io.mdf import read_mdf
 
-        with open(p, "rb") as f:
-            packed = f.read(2) == b"\x1f\x8b"  # gzip: read from memory, else from the file
         log = read_mdf(p, data if packed else None, columns=o.columns,
                        time_offset=o.time_offset, strict=o.strict)  # fmt: skip
     else:
