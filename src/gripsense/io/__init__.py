@@ -6,6 +6,7 @@ Nothing here imports the physics: io sits at the bottom of the one-way flow
 
 from gripsense.io.accel import read_accel_csv
 from gripsense.io.laser import read_laser_csv
+from gripsense.io.log import LogOptions, read_log
 from gripsense.io.nmea import (
     Alignment,
     IngestReport,
@@ -25,6 +26,7 @@ from gripsense.io.tyre_table import read_tyre_table
 __all__ = [
     "Alignment",
     "IngestReport",
+    "LogOptions",
     "NmeaLog",
     "RejectedLine",
     "TirError",
@@ -34,6 +36,7 @@ __all__ = [
     "parse_columns",
     "read_accel_csv",
     "read_laser_csv",
+    "read_log",
     "read_motion_table",
     "read_nmea",
     "read_pac89_json",
