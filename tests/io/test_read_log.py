@@ -93,3 +93,10 @@ def test_unknown_key_and_missing_file_are_one_line(tmp_path):
         read_log(DATA / "formats" / "sample.vbo", columns="hdg=True_Head")
     with pytest.raises(InputError, match="no such file"):
         read_log(tmp_path / "nothing.vbo")
+
+
+def test_options_a_format_does_not_use_are_said():
+    log = read_log(DATA / "formats" / "sample.vbo", dbc=DBC, time_offset=0.0)
+    assert "--dbc and --time-offset not used: the log is VBOX VBO" in log.report.notes[-1]
+    log = read_log(DEMO / "case001.nmea.gz", columns="heading=H")
+    assert log.report.notes[-1].startswith("--columns not used: the log is NMEA 0183")

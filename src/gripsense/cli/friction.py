@@ -105,6 +105,8 @@ def friction(
         else:
             opts = log_options(columns, dbc, time_offset)
             result = run.run_log(log, steer_csv=steer_csv, log_options=opts)
+            for note in (result.ingest or {}).get("notes", []):
+                say(f"note: {note}")
     except GripsenseError as e:
         fail(e)
     print_friction(result)

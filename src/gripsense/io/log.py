@@ -143,8 +143,8 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
 
     Examples
     --------
-    >>> from gripsense.data import demo_path  # doctest: +SKIP
-    >>> read_log(demo_path("case001.nmea.gz")).report.format  # doctest: +SKIP
+    >>> from gripsense.data import path
+    >>> read_log(path("demo/case001.nmea.gz")).report.format
     'NMEA 0183'
     """
     o = options if options is not None else LogOptions(**kw)
@@ -190,6 +190,19 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         log = read_can(p, data, fmt, dbc=o.dbc, columns=o.columns, time_offset=o.time_offset,
                        strict=o.strict)  # fmt: skip
     log.report.channels = channel_rates(log.epochs)
+    unused = [
+        flag
+        for flag, given, used_by in (
+            ("--columns", o.columns, ("vbo", "mf4", "blf", "asc")),
+            ("--dbc", o.dbc, ("blf", "asc")),
+            ("--time-offset", o.time_offset, ("mf4", "blf", "asc")),
+        )
+        if given is not None and fmt not in used_by
+    ]
+    if unused:
+        log.report.notes.append(
+            f"{' and '.join(unused)} not used: the log is {log.report.format} (docs/ingest.md)"
+        )
     return log
 
 
