@@ -109,7 +109,6 @@ _FILE_UNITS = {
     "n.m": "Nm",
     "n m": "Nm",
     "n": "N",
-    "kn·m": None,  # not a unit gripsense converts silently (kN·m on a column is suspicious)
     "s": "s",
     "sec": "s",
     "secs": "s",
@@ -138,9 +137,9 @@ def file_unit_factor(unit: str | None, dimension: str) -> float | None:
     """
     if not unit:
         return None
-    word = _FILE_UNITS.get(unit.strip().lower())
-    if word is None and unit.strip() in UNITS:
-        word = unit.strip()
+    text = unit.strip()
+    # the exact unit word first (kN is not kn, knots), then the file spellings
+    word = text if text in UNITS else _FILE_UNITS.get(text.lower())
     if word is None or UNIT_DIMENSIONS.get(word) != dimension:
         return None
     return UNITS[word]
