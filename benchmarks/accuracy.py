@@ -34,7 +34,9 @@ Each axle-case also gets the **physical limit** of its range
 (:func:`gripsense.physics.friction_limit.mu_range_limit`): the μ that the true operating points
 (1 s means of the axle's true slip and force after the settling time, ±0.01 in force per load)
 allow for the estimator's shape family and the declared stiffness's 90 % band — no estimator
-can be narrower without more information. Reported per cell: an upper end given (u ≥ 0.8, fit
+can be narrower without more information. ``limit_rx`` adds the receiver's share: any common
+slip error up to 90 % of the receiver's slow heading error combined with a heading calibration's
+residual (0.05°). Reported per cell: an upper end given (u ≥ 0.8, fit
 consistent), the median width of the range over the limit's width, values, coverage, bias, the
 "is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
 median width (a better receiver must not say less).
@@ -163,9 +165,24 @@ def jobs_commonroad(quick: bool, receivers=("white-0.3",), model: str = "std") -
     return out
 
 
-def physical_limit(truth: pd.DataFrame, settle_s: float, vehicle, axle: str, band) -> tuple:
-    """The range the true operating points of an axle allow (module docstring)."""
-    from gripsense.physics.friction_limit import mu_range_limit
+def receiver_share(receiver: str) -> float:
+    """The common slip error a receiver leaves [rad]: 90 % of its slow heading error combined
+    with the residual of a heading calibration on straights (0.05°)."""
+    from gripsense.config.receiver import RECEIVERS as PRESETS
+
+    return float(np.deg2rad(1.645 * np.hypot(PRESETS[receiver].heading_slow_deg, 0.05)))
+
+
+def physical_limit(
+    truth: pd.DataFrame, settle_s: float, vehicle, axle: str, band, slip_offset: float = 0.0
+) -> tuple:
+    """The range the true operating points of an axle allow (module docstring), with a common
+    slip error up to *slip_offset* [rad] (the receiver's share)."""
+    from functools import partial
+
+    from gripsense.physics.friction_limit import mu_range_limit as mrl
+
+    mu_range_limit = partial(mrl, slip_offset=slip_offset, n_offset=5)
 
     t = truth[(truth["t_s"] >= settle_s) & truth["wheel"].astype(str).str.startswith(axle)]
     if t.empty:
@@ -257,11 +274,16 @@ def one(job: dict) -> list[dict]:
             continue
         t = truth.loc[ax]
         lim_lo, lim_hi = physical_limit(d.truth, d.settle_s, uv, ax, band)
+        rx_lo, rx_hi = physical_limit(
+            d.truth, d.settle_s, uv, ax, band, receiver_share(job["receiver"])
+        )
         rows.append(
             {
                 **{k: v for k, v in job.items() if k != "plan"},
                 "limit_low": lim_lo,
                 "limit_high": lim_hi,
+                "limit_rx_low": rx_lo,
+                "limit_rx_high": rx_hi,
                 "slippery": s.get("slippery", ""),
                 "axle": ax,
                 "mu_true": t["mu_true"],
@@ -298,6 +320,10 @@ def scores(df: pd.DataFrame) -> pd.Series:
     width = df["mu_high"] - df["mu_low"]
     lim_w = df["limit_high"] - df["limit_low"] if "limit_high" in df else width * np.nan
     ratio = (width / lim_w)[near8 & np.isfinite(width) & np.isfinite(lim_w) & (lim_w > 0)]
+    rx_w = df["limit_rx_high"] - df["limit_rx_low"] if "limit_rx_high" in df else width * np.nan
+    ratio_rx = (width / rx_w)[near8 & np.isfinite(width) & np.isfinite(rx_w) & (rx_w > 0)]
+    v95 = obs & u95
+    err95 = (df["mu"] - df["mu_true"])[v95]
     call = df["slippery"] if "slippery" in df else pd.Series("", index=df.index)
     low = (df["mu_true"] <= 0.31) & (df["utilisation"] >= 0.85)
     high = df["mu_true"] >= 0.8
@@ -312,7 +338,11 @@ def scores(df: pd.DataFrame) -> pd.Series:
             if (near8 & np.isfinite(width)).any()
             else np.nan,
             "width/limit": float(ratio.median()) if len(ratio) else np.nan,
+            "width/limit_rx": float(ratio_rx.median()) if len(ratio_rx) else np.nan,
             "given_u0.95": float(obs[u95].mean()) if u95.any() else np.nan,
+            "within_0.05_u0.95": float((np.abs(err95) <= 0.05).mean()) if len(err95) else np.nan,
+            "bias_u0.95": float(err95.mean()) if len(err95) else np.nan,
+            "coverage90_u0.95": float(covered[v95].mean()) if v95.any() else np.nan,
             "slippery_right": f"{int((call[low] == 'slippery').sum())}/{int(low.sum())}",
             "slippery_wrong": int((call[high] == "slippery").sum()),
             "given_u0.6": float(obs[u6].mean()) if u6.any() else np.nan,

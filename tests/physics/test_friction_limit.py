@@ -49,6 +49,36 @@ def test_against_brute_force_sweep(u, band, pts):
     assert lo <= mu_true <= hi
 
 
+@pytest.mark.parametrize(("u", "offset_deg"), [(0.9, 0.1), (0.95, 0.3), (0.8, 0.05)])
+def test_common_slip_offset_against_brute_force(u, offset_deg):
+    """A common slip error up to δ (the receiver's share): the range is the hull over the offsets
+    of every (μ, shape, scale) that explains the shifted points (brute force on the same offsets,
+    forward evaluation of the curves), it holds the truth, and it never narrows as δ grows."""
+    mu_true, cn, band, tol = 0.6, 18.0, (0.9, 1.1), 0.004
+    us = np.array([u - 0.2, u])
+    x = np.array([brentq(lambda z, v=v: magic_formula_normalised(z, 1.35, 0.0) - v, 1e-9, 2.6)
+                  for v in us])  # fmt: skip
+    slip = np.arctan(x * mu_true / cn) + np.deg2rad(0.5 * offset_deg)  # measured with an offset
+    y = us * mu_true
+    fam = SHAPE_FAMILY[::3]
+    d = np.deg2rad(offset_deg)
+    lo, hi = mu_range_limit(y, slip, cn, stiffness_band=band, tolerance=tol, shapes=fam,
+                            slip_offset=d, n_offset=5)  # fmt: skip
+    brute = np.array([_brute(y, slip - e, np.full(2, cn), band, tol, fam)
+                      for e in np.linspace(-d, d, 5)])  # fmt: skip
+    ok = np.isfinite(brute[:, 0])
+    blo, bhi = brute[ok, 0].min(), brute[ok, 1].max()
+    # the brute force samples μ 0.1 % apart: it finds a subset of the consistent μ (a narrow
+    # intersection at an extreme offset can fall between its grid points)
+    assert lo * (1 - 1e-3) <= blo <= lo * (1 + 5e-3)
+    assert hi * (1 - 5e-3) <= bhi <= hi * (1 + 1e-3)
+    assert lo <= mu_true <= hi
+    lo0, hi0 = mu_range_limit(y, slip, cn, stiffness_band=band, tolerance=tol, shapes=fam)
+    lo2, hi2 = mu_range_limit(y, slip, cn, stiffness_band=band, tolerance=tol, shapes=fam,
+                              slip_offset=2 * d, n_offset=9)  # fmt: skip
+    assert lo2 <= lo <= lo0 and hi0 <= hi <= hi2
+
+
 def test_reproduces_the_single_point_table():
     """Largest μ consistent with one steady point of a C 1.35, E 0 curve, over MF C 1.1–1.95 and
     E −1.5…0.8, stiffness ±10 % / ±20 % (PHYSICS.md §15: 2.38/unbounded at u 0.6, 1.54/2.15 at

@@ -615,22 +615,42 @@ def profile_nll(
 
 
 @njit(cache=True, nogil=True)
-def merge_runs(t0, t1, n, data, tol, noise_cols):
+def merge_runs(t0, t1, n, data, tol, noise_cols, slip_z, drift_sd, tau_s, model_col):
     """The loop of :func:`gripsense.estimate.bins.merge_steady`: runs of bins whose
-    measured grip (column 9) stays within *tol* of the run's first bin, without a time gap, as
-    count-weighted means; the columns in *noise_cols* combine as white noise of a mean,
-    √(Σ nᵢ² σᵢ²) / Σ nᵢ. Sums in bin order, as ``np.bincount`` would. Returns (mid, merged).
+    measured grip (column 9) stays within *tol* of the run's first bin, and whose mean slip
+    (columns 0, 1) stays within *slip_z* of its noise (the bins' white noise and the change of
+    a Gauss–Markov drift of 1σ *drift_sd* and correlation time *tau_s* since the run's first
+    bin), without a time gap, as count-weighted means; the columns in *noise_cols* combine as
+    white noise of a mean, √(Σ nᵢ² σᵢ²) / Σ nᵢ. Sums in bin order, as ``np.bincount`` would.
+    The model's fidelity (column *model_col*) is one error for a run of steady force: when its
+    slip moved and it is kept as m points, their fidelity σ grows by √m (the points together
+    weigh no more than the one point of a steady run). Returns (mid, merged).
     """
     nb, nc = data.shape
     groups = np.zeros(nb, dtype=np.int64)
+    runs = np.zeros(nb, dtype=np.int64)  # the steady-force run of each group
     g = 0
-    first = data[0, 9]
+    r = 0
+    i0 = 0
+    ir = 0
     for k in range(1, nb):
         gap = t0[k] - t1[k - 1] > 1.5 * max(t1[k - 1] - t0[k - 1], 0.1)
-        if gap or abs(data[k, 9] - first) > tol:
+        moved = False
+        if slip_z < np.inf:
+            d_slip = 0.5 * (data[k, 0] + data[k, 1] - data[i0, 0] - data[i0, 1])
+            dt = 0.5 * (t0[k] + t1[k] - t0[i0] - t1[i0])
+            var = data[k, 8] ** 2 + data[i0, 8] ** 2
+            var += 2.0 * drift_sd**2 * (1.0 - np.exp(-abs(dt) / tau_s))
+            moved = d_slip * d_slip > slip_z * slip_z * var
+        force_moved = gap or abs(data[k, 9] - data[ir, 9]) > tol
+        if force_moved or abs(data[k, 9] - data[i0, 9]) > tol or moved:
             g += 1
-            first = data[k, 9]
+            i0 = k
+            if force_moved:
+                r += 1
+                ir = k
         groups[k] = g
+        runs[g] = r
     noisy = np.zeros(nc, dtype=np.bool_)
     for c in noise_cols:
         noisy[c] = True
@@ -645,9 +665,13 @@ def merge_runs(t0, t1, n, data, tol, noise_cols):
             x = w * data[k, c]
             out[j, c] += x * x if noisy[c] else x
         mid[j] += 0.5 * (t0[k] + t1[k]) * w
+    per_run = np.zeros(r + 1)
+    for j in range(g + 1):
+        per_run[runs[j]] += 1.0
     for j in range(g + 1):
         for c in range(nc):
             out[j, c] = (np.sqrt(out[j, c]) if noisy[c] else out[j, c]) / sw[j]
+        out[j, model_col] *= np.sqrt(per_run[runs[j]])
         mid[j] /= sw[j]
     return mid, out
 

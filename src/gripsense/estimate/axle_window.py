@@ -30,11 +30,11 @@ import pandas as pd
 from scipy.stats import norm
 
 from gripsense.config import Vehicle
-from gripsense.estimate.bins import AxleBins, axle_bins, merge_steady
+from gripsense.estimate.bins import AxleBins, axle_bins
 from gripsense.estimate.grip import drive_bound
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import ProfileCache, axle_priors, profile_mu, shape_ids
+from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, profile_mu, shape_ids
 
 __all__ = ["WINDOW_COLUMNS", "estimate_windows"]
 
@@ -157,9 +157,7 @@ def estimate_windows(
         for i in np.flatnonzero(analysed):
             sel = slice(starts[i], starts[i] + per_bin_win)
             analysed_bins[sel] = True
-            mid, merged = merge_steady(
-                ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], o.steady_tolerance
-            )
+            mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
             est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, cols["grip_used_lower"][i])
             for k, v in est.items():
                 cols[k][i] = v
@@ -176,12 +174,13 @@ def estimate_windows(
             "grip_used_lower": g_lower,
         }
         if analysed_bins.any():
-            mid, merged = merge_steady(
+            mid, merged = merge_bins(
                 ab.t0[analysed_bins],
                 ab.t1[analysed_bins],
                 ab.n[analysed_bins],
                 ab.data[analysed_bins],
-                o.steady_tolerance,
+                pri,
+                o,
             )
             est = profile_mu(
                 merged,

@@ -261,15 +261,27 @@ _NOISE_COLS = np.array([7, 8], dtype=np.int64)  # white-noise σ of a bin's slip
 
 
 def merge_steady(
-    t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, tol: float
+    t0: np.ndarray,
+    t1: np.ndarray,
+    n: np.ndarray,
+    data: np.ndarray,
+    tol: float,
+    *,
+    slip_z: float = np.inf,
+    drift_sd: float = 0.0,
+    tau_s: float = 20.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Merge runs of consecutive bins whose measured grip stays within *tol* of the run's first
-    bin into one bin (means weighted by the sample count; white noise combined).
+    bin, and whose slip stays within its noise, into one bin (means weighted by the sample
+    count; white noise combined).
 
     In steady cornering every bin shows the same force, so slip differences between its bins
     are measurement error: kept apart they would let a tyre at its limit (whose force does not
     depend on slip) explain them for free. Merged, a steady stretch is one point of the tyre
-    curve, and only changes of utilisation (transients) trace the curve.
+    curve, and only changes of utilisation (transients) trace the curve. A run whose slip moves
+    by more than *slip_z* times its noise while the force stays is not steady: a tyre past its
+    peak (a front axle ploughing through a ramp steer) holds its force while the slip grows by
+    degrees — the plateau that proves saturation, kept as points (``docs/physics.md`` §15.9).
 
     Parameters
     ----------
@@ -281,6 +293,14 @@ def merge_steady(
         Bins in :data:`BIN_COLUMNS` order.
     tol : float
         Largest change of measured grip within a merged run [-].
+    slip_z : float
+        Largest change of the axle's mean slip within a merged run, in units of its 1σ (the
+        bins' white noise and the drift's change between them) [-]; inf: the slip is not looked
+        at.
+    drift_sd : float
+        1σ of the slow slip error (a Gauss–Markov drift) [rad].
+    tau_s : float
+        Its correlation time [s].
 
     Returns
     -------
@@ -298,6 +318,10 @@ def merge_steady(
         np.ascontiguousarray(data, dtype=float),
         float(tol),
         _NOISE_COLS,
+        float(slip_z),
+        float(drift_sd),
+        float(max(tau_s, 1e-3)),
+        BIN_COLUMNS.index("force_model_sd"),
     )
 
 

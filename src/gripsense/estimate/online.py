@@ -13,11 +13,11 @@ import pandas as pd
 from scipy.stats import norm
 
 from gripsense.config import Vehicle
-from gripsense.estimate.bins import axle_bins, axle_pairs, merge_steady
+from gripsense.estimate.bins import axle_bins, axle_pairs
 from gripsense.estimate.grip import bin_bound
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import ProfileCache, axle_priors, shape_ids
+from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, shape_ids
 
 __all__ = ["OnlineAxleWindow"]
 
@@ -127,7 +127,7 @@ class OnlineAxleWindow:
         }
         if row["analysed"]:
             n = np.array([b[2] for b in self._bins])
-            mid, merged = merge_steady(t0, t1, n, data, self.o.steady_tolerance)
+            mid, merged = merge_bins(t0, t1, n, data, self._pri, self.o)
             row.update(
                 self._reuse.profile(
                     merged,

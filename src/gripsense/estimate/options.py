@@ -73,6 +73,9 @@ class WindowOptions:
     steady_tolerance : float
         Consecutive bins whose measured grip stays within this are merged into one point of the
         tyre curve (:func:`merge_steady`) [-].
+    steady_slip_z : float
+        ... unless their slip moves by more than this many 1σ of its noise (a tyre past its
+        peak holds its force while the slip grows: not steady) [-].
     mu_min, mu_max : float
         μ grid range [-]; an interval reaching mu_max is unbounded.
     n_mu : int
@@ -95,6 +98,7 @@ class WindowOptions:
     min_samples: int = 5
     screen_utilisation: float = 0.15
     steady_tolerance: float = 0.03
+    steady_slip_z: float = 4.0
     mu_min: float = 0.05
     mu_max: float = 3.0
     n_mu: int = 48

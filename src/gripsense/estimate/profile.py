@@ -19,7 +19,7 @@ from scipy.stats import chi2
 from gripsense.config import Vehicle
 from gripsense.constants import CHI2_1_90
 from gripsense.estimate import _axle_kernel as K
-from gripsense.estimate.bins import force_and_linear
+from gripsense.estimate.bins import force_and_linear, merge_steady
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.physics.friction_limit import linear_explains
@@ -32,6 +32,7 @@ __all__ = [
     "ProfileCache",
     "axle_priors",
     "curve_lookup",
+    "merge_bins",
     "profile_mu",
     "shape_ids",
 ]
@@ -156,6 +157,38 @@ def axle_priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> Priors:
         ]
     )
     return Priors(mean, sd, sd_drift, noise.heading_slow_tau_s)
+
+
+def merge_bins(
+    t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, pri: Priors, o: WindowOptions
+) -> tuple[np.ndarray, np.ndarray]:
+    """The points of the tyre curve that bins give (:func:`~gripsense.estimate.bins.
+    merge_steady` with the options' tolerances and the priors' slip drift).
+
+    Parameters
+    ----------
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    data : numpy.ndarray
+        Bins in :data:`~gripsense.estimate.bins.BIN_COLUMNS` order.
+    pri : Priors
+        The axle's priors (the slip drift's 1σ and correlation time).
+    o : WindowOptions
+        ``steady_tolerance`` and ``steady_slip_z``.
+
+    Returns
+    -------
+    mid : numpy.ndarray
+        Mid time of each merged bin [s].
+    merged : numpy.ndarray
+        The merged bins.
+    """
+    return merge_steady(
+        t0, t1, n, data, o.steady_tolerance, slip_z=o.steady_slip_z, drift_sd=pri.delta,
+        tau_s=pri.tau_s,
+    )  # fmt: skip
 
 
 def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int) -> float:
@@ -340,9 +373,15 @@ def profile_mu(
     if np.isfinite(grip_lower):
         # the estimate never below what the data prove without a model
         mu_hat = max(mu_hat, float(grip_lower))
+    mu_low = float(max(lo, grip_lower))
+    # the value is the centre of the stated range on the log-μ grid, not the profile's best μ:
+    # the profile is skewed (a nuisance at its prior's edge lets μ rise more easily than fall,
+    # the measured grip cuts the range from below), so its best μ sits low in the range — biased
+    # low by 1–2 % of μ near the limit, more at high grip (docs/physics.md §15.9)
+    value = float(np.sqrt(mu_low * hi)) if observable else np.nan
     return {
-        "mu": mu_hat if observable else np.nan,
-        "mu_low": float(max(lo, grip_lower)) if fit != "inconsistent" else np.nan,
+        "mu": value,
+        "mu_low": mu_low if fit != "inconsistent" else np.nan,
         "mu_high": float(hi) if fit != "inconsistent" else np.nan,
         "observable": observable,
         "fit": fit,

@@ -115,9 +115,13 @@ def mu_range_limit(
     tolerance=0.0,
     shapes: tuple[CurveShape, ...] = SHAPE_FAMILY,
     n_scale: int = 41,
+    slip_offset: float = 0.0,
+    n_offset: int = 9,
 ) -> tuple[float, float]:
     """The smallest and largest μ consistent with operating points for any curve of a family and
-    any stiffness in a band (``docs/physics.md`` §15.5).
+    any stiffness in a band (``docs/physics.md`` §15.5), and — with *slip_offset* — any common
+    error of the measured slips up to that size (the receiver's share: a heading offset shifts
+    every slip alike).
 
     Parameters
     ----------
@@ -136,6 +140,11 @@ def mu_range_limit(
         :func:`shape_grid` for a dense Magic Formula grid).
     n_scale : int
         Stiffness scales tried across the band (log-spaced).
+    slip_offset : float
+        Largest common error δ of the slips: the true slips are α − δ for one δ in
+        [−slip_offset, slip_offset] [rad] (ISO signs: a heading offset adds to every slip).
+    n_offset : int
+        Offsets tried across that interval (the range is the hull over them).
 
     Returns
     -------
@@ -143,6 +152,25 @@ def mu_range_limit(
         The range [-]; ``mu_high`` is inf when a tyre linear at the points explains them (far
         from the limit), both NaN when no member and scale explain the points together.
     """
+    if slip_offset > 0.0:
+        ranges = np.array(
+            [
+                mu_range_limit(
+                    grip,
+                    np.asarray(slip_rad, dtype=float) - d,
+                    stiffness_per_load,
+                    stiffness_band=stiffness_band,
+                    tolerance=tolerance,
+                    shapes=shapes,
+                    n_scale=n_scale,
+                )
+                for d in np.linspace(-slip_offset, slip_offset, max(int(n_offset), 2))
+            ]
+        )
+        ok = np.isfinite(ranges[:, 0])
+        if not ok.any():
+            return float("nan"), float("nan")
+        return float(ranges[ok, 0].min()), float(ranges[ok, 1].max())
     y = np.atleast_1d(np.abs(np.asarray(grip, dtype=float)))
     k = np.atleast_1d(np.abs(np.tan(np.asarray(slip_rad, dtype=float)))) * np.atleast_1d(
         np.asarray(stiffness_per_load, dtype=float)

@@ -1,0 +1,112 @@
+"""Points of the tyre curve from bins (:func:`gripsense.estimate.bins.merge_steady`): a steady run
+is one point, a run whose slip moves while its force stays (a tyre past its peak) is kept as
+points whose model fidelity together weighs no more than the one point (``docs/physics.md``
+§15.9). Checked on bins built by hand, and on a ramp steer through the limit of a Magic Formula
+tyre the estimator does not share."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from gripsense import FrictionRun
+from gripsense.estimate.bins import BIN_COLUMNS, merge_steady
+from gripsense.io import read_nmea
+from gripsense.io.steer import steer_at
+from gripsense.sim import maneuvers as M
+from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
+
+C = {name: i for i, name in enumerate(BIN_COLUMNS)}
+
+
+def _bins(slip_deg, grip, slip_sigma_deg=0.05):
+    """One 1 s bin of 10 samples per slip: both wheels at the slip, force = grip × load."""
+    k = len(slip_deg)
+    b = np.zeros((k, len(BIN_COLUMNS)))
+    a = np.deg2rad(np.asarray(slip_deg, dtype=float))
+    b[:, C["alpha_L"]] = b[:, C["alpha_R"]] = a
+    b[:, C["fz_L"]] = b[:, C["fz_R"]] = 3000.0
+    b[:, C["c_L"]] = b[:, C["c_R"]] = 40000.0
+    b[:, C["grip"]] = grip
+    b[:, C["force"]] = -grip * 6000.0
+    b[:, C["force_sigma"]] = 30.0
+    b[:, C["slip_sigma"]] = np.deg2rad(slip_sigma_deg)
+    b[:, C["force_model_sd"]] = 0.04 * grip * 6000.0
+    t0 = np.arange(k, dtype=float)
+    return t0, t0 + 0.9, np.full(k, 10.0), b
+
+
+def test_steady_run_is_one_point_with_or_without_the_slip_test():
+    t0, t1, n, b = _bins([3.0, 3.02, 2.98, 3.01, 3.0], 0.3)
+    for z in (np.inf, 4.0):
+        mid, m = merge_steady(t0, t1, n, b, 0.03, slip_z=z, drift_sd=np.deg2rad(0.1))
+        assert m.shape[0] == 1
+        assert mid[0] == pytest.approx(np.mean(0.5 * (t0 + t1)))
+        # white noise of a mean of five equal bins: σ/√5; the fidelity stays one bin's
+        assert m[0, C["slip_sigma"]] == pytest.approx(np.deg2rad(0.05) / np.sqrt(5))
+        assert m[0, C["force_model_sd"]] == pytest.approx(0.04 * 0.3 * 6000.0)
+
+
+def test_plateau_with_moving_slip_is_kept_as_points():
+    """Force steady, slip 3° → 8° at 1°/s: far beyond 4σ of the white noise (0.05°/bin) and of
+    the drift's change (0.1° over 20 s, ≤ 0.03° a second) — six points, each carrying √6 of the
+    model's fidelity, so the six weigh what the one merged point weighed."""
+    slips = [3.0, 4.0, 5.0, 6.0, 7.0, 8.0]
+    t0, t1, n, b = _bins(slips, 0.3)
+    _, one = merge_steady(t0, t1, n, b, 0.03)
+    assert one.shape[0] == 1
+    assert np.rad2deg(one[0, C["alpha_L"]]) == pytest.approx(np.mean(slips))
+    _, m = merge_steady(t0, t1, n, b, 0.03, slip_z=4.0, drift_sd=np.deg2rad(0.1), tau_s=20.0)
+    assert m.shape[0] == 6
+    assert np.rad2deg(m[:, C["alpha_L"]]) == pytest.approx(slips)
+    assert m[:, C["force_model_sd"]] == pytest.approx(np.full(6, 0.04 * 0.3 * 6000.0 * np.sqrt(6)))
+    # weights 1/σ² of the six points add up to the one point's
+    assert np.sum(1 / m[:, C["force_model_sd"]] ** 2) == pytest.approx(
+        1 / one[0, C["force_model_sd"]] ** 2
+    )
+
+
+def test_slip_within_the_drift_is_steady():
+    """A slip change the slow heading error explains (0.5° over 10 s with a 1° drift of 20 s
+    correlation: 1σ of the change ≈ 0.89°) is not a moving slip; with a 0.01° drift it is."""
+    t0, t1, n, b = _bins(np.linspace(3.0, 3.5, 11), 0.3)
+    b[:, C["slip_sigma"]] = 1e-5
+    _, m = merge_steady(t0, t1, n, b, 0.03, slip_z=4.0, drift_sd=np.deg2rad(1.0), tau_s=20.0)
+    assert m.shape[0] == 1
+    _, m = merge_steady(t0, t1, n, b, 0.03, slip_z=4.0, drift_sd=np.deg2rad(0.01), tau_s=20.0)
+    assert m.shape[0] > 1
+
+
+def test_force_change_still_splits_and_starts_a_new_run():
+    """A change of force splits as before; the fidelity of each run is its own."""
+    t0, t1, n, b = _bins([1.0, 1.0, 3.0, 5.0], 0.3)
+    b[:2, C["grip"]] = 0.1
+    b[:2, C["force_model_sd"]] = 0.04 * 0.1 * 6000.0
+    _, m = merge_steady(t0, t1, n, b, 0.03, slip_z=4.0, drift_sd=np.deg2rad(0.1))
+    assert m.shape[0] == 3
+    assert m[0, C["force_model_sd"]] == pytest.approx(0.04 * 0.1 * 6000.0)
+    assert m[1:, C["force_model_sd"]] == pytest.approx(np.full(2, 0.04 * 0.3 * 6000.0 * np.sqrt(2)))
+
+
+def test_ramp_steer_through_the_limit_gives_a_value():
+    """ISO 4138-like ramp steer (1 °/s road wheel, 70 km/h) on a μ 0.3 road, Magic Formula sedan
+    tyre: the front axle passes its peak in ~2 s and ploughs with its slip growing to ~12°. Kept
+    as points, the plateau gives a value within 0.05 whose range holds the truth (merged into one
+    point it gave only a range, 0.32–0.40 at 90 %)."""
+    m = M.ramp_steer(
+        70 / 3.6, rate_rad_s=np.deg2rad(1.0), max_steer_rad=np.deg2rad(14.0), hold_s=6.0
+    )
+    d = simulate_drive("sedan", "mf-sedan", m, 0.3, receiver="rtk", seed=113)
+    ep = read_nmea(d.lines).epochs
+    ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
+    uv = user_vehicle(truth_vehicle("sedan"), "mf-sedan", stiffness_error=0.05)
+    res = FrictionRun(uv, method="axle-window", receiver="rtk").run(
+        ep, steer_rad=steer_at(ch, ep["t_s"].to_numpy(float))
+    )
+    front = res.summary.set_index("axle").loc["front"]
+    truth = d.axles.set_index("axle").loc["front"]
+    assert truth["utilisation_max"] >= 0.95
+    assert front["observable"], front.to_dict()
+    assert abs(front["mu"] - truth["mu_true"]) <= 0.05
+    assert front["mu_low"] <= truth["mu_true"] <= front["mu_high"]
+    assert front["grip_used_lower"] <= truth["mu_true"] + 0.01
