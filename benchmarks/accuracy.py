@@ -36,7 +36,9 @@ Each axle-case also gets the **physical limit** of its range
 allow for the estimator's shape family and the declared stiffness's 90 % band — no estimator
 can be narrower without more information. ``limit_rx`` adds the receiver's share: any common
 slip error up to 90 % of the receiver's slow heading error combined with a heading calibration's
-residual (0.05°). Reported per cell: an upper end given (u ≥ 0.8, fit
+residual (0.05°); ``given_u0.95_pinned`` counts values on the axles that reached 0.95 of their
+grip and whose limit with the receiver's share is at most 0.1 wide (a value within ±0.05 is
+possible at all). Reported per cell: an upper end given (u ≥ 0.8, fit
 consistent), the median width of the range over the limit's width, values, coverage, bias, the
 "is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
 median width (a better receiver must not say less).
@@ -323,6 +325,9 @@ def scores(df: pd.DataFrame) -> pd.Series:
     rx_w = df["limit_rx_high"] - df["limit_rx_low"] if "limit_rx_high" in df else width * np.nan
     ratio_rx = (width / rx_w)[near8 & np.isfinite(width) & np.isfinite(rx_w) & (rx_w > 0)]
     v95 = obs & u95
+    # the axles that reached 0.95 and whose data allow a value within ±0.05 at all (the
+    # physical limit with the receiver's share no wider than 0.1)
+    pinned = u95 & (rx_w <= 0.1)
     err95 = (df["mu"] - df["mu_true"])[v95]
     call = df["slippery"] if "slippery" in df else pd.Series("", index=df.index)
     low = (df["mu_true"] <= 0.31) & (df["utilisation"] >= 0.85)
@@ -340,6 +345,7 @@ def scores(df: pd.DataFrame) -> pd.Series:
             "width/limit": float(ratio.median()) if len(ratio) else np.nan,
             "width/limit_rx": float(ratio_rx.median()) if len(ratio_rx) else np.nan,
             "given_u0.95": float(obs[u95].mean()) if u95.any() else np.nan,
+            "given_u0.95_pinned": float(obs[pinned].mean()) if pinned.any() else np.nan,
             "within_0.05_u0.95": float((np.abs(err95) <= 0.05).mean()) if len(err95) else np.nan,
             "bias_u0.95": float(err95.mean()) if len(err95) else np.nan,
             "coverage90_u0.95": float(covered[v95].mean()) if v95.any() else np.nan,
