@@ -422,7 +422,8 @@ class ProfileCache:
             est = dict(prev)
             if np.isfinite(lower):
                 est["mu_low"] = max(est["mu_low"], lower)
-                est["mu"] = max(est["mu"], lower) if est["observable"] else est["mu"]
+                if est["observable"]:  # the centre of the range this window states
+                    est["mu"] = float(np.sqrt(est["mu_low"] * est["mu_high"]))
             if not est["mu_high"] <= (1.0 + STRAINED_REL) * est["mu_low"]:
                 return est
             # this window's bound strains the previous answer: its own profile decides
