@@ -74,8 +74,8 @@ class WindowOptions:
         Consecutive bins whose measured grip stays within this are merged into one point of the
         tyre curve (:func:`merge_steady`) [-].
     steady_slip_z : float
-        ... unless their slip moves by more than this many 1σ of its noise (a tyre past its
-        peak holds its force while the slip grows: not steady) [-].
+        Bins of steady force stay apart when their slip moves by more than this many 1σ of its
+        noise (a tyre past its peak holds its force while the slip grows: not steady) [-].
     mu_min, mu_max : float
         μ grid range [-]; an interval reaching mu_max is unbounded.
     n_mu : int
