@@ -21,14 +21,16 @@ the truth (+0.01), the largest such excess, abstention.
 no steady segment), to show that non-steady windows contribute without bias.
 
 ``--kind sweeps`` drives ISO 4138 ramp steers (70 km/h, to 99 % of the front axle's grip and
-beyond) with the same truth tyres. ``--truth commonroad`` uses a vehicle model gripsense did not
-write as the truth: CommonRoad's single-track drift model (``gripsense.sim.commonroad``: Pacejka
-tyres C 1.35, E ≈ 0, no lateral load transfer, wheel spin), for steady circles at 60–98 % of the
-limit (R 40 and 70 m, 25 s steady) and sweeps (ISO 4138 constant radius R 40 m with the speed
-rising, ramp steer at 70 km/h), μ 0.3–1.0. ``--truth commonroad-mb`` drives the same plans with
-CommonRoad's multi-body model (29 states: roll, pitch, unsprung masses, suspension, tyre vertical
-compliance, lateral load transfer, camber; the truth per wheel as the model computes it), on
-μ 0.3–0.9: its vehicle 2 lifts an inner wheel from about 0.85 g, where a drive ends.
+beyond) with the same truth tyres, ``--kind dwell`` a sine with dwell (80 km/h, 0.7 Hz, 0.5 s
+dwell, the road-wheel amplitude 1.3 × the steady steer of the road's limit: FMVSS 126-like).
+``--truth commonroad`` uses a vehicle model gripsense did not write as the truth: CommonRoad's
+single-track drift model (``gripsense.sim.commonroad``: Pacejka tyres C 1.35, E ≈ 0, no lateral
+load transfer, wheel spin), for steady circles at 60–98 % of the limit (R 40 and 70 m, 25 s steady)
+and sweeps (ISO 4138 constant radius R 40 m with the speed rising, ramp steer at 70 km/h), μ
+0.3–1.0. ``--truth commonroad-mb`` drives the same plans with CommonRoad's multi-body model (29
+states: roll, pitch, unsprung masses, suspension, tyre vertical compliance, lateral load transfer,
+camber; the truth per wheel as the model computes it), on μ 0.3–0.9: its vehicle 2 lifts an inner
+wheel from about 0.85 g, where a drive ends.
 
 Each axle-case also gets the **physical limit** of its range
 (:func:`gripsense.physics.friction_limit.mu_range_limit`): the μ that the true operating points
@@ -43,7 +45,7 @@ consistent), the median width of the range over the limit's width, values, cover
 "is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
 median width (a better receiver must not say less).
 
-Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps]
+Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
        [--truth gripsense|commonroad|commonroad-mb] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
 """
@@ -71,6 +73,9 @@ def manoeuvres(mu: float, quick: bool, kind: str = "circles") -> list[tuple[str,
 
     if kind == "sweeps":  # ISO 4138 ramp steer at 70 km/h: 1 °/s at the road wheels
         return [("ramp steer 70 km/h", 70 / 3.6, -100.0)]
+    if kind == "dwell":  # sine with dwell at 80 km/h, 1.3 × the steer of the road's limit
+        amp = 1.3 * np.rad2deg(2.7 * mu * 9.81 / (80 / 3.6) ** 2)
+        return [("sine with dwell 80 km/h", 80 / 3.6, -200.0 - amp)]
     if kind == "transients":
         amps = (3.0, 7.0) if quick else (2.0, 4.0, 6.0, 8.0)
         return [(f"slalom {a:g}° 60 km/h", 60 / 3.6, -a) for a in amps]
@@ -230,10 +235,13 @@ def one(job: dict) -> list[dict]:
     cr = str(job.get("truth", "")).startswith("commonroad")
     if cr:
         d, uv = _cr_drive(job)
-    elif job["radius_m"] <= -100:  # ISO 4138 ramp steer, 1 °/s, after a 6 s straight
+    elif -200 < job["radius_m"] <= -100:  # ISO 4138 ramp steer, 1 °/s, after a 6 s straight
         m = M.ramp_steer(job["speed_mps"], rate_rad_s=np.deg2rad(1.0),
                          max_steer_rad=np.deg2rad(14.0), hold_s=6.0)  # fmt: skip
         circle = None
+    elif job["radius_m"] <= -200:  # sine with dwell (0.7 Hz, 0.5 s dwell), after a 6 s straight
+        amp = np.deg2rad(-job["radius_m"] - 200.0)
+        m, circle = M.sine_with_dwell(job["speed_mps"], amplitude_rad=amp), None
     elif job["radius_m"] > 0:
         m, circle = None, (job["speed_mps"], job["radius_m"])
     else:  # a slalom after a 6 s straight (heading calibration)
@@ -378,7 +386,9 @@ def main() -> None:
     ap.add_argument("--tyres", default=",".join(TYRES))
     ap.add_argument("--vehicles", default=",".join(VEHICLES))
     ap.add_argument("--receivers", default=",".join(RECEIVERS))
-    ap.add_argument("--kind", default="circles", choices=("circles", "transients", "sweeps"))
+    ap.add_argument(
+        "--kind", default="circles", choices=("circles", "transients", "sweeps", "dwell")
+    )
     ap.add_argument(
         "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
     )
