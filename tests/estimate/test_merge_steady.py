@@ -110,3 +110,16 @@ def test_ramp_steer_through_the_limit_gives_a_value():
     assert abs(front["mu"] - truth["mu_true"]) <= 0.05
     assert front["mu_low"] <= truth["mu_true"] <= front["mu_high"]
     assert front["grip_used_lower"] <= truth["mu_true"] + 0.01
+
+
+def test_repeated_visits_of_one_level_share_the_model_error():
+    """A slalom passes the same part of the curve again and again (left and right): the points
+    at one level of |grip| share one model error, wherever they are in time; other levels keep
+    their own."""
+    t0, t1, n, b = _bins([1.0, 2.0, -1.0, -2.0, 1.0, -1.0], 0.2)
+    b[:, C["grip"]] = [0.10, 0.20, 0.10, 0.20, 0.10, 0.10]
+    b[:, C["force_model_sd"]] = 0.04 * b[:, C["grip"]] * 6000.0
+    _, m = merge_steady(t0, t1, n, b, 0.03, slip_z=4.0, drift_sd=np.deg2rad(0.1))
+    assert m.shape[0] == 6  # the force or the slip changes at every bin
+    k = np.where(m[:, C["grip"]] < 0.15, np.sqrt(4), np.sqrt(2))
+    assert m[:, C["force_model_sd"]] == pytest.approx(0.04 * m[:, C["grip"]] * 6000.0 * k)

@@ -622,17 +622,16 @@ def merge_runs(t0, t1, n, data, tol, noise_cols, slip_z, drift_sd, tau_s, model_
     a Gauss–Markov drift of 1σ *drift_sd* and correlation time *tau_s* since the run's first
     bin), without a time gap, as count-weighted means; the columns in *noise_cols* combine as
     white noise of a mean, √(Σ nᵢ² σᵢ²) / Σ nᵢ. Sums in bin order, as ``np.bincount`` would.
-    The model's fidelity (column *model_col*) is one error for a run of steady force: when its
-    slip moved and it is kept as m points, their fidelity σ grows by √m (the points together
-    weigh no more than the one point of a steady run). Returns (mid, merged).
+    The model's fidelity (column *model_col*) is one error per level of force: the m merged
+    points whose |grip| falls in one level *tol* wide (a plateau kept as points, a slalom's
+    repeated visits of the same part of the curve) carry √m of it each, so together they weigh
+    what one point weighs. Returns (mid, merged).
     """
     nb, nc = data.shape
     groups = np.zeros(nb, dtype=np.int64)
-    runs = np.zeros(nb, dtype=np.int64)  # the steady-force run of each group
     g = 0
-    r = 0
-    i0 = 0
-    ir = 0
+    i0 = 0  # first bin of the current point
+    ir = 0  # first bin of the current run of steady force (the points it is split into)
     for k in range(1, nb):
         gap = t0[k] - t1[k - 1] > 1.5 * max(t1[k - 1] - t0[k - 1], 0.1)
         moved = False
@@ -647,10 +646,8 @@ def merge_runs(t0, t1, n, data, tol, noise_cols, slip_z, drift_sd, tau_s, model_
             g += 1
             i0 = k
             if force_moved:
-                r += 1
                 ir = k
         groups[k] = g
-        runs[g] = r
     noisy = np.zeros(nc, dtype=np.bool_)
     for c in noise_cols:
         noisy[c] = True
@@ -665,14 +662,21 @@ def merge_runs(t0, t1, n, data, tol, noise_cols, slip_z, drift_sd, tau_s, model_
             x = w * data[k, c]
             out[j, c] += x * x if noisy[c] else x
         mid[j] += 0.5 * (t0[k] + t1[k]) * w
-    per_run = np.zeros(r + 1)
-    for j in range(g + 1):
-        per_run[runs[j]] += 1.0
     for j in range(g + 1):
         for c in range(nc):
             out[j, c] = (np.sqrt(out[j, c]) if noisy[c] else out[j, c]) / sw[j]
-        out[j, model_col] *= np.sqrt(per_run[runs[j]])
         mid[j] /= sw[j]
+    # the model's error is a function of the point of the curve, not of time: the m points at
+    # one level of |grip| (levels *tol* wide) share it, so each carries √m of the fidelity
+    if tol > 0.0:
+        level = np.empty(g + 1, dtype=np.int64)
+        for j in range(g + 1):
+            level[j] = int(abs(out[j, 9]) / tol)
+        per_level = np.zeros(np.max(level) + 1)
+        for j in range(g + 1):
+            per_level[level[j]] += 1.0
+        for j in range(g + 1):
+            out[j, model_col] *= np.sqrt(per_level[level[j]])
     return mid, out
 
 
