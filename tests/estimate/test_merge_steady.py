@@ -1,20 +1,15 @@
 """Points of the tyre curve from bins (:func:`gripsense.estimate.bins.merge_steady`): a steady run
 is one point, a run whose slip moves while its force stays (a tyre past its peak) is kept as
-points whose model fidelity together weighs no more than the one point (``docs/physics.md``
-§15.9). Checked on bins built by hand, and on a ramp steer through the limit of a Magic Formula
-tyre the estimator does not share."""
+points, and the points at one level of force share one model error (``docs/physics.md`` §15.9).
+Checked on bins built by hand; the ramp steer through the limit that this gives a value on is in
+``test_friction_tells.py``."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gripsense import FrictionRun
 from gripsense.estimate.bins import BIN_COLUMNS, merge_steady
-from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
-from gripsense.sim import maneuvers as M
-from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
 C = {name: i for i, name in enumerate(BIN_COLUMNS)}
 
@@ -86,30 +81,6 @@ def test_force_change_still_splits_and_starts_a_new_run():
     assert m.shape[0] == 3
     assert m[0, C["force_model_sd"]] == pytest.approx(0.04 * 0.1 * 6000.0)
     assert m[1:, C["force_model_sd"]] == pytest.approx(np.full(2, 0.04 * 0.3 * 6000.0 * np.sqrt(2)))
-
-
-def test_ramp_steer_through_the_limit_gives_a_value():
-    """ISO 4138-like ramp steer (1 °/s road wheel, 70 km/h) on a μ 0.3 road, Magic Formula sedan
-    tyre: the front axle passes its peak in ~2 s and ploughs with its slip growing to ~12°. Kept
-    as points, the plateau gives a value within 0.05 whose range holds the truth (merged into one
-    point it gave only a range, 0.32–0.40 at 90 %)."""
-    m = M.ramp_steer(
-        70 / 3.6, rate_rad_s=np.deg2rad(1.0), max_steer_rad=np.deg2rad(14.0), hold_s=6.0
-    )
-    d = simulate_drive("sedan", "mf-sedan", m, 0.3, receiver="rtk", seed=113)
-    ep = read_nmea(d.lines).epochs
-    ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
-    uv = user_vehicle(truth_vehicle("sedan"), "mf-sedan", stiffness_error=0.05)
-    res = FrictionRun(uv, method="axle-window", receiver="rtk").run(
-        ep, steer_rad=steer_at(ch, ep["t_s"].to_numpy(float))
-    )
-    front = res.summary.set_index("axle").loc["front"]
-    truth = d.axles.set_index("axle").loc["front"]
-    assert truth["utilisation_max"] >= 0.95
-    assert front["observable"], front.to_dict()
-    assert abs(front["mu"] - truth["mu_true"]) <= 0.05
-    assert front["mu_low"] <= truth["mu_true"] <= front["mu_high"]
-    assert front["grip_used_lower"] <= truth["mu_true"] + 0.01
 
 
 def test_repeated_visits_of_one_level_share_the_model_error():

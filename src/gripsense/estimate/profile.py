@@ -162,28 +162,10 @@ def axle_priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> Priors:
 def merge_bins(
     t0: np.ndarray, t1: np.ndarray, n: np.ndarray, data: np.ndarray, pri: Priors, o: WindowOptions
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The points of the tyre curve that bins give (:func:`~gripsense.estimate.bins.
-    merge_steady` with the options' tolerances and the priors' slip drift).
-
-    Parameters
-    ----------
-    t0, t1 : numpy.ndarray
-        Bin start and end [s].
-    n : numpy.ndarray
-        Samples per bin.
-    data : numpy.ndarray
-        Bins in :data:`~gripsense.estimate.bins.BIN_COLUMNS` order.
-    pri : Priors
-        The axle's priors (the slip drift's 1σ and correlation time).
-    o : WindowOptions
-        ``steady_tolerance`` and ``steady_slip_z``.
-
-    Returns
-    -------
-    mid : numpy.ndarray
-        Mid time of each merged bin [s].
-    merged : numpy.ndarray
-        The merged bins.
+    """The points of the tyre curve that bins give: :func:`~gripsense.estimate.bins.
+    merge_steady` (whose parameters and returns these are) with the options' tolerances
+    (``steady_tolerance``, ``steady_slip_z``) and the priors' slip drift (its 1σ and correlation
+    time).
     """
     return merge_steady(
         t0, t1, n, data, o.steady_tolerance, slip_z=o.steady_slip_z, drift_sd=pri.delta,
