@@ -43,7 +43,8 @@ grip and whose limit with the receiver's share is at most 0.1 wide (a value with
 possible at all). Reported per cell: an upper end given (u ≥ 0.8, fit
 consistent), the median width of the range over the limit's width, values, coverage, bias, the
 "is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
-median width (a better receiver must not say less).
+median width (a better receiver must not say less). ``--receivers ideal`` adds a receiver
+without noise to speak of: the range it leaves is the vehicle file's declared uncertainty alone.
 
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
        [--truth gripsense|commonroad|commonroad-mb] [--workers 2] [--csv out.csv]
@@ -62,6 +63,11 @@ import pandas as pd
 TYRES = ("brush", "mf-book", "mf-sedan", "mf61", "pac89")
 VEHICLES = ("sedan", "sports", "suv")
 RECEIVERS = ("v100", "white-0.3", "rtk")
+IDEAL = {"heading_white_deg": 0.01, "heading_slow_deg": 0.0, "velocity_mps": 0.002,
+         "yaw_rate_dps": 0.01, "position_slow_m": 0.0, "position_white_m": 0.001}  # fmt: skip
+"""``--receivers ideal``: a receiver without noise to speak of (benchmark only). What the
+estimator says with it is what the vehicle file's declared uncertainty alone allows: the
+model-form floor of the range, against which a real receiver's share is measured."""
 MUS = (0.3, 0.5, 0.7, 0.9, 1.1)
 
 
@@ -393,6 +399,11 @@ def main() -> None:
         "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
     )
     args = ap.parse_args()
+    if "ideal" in args.receivers.split(","):
+        from gripsense.config.receiver import RECEIVERS as PRESETS
+        from gripsense.config.receiver import Receiver
+
+        PRESETS["ideal"] = Receiver("ideal", **IDEAL)  # the workers fork with it
     if args.truth.startswith("commonroad"):
         model = "mb" if args.truth == "commonroad-mb" else "std"
         todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")), model)

@@ -108,3 +108,19 @@ def test_against_commonroad_single_track():
     k = 9.81 / G0  # C_S μ F_z with F_z = m g l/L: CommonRoad's g
     assert r == pytest.approx(r_cr, rel=0.01 + abs(1 - k))
     assert ay == pytest.approx(ay_cr, rel=0.01 + abs(1 - k))
+
+
+def test_a_lifted_wheel_leaves_its_axle_the_load():
+    """A tall SUV on μ 1.1 lifts its inner wheels in a ramp steer: statics still hold — the
+    wheel loads sum to m g at every step (a lifted wheel carries nothing, its axle partner the
+    axle's load) — and the tyres never deliver more than μ times the load they carry."""
+    from gripsense.sim.drives import simulate_drive, truth_vehicle
+
+    m = M.ramp_steer(70 / 3.6, rate_rad_s=np.deg2rad(1.0), max_steer_rad=np.deg2rad(14.0),
+                     hold_s=6.0)  # fmt: skip
+    d = simulate_drive("suv", "brush", m, 1.1, receiver="rtk", seed=25)
+    t = d.truth
+    assert (t["load_N"] == 0.0).any(), "no wheel lifted: the test drives past nothing"
+    g = t.groupby("t_s")
+    np.testing.assert_allclose(g["load_N"].sum(), truth_vehicle("suv").mass_kg * G0, rtol=1e-9)
+    assert (g["force_N"].sum().abs() <= 1.1 * g["load_N"].sum() * (1 + 1e-9)).all()

@@ -31,7 +31,7 @@ from scipy.stats import norm
 
 from gripsense.config import Vehicle
 from gripsense.estimate.bins import AxleBins, axle_bins
-from gripsense.estimate.grip import drive_bound
+from gripsense.estimate.grip import drive_bound, grip_bins
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, profile_mu, shape_ids
@@ -163,8 +163,12 @@ def estimate_windows(
                 cols[k][i] = v
         cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
         tables.append(cols)
+        if not analysed_bins.any():
+            # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
+            # bins that pass the screen themselves rather than say it saw no cornering
+            analysed_bins = ab.data[:, 9] >= o.screen_utilisation
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
-        g_max, g_lower = drive_bound(ab, o.bound_level)
+        g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
         base = {
             "axle": axle,
             "n": int(ab.n.sum()),

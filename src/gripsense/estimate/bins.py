@@ -51,6 +51,9 @@ FORCE_MODEL_REL = 0.04
 """Relative 1σ of a bin's force that no curve of the family reproduces (tyre-model fidelity)."""
 
 _OUT = ("low_speed", "not_cornering", "wheel_lifted")
+_OUT_AXLE = ("low_speed", "not_cornering")  # the measured grip's samples (no wheel load needed)
+_AXLE_COLUMNS = ("t_s", "speed_mps", "axle_force_N", "grip_used", "grip_sigma",
+                 "lateral_accel_mps2")  # fmt: skip
 
 
 @dataclass
@@ -102,7 +105,9 @@ _PAIR_COLUMNS = (
 )
 
 
-def axle_pairs(wheels: pd.DataFrame, axle: str) -> dict[str, np.ndarray]:
+def axle_pairs(
+    wheels: pd.DataFrame, axle: str, *, keep_lifted: bool = False
+) -> dict[str, np.ndarray]:
     """The usable samples of one axle: left and right wheel joined on the epoch (both present,
     cornering, positive loads, every number finite), in time order.
 
@@ -112,6 +117,10 @@ def axle_pairs(wheels: pd.DataFrame, axle: str) -> dict[str, np.ndarray]:
         Wheel table (:func:`gripsense.estimate.friction.friction_from_motion`).
     axle : str
         ``front`` or ``rear``.
+    keep_lifted : bool
+        Keep the samples where the load-transfer model lifts a wheel, with only the axle's
+        columns (time, speed, force, measured grip) required finite: the measured grip of the
+        axle needs no wheel load (``docs/physics.md`` §14).
 
     Returns
     -------
@@ -128,12 +137,14 @@ def axle_pairs(wheels: pd.DataFrame, axle: str) -> dict[str, np.ndarray]:
     epoch = wheels["epoch"].to_numpy()
     _, i_l, i_r = np.intersect1d(epoch[m_l], epoch[m_r], return_indices=True)
     flag = wheels["flag"].to_numpy()
-    ok = ~np.isin(flag[m_l][i_l], _OUT) & ~np.isin(flag[m_r][i_r], _OUT)
+    out_flags = _OUT_AXLE if keep_lifted else _OUT
+    ok = ~np.isin(flag[m_l][i_l], out_flags) & ~np.isin(flag[m_r][i_r], out_flags)
     out: dict[str, np.ndarray] = {}
     for c in cols:
         x = wheels[c].to_numpy(float)
         out[c + "_L"], out[c + "_R"] = x[m_l][i_l], x[m_r][i_r]
-        ok &= np.isfinite(out[c + "_L"]) & np.isfinite(out[c + "_R"])
+        if not keep_lifted or c in _AXLE_COLUMNS:
+            ok &= np.isfinite(out[c + "_L"]) & np.isfinite(out[c + "_R"])
     order = np.argsort(out["t_s_L"][ok], kind="stable")
     return {c: x[ok][order] for c, x in out.items()}
 

@@ -13,7 +13,7 @@ from scipy.stats import norm
 
 from gripsense.config import Vehicle
 from gripsense.constants import G0
-from gripsense.estimate.bins import AxleBins, axle_bins
+from gripsense.estimate.bins import AxleBins, axle_bins, axle_pairs
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 
@@ -40,19 +40,35 @@ def local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
     return np.where((c0 >= 3) & (den > 0), slope, np.nan)
 
 
-def _earth_frame_ay(t, speed, course, heading, r, cg) -> np.ndarray:
-    """Lateral acceleration of the CG from the velocity differentiated in the earth frame.
+def _local_mean(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
+    """Mean of the finite samples within ±half_s of each sample (cumulative sums: O(n); NaN
+    where none is finite).
+    """
+    lo = np.searchsorted(t, t - half_s, side="left")
+    hi = np.searchsorted(t, t + half_s, side="right")
+    ok = np.isfinite(y)
+    cn = np.concatenate([[0.0], np.cumsum(ok)])
+    cy = np.concatenate([[0.0], np.cumsum(np.where(ok, y, 0.0))])
+    n = cn[hi] - cn[lo]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(n > 0, (cy[hi] - cy[lo]) / n, np.nan)
 
-    a = d(v_E, v_N)/dt over ±0.5 s at the antenna, projected on the body's y axis with the
+
+def _earth_frame_accel(t, speed, course, heading, r, cg) -> tuple[np.ndarray, np.ndarray]:
+    """Body-axis acceleration (a_x, a_y) of the CG from the velocity differentiated in the
+    earth frame.
+
+    a = d(v_E, v_N)/dt over ±0.5 s at the antenna, projected on the body's axes with the
     heading, moved to the CG with the rigid-body terms ṙ ẑ × d − r² d (d: antenna → CG).
-    Unlike U r + V̇ in body axes, the smoothing here averages a physical acceleration, so its
-    magnitude never exceeds what the tyres delivered — also in a spin.
+    Unlike U̇ − V r and U r + V̇ in body axes, the smoothing here averages a physical
+    acceleration, so its magnitude never exceeds what the tyres delivered — also in a spin.
     """
     ve, vn = speed * np.sin(course), speed * np.cos(course)
     ae, an = local_slope(ve, t, 0.5), local_slope(vn, t, 0.5)
+    ax_ant = ae * np.sin(heading) + an * np.cos(heading)
     ay_ant = -ae * np.cos(heading) + an * np.sin(heading)
     rdot = np.nan_to_num(local_slope(r, t, 0.5))
-    return ay_ant + rdot * cg[0] - r * r * cg[1]
+    return ax_ant - rdot * cg[1] - r * r * cg[0], ay_ant + rdot * cg[0] - r * r * cg[1]
 
 
 def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None) -> tuple:
@@ -60,7 +76,7 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
     load, and the friction it used — model-free, ``docs/physics.md`` §14.
 
     F_front = (m a_y l_r + I_z ṙ)/L, F_rear = (m a_y l_f − I_z ṙ)/L, a_y of the CG from the
-    earth-frame velocity (*earth* = (course, heading) known, :func:`_earth_frame_ay`), else
+    earth-frame velocity (*earth* = (course, heading) known, :func:`_earth_frame_accel`), else
     U r + V̇;
     the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the largest axle
     load the longitudinal transfer allows over the declared CG-height range — a lower bound on
@@ -70,8 +86,10 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
     m_ax = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
     ok_t = t.size > 2 and bool(np.all(np.diff(t) > 0))
     cg = vehicle.cg_offset
-    if ok_t and cg is not None and earth is not None and not np.all(ay_measured):
-        ay_e = _earth_frame_ay(t, np.hypot(u_a, v_a), earth[0], earth[1], r, cg)
+    signed = ok_t and cg is not None and earth is not None
+    if signed:
+        ax_e, ay_e = _earth_frame_accel(t, np.hypot(u_a, v_a), earth[0], earth[1], r, cg)
+    if signed and not np.all(ay_measured):
         ay_tot = np.where(ay_measured | ~np.isfinite(ay_e), ay, ay_e)
     elif ok_t and cg is not None and not np.all(ay_measured):
         v_cg = v_a + r * cg[0]
@@ -87,7 +105,19 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
         u_cg = u_a - r * cg[1]
         v_cg = v_a + r * cg[0]
         ax = np.nan_to_num(local_slope(u_cg, t, 0.5)) - v_cg * r
-    h_hi = vehicle.cg_height_range_m[1] if vehicle.cg_height_range_m else vehicle.cg_height_m
+    h_lo, h_hi = vehicle.cg_height_range_m or (vehicle.cg_height_m, vehicle.cg_height_m)
+    # the longitudinal transfer's a_x for the bound, and its one-sided 95 % margin: the slope of
+    # U over ±0.5 s (velocity noise) and V r (V from the heading: its slow error and its white
+    # noise over the ~10 samples of ±0.5 s); where the earth-frame a_x is known, the body-axis
+    # U̇ − V r differs from it over ±0.5 s by how each is smoothed — in a transient or a spin
+    # by far more than the noise, and the margin with it
+    psi_sd = np.deg2rad(np.hypot(noise.heading_white_deg / 3.0, noise.heading_slow_deg))
+    ax_margin = 1.645 * np.hypot(1.1 * noise.velocity_mps, np.hypot(u_a, v_a) * np.abs(r) * psi_sd)
+    if signed:
+        ax_b = np.where(np.isfinite(ax_e), ax_e, ax)
+        ax_margin = ax_margin + np.abs(np.nan_to_num(_local_mean(ax_b - ax, t, 0.5)))
+    else:
+        ax_b = ax
     for axle in ("front", "rear"):
         mi = m_ax[axle]
         if wb is not None:
@@ -106,7 +136,12 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
             crosses = np.sign(f_lo) != np.sign(f_hi)
             f_min = np.where(crosses, 0.0, np.minimum(np.abs(f_lo), np.abs(f_hi)))
             dfz = m * ax * vehicle.cg_height_m / wb
-            dfz_hi = m * np.abs(ax) * h_hi / wb
+            # the largest load the longitudinal transfer m a_x h / L (onto the rear, off the
+            # front) allows over the declared CG-height range and a_x within its margin: where
+            # |a_x| exceeds the margin its sign is known — a car sliding at body slip β has
+            # a_x ≈ −a_y tan β > 0, load leaves the front axle (docs/physics.md §14)
+            q = ((ax_b if axle == "rear" else -ax_b) if signed else np.abs(ax_b)) + ax_margin
+            dfz_hi = m * np.maximum(q * h_lo, q * h_hi) / wb
         else:
             f_nom = mi * ay_tot
             f_min = np.abs(f_nom)
@@ -115,7 +150,9 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
         fz_nom = mi * G0 + (dfz if axle == "rear" else -dfz)
         force[axle] = f_nom
         load[axle] = fz_nom
-        grip[axle] = f_min / (mi * G0 + dfz_hi)
+        # (a largest load below a fifth of the static one would say a lifted axle: the floor
+        # only lowers the bound)
+        grip[axle] = f_min / np.maximum(mi * G0 + dfz_hi, 0.2 * mi * G0)
     # white noise of a_y = U r (+ V̇) per sample, relative to g
     sig_ay = np.hypot(
         np.abs(r) * noise.velocity_mps, np.hypot(u_a, v_a) * np.deg2rad(noise.yaw_rate_dps)
@@ -128,6 +165,18 @@ def bin_bound(grip: np.ndarray, sigma: np.ndarray, z: float) -> float:
     if grip.size == 0:
         return np.nan
     return float(max(np.max(grip - z * sigma), 0.0))
+
+
+def grip_bins(
+    wheels: pd.DataFrame, axle: str, vehicle: Vehicle, noise: NoiseModel, o: WindowOptions
+) -> AxleBins:
+    """The bins of an axle's measured grip: :func:`~gripsense.estimate.bins.axle_bins` over
+    the axle's cornering samples, including those where the load-transfer model lifts a wheel
+    (the axle's force over its load needs no wheel load; the model-based estimate leaves them
+    out). Only their measured grip (column 9) and its noise are meaningful.
+    """
+    pairs = axle_pairs(wheels, axle, keep_lifted=True)
+    return axle_bins(pairs, axle, vehicle, noise, o.bin_s, o.min_samples)
 
 
 def drive_bound(ab: AxleBins, level: float) -> tuple[float, float]:
@@ -176,7 +225,7 @@ def measured_grip(
     o = options or WindowOptions()
     rows = []
     for axle in sorted({w.split("_")[0] for w in wheels["wheel"].astype(str).unique()}):
-        ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
+        ab = grip_bins(wheels, axle, vehicle, noise, o)
         g, lo = drive_bound(ab, o.bound_level)
         rows.append({"axle": axle, "grip_used": g, "grip_used_lower": lo, "n_bins": ab.t0.size})
     return pd.DataFrame(rows, columns=["axle", "grip_used", "grip_used_lower", "n_bins"])

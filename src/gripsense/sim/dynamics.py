@@ -112,6 +112,15 @@ def deriv(s, p, wpos, delta, fx_total, lock, ax_prev, ay_prev, mu0, patches, tab
     fz[1] = mf * G0 / 2 + dfz_f - dfx
     fz[2] = mr * G0 / 2 - dfz_r + dfx
     fz[3] = mr * G0 / 2 + dfz_r + dfx
+    # a lifted wheel carries nothing and the axle keeps its load (the transfer saturates: the
+    # outer wheel carries the axle; the model has no roll-over): the loads always sum to m g
+    for a in (0, 2):
+        if fz[a] < 0.0:
+            fz[a + 1] += fz[a]
+            fz[a] = 0.0
+        elif fz[a + 1] < 0.0:
+            fz[a] += fz[a + 1]
+            fz[a + 1] = 0.0
     # driving force per wheel (wheel axes)
     fxw = np.zeros(4)
     if lock == 0:
