@@ -3,7 +3,7 @@ PYTHON ?= $(shell command -v python3.11 || command -v python3)
 VENV   := .venv
 BIN    := $(VENV)/bin
 
-.PHONY: demo test test-fast lint clean browser examples
+.PHONY: demo test test-fast lint clean clean-cache browser examples
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -49,5 +49,10 @@ examples: $(VENV)/.installed-test
 	@for f in examples/*.py; do echo "== $$f"; GRIPSENSE_EXAMPLES_OUT=docs/examples $(BIN)/python $$f || exit 1; done
 	$(BIN)/jupytext --quiet --update --to ipynb examples/*.py
 
-clean:
+clean: clean-cache
 	rm -rf $(VENV) demo-report build dist .pytest_cache
+
+# numba's on-disk cache of a compiled function does not see edits to the functions it calls in
+# other files (sim/integrate.py calls sim/dynamics.py): after editing those, drop it
+clean-cache:
+	find src -name '*.nbi' -delete -o -name '*.nbc' -delete
