@@ -111,29 +111,30 @@ def _true_axle(d, axle):
 def test_a_sliding_front_axle_is_measured_near_its_grip():
     """Ramp steer on μ 1.1 (sports car, PAC89 truth tyre, RTK-class receiver) to 0.99 of the
     front axle's grip: the car slides at several degrees of body slip, load leaves the front
-    axle, and the bound the data prove stays below the axle's true grip yet within 15 % of it
-    (0.76 of it when the transfer's sign was ignored)."""
+    axle, and the bound the data prove stays below the axle's true grip yet above 0.86 of it
+    (0.97 for a true 1.11, the figure docs/physics.md §14 quotes; 0.83 when the transfer's sign
+    was ignored)."""
     m = M.ramp_steer(70 / 3.6, rate_rad_s=np.deg2rad(1.0), max_steer_rad=np.deg2rad(14.0),
                      hold_s=6.0)  # fmt: skip
     d = simulate_drive("sports", "pac89", m, 1.1, receiver="rtk", seed=3)
     rec = _run(d, user_vehicle(truth_vehicle("sports"), "pac89"), "rtk").loc["front"]
     grip, mu_ax = _true_axle(d, "front")
     assert rec["grip_used_lower"] <= mu_ax + 0.01
-    assert rec["grip_used_lower"] >= 0.85 * np.quantile(grip, 0.99), (rec["grip_used_lower"],)
+    assert rec["grip_used_lower"] >= 0.86 * np.quantile(grip, 0.99), (rec["grip_used_lower"],)
 
 
 def test_an_axle_whose_inner_wheel_lifts_is_still_measured():
     """A tall SUV circling at its limit on μ 1.1 lifts its inner front wheel (the load model
     says so too): the axle's measured grip needs no wheel load, so those samples count for the
-    bound — which then stays below the truth yet within 15 % of it (0.34 when they were left
-    out with the model's)."""
+    bound — which then stays below the truth yet above 0.95 of it (1.09 for a true 1.10, the
+    figure docs/physics.md §14 quotes; 0.35 when they were left out with the model's)."""
     d = simulate_drive("suv", "brush", None, 1.1, receiver="rtk", seed=7, circle=(17.53, 30.0))
     rec = _run(d, user_vehicle(truth_vehicle("suv"), "brush"), "rtk")
     for axle in ("front", "rear"):
         grip, mu_ax = _true_axle(d, axle)
         assert rec.loc[axle, "grip_used_lower"] <= mu_ax + 0.01
     grip, _ = _true_axle(d, "front")
-    assert rec.loc["front", "grip_used_lower"] >= 0.85 * np.quantile(grip, 0.99)
+    assert rec.loc["front", "grip_used_lower"] >= 0.95 * np.quantile(grip, 0.99)
 
 
 def test_without_the_earth_frame_the_transfer_counts_either_way():
