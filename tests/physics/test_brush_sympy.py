@@ -217,3 +217,32 @@ def test_kappa_exact_parabolic_symbolic():
     th = sp.Symbol("theta", positive=True)
     k_th = sp.simplify(kappa.subs(mu_f, T_ / (3 * th * Fz)))
     assert sp.simplify(k_th - (-3 * (1 - th) ** 2 / (th * (3 - 2 * th)))) == 0
+
+
+def test_aligning_moment_and_trail_integral():
+    """Mz = w ∫₀^s G x tanβ (x − l/2) dx + w ∫_s^l μ P2 (x − l/2) dx: the moment about the
+    contact centre of the force distribution (x from the leading edge; x − l/2 the lever behind
+    the centre), s from the slide condition; t = Mz/F. At zero slip t = l/6."""
+    arm = x - l / 2
+    s_expr = l - l**3 * w * G * tb / (6 * Fz * mu)  # eq. 4.12 with m g = Fz
+    m_adh = w * sp.integrate(G * x * tb * arm, (x, 0, s))
+    m_sl = w * sp.integrate(mu * P2 * arm, (x, s, l))
+    f_adh = w * sp.integrate(G * x * tb, (x, 0, s))
+    f_sl = w * sp.integrate(mu * P2, (x, s, l))
+    mz = sp.lambdify((l, w, G, tb, mu, Fz), (m_adh + m_sl).subs(s, s_expr), "numpy")
+    fy = sp.lambdify((l, w, G, tb, mu, Fz), (f_adh + f_sl).subs(s, s_expr), "numpy")
+    # the linear limit: t → l/6 (a/3)
+    t0 = sp.limit(sp.simplify(((m_adh + m_sl) / (f_adh + f_sl)).subs(s, s_expr)), tb, 0)
+    assert sp.simplify(t0 - l / 6) == 0
+    mu_v, fz_v, l_v, w_v, g_v = _numeric_cases()
+    for i in range(mu_v.size):
+        C = g_v[i] * w_v[i] * l_v[i] ** 2 / 2
+        theta = RNG.uniform(0.02, 0.98)
+        tanb = theta * 3 * mu_v[i] * fz_v[i] / C
+        args = (l_v[i], w_v[i], g_v[i], tanb, mu_v[i], fz_v[i])
+        m_code, t_code = brush.aligning_moment(mu_v[i], np.arctan(tanb), fz_v[i], C, l_v[i] / 2)
+        assert m_code == pytest.approx(mz(*args), rel=1e-9)
+        assert t_code == pytest.approx(mz(*args) / fy(*args), rel=1e-9)
+    # beyond full sliding the moment and the trail vanish
+    m_sl_full, t_full = brush.aligning_moment(1.0, 0.5, 4000.0, 5e4, 0.07)
+    assert m_sl_full == 0.0 and t_full == 0.0

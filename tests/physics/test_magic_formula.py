@@ -39,6 +39,50 @@ def test_fx_fy_match_mfeval_to_1e6(name):
     assert len(ref) == 243
 
 
+@pytest.mark.parametrize("name", REF_FILES)
+def test_mz_trail_and_residual_moment_match_mfeval_to_1e6(name):
+    """The aligning moment against MFeval 4.0.0's Mz, t and Mzr on the same 243 points
+    (combined slip, camber, pressure; the MF 6.2 file included)."""
+    ref = pd.read_csv(DATA / "mfeval_ref" / f"{name}.csv")
+    tyre = load_mf_tyre(DATA / "tir" / f"{name}.tir")
+    m = tyre.aligning_moment(
+        ref.Fz_N, ref.kappa, ref.alpha_rad, ref.gamma_rad, vx=ref.Vx_mps, pressure=ref.P_Pa
+    )
+    for col, val in (("Mz", m.mz), ("t", m.trail), ("Mzr", m.mzr), ("Fy", m.fy)):
+        np.testing.assert_allclose(val, ref[col], rtol=1e-6, atol=1e-6, err_msg=col)
+    assert tyre.forces(4000.0, 0.0, 0.05).fy == tyre.aligning_moment(4000.0, 0.0, 0.05).fy
+
+
+@pytest.mark.parametrize("name", ["PacejkaBook_Defaults", "FSAE_Defaults"])
+def test_mz_closed_form_at_small_slip(name):
+    """Symmetric files (no shifts, no residual moment at γ = 0): the trail at zero slip is
+    Dt = QDZ1 (Fz/Fz0) R0 LTR LFZO with dfz = 0, and Mz = −t Fy with t falling as the force
+    saturates (the trail at the force's peak is a fraction of its start)."""
+    tir = read_tir(DATA / "tir" / f"{name}.tir")
+    p = tir.parameters()
+    tyre = load_mf_tyre(tir)
+    fz = p["FNOMIN"]
+    m0 = tyre.aligning_moment(fz, 0.0, 1e-6)
+    dt = p["QDZ1"] * p["UNLOADED_RADIUS"] * p.get("LTR", 1.0) * p.get("LFZO", 1.0)
+    assert m0.trail == pytest.approx(dt, rel=1e-6)
+    a = np.deg2rad(np.linspace(0.5, 12, 24))
+    m = tyre.aligning_moment(fz, 0.0, a)
+    np.testing.assert_allclose(m.mz, -m.trail * m.fy + m.mzr, rtol=1e-12, atol=1e-9)
+    assert np.all(np.diff(m.trail) < 0)
+    peak = np.argmax(np.abs(tyre.forces(fz, 0.0, np.deg2rad(np.linspace(0.5, 30, 300))).fy))
+    a_peak = np.deg2rad(np.linspace(0.5, 30, 300))[peak]
+    assert tyre.aligning_moment(fz, 0.0, a_peak).trail < 0.5 * dt
+
+
+def test_mz_mirrors_with_the_side():
+    tyre = load_mf_tyre(DATA / "tir" / "MagicFormula61_Paramerters.tir")  # TYRESIDE RIGHT
+    a = np.deg2rad(np.linspace(-8, 8, 9))
+    right = tyre.aligning_moment(5000.0, 0.05, -a, -0.02)
+    left = tyre.aligning_moment(5000.0, 0.05, a, 0.02, side="left")
+    np.testing.assert_allclose(left.mz, -right.mz, rtol=1e-12)
+    np.testing.assert_allclose(left.trail, right.trail, rtol=1e-12)
+
+
 def test_pacejka_book_sanity_table():
     """The README's hand check: Fz = FNOMIN = 4000 N, κ = γ = 0."""
     tyre = load_mf_tyre(DATA / "tir" / "PacejkaBook_Defaults.tir")

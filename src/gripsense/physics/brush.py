@@ -18,7 +18,8 @@ that slip angle, a measurement or parameter error); ``full_sliding`` (the whole 
 
 References
 ----------
-Seed 000 (Goda 2018) eqs. (4.8)–(4.16), (9.1), (10.2)–(10.3); docs/physics.md §1.1–§1.4, §2.1–§2.5.
+Seed 000 (Goda 2018) eqs. (4.8)–(4.16), (9.1), (10.2)–(10.3); docs/physics.md §1.1–§1.4, §2.1–§2.5;
+the aligning moment and pneumatic trail: Pacejka (2012) §3.2.2, docs/physics.md §16.1.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from gripsense.errors import InputError
 __all__ = [
     "STATUS",
     "adhesion_parameter",
+    "aligning_moment",
     "cornering_stiffness",
     "force_ratio",
     "force_scalar",
@@ -573,3 +575,50 @@ def kappa_beta(
         model=model,
     )
     return restore(out["kappa_beta"], force_N, slip_angle_rad)
+
+
+def aligning_moment(mu, slip_angle, load, cornering_stiffness_N_per_rad, half_length):
+    """Aligning moment |Mz| and pneumatic trail of the brush model, parabolic pressure [N m, m].
+
+    Parameters
+    ----------
+    mu : array_like
+        Friction coefficient [-].
+    slip_angle : array_like
+        β [rad] (its magnitude is used).
+    load : array_like
+        Fz [N].
+    cornering_stiffness_N_per_rad : array_like
+        C [N/rad].
+    half_length : array_like
+        Contact half-length a [m] (l = 2a).
+
+    Returns
+    -------
+    moment : array_like
+        |Mz| = μ Fz a λ (1 − λ)³ for λ = θ < 1, 0 beyond [N m] (it turns the wheel towards the
+        slip: restoring).
+    trail : array_like
+        t = Mz/F = a (1 − λ)³ / (3 − 3λ + λ²) [m]: a/3 at zero slip, 0 at full sliding; as a
+        function of the utilisation u = 1 − (1 − λ)³, t/t₀ = 3 (1 − u)/(3 − 3λ + λ²).
+
+    References
+    ----------
+    Pacejka, *Tire and Vehicle Dynamics* (2012) §3.2.2; docs/physics.md §16.1.
+    """
+    m, b, fz, c, a = (
+        as_float_array(v, n)
+        for v, n in (
+            (mu, "mu"),
+            (slip_angle, "slip_angle"),
+            (load, "load"),
+            (cornering_stiffness_N_per_rad, "cornering_stiffness_N_per_rad"),
+            (half_length, "half_length"),
+        )
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = np.minimum(c * np.abs(np.tan(b)) / (3.0 * m * fz), 1.0)
+    one = (1.0 - lam) ** 3
+    moment = m * fz * a * lam * one
+    trail = a * one / (3.0 - 3.0 * lam + lam**2)
+    return restore(moment, mu, slip_angle), restore(trail, mu, slip_angle)

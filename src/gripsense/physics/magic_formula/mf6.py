@@ -12,7 +12,12 @@ implemented by MFeval 4.0 (Furlan Tassara; validated there against TNO MF-Tyre).
   terms (SHy with PHY3, SVy camber part, Kyγ0 from PHY3); missing 6.1-only coefficients are 0,
   missing PKY4 is 2 (the 5.2 form sin(2 atan ...)), and LKYC takes LGAY when absent.
 
-Not covered: Mx, My, Mz, loaded radius, relaxation lengths, turn slip, transient modes,
+* the aligning moment (:meth:`MFTyre.aligning_moment`): pure slip Mz0 (4.E31–E47, with MFeval's
+  paper forms A58/A60 for Bt and Dt) and combined slip Mz = −t Fy' + Mzr + s Fx (4.E71–E76,
+  A54–A56; the MF 5.2 form −t (Fy − SVyκ) for 5.2-family files), the pneumatic trail t and the
+  residual moment Mzr as MFeval 4.0 returns them.
+
+Not covered: Mx, My, loaded radius, relaxation lengths, turn slip, transient modes,
 the ``FE_METHOD`` friction-ellipse option of some MF-Tyre 5.0 files.
 
 Sign convention: ISO-W (x forward, y left, z up; positive α gives Fy < 0 for PKY1 < 0).
@@ -28,7 +33,7 @@ import numpy as np
 
 from gripsense.errors import InputError
 
-__all__ = ["MFForces", "MFTyre"]
+__all__ = ["MFForces", "MFMoment", "MFTyre"]
 
 _EPS = 1e-6  # MFeval / Pacejka (4.E6a) singularity guard
 
@@ -53,6 +58,10 @@ _SCALING = (
     "LXAL",
     "LYKA",
     "LVYKA",
+    "LTR",
+    "LRES",
+    "LS",
+    "LKZC",
 )
 
 
@@ -93,6 +102,45 @@ class MFForces:
     muy: np.ndarray  #: lateral peak friction coefficient [-] (signed, as PDY1)
     kxk: np.ndarray  #: longitudinal slip stiffness [N]
     kya: np.ndarray  #: cornering stiffness [N/rad]
+
+
+@dataclass(frozen=True)
+class MFMoment:
+    """Aligning moment of :meth:`MFTyre.aligning_moment` (arrays; SI, ISO-W).
+
+    Attributes
+    ----------
+    mz : numpy.ndarray
+        Combined-slip aligning moment [N m].
+    trail : numpy.ndarray
+        Pneumatic trail t [m] (the lever of the lateral force, 4.E73).
+    mzr : numpy.ndarray
+        Residual moment Mzr [N m] (4.E75).
+    fy : numpy.ndarray
+        Combined-slip lateral force at the same point [N].
+    """
+
+    mz: np.ndarray  #: combined-slip aligning moment [N m]
+    trail: np.ndarray  #: pneumatic trail [m]
+    mzr: np.ndarray  #: residual moment [N m]
+    fy: np.ndarray  #: combined-slip lateral force [N]
+
+
+@dataclass(frozen=True)
+class _Inputs:
+    """Inputs after MFeval's limit checks (use mode 1xx) and the quantities derived from them."""
+
+    fz: np.ndarray
+    fz_low: np.ndarray  # Fz clipped below at FZMIN (used by the moments)
+    kappa: np.ndarray
+    alpha: np.ndarray
+    gamma: np.ndarray
+    vx: np.ndarray
+    dfz: np.ndarray
+    dpi: np.ndarray
+    low: np.ndarray
+    smooth: np.ndarray
+    mirror: bool
 
 
 @dataclass(frozen=True)
@@ -200,6 +248,25 @@ class MFTyre:
         MFForces
         """
         self._require(_MANDATORY_LATERAL + _MANDATORY_LONGITUDINAL)
+        q = self._prepare(fz, kappa, alpha, gamma, vx, pressure, limits, side)
+        fz, kappa, alpha, gamma, vx = q.fz, q.kappa, q.alpha, q.gamma, q.vx
+        dfz, dpi, low, smooth = q.dfz, q.dpi, q.low, q.smooth
+        fx0, mux, kxk = self._fx0(fz, kappa, gamma, vx, dfz, dpi, low, smooth, limits)
+        fy0, muy, kya, _ = self._fy0(fz, alpha, gamma, dfz, dpi, low, smooth, limits)
+        if combined:
+            fx = self._gxa(kappa, alpha, gamma, dfz, limits) * fx0
+            gyk, svyk = self._gyk(fz, kappa, alpha, gamma, dfz, muy, low, smooth, limits)
+            fy = gyk * fy0 + svyk
+        else:
+            fx, fy = fx0, fy0
+        if q.mirror:
+            fy, fy0 = -fy, -fy0
+        return MFForces(fx=fx, fy=fy, fx0=fx0, fy0=fy0, mux=mux, muy=muy, kxk=kxk, kya=kya)
+
+    def _prepare(self, fz, kappa, alpha, gamma, vx, pressure, limits, side) -> _Inputs:
+        """Broadcast the inputs and apply the file's limits and the low-speed model (MFeval
+        ``parseInputs``/``calculateBasic`` for use mode 1xx).
+        """
         p = self._p
         vx = p("LONGVL") if vx is None else vx
         pr = p("INFLPRES") if pressure is None else pressure
@@ -216,6 +283,7 @@ class MFTyre:
         pr = pr.copy()
         low = np.zeros(fz.shape, bool)
         smooth = np.ones(fz.shape)
+        fz_low = fz
         if limits:
             vxlow = p("VXLOW")
             low = np.abs(vx) <= vxlow
@@ -229,23 +297,142 @@ class MFTyre:
             gamma = np.clip(gamma, *self._range("CAMMIN", "CAMMAX"))
             if "FZMAX" in self.params:
                 fz = np.minimum(fz, p("FZMAX"))
+            fz_low = np.where(fz > 0, np.maximum(fz, self.params.get("FZMIN", 0.0)), 0.0)
             pr = np.clip(pr, *self._range("PRESMIN", "PRESMAX"))
             kappa = np.clip(kappa, *self._range("KPUMIN", "KPUMAX"))
         fz0p = p("LFZO") * p("FNOMIN")
         dfz = (fz - fz0p) / fz0p
         dpi = (pr - p("NOMPRES")) / p("NOMPRES")
+        return _Inputs(fz, fz_low, kappa, alpha, gamma, vx, dfz, dpi, low, smooth, mirror)
 
-        fx0, mux, kxk = self._fx0(fz, kappa, gamma, vx, dfz, dpi, low, smooth, limits)
-        fy0, muy, kya = self._fy0(fz, alpha, gamma, dfz, dpi, low, smooth, limits)
-        if combined:
-            fx = self._gxa(kappa, alpha, gamma, dfz, limits) * fx0
-            gyk, svyk = self._gyk(fz, kappa, alpha, gamma, dfz, muy, low, smooth, limits)
-            fy = gyk * fy0 + svyk
+    def aligning_moment(
+        self,
+        fz,
+        kappa=0.0,
+        alpha=0.0,
+        gamma=0.0,
+        *,
+        vx=None,
+        pressure=None,
+        limits: bool = True,
+        side: str | None = None,
+    ) -> MFMoment:
+        """Steady-state aligning moment, pneumatic trail and residual moment.
+
+        Pacejka (2012) (4.E31)–(4.E47) and (4.E71)–(4.E76) as MFeval 4.0 evaluates them: Bt, Dt
+        from the MF-Tyre paper's (A58), (A60); α_t,eq and α_r,eq from (A54), (A55); s from (A56);
+        t scaled by LFZO; Fy' = Gyκ(γ = 0) Fy0(γ = 0) (4.E74); MF 5.2 files use
+        Mz = −t (Fy − SVyκ) + Mzr + s Fx. No turn slip.
+
+        Parameters
+        ----------
+        fz : array_like
+            Vertical load [N] (negative is set to 0).
+        kappa : array_like
+            Longitudinal slip ratio [-].
+        alpha : array_like
+            Slip angle [rad], ISO-W.
+        gamma : array_like
+            Inclination (camber) angle [rad], ISO-W.
+        vx : array_like, optional
+            Forward speed of the wheel centre [m/s]; default the file's LONGVL.
+        pressure : array_like, optional
+            Inflation pressure [Pa]; default the file's INFLPRES (else NOMPRES).
+        limits : bool
+            Apply the file's validity limits and the low-speed model (MFeval use mode 1xx).
+        side : {"left", "right"}, optional
+            Side the tyre is mounted on; mirrors when it differs from the file's TYRESIDE.
+
+        Returns
+        -------
+        MFMoment
+        """
+        self._require(_MANDATORY_LATERAL + _MANDATORY_LONGITUDINAL)
+        p = self._p
+        q = self._prepare(fz, kappa, alpha, gamma, vx, pressure, limits, side)
+        fz, kappa, alpha, gamma, vx = q.fz, q.kappa, q.alpha, q.gamma, q.vx
+        dfz, dpi, low, smooth = q.dfz, q.dpi, q.low, q.smooth
+        fx0, _, kxk = self._fx0(fz, kappa, gamma, vx, dfz, dpi, low, smooth, limits)
+        fy0, muy, kya, (shy, svy, by, cy) = self._fy0(
+            fz, alpha, gamma, dfz, dpi, low, smooth, limits
+        )
+        fx = self._gxa(kappa, alpha, gamma, dfz, limits) * fx0
+        gyk, svyk = self._gyk(fz, kappa, alpha, gamma, dfz, muy, low, smooth, limits)
+        fy = gyk * fy0 + svyk
+        # at γ = 0 (4.E32, 4.E74); Gyκ keeps γ as MFeval 4.0 does (its note: closer to TNO)
+        zero = np.zeros_like(gamma)
+        fy0_0, muy_0, _, _ = self._fy0(fz, alpha, zero, dfz, dpi, low, smooth, limits)
+        gyk_0, svyk_0 = self._gyk(fz, kappa, alpha, gamma, dfz, muy_0, low, smooth, limits)
+
+        r0 = p("UNLOADED_RADIUS")
+        fz0p = p("LFZO") * p("FNOMIN")
+        fzl = q.fz_low
+        lmuy = p("LMUY")
+        cos_ap = vx / (np.hypot(vx, np.tan(alpha) * np.abs(vx)) + _EPS)  # cos α' (4.E6)
+        sht = p("QHZ1") + p("QHZ2") * dfz + (p("QHZ3") + p("QHZ4") * dfz) * gamma  # (4.E35)
+        kya_p = kya + _EPS * _sign(kya)  # (4.E39)
+        alphar = alpha + shy + svy / kya_p  # (4.E37, 4.E38)
+        alphat = alpha + sht  # (4.E34)
+        dt = (
+            (p("QDZ1") + p("QDZ2") * dfz)
+            * (1 - p("PPZ1") * dpi)
+            * (1 + p("QDZ3") * gamma + p("QDZ4") * gamma**2)
+            * fzl
+            * (r0 / fz0p)
+            * p("LTR")
+        )  # (A60)
+        bt = (
+            (p("QBZ1") + p("QBZ2") * dfz + p("QBZ3") * dfz**2)
+            * (1 + p("QBZ4") * gamma + p("QBZ5") * np.abs(gamma))
+            * p("LKY")
+            / lmuy
+        )  # (A58)
+        ct = p("QCZ1")  # (4.E41)
+        et = (p("QEZ1") + p("QEZ2") * dfz + p("QEZ3") * dfz**2) * (
+            1 + (p("QEZ4") + p("QEZ5") * gamma) * (2 / np.pi) * np.arctan(bt * ct * alphat)
+        )  # (4.E44)
+        if limits:
+            et = np.minimum(et, 1.0)
+        dr = (
+            fzl
+            * r0
+            * (
+                (p("QDZ6") + p("QDZ7") * dfz) * p("LRES")
+                + (
+                    (p("QDZ8") + p("QDZ9") * dfz) * (1 + p("PPZ2") * dpi)
+                    + (p("QDZ10") + p("QDZ11") * dfz) * np.abs(gamma)
+                )
+                * gamma
+                * p("LKZC")
+            )
+            * lmuy
+            * np.sign(vx)
+            * np.cos(alpha)
+        )  # (4.E47)
+        br = p("QBZ9") * p("LKY") / lmuy + p("QBZ10") * by * cy  # (4.E45)
+        ratio = (kxk / kya_p) ** 2 * kappa**2
+        # (A54), (A55), with MATLAB's sign(0) = 0
+        alphar_eq = np.arctan(np.sqrt(np.tan(alphar) ** 2 + ratio)) * np.sign(alphar)
+        alphat_eq = np.arctan(np.sqrt(np.tan(alphat) ** 2 + ratio)) * np.sign(alphat)
+        s = (
+            r0
+            * (p("SSZ1") + p("SSZ2") * (fy / p("FNOMIN")) + (p("SSZ3") + p("SSZ4") * dfz) * gamma)
+            * p("LS")
+        )  # (A56)
+        mzr = dr * np.cos(np.arctan(br * alphar_eq))  # (4.E75), Cr = 1 without turn slip
+        x = bt * alphat_eq
+        t = dt * np.cos(ct * np.arctan(x - et * (x - np.arctan(x)))) * cos_ap  # (4.E73)
+        t = t * p("LFZO")
+        if np.any(low):
+            t = np.where(low, t * smooth, t)
+            mzr = np.where(low, mzr * smooth, mzr)
+        if self.version == "5.2":
+            mz = -t * (fy - svyk_0) + mzr + s * fx
         else:
-            fx, fy = fx0, fy0
-        if mirror:
-            fy, fy0 = -fy, -fy0
-        return MFForces(fx=fx, fy=fy, fx0=fx0, fy0=fy0, mux=mux, muy=muy, kxk=kxk, kya=kya)
+            mz = -t * (gyk_0 * fy0_0) + mzr + s * fx  # (4.E71, 4.E72)
+        if q.mirror:
+            mz, mzr, fy = -mz, -mzr, -fy
+        return MFMoment(mz=mz, trail=t, mzr=mzr, fy=fy)
 
     # ------------------------------------------------------------------ pieces
     def _mirror(self, side: str | None) -> bool:
@@ -342,7 +529,7 @@ class MFTyre:
         by = kya / (cy * dy + _EPS * _sign(dy))
         fy0 = dy * np.sin(cy * np.arctan(by * ay - ey * (by * ay - np.arctan(by * ay)))) + svy
         muy = np.where(fz == 0, 0.0, muy)
-        return fy0, muy, kya
+        return fy0, muy, kya, (shy, svy, by, cy)
 
     def _gxa(self, kappa, alpha, gamma, dfz, limits):
         """Combined-slip weighting of Fx, Pacejka (2012) (4.E51)–(4.E57)."""
