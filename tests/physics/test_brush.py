@@ -187,7 +187,7 @@ def test_trail_table_of_physics_md_16_1():
     """docs/physics.md §16.1's table (u, r = F/(C tan α), t/t₀) from the code's force and trail:
     the slip angle that gives utilisation u is found on the force, then the trail read there."""
     mu, fz, c, a = 0.9, 4000.0, 60000.0, 0.07
-    table = {0.3: (0.89, 0.79), 0.5: (0.81, 0.62), 0.7: (0.71, 0.42), 0.9: (0.56, 0.18)}
+    table = {0.3: (0.89, 0.78), 0.5: (0.81, 0.62), 0.7: (0.71, 0.42), 0.9: (0.56, 0.18)}
     for u, (r_doc, t_doc) in table.items():
         alpha = brentq(lambda b, u=u: brush.lateral_force(mu, b, fz, c) / (mu * fz) - u, 1e-9, 0.3)
         r = brush.lateral_force(mu, alpha, fz, c) / (c * np.tan(alpha))
