@@ -4,6 +4,7 @@
 
 from gripsense.physics.brush import (
     adhesion_parameter,
+    aligning_moment,
     cornering_stiffness,
     force_ratio,
     invert,
@@ -36,6 +37,7 @@ from gripsense.physics.load_transfer import (
 from gripsense.physics.magic_formula import MFForces, MFTyre
 from gripsense.physics.magic_formula.pac89 import magic_formula, pac89_lateral, pac89_longitudinal
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
+from gripsense.physics.steering_balance import column_torque, dahl_friction, steering_moment
 from gripsense.physics.surface import SURFACE_BANDS, surface_class, surface_class_interval
 
 __all__ = [
@@ -43,10 +45,13 @@ __all__ = [
     "MFForces",
     "MFTyre",
     "adhesion_parameter",
+    "aligning_moment",
     "antenna_sideslip",
     "axle_lateral_force",
+    "column_torque",
     "contact_length_lm",
     "cornering_stiffness",
+    "dahl_friction",
     "edge_pressure_gradient",
     "force_ratio",
     "heading_offset_from_straight",
@@ -66,6 +71,7 @@ __all__ = [
     "slide_point",
     "slip_angle",
     "static_axle_masses",
+    "steering_moment",
     "surface_class",
     "surface_class_interval",
     "thesis_load_transfer",
