@@ -99,3 +99,54 @@ def test_missing_file_and_bad_toml(tmp_path):
     p.write_text("[vehicle\nmass_kg = 1")
     with pytest.raises(InputError, match="not valid TOML"):
         Vehicle.from_toml(p)
+
+
+STEERING = """
+[steering]
+ratio = 15.5
+mechanical_trail_m = 0.025
+assist = "linear"
+assist_gain = 4.0
+friction_Nm = 0.8
+"""
+
+
+def test_steering_table(tmp_path):
+    p = tmp_path / "car.toml"
+    p.write_text(BASE + STEERING)
+    v = Vehicle.from_toml(p)
+    s = v.steering
+    assert v.steering_ratio == 15.5
+    assert (s.mechanical_trail_m, s.assist, s.assist_gain, s.friction_Nm) == (
+        0.025,
+        "linear",
+        4.0,
+        0.8,
+    )
+    assert s.pneumatic_trail_m is None and s.torque_scale_uncertainty == 0.03
+    p.write_text(BASE)
+    assert Vehicle.from_toml(p).steering is None
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        (("ratio = 15.5", "ratio = 155"), r"\[steering\] ratio: .*outside"),
+        (('assist = "linear"', 'assist = "hydraulic"'), r"\[steering\] assist: .*none, linear"),
+        (('assist = "linear"', 'assist = "none"'), r"\[steering\] assist_gain: .*\"linear\""),
+        (("friction_Nm = 0.8", "friction_nm = 0.8"), r"\[steering\].*friction_nm"),
+    ],
+)
+def test_steering_errors_name_the_key(tmp_path, edit, match):
+    p = tmp_path / "car.toml"
+    p.write_text(BASE + STEERING.replace(*edit, 1))
+    with pytest.raises(InputError, match=match) as exc:
+        Vehicle.from_toml(p)
+    assert "car.toml" in str(exc.value)
+
+
+def test_steering_ratio_given_twice_must_agree(tmp_path):
+    p = tmp_path / "car.toml"
+    p.write_text(BASE.replace("cg_height_m", "steering_ratio = 16.0\ncg_height_m", 1) + STEERING)
+    with pytest.raises(InputError, match=r"\[steering\] ratio: = 15.5 but \[vehicle\]"):
+        Vehicle.from_toml(p)

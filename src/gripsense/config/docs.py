@@ -7,7 +7,14 @@ from __future__ import annotations
 from gripsense.config.receiver import RECEIVER
 from gripsense.config.scenario_schema import SCENARIO_TABLES
 from gripsense.config.steering import STEERING_TABLES
-from gripsense.config.vehicle_schema import ANTENNA, CALIBRATION, CONTACT_LENGTH, TYRE, VEHICLE
+from gripsense.config.vehicle_schema import (
+    ANTENNA,
+    CALIBRATION,
+    CONTACT_LENGTH,
+    STEERING_SYSTEM,
+    TYRE,
+    VEHICLE,
+)
 
 __all__ = ["SCHEMAS", "configuration_markdown"]
 
@@ -16,6 +23,7 @@ SCHEMAS = (
     ANTENNA,
     TYRE,
     CONTACT_LENGTH,
+    STEERING_SYSTEM,
     CALIBRATION,
     RECEIVER,
     *STEERING_TABLES,

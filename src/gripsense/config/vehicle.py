@@ -31,6 +31,11 @@ TOML layout (units are in the key names; see ``gripsense/data/corolla_thesis.tom
     tread_stiffness_N_per_m3 = 5e7          # or cornering_stiffness_N_per_rad
     contact_length = { a = 0.0104, b = -1.017e-4 }   # l = a sqrt(m) + b m; or { fixed_m = 0.134 }
     pressure = "parabolic"                  # or "quartic"
+
+    [steering]                # optional: what a steering-torque channel needs (§16.3)
+    mechanical_trail_m = 0.02
+    assist = "linear"                       # or "none"
+    assist_gain = 3.0                       # assist torque / column torque
 """
 
 from __future__ import annotations
@@ -45,12 +50,14 @@ from gripsense.config.receiver import Receiver
 from gripsense.config.toml_reader import TomlReader
 from gripsense.config.vehicle_schema import (
     ANTENNA,
+    ASSISTS,
     CALIBRATION,
     CG_HEIGHT_RANGE_FACTORS,
     CONTACT_LENGTH,
     DRIVES,
     PRESSURES,
     SHAPES,
+    STEERING_SYSTEM,
     TOP_KEYS,
     TYRE,
     VEHICLE,
@@ -59,7 +66,7 @@ from gripsense.constants import G0
 from gripsense.io.text import read_toml
 from gripsense.physics.contact import contact_length_lm
 
-__all__ = ["PLAUSIBLE", "WHEELS", "Tyre", "Vehicle"]
+__all__ = ["PLAUSIBLE", "WHEELS", "SteeringSystem", "Tyre", "Vehicle"]
 
 WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
@@ -172,6 +179,65 @@ class Tyre:
 
 
 @dataclass(frozen=True)
+class SteeringSystem:
+    """The ``[steering]`` table: the steering system between the tyres and a torque channel
+    (``docs/physics.md`` §16.3; keys and ranges in :data:`~gripsense.config.vehicle_schema.
+    STEERING_SYSTEM`).
+
+    Attributes
+    ----------
+    mechanical_trail_m : float
+        Caster trail t_c [m].
+    mechanical_trail_uncertainty_m : float
+        Its 1σ [m].
+    pneumatic_trail_m : float or None
+        The front tyre's pneumatic trail at zero slip t₀ [m]; None: l/6 from the contact length.
+    pneumatic_trail_uncertainty : float
+        Relative 1σ of t₀ [-].
+    kingpin_inertia_kgm2 : float
+        I_s of both steered wheels about their axes [kg m²].
+    kingpin_damping_Nms : float
+        C_s [N m s/rad].
+    friction_Nm : float
+        Coulomb friction at the steering wheel [N m].
+    friction_uncertainty_Nm : float
+        Its 1σ [N m].
+    column_stiffness_Nm_per_rad : float or None
+        k_s of the torque sensor's torsion bar [N m/rad].
+    assist : str
+        ``none`` or ``linear``.
+    assist_gain : float
+        Assist torque over column torque [-].
+    assist_gain_uncertainty : float
+        Relative 1σ of the gain [-].
+    torque_scale_uncertainty : float
+        Relative 1σ of the torque channel's scale [-].
+    torque_offset_uncertainty_Nm : float
+        1σ of its offset [N m].
+    steering_arm_m : float or None
+        Tie-rod lever about the steering axis (for a rack-force channel) [m].
+    """
+
+    mechanical_trail_m: float = STEERING_SYSTEM["mechanical_trail_m"].default  # 0.02
+    mechanical_trail_uncertainty_m: float = STEERING_SYSTEM[
+        "mechanical_trail_uncertainty_m"
+    ].default  # 0.01
+    pneumatic_trail_m: float | None = None
+    pneumatic_trail_uncertainty: float = STEERING_SYSTEM["pneumatic_trail_uncertainty"].default
+    kingpin_inertia_kgm2: float = STEERING_SYSTEM["kingpin_inertia_kgm2"].default  # 1.0
+    kingpin_damping_Nms: float = STEERING_SYSTEM["kingpin_damping_Nms"].default  # 30
+    friction_Nm: float = STEERING_SYSTEM["friction_Nm"].default  # 1.0
+    friction_uncertainty_Nm: float = STEERING_SYSTEM["friction_uncertainty_Nm"].default  # 0.5
+    column_stiffness_Nm_per_rad: float | None = None
+    assist: str = STEERING_SYSTEM["assist"].default  # "none"
+    assist_gain: float = STEERING_SYSTEM["assist_gain"].default  # 0
+    assist_gain_uncertainty: float = STEERING_SYSTEM["assist_gain_uncertainty"].default  # 0.3
+    torque_scale_uncertainty: float = STEERING_SYSTEM["torque_scale_uncertainty"].default
+    torque_offset_uncertainty_Nm: float = STEERING_SYSTEM["torque_offset_uncertainty_Nm"].default
+    steering_arm_m: float | None = None
+
+
+@dataclass(frozen=True)
 class Vehicle:
     """Vehicle description in SI units (see the module documentation for the TOML layout).
 
@@ -208,6 +274,8 @@ class Vehicle:
     roll_camber_gain : float
         Wheel inclination per degree of body roll [-] (1: the wheels lean with the body;
         default 0.8).
+    steering : SteeringSystem or None
+        The ``[steering]`` table, when the file has one (a steering-torque channel needs it).
     receiver : Receiver or None
         The ``[receiver]`` table, when the file has one.
     calibration_file : str or None
@@ -239,6 +307,7 @@ class Vehicle:
     roll_stiffness_front_fraction_range: tuple[float, float] | None = None
     roll_gradient_deg_per_g: float = VEHICLE["roll_gradient_deg_per_g"].default  # 4.0
     roll_camber_gain: float = VEHICLE["roll_camber_gain"].default  # 0.8
+    steering: SteeringSystem | None = None
     receiver: Receiver | None = None
     calibration_file: str | None = None
     name: str = "vehicle"
@@ -371,6 +440,10 @@ class Vehicle:
         h_range = v["cg_height_range_m"] or tuple(f * h for f in CG_HEIGHT_RANGE_FACTORS)
         kf0 = kf if kf is not None else frac
         k_range = v["roll_stiffness_front_fraction_range"] or (max(kf0 - 0.1, 0), min(kf0 + 0.1, 1))
+        steering = None
+        ratio = v["steering_ratio"]
+        if "steering" in doc:
+            steering, ratio = _steering(r, r.table("steering", required=False), ratio)
         receiver = None
         if "receiver" in doc:
             rt = r.table("receiver", required=False)
@@ -415,13 +488,14 @@ class Vehicle:
             wheelbase_m=wb,
             roll_stiffness_front_fraction=kf,
             roll_centre_heights_m=(hf, hr) if hf is not None else None,
-            steering_ratio=v["steering_ratio"],
+            steering_ratio=ratio,
             drive=drive,
             yaw_inertia_kgm2=v["yaw_inertia_kgm2"],
             cg_height_range_m=h_range,
             roll_stiffness_front_fraction_range=k_range,
             roll_gradient_deg_per_g=v["roll_gradient_deg_per_g"],
             roll_camber_gain=v["roll_camber_gain"],
+            steering=steering,
             receiver=receiver,
             calibration_file=cal_file,
             name=name,
@@ -494,6 +568,29 @@ def _wheel_offsets(r: TomlReader, ant: dict, ax, ay, wb, frac, tf, tr) -> dict:
             "[vehicle] wheelbase_m, or [antenna.wheels] rear_left = [x, y] ...",
         )
     return offsets
+
+
+def _steering(r: TomlReader, t: dict, ratio: float | None) -> tuple[SteeringSystem, float | None]:
+    """The ``[steering]`` table and the steering ratio it gives or agrees with."""
+    v = STEERING_SYSTEM.read(r, t)
+    if v["ratio"] is not None:
+        if ratio is not None and abs(v["ratio"] - ratio) > 1e-9 * ratio:
+            r.fail(
+                "steering",
+                "ratio",
+                f"= {v['ratio']} but [vehicle] steering_ratio = {ratio}; give one of them",
+            )
+        ratio = v["ratio"]
+    if v["assist"] not in ASSISTS:
+        r.fail("steering", "assist", f"= {v['assist']!r}: use one of {', '.join(ASSISTS)}")
+    if v["assist"] == "none" and v["assist_gain"] > 0:
+        r.fail(
+            "steering",
+            "assist_gain",
+            f'= {v["assist_gain"]} with assist = "none"; set assist = "linear" or drop it',
+        )
+    kw = {k: v[k] for k in SteeringSystem.__dataclass_fields__}
+    return SteeringSystem(**kw), ratio
 
 
 def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:

@@ -11,18 +11,21 @@ from gripsense.config.schema import REQUIRED, Key, Table
 
 __all__ = [
     "ANTENNA",
+    "ASSISTS",
     "CALIBRATION",
     "CG_HEIGHT_RANGE_FACTORS",
     "CONTACT_LENGTH",
     "DRIVES",
     "PRESSURES",
     "SHAPES",
+    "STEERING_SYSTEM",
     "TOP_KEYS",
     "TYRE",
     "VEHICLE",
 ]
 
-TOP_KEYS = ("vehicle", "antenna", "tyre", "receiver", "calibration")
+TOP_KEYS = ("vehicle", "antenna", "tyre", "steering", "receiver", "calibration")
+ASSISTS = ("none", "linear")
 SHAPES = ("any", "brush", "magic-formula")
 DRIVES = ("front", "rear", "all")
 PRESSURES = ("parabolic", "quartic")
@@ -211,4 +214,105 @@ CALIBRATION = Table(
         ),
     ),
     "what the car's own driving taught",
+)
+
+STEERING_SYSTEM = Table(
+    "steering",
+    (
+        Key(
+            "ratio",
+            "-",
+            "steering-wheel angle / road-wheel angle (the same as [vehicle] steering_ratio)",
+            None,
+            (3.0, 40.0),
+        ),
+        Key(
+            "mechanical_trail_m",
+            "m",
+            "caster trail: the steering axis meets the ground this far ahead of the contact centre",
+            0.02,
+            (-0.05, 0.12),
+        ),
+        Key("mechanical_trail_uncertainty_m", "m", "1σ of the caster trail", 0.01, (0.0, 0.05)),
+        Key(
+            "pneumatic_trail_m",
+            "m",
+            "front tyre's pneumatic trail at zero slip (default: l/6 from the contact length)",
+            None,
+            (0.003, 0.12),
+        ),
+        Key(
+            "pneumatic_trail_uncertainty",
+            "-",
+            "relative 1σ of the pneumatic trail at zero slip",
+            0.3,
+            (0.0, 1.0),
+        ),
+        Key(
+            "kingpin_inertia_kgm2",
+            "kg m^2",
+            "I_s: both steered wheels and knuckles about their axes (seed 003)",
+            1.0,
+            (0.0, 50.0),
+        ),
+        Key(
+            "kingpin_damping_Nms",
+            "N m s/rad",
+            "C_s: viscous damping about the steering axes (seed 003)",
+            30.0,
+            (0.0, 2000.0),
+        ),
+        Key(
+            "friction_Nm",
+            "N m",
+            "Coulomb friction of the steering, at the steering wheel",
+            1.0,
+            (0.0, 20.0),
+        ),
+        Key("friction_uncertainty_Nm", "N m", "1σ of the friction", 0.5, (0.0, 20.0)),
+        Key(
+            "column_stiffness_Nm_per_rad",
+            "N m/rad",
+            "k_s: the torsion bar of the torque sensor, at the steering wheel (seed 003)",
+            None,
+            (10.0, 1e5),
+        ),
+        Key(
+            "assist",
+            "",
+            f"power steering: {' | '.join(ASSISTS)} (an assist channel replaces the description)",
+            "none",
+            kind="other",
+        ),
+        Key(
+            "assist_gain",
+            "-",
+            'assist torque / column torque, for assist = "linear"',
+            0.0,
+            (0.0, 30.0),
+        ),
+        Key("assist_gain_uncertainty", "-", "relative 1σ of the assist gain", 0.3, (0.0, 1.0)),
+        Key(
+            "torque_scale_uncertainty",
+            "-",
+            "relative 1σ of the torque channel's scale",
+            0.03,
+            (0.0, 0.5),
+        ),
+        Key(
+            "torque_offset_uncertainty_Nm",
+            "N m",
+            "1σ of the torque channel's offset (at the steering wheel)",
+            0.2,
+            (0.0, 10.0),
+        ),
+        Key(
+            "steering_arm_m",
+            "m",
+            "tie-rod lever about the steering axis (turns a rack force into the axes' moment)",
+            None,
+            (0.03, 0.5),
+        ),
+    ),
+    "the steering system (what a steering-torque channel needs; docs/physics.md §16.3)",
 )
