@@ -28,7 +28,7 @@ from gripsense.estimate.options import FrictionOptions, WindowOptions
 from gripsense.estimate.results import FrictionResult
 from gripsense.estimate.wheels import motion_from_epochs
 from gripsense.io.log import LogOptions, log_steer, read_log
-from gripsense.io.steer import read_steer_csv, steer_at
+from gripsense.io.steer import read_steer_csv, steer_at, with_torque
 
 __all__ = [
     "FrictionResult",
@@ -119,6 +119,7 @@ class FrictionRun:
         log: str | Path,
         *,
         steer_csv: str | Path | None = None,
+        steer_columns: str | None = None,
         strict: bool = False,
         since: pd.Timestamp | None = None,
         log_options: LogOptions | None = None,
@@ -134,7 +135,11 @@ class FrictionRun:
         steer_csv : str or Path, optional
             Steering channel (:func:`gripsense.io.steer.read_steer_csv`); enables the front
             wheels. Without it, a steering channel of the log itself is used (a mapped
-            ``steer`` or ``steering_wheel`` channel of a VBOX, MDF4 or CAN log).
+            ``steer`` or ``steering_wheel`` channel of a VBOX, MDF4 or CAN log). Its torque
+            channels, if any, join the epoch table (``torque_nm``, ``assist_nm``, ``rack_n``).
+        steer_columns : str, optional
+            Column mapping of *steer_csv* (``t=…,road_wheel=…:deg,torque=…:Nm``); default by
+            header names.
         strict : bool
             Stop at the first rejected line.
         since : pandas.Timestamp, optional
@@ -162,8 +167,11 @@ class FrictionRun:
             ep = ep[ep["time_utc"] >= since].reset_index(drop=True)
         steer = None
         if steer_csv is not None:
-            ch = read_steer_csv(steer_csv, steering_ratio=self.vehicle.steering_ratio)
+            ch = read_steer_csv(
+                steer_csv, steering_ratio=self.vehicle.steering_ratio, columns=steer_columns
+            )
             steer = steer_at(ch, ep["t_s"].to_numpy())
+            ep = with_torque(ep, ch)
         else:
             steer = log_steer(ep, self.vehicle.steering_ratio, str(log))
         return self.run(ep, steer_rad=steer, ingest=rep.to_dict())

@@ -54,7 +54,20 @@ def friction(
     receiver: Annotated[str | None, typer.Option("--receiver", help=RECEIVER_HELP)] = None,
     steer_csv: Annotated[
         Path | None,
-        typer.Option("--steer-csv", help="CSV with t_s and road_wheel_deg (enables front wheels)"),
+        typer.Option(
+            "--steer-csv",
+            help="CSV with t_s and road_wheel_deg (enables front wheels); may also carry the "
+            "steering torque: torque_Nm, assist_Nm, rack_N",
+        ),
+    ] = None,
+    steer_columns: Annotated[
+        str | None,
+        typer.Option(
+            "--steer-columns",
+            help="mapping for --steer-csv: t=...,road_wheel=...|steering_wheel=...,torque=...,"
+            "assist=...,rack=... (units after ':', e.g. torque=TrqCol:Nm; '-' before a header "
+            "flips its sign)",
+        ),
     ] = None,
     table: Annotated[
         Path | None,
@@ -104,7 +117,9 @@ def friction(
             result = run.run_motion(motion, meta={"vehicle": veh.name, "source": str(table)})
         else:
             opts = log_options(columns, dbc, time_offset)
-            result = run.run_log(log, steer_csv=steer_csv, log_options=opts)
+            result = run.run_log(
+                log, steer_csv=steer_csv, steer_columns=steer_columns, log_options=opts
+            )
             for note in (result.ingest or {}).get("notes", []):
                 say(f"note: {note}")
     except GripsenseError as e:

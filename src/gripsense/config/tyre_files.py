@@ -50,6 +50,9 @@ class TyreModel:
         form the simulator tabulates (None: the model's sign convention is its data's).
     fz_nominal : float
         The model's nominal load [N].
+    aligning_iso : callable or None
+        ``aligning_iso(fz, alpha, gamma) -> mz``: the aligning moment at zero slip ratio [N m]
+        in ISO-W axes (None: the model has no aligning moment).
     """
 
     forces: Callable
@@ -57,6 +60,7 @@ class TyreModel:
     warnings: tuple[str, ...] = ()
     fy_iso: Callable | None = None
     fz_nominal: float = 4000.0
+    aligning_iso: Callable | None = None
 
 
 def load_mf_tyre(source: str | Path | TirFile, *, lenient: bool = False) -> MFTyre:
@@ -89,12 +93,16 @@ def _tir(path: Path, lenient: bool) -> TyreModel:
     def fy_iso(fz, alpha, gamma):
         return tyre.forces(fz, np.zeros_like(fz), alpha, gamma).fy
 
+    def aligning_iso(fz, alpha, gamma):
+        return tyre.aligning_moment(fz, np.zeros_like(fz), alpha, gamma).mz
+
     return TyreModel(
         forces,
         f"MF {tyre.version} ({path.name}; ISO-W axes)",
         tuple(tir.warnings),
         fy_iso=fy_iso,
         fz_nominal=float(tyre.params["FNOMIN"]),
+        aligning_iso=aligning_iso,
     )
 
 

@@ -19,6 +19,8 @@ pitch, roll     ``pitch_deg``, ``roll_deg``                          angle
 steer           ``steer_rad``: road-wheel angle, ISO left positive   angle
 steering_wheel  ``steering_wheel_rad``: hand-wheel angle (÷ ratio)   angle
 torque          ``torque_nm``: steering-column torque                torque (Nm)
+assist          ``assist_nm``: power-steering assist torque          torque (Nm)
+rack            ``rack_n``: rack force                               force (N, kN, lbf)
 ==============  ===================================================  =========================
 """
 
@@ -75,6 +77,8 @@ CHANNEL_KEYS = {
     "steer": ChannelKey("steer_rad", "angle"),
     "steering_wheel": ChannelKey("steering_wheel_rad", "angle"),
     "torque": ChannelKey("torque_nm", "torque"),
+    "assist": ChannelKey("assist_nm", "torque"),
+    "rack": ChannelKey("rack_n", "force"),
 }
 """``--columns`` key of a log -> the epoch-table column it fills."""
 
@@ -104,6 +108,7 @@ _FILE_UNITS = {
     "meters": "m",
     "cm": "cm",
     "mm": "mm",
+    "newton": "N",
     "nm": "Nm",
     "n·m": "Nm",
     "n.m": "Nm",
@@ -207,6 +212,7 @@ _EXAMPLE = {
     "length": "m",
     "angular rate": "dps",
     "torque": "Nm",
+    "force": "N",
 }
 
 

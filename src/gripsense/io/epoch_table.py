@@ -25,7 +25,9 @@ __all__ = ["EPOCH_COLUMNS", "EXTRA_COLUMNS", "build_epochs", "channel_rates"]
 EXTRA_COLUMNS = {
     "steer_rad": "road-wheel steer angle, ISO (left positive) [rad]",
     "steering_wheel_rad": "steering-wheel angle, ISO (left positive) [rad]",
-    "torque_nm": "steering (column) torque [N·m]",
+    "torque_nm": "steering (column) torque, ISO (positive steers left) [N·m]",
+    "assist_nm": "power-steering assist torque at the steering wheel, ISO [N·m]",
+    "rack_n": "rack force, ISO (positive steers left) [N]",
     "heading_acc_deg": "the receiver's stated heading accuracy (1 σ) [deg]",
     "speed_acc_mps": "the receiver's stated speed accuracy (1 σ) [m/s]",
 }

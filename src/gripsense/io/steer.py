@@ -1,4 +1,7 @@
-"""Steering-angle channel: a CSV with time and road-wheel (or steering-wheel) angle."""
+"""Steering channels: a CSV with time and road-wheel (or steering-wheel) angle, and optionally
+the steering torque — column torque, the power steering's assist torque, a rack force — each at
+its own rate (a row may carry some channels and leave the others empty).
+"""
 
 from __future__ import annotations
 
@@ -10,15 +13,29 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.io.table import Quantity, map_table, read_table
 
-__all__ = ["STEER_QUANTITIES", "read_steer_csv", "steer_at"]
+__all__ = [
+    "STEER_QUANTITIES",
+    "TORQUE_COLUMNS",
+    "channel_at",
+    "read_steer_csv",
+    "steer_at",
+    "with_torque",
+]
 
 
 STEER_QUANTITIES = {
     "t": Quantity("time", ("t", "time")),
     "road_wheel": Quantity("angle", ("road_wheel", "steer", "delta")),
     "steering_wheel": Quantity("angle", ("steering_wheel", "handwheel", "swa")),
+    "torque": Quantity("torque", ("torque", "column_torque", "steering_torque")),
+    "assist": Quantity("torque", ("assist", "assist_torque")),
+    "rack": Quantity("force", ("rack", "rack_force")),
 }
 """The keys of a steering channel and the header names mapped without being told."""
+
+TORQUE_COLUMNS = {"torque": "torque_nm", "assist": "assist_nm", "rack": "rack_n"}
+"""Steering-torque keys -> the columns they fill (the epoch table's names): column torque and
+assist torque at the steering wheel [N m], rack force [N]."""
 
 
 def read_steer_csv(
@@ -28,9 +45,13 @@ def read_steer_csv(
 
     The table needs a time column (seconds on the same clock as the epoch table's ``t_s``)
     and either the road-wheel steer angle (ISO: positive to the left) or the steering-wheel
-    angle (divided by the vehicle's ``steering_ratio``). Headers with a unit suffix are mapped
-    by themselves (``t_s``, ``road_wheel_deg``, ``steering_wheel_deg``; the one column
-    convention, :func:`gripsense.io.table.map_table`).
+    angle (divided by the vehicle's ``steering_ratio``). It may also carry the steering torque:
+    ``torque`` (column torque at the steering wheel, ISO: positive steers left), ``assist`` (the
+    power steering's torque, at the steering wheel) and ``rack`` (rack force, positive steers
+    left) — ``docs/physics.md`` §16.3. Channels at different rates share the table: a row may
+    leave some empty, but each row must carry at least one. Headers with a unit suffix are
+    mapped by themselves (``t_s``, ``road_wheel_deg``, ``steering_wheel_deg``, ``torque_Nm``,
+    ``assist_Nm``, ``rack_N``; the one column convention, :func:`gripsense.io.table.map_table`).
 
     Parameters
     ----------
@@ -39,13 +60,15 @@ def read_steer_csv(
     steering_ratio : float, optional
         Steering-wheel angle / road-wheel angle [-], needed for a steering-wheel angle.
     columns : str or dict, optional
-        ``t=HEADER[:unit],road_wheel=…`` or ``steering_wheel=…``; default by header names.
+        ``t=HEADER[:unit],road_wheel=…`` or ``steering_wheel=…``, and ``torque=…:Nm``,
+        ``assist=…:Nm``, ``rack=…:N``; default by header names.
 
     Returns
     -------
     pandas.DataFrame
-        ``t_s`` [s] and ``steer_rad`` (road-wheel angle) [rad], sorted by time;
-        ``attrs["columns"]`` the mapping used.
+        ``t_s`` [s], ``steer_rad`` (road-wheel angle) [rad] and the torque channels given
+        (``torque_nm``, ``assist_nm`` [N m], ``rack_n`` [N]; NaN where a row leaves a channel
+        empty), sorted by time; ``attrs["columns"]`` the mapping used.
     """
     path = Path(path)
     df = read_table(path)
@@ -67,15 +90,52 @@ def read_steer_csv(
             )
         angle = v["steering_wheel"] / steering_ratio
     t = v["t"]
-    bad = ~(np.isfinite(t) & np.isfinite(angle))
+    extra = {col: v[key] for key, col in TORQUE_COLUMNS.items() if key in v}
+    some = np.isfinite(angle)
+    for x in extra.values():
+        some |= np.isfinite(x)
+    bad = ~(np.isfinite(t) & some)
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
         lines = df.attrs.get("line")
         where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
-        raise InputError(f"{path}: {where}: time or angle is missing")
-    out = pd.DataFrame({"t_s": t, "steer_rad": angle})
+        what = "time or angle" if not extra else "time, or every channel (angle, torque)"
+        raise InputError(f"{path}: {where}: {what} is missing; fill it or delete the row")
+    if not np.isfinite(angle).any():
+        raise InputError(f"{path}: the steering angle column is empty")
+    out = pd.DataFrame({"t_s": t, "steer_rad": angle, **extra})
     out = out.sort_values("t_s", kind="stable").reset_index(drop=True)
     out.attrs["columns"] = spec
+    return out
+
+
+def channel_at(steer: pd.DataFrame, column: str, t_s: np.ndarray) -> np.ndarray:
+    """One channel of a steering table at times t_s, interpolated linearly between the rows
+    that carry it (NaN outside them).
+
+    Parameters
+    ----------
+    steer : pandas.DataFrame
+        Table of :func:`read_steer_csv`.
+    column : str
+        ``steer_rad``, ``torque_nm``, ``assist_nm`` or ``rack_n``.
+    t_s : array_like
+        Times [s] on the channel's clock.
+
+    Returns
+    -------
+    numpy.ndarray
+        The channel [its unit].
+    """
+    t = np.asarray(t_s, dtype=float)
+    tc = steer["t_s"].to_numpy(float)
+    x = steer[column].to_numpy(float)
+    ok = np.isfinite(x)
+    tc, x = tc[ok], x[ok]
+    if tc.size == 0:
+        return np.full(t.shape, np.nan)
+    out = np.interp(t, tc, x)
+    out[(t < tc[0]) | (t > tc[-1]) | np.isnan(t)] = np.nan
     return out
 
 
@@ -89,7 +149,31 @@ def steer_at(steer: pd.DataFrame, t_s: np.ndarray) -> np.ndarray:
     t_s : array_like
         Times [s] on the channel's clock.
     """
-    t = np.asarray(t_s, dtype=float)
-    out = np.interp(t, steer["t_s"].to_numpy(), steer["steer_rad"].to_numpy())
-    out[(t < steer["t_s"].iloc[0]) | (t > steer["t_s"].iloc[-1]) | np.isnan(t)] = np.nan
+    return channel_at(steer, "steer_rad", t_s)
+
+
+def with_torque(epochs: pd.DataFrame, steer: pd.DataFrame) -> pd.DataFrame:
+    """The epoch table with the steering table's torque channels at its times (a channel the
+    log itself carries is replaced by the table's, which was given for it).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table (``t_s`` on the steering table's clock).
+    steer : pandas.DataFrame
+        Table of :func:`read_steer_csv`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        *epochs* itself when the table has no torque channel, else a copy with ``torque_nm``,
+        ``assist_nm``, ``rack_n`` as the table has them.
+    """
+    cols = [c for c in TORQUE_COLUMNS.values() if c in steer.columns]
+    if not cols:
+        return epochs
+    out = epochs.copy()
+    t = out["t_s"].to_numpy(float)
+    for c in cols:
+        out[c] = channel_at(steer, c, t)
     return out

@@ -6,6 +6,7 @@ from gripsense.sim.integrate import simulate
 from gripsense.sim.maneuvers import Maneuver
 from gripsense.sim.scenario import run_scenario
 from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
+from gripsense.sim.steering_torque import aligning_moments, emulate_torque
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams, SimResult
 
@@ -16,10 +17,12 @@ __all__ = [
     "SimParams",
     "SimResult",
     "SimTyre",
+    "aligning_moments",
     "descriptor",
     "emulate_accelerometer",
     "emulate_compass",
     "emulate_steering",
+    "emulate_torque",
     "load_sim_tyre",
     "run_scenario",
     "simulate",

@@ -183,6 +183,7 @@ def simulate(
             "slip_angle_rad": ow[:, :, 0].ravel(),
             "load_N": ow[:, :, 1].ravel(),
             "force_N": ow[:, :, 2].ravel(),
+            "force_ss_N": ow[:, :, 5].ravel(),
             "speed_mps": ow[:, :, 4].ravel(),
         }
     )

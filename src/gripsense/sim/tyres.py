@@ -14,6 +14,11 @@ stiffness, its growth with load and the camber thrust of the file are kept; the 
 *true* friction of a wheel is then its peak λ max_α ±F_0/Fz at its current load and
 inclination, in the direction of its force — what the benchmark compares with.
 
+The aligning moment of a ``.tir`` file, M_z0(α, Fz, γ) at κ = 0 (:meth:`gripsense.physics.MFTyre.
+aligning_moment`), is tabulated on the same grid and scaled by the same similarity,
+M_z = λ M_z0(α/λ, Fz, γ), so the trail falls with the utilisation as the file's does
+(``docs/physics.md`` §16.2, §16.4).
+
 Combined slip: a wheel that drives or brakes keeps λ √(1 − (F_x/(μ F_z))²) (friction circle),
 as the brush tyre of :mod:`gripsense.sim.vehicle` does; the file's own combined-slip functions
 need the slip ratio, which the planar model does not integrate.
@@ -54,6 +59,8 @@ class SimTyre:
         Peak |F_0|/Fz at the nominal load without camber [-].
     fz_nominal : float
         Nominal load [N].
+    mz : numpy.ndarray or None
+        Aligning moment M_z0 on the grid [N m] (None: the model has no aligning moment).
     """
 
     name: str
@@ -64,6 +71,7 @@ class SimTyre:
     gamma_step: float
     mu_ref: float
     fz_nominal: float
+    mz: np.ndarray | None = None
 
     def axes(self) -> np.ndarray:
         """Grid description for the compiled core: α₀, dα, Fz₀, dFz, γ₀, dγ, μ_ref."""
@@ -112,6 +120,47 @@ class SimTyre:
         )
         return lam * out.reshape(a.shape)
 
+    def aligning(self, alpha, fz, gamma=0.0, mu_road=None) -> tuple[np.ndarray, np.ndarray]:
+        """Aligning moment and lateral force from the tables, scaled to the road.
+
+        Parameters
+        ----------
+        alpha : array_like
+            Slip angle [rad].
+        fz : array_like
+            Vertical load [N].
+        gamma : array_like
+            Inclination angle [rad].
+        mu_road : array_like, optional
+            Road friction (default: the file's own, λ = 1) [-].
+
+        Returns
+        -------
+        mz : numpy.ndarray
+            λ M_z0(α/λ, Fz, γ) [N m], ISO.
+        fy : numpy.ndarray
+            λ F_0(α/λ, Fz, γ) [N], the force at the same point (interpolated alike).
+        """
+        if self.mz is None:
+            raise InputError(f"{self.name}: the tyre model has no aligning moment")
+        from scipy.interpolate import RegularGridInterpolator
+
+        lam = np.ones(1) if mu_road is None else np.asarray(mu_road, float) / self.mu_ref
+        a, f, g, lam = np.broadcast_arrays(np.asarray(alpha, float) / lam, fz, gamma, lam)
+        ax = self.axes()
+        na, nf, ng = self.fy.shape
+        grid = (
+            ax[0] + ax[1] * np.arange(na),
+            ax[2] + ax[3] * np.arange(nf),
+            ax[4] + ax[5] * np.arange(ng),
+        )
+        pts = np.column_stack(
+            [np.clip(x.ravel(), gr[0], gr[-1]) for x, gr in zip((a, f, g), grid, strict=True)]
+        )
+        mz = RegularGridInterpolator(grid, self.mz)(pts).reshape(a.shape)
+        fy = RegularGridInterpolator(grid, self.fy)(pts).reshape(a.shape)
+        return lam * mz, lam * fy
+
     def cornering_stiffness(self, fz) -> np.ndarray:
         """Cornering stiffness |dF_y/dα| at α = 0, γ = 0 [N/rad].
 
@@ -138,6 +187,7 @@ def sim_tyre_from_function(
     n_fz: int = 31,
     n_gamma: int = 11,
     fz_max_factor: float = 3.0,
+    aligning: Callable | None = None,
 ) -> SimTyre:
     """Tabulate a lateral tyre model.
 
@@ -154,6 +204,9 @@ def sim_tyre_from_function(
         Grid sizes (α over ±30°, Fz over 0 … fz_max_factor × nominal, γ over ±10°).
     fz_max_factor : float
         Largest tabulated load as a multiple of the nominal load [-].
+    aligning : callable, optional
+        ``aligning(fz, alpha, gamma) -> mz [N m]`` in ISO-W axes: tabulated on the same grid
+        when given.
 
     Returns
     -------
@@ -174,7 +227,13 @@ def sim_tyre_from_function(
     j = int(np.argmin(np.abs(fz - fz_nominal)))
     k = (n_gamma - 1) // 2
     mu_ref = float(0.5 * (peak[j, k, 0] + peak[j, k, 1]))
-    return SimTyre(name, tab, peak, a[1] - a[0], fz[1] - fz[0], g[1] - g[0], mu_ref, fz_nominal)
+    mz = None
+    if aligning is not None:
+        mz = np.asarray(aligning(F.ravel(), A.ravel(), G.ravel()), float).reshape(A.shape)
+        mz[:, 0, :] = 0.0
+        if not np.isfinite(mz).all():
+            raise InputError(f"{name}: the tyre model gives non-finite moments on the table grid")
+    return SimTyre(name, tab, peak, a[1] - a[0], fz[1] - fz[0], g[1] - g[0], mu_ref, fz_nominal, mz)
 
 
 def load_sim_tyre(path: str | Path) -> SimTyre:
@@ -203,4 +262,4 @@ def load_sim_tyre(path: str | Path) -> SimTyre:
     sign = float(np.sign(fy(np.array([4000.0]), np.array([0.05]), np.array([0.0]))[0]))
     if sign > 0:
         raise InputError(f"{path}: positive slip gives positive force; expected ISO-W axes")
-    return sim_tyre_from_function(fy, model.fz_nominal, path.name)
+    return sim_tyre_from_function(fy, model.fz_nominal, path.name, aligning=model.aligning_iso)

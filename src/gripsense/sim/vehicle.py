@@ -253,7 +253,8 @@ class SimResult:
         peak friction at its load and inclination, in the direction of its force: the road μ for
         a brush tyre), ``mu_road`` (road μ at the wheel), ``camber_rad`` (inclination, ISO),
         ``slip_angle_rad``, ``load_N``, ``force_N`` (lateral, wheel axes, ISO sign),
-        ``speed_mps``.
+        ``force_ss_N`` (the steady-state force of the slip angle, which ``force_N`` follows
+        over the relaxation length), ``speed_mps``.
     params : SimParams
     wall_s : float
         Wall-clock time of the integration [s].
