@@ -46,8 +46,18 @@ consistent), the median width of the range over the limit's width, values, cover
 median width (a better receiver must not say less). ``--receivers ideal`` adds a receiver
 without noise to speak of: the range it leaves is the vehicle file's declared uncertainty alone.
 
+``--torque`` (issue "Friction at half the limit") drives the front axle to utilisation 0.3–1.0 on
+Magic Formula truth tyres whose aligning moment the estimator does not share (the files' own
+M_z, similarity-scaled; docs/physics.md §16.4): steady circles at R 40 m and slow ISO 4138
+constant-radius sweeps (speed rising 0.15 m/s², R 40 m), with a column-torque channel (100 Hz,
+0.05 N m noise, 3 % scale error, 0.2 N m offset) from the truth vehicle's ``[steering]``. Each
+drive is estimated twice, with and without the torque, and reported per band of the largest
+utilisation the front axle reached: upper end given, median width over μ, values, within 0.1,
+coverage, bias — against the compass-only estimate of the same drives, and how often the range
+with the torque is wider than without.
+
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
-       [--truth gripsense|commonroad|commonroad-mb] [--workers 2] [--csv out.csv]
+       [--truth gripsense|commonroad|commonroad-mb] [--torque] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
 """
 
@@ -320,6 +330,175 @@ def one(job: dict) -> list[dict]:
     return rows
 
 
+TORQUE_TYRES = ("mf61", "mf-book", "mf-sedan")
+TORQUE_U = (0.3, 0.45, 0.55, 0.65, 0.75, 0.85, 0.95, 1.0)
+"""Largest front-axle utilisation the torque drives aim at (the road's μ; the front axle of an
+understeering car reaches a little more)."""
+
+
+def jobs_torque(quick: bool, shape: str = "") -> list[dict]:
+    """Steady circles and constant-radius sweeps to utilisation 0.3–1.0 on MF tyres."""
+    out = []
+    rng = np.random.default_rng(27)
+    mus = (0.5, 0.9) if quick else (0.3, 0.5, 0.7, 0.9, 1.1)
+    vehicles = ("sedan",) if quick else ("sedan", "sports")
+    targets = TORQUE_U[1::2] if quick else TORQUE_U
+    for tyre in TORQUE_TYRES:
+        for veh in vehicles:
+            for mu in mus:
+                for kind in ("circle", "sweep"):
+                    for u in targets:
+                        out.append(
+                            {
+                                "tyre": tyre,
+                                "vehicle": veh,
+                                "mu_road": mu,
+                                "kind": kind,
+                                "target_u": u,
+                                "receiver": "v100",
+                                "shape": shape,
+                                "stiffness_error": float(rng.uniform(-0.1, 0.1)),
+                                "seed": len(out) + 1,
+                            }
+                        )
+    return out
+
+
+def one_torque(job: dict) -> list[dict]:
+    """One drive with a torque channel, estimated with and without it (front axle)."""
+    import dataclasses
+
+    from gripsense import FrictionRun
+    from gripsense.estimate.noise import NoiseModel
+    from gripsense.io import read_nmea
+    from gripsense.io.steer import steer_at, with_torque
+    from gripsense.sim import maneuvers as M
+    from gripsense.sim.drives import (
+        record_drive,
+        truth_tyre,
+        truth_vehicle,
+        user_vehicle,
+    )
+    from gripsense.sim.steering_torque import emulate_torque
+    from gripsense.sim.vehicle import SimParams
+
+    tv = truth_vehicle(job["vehicle"])
+    t = truth_tyre(job["tyre"])
+    p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
+    radius = 40.0
+    v_lim = float(np.sqrt(job["mu_road"] * 9.80665 * radius))
+    v = v_lim * np.sqrt(job["target_u"])
+    if job["kind"] == "circle":
+        m = M.circle(v, radius, laps=20.0 * v / (2 * np.pi * radius), settle_s=5.0, params=p)
+    else:
+        m = M.constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15, params=p)
+    res = M.run(p, m, mu=job["mu_road"])
+    d = record_drive(res, tv, m.settle_s, receiver=job["receiver"], seed=job["seed"])
+    tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03, offset_Nm=0.2,
+                        seed=job["seed"] + 104729)  # fmt: skip
+    uv = user_vehicle(tv, job["tyre"], stiffness_error=job["stiffness_error"])
+    if job.get("shape"):
+        uv = dataclasses.replace(
+            uv, tyres={k: dataclasses.replace(t, shape=job["shape"]) for k, t in uv.tyres.items()}
+        )
+    # the user declares the steering system to its stated uncertainty, not the truth
+    rng = np.random.default_rng(job["seed"])
+    s = uv.steering
+    uv = dataclasses.replace(
+        uv,
+        steering=dataclasses.replace(
+            s, mechanical_trail_m=s.mechanical_trail_m
+            + float(rng.normal(0, s.mechanical_trail_uncertainty_m)),
+        ),
+    )  # fmt: skip
+    ep = read_nmea(d.lines).epochs
+    ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
+    steer = steer_at(ch, ep["t_s"].to_numpy(float))
+    ch_t = tq.rename(columns={"torque_Nm": "torque_nm"}).assign(steer_rad=np.nan)
+    ep_t = with_torque(ep, ch_t)
+    run = FrictionRun(uv, method="axle-window", noise=NoiseModel.for_vehicle(uv, job["receiver"]))
+    truth = d.axles.set_index("axle").loc["front"]
+    rows = []
+    for with_t, epochs in (("torque", ep_t), ("compass", ep)):
+        s = run.run(epochs, steer_rad=steer).summary.set_index("axle").loc["front"]
+        rows.append(
+            {
+                **job,
+                "estimate": with_t,
+                "mu_true": truth["mu_true"],
+                "utilisation": truth["utilisation"],
+                "utilisation_max": truth["utilisation_max"],
+                "grip_used_lower": s["grip_used_lower"],
+                "observable": bool(s["observable"]),
+                "mu": s["mu"],
+                "mu_low": s["mu_low"],
+                "mu_high": s["mu_high"],
+                "fit": s["fit"],
+                "limited_by": s.get("limited_by", ""),
+            }
+        )
+    return rows
+
+
+TORQUE_BANDS = ((0.3, 0.5), (0.5, 0.6), (0.6, 0.8), (0.8, 1.01))
+
+
+def torque_scores(df: pd.DataFrame) -> pd.DataFrame:
+    """Per utilisation band (the front axle's largest): compass-only and with the torque."""
+    rows = []
+    for lo, hi in TORQUE_BANDS:
+        band = df[(df["utilisation_max"] >= lo) & (df["utilisation_max"] < hi)]
+        for est in ("compass", "torque"):
+            d = band[band["estimate"] == est]
+            if d.empty:
+                continue
+            obs = d["observable"].astype(bool)
+            width = (d["mu_high"] - d["mu_low"]) / d["mu_true"]
+            covered = (d["mu_low"] <= d["mu_true"]) & (d["mu_true"] <= d["mu_high"])
+            err = (d["mu"] - d["mu_true"])[obs]
+            rows.append(
+                {
+                    "u_max": f"{lo:.1f}–{min(hi, 1.0):.1f}",
+                    "estimate": est,
+                    "n": len(d),
+                    "upper_end": float(np.isfinite(d["mu_high"]).mean()),
+                    "median_width/mu": float(width.replace(np.inf, np.nan).median())
+                    if np.isfinite(width).any()
+                    else np.inf,
+                    "values": float(obs.mean()),
+                    "within_0.1": float((np.abs(err) <= 0.1).mean()) if len(err) else np.nan,
+                    "coverage_values": float(covered[obs].mean()) if obs.any() else np.nan,
+                    "coverage_all": float(covered.mean()),
+                    "bias": float(err.mean()) if len(err) else np.nan,
+                }
+            )
+    return pd.DataFrame(rows).set_index(["u_max", "estimate"])
+
+
+def torque_report(df: pd.DataFrame) -> None:
+    """Print the per-band table, the width ratio against the compass-only range and the
+    measured-grip bound's excess."""
+    fmt = {"float_format": lambda v: f"{v:.3f}"}
+    print("\nper band of the front axle's largest utilisation\n"
+          + torque_scores(df).to_string(**fmt))  # fmt: skip
+    key = ["tyre", "vehicle", "mu_road", "kind", "target_u"]
+    both = df.pivot_table(
+        index=key, columns="estimate", values=["mu_low", "mu_high"], aggfunc="first"
+    )
+    w_t = both[("mu_high", "torque")] - both[("mu_low", "torque")]
+    w_c = both[("mu_high", "compass")] - both[("mu_low", "compass")]
+    finite = np.isfinite(w_t) & np.isfinite(w_c)
+    wider = (w_t > w_c + 1e-9) | (~np.isfinite(w_t) & np.isfinite(w_c))
+    ratio = (w_t / w_c)[finite]
+    print(f"\nwidth with torque / compass-only (both bounded): median {ratio.median():.3f} "
+          f"(n {int(finite.sum())}); ranges wider with the torque: {int(wider.sum())} of "
+          f"{len(w_t)}")  # fmt: skip
+    excess = (df["grip_used_lower"] - df["mu_true"]).max()
+    print(f"largest measured-grip bound over the truth: {excess:+.3f}")
+    what = df[df["estimate"] == "torque"].groupby("limited_by").size()
+    print("\nwhat limits the torque estimate\n" + what.to_string())
+
+
 def scores(df: pd.DataFrame) -> pd.Series:
     """The issue's numbers for a set of axle-cases."""
     obs = df["observable"].astype(bool)
@@ -398,7 +577,25 @@ def main() -> None:
     ap.add_argument(
         "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
     )
+    ap.add_argument(
+        "--torque",
+        action="store_true",
+        help="the steering-torque channel against compass-only (MF tyres, u 0.3–1)",
+    )
+    ap.add_argument("--shape", default="", help="--torque: the tyre shape the user declares")
     args = ap.parse_args()
+    if args.torque:
+        todo = jobs_torque(args.quick, args.shape)
+        t0 = time.perf_counter()
+        with ProcessPoolExecutor(args.workers) as ex:
+            rows = [r for part in ex.map(one_torque, todo, chunksize=2) for r in part]
+        df = pd.DataFrame(rows)
+        print(f"{len(todo)} drives in {time.perf_counter() - t0:.0f} s")
+        if args.csv:
+            df.to_csv(args.csv, index=False)
+        pd.set_option("display.width", 200)
+        torque_report(df)
+        return
     if "ideal" in args.receivers.split(","):
         from gripsense.config.receiver import RECEIVERS as PRESETS
         from gripsense.config.receiver import Receiver

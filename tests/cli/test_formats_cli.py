@@ -75,3 +75,49 @@ def test_bad_format_input_is_one_line(tmp_path):
 def test_help_names_the_formats():
     r = run("ingest", "--help")
     assert "VBOX" in r.stdout and "--dbc" in r.stdout
+
+
+TORQUE_SCENARIO = """
+[scenario]
+vehicle = "corolla_sim.toml"
+tyre = "MagicFormula61_Paramerters.tir"
+seed = 3
+[road]
+mu = 0.9
+[gnss]
+rate_hz = 10
+noise = "v100"
+[steering]
+torque = true
+[[case]]
+maneuver = "constant_radius"
+radius_m = 40
+speed_start_kmh = 30
+speed_end_kmh = 62
+accel_mps2 = 0.15
+"""
+
+
+def test_simulate_a_torque_channel_and_estimate_with_it(tmp_path):
+    """simulate writes torque_Nm into the steering CSV (its own rows at 100 Hz); friction reads
+    it and names it in the front axle's answer; a flipped sign is one line and exit 2."""
+    sc = tmp_path / "sc.toml"
+    sc.write_text(TORQUE_SCENARIO)
+    out = tmp_path / "sim"
+    r = run("simulate", str(sc), "-o", str(out))
+    assert r.returncode == 0, r.stderr
+    c = pd.read_csv(out / "cases.csv").iloc[0]
+    steer = pd.read_csv(out / c["steer"])
+    assert {"t_s", "road_wheel_deg", "torque_Nm"} <= set(steer.columns)
+    assert steer["torque_Nm"].notna().sum() > steer["road_wheel_deg"].notna().sum()
+    vehicle = str(out / c["vehicle_file"])
+    args = ("friction", str(out / c["log"]), "--vehicle", vehicle, "--steer-csv",
+            str(out / c["steer"]))  # fmt: skip
+    r = run(*args, "-o", str(tmp_path / "fr"))
+    assert r.returncode == 0, r.stderr
+    assert "steering torque" in r.stdout
+    flipped = "t=t_s:s,road_wheel=road_wheel_deg:deg,torque=-torque_Nm:Nm"
+    r = run(*args, "--steer-columns", flipped, "-o", str(tmp_path / "fr2"))
+    assert r.returncode == 2
+    assert "sign is flipped" in r.stderr and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1

@@ -13,7 +13,13 @@ import pytest
 from gripsense.config import Vehicle
 from gripsense.config.docs import SCHEMAS, configuration_markdown
 from gripsense.config.receiver import RECEIVER
-from gripsense.config.vehicle_schema import ANTENNA, CONTACT_LENGTH, TYRE, VEHICLE
+from gripsense.config.vehicle_schema import (
+    ANTENNA,
+    CONTACT_LENGTH,
+    STEERING_SYSTEM,
+    TYRE,
+    VEHICLE,
+)
 from gripsense.data import path as data_path
 from gripsense.errors import InputError
 
@@ -29,6 +35,7 @@ def _where(table: str) -> list[str]:
         "tyre.front / tyre.rear": ["tyre", "rear"],
         "tyre.*.contact_length": ["tyre", "rear", "contact_length"],
         "receiver": ["receiver"],
+        "steering": ["steering"],
     }[table]
 
 
@@ -42,6 +49,8 @@ def _with(table, key: str, value) -> dict:
         t.update({"a": 0.0104, "b": -1.017e-4} if key != "fixed_m" else {})
     if table is TYRE and key == "cornering_stiffness_N_per_rad":
         t.pop("tread_stiffness_N_per_m3")
+    if key == "steering_ratio":  # the ratio is given once ([steering] ratio agrees or is absent)
+        doc.get("steering", {}).pop("ratio", None)
     t[key] = value
     return doc
 
@@ -58,7 +67,7 @@ def test_docs_are_the_schemas():
 
 @pytest.mark.parametrize(
     "table",
-    [VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH, RECEIVER],
+    [VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH, RECEIVER, STEERING_SYSTEM],
     ids=lambda t: t.name,
 )
 def test_every_plausible_range_is_enforced_by_the_reader(table):
@@ -83,7 +92,9 @@ def test_every_plausible_range_is_enforced_by_the_reader(table):
     assert checked >= 1
 
 
-@pytest.mark.parametrize("table", [VEHICLE, ANTENNA, TYRE, RECEIVER], ids=lambda t: t.name)
+@pytest.mark.parametrize(
+    "table", [VEHICLE, ANTENNA, TYRE, RECEIVER, STEERING_SYSTEM], ids=lambda t: t.name
+)
 def test_a_misspelt_key_names_the_closest(table):
     k = next(k for k in table.keys if k.kind == "number")
     doc = _with(table, k.name[:-1] + "x", 1.0)
@@ -165,10 +176,18 @@ def test_scenario_defaults_are_the_emulators():
     from gripsense.config.scenario_schema import ACCELEROMETER, GNSS, STEERING_CHANNEL
     from gripsense.sim.gnss import CompassNoise
     from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
+    from gripsense.sim.steering_torque import emulate_torque
 
     for f in dataclasses.fields(CompassNoise):
         assert GNSS[f.name].default == f.default, f.name
     for table, fn in ((ACCELEROMETER, emulate_accelerometer), (STEERING_CHANNEL, emulate_steering)):
         sig = inspect.signature(fn).parameters
         for k in table.keys:
+            if k.name.startswith(("torque", "assist")):
+                continue  # the torque channel's keys: below
             assert sig[k.name].default == k.default, (table.name, k.name)
+    sig = inspect.signature(emulate_torque).parameters
+    for k in STEERING_CHANNEL.keys:
+        if k.name.startswith("torque_") or k.name == "assist_channel":
+            name = k.name.removeprefix("torque_")
+            assert sig[name].default == k.default, k.name

@@ -83,8 +83,26 @@ STEERING_CHANNEL = Table(
         Key("noise_deg", "deg", "white noise of the road-wheel angle, 1σ", 0.05),
         Key("scale_error", "-", "relative scale error of the channel", 0.03),
         Key("offset_deg", "deg", "offset of the road-wheel angle", 0.0),
+        Key(
+            "torque",
+            "",
+            "also the column torque, torque_Nm (true | false; the vehicle file's [steering])",
+            False,
+            kind="other",
+        ),
+        Key("torque_rate_hz", "Hz", "output rate of the torque", 100.0),
+        Key("torque_noise_Nm", "N m", "white noise of the torque sensor, 1σ", 0.05),
+        Key("torque_scale_error", "-", "relative scale error of the torque sensor", 0.0),
+        Key("torque_offset_Nm", "N m", "offset of the torque sensor", 0.0),
+        Key(
+            "assist_channel",
+            "",
+            "also the power steering's assist torque, assist_Nm (true | false)",
+            False,
+            kind="other",
+        ),
     ),
-    "the emulated steering channel",
+    "the emulated steering channel (and torque)",
 )
 SCENARIO_TABLES = (SCENARIO, ROAD, GNSS, ACCELEROMETER, STEERING_CHANNEL)
 """The single tables of a scenario file (besides ``[[case]]`` and ``[[grid]]``)."""

@@ -34,7 +34,16 @@ from gripsense.estimate.bins import AxleBins, axle_bins
 from gripsense.estimate.grip import drive_bound, grip_bins
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, profile_mu, shape_ids
+from gripsense.estimate.profile import (
+    ProfileCache,
+    axle_priors,
+    merge_bins,
+    mu_grid,
+    profile_mu,
+    shape_ids,
+    torque_only,
+)
+from gripsense.estimate.torque import check_channel, torque_bins, torque_profile
 
 __all__ = ["WINDOW_COLUMNS", "estimate_windows"]
 
@@ -169,6 +178,13 @@ def estimate_windows(
             analysed_bins = ab.data[:, 9] >= o.screen_utilisation
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
         g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
+        torque = None
+        if axle == "front":  # a steering-torque channel: the trail's fall (docs/physics.md §16)
+            tb = torque_bins(wheels, vehicle, o.bin_s, o.min_samples)
+            if tb is not None and tb.t0.size:
+                check_channel(tb, vehicle)
+                grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
+                torque = torque_profile(tb, vehicle, grid, tol=o.steady_tolerance)
         base = {
             "axle": axle,
             "n": int(ab.n.sum()),
@@ -194,10 +210,13 @@ def estimate_windows(
                 ab.p0,
                 o,
                 base["grip_used_lower"],
+                torque=torque,
             )
             c = 0.5 * (ab.data[analysed_bins, 4] + ab.data[analysed_bins, 5]).mean()
             est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
             summ.append({**base, **est})
+        elif torque is not None:
+            summ.append({**base, **torque_only(torque, o, base["grip_used_lower"])})
         else:
             summ.append(
                 {

@@ -18,6 +18,7 @@ from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.noise import NoiseModel
+from gripsense.io.steer import STEERING_TORQUE
 
 __all__ = [
     "BIN_COLUMNS",
@@ -25,6 +26,7 @@ __all__ = [
     "AxleBins",
     "axle_bins",
     "axle_pairs",
+    "bin_starts",
     "force_and_linear",
     "merge_steady",
 ]
@@ -126,11 +128,15 @@ def axle_pairs(
     -------
     dict of numpy.ndarray
         ``<column>_L`` and ``<column>_R`` for the columns the bins use (``steer_rad_L`` on a
-        front axle whose table has a steering channel), all of one length.
+        front axle whose table has a steering channel, and its steering-torque columns, NaN
+        where the channel has no sample), all of one length.
     """
     cols = list(_PAIR_COLUMNS)
+    optional = []  # carried along, never required finite: a channel of its own rate
     if "steer_rad" in wheels.columns and axle == "front":
         cols.append("steer_rad")
+    if axle == "front":
+        optional = [c for c in STEERING_TORQUE if c in wheels.columns]
     wheel = wheels["wheel"]
     m_l = (wheel == f"{axle}_left").to_numpy()
     m_r = (wheel == f"{axle}_right").to_numpy()
@@ -140,13 +146,41 @@ def axle_pairs(
     out_flags = _OUT_AXLE if keep_lifted else _OUT
     ok = ~np.isin(flag[m_l][i_l], out_flags) & ~np.isin(flag[m_r][i_r], out_flags)
     out: dict[str, np.ndarray] = {}
-    for c in cols:
+    for c in (*cols, *optional):
         x = wheels[c].to_numpy(float)
         out[c + "_L"], out[c + "_R"] = x[m_l][i_l], x[m_r][i_r]
+        if c in optional:
+            continue
         if not keep_lifted or c in _AXLE_COLUMNS:
             ok &= np.isfinite(out[c + "_L"]) & np.isfinite(out[c + "_R"])
     order = np.argsort(out["t_s_L"][ok], kind="stable")
     return {c: x[ok][order] for c, x in out.items()}
+
+
+def bin_starts(t: np.ndarray, bin_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where the bins of samples at times *t* start, and their sizes: bins on the data clock
+    (floor(t / bin_s), not from the first sample, so the live estimator forms the same), a gap
+    of more than half a bin ending one.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Sample times, increasing [s].
+    bin_s : float
+        Bin length [s].
+
+    Returns
+    -------
+    starts : numpy.ndarray
+        Index of each bin's first sample.
+    n : numpy.ndarray
+        Samples per bin.
+    """
+    k = np.floor(t / bin_s).astype(np.int64)
+    k += np.concatenate([[0], np.cumsum(np.diff(t) > 0.5 * bin_s)])
+    edges = np.flatnonzero(np.diff(k)) + 1
+    starts = np.concatenate([[0], edges])
+    return starts, np.diff(np.concatenate([starts, [t.size]]))
 
 
 def axle_bins(
@@ -206,13 +240,7 @@ def axle_bins(
     lag = tyre.relaxation_length_m / np.maximum(speed, 1.0)
     aL = np.interp(t - lag, t, b["slip_angle_rad_L"])
     aR = np.interp(t - lag, t, b["slip_angle_rad_R"])
-    # bins on the data clock (not from the first sample): the live estimator forms the same
-    k = np.floor(t / bin_s).astype(np.int64)
-    # a gap in the data ends a bin
-    k += np.concatenate([[0], np.cumsum(np.diff(t) > 0.5 * bin_s)])
-    edges = np.flatnonzero(np.diff(k)) + 1
-    starts = np.concatenate([[0], edges])
-    n = np.diff(np.concatenate([starts, [t.size]]))
+    starts, n = bin_starts(t, bin_s)
 
     def mean(x):
         return np.add.reduceat(x, starts) / n

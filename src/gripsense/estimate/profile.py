@@ -22,6 +22,7 @@ from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.bins import force_and_linear, merge_steady
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
+from gripsense.estimate.torque import TorqueProfile
 from gripsense.physics.friction_limit import linear_explains
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
 
@@ -33,8 +34,10 @@ __all__ = [
     "axle_priors",
     "curve_lookup",
     "merge_bins",
+    "mu_grid",
     "profile_mu",
     "shape_ids",
+    "torque_only",
 ]
 
 STRAINED_REL = 0.02
@@ -199,8 +202,21 @@ def _chi2_ppf(q: float, dof: int) -> float:
 
 
 @cache
-def _mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
-    """The fine μ grid of the profile (read-only, shared between windows)."""
+def mu_grid(mu_min: float, mu_max: float, n: int) -> np.ndarray:
+    """The fine μ grid of the profile (read-only, shared between windows).
+
+    Parameters
+    ----------
+    mu_min, mu_max : float
+        Its ends [-].
+    n : int
+        Points, geometrically spaced.
+
+    Returns
+    -------
+    numpy.ndarray
+        μ [-].
+    """
     g = np.geomspace(mu_min, mu_max, n)
     g.flags.writeable = False
     return g
@@ -233,8 +249,10 @@ def profile_mu(
     p0: float,
     o: WindowOptions,
     grip_lower: float,
+    torque: TorqueProfile | None = None,
 ) -> dict:
-    """The profile likelihood of μ over merged bins and what it says (``docs/physics.md`` §15).
+    """The profile likelihood of μ over merged bins and what it says (``docs/physics.md`` §15;
+    with a steering-torque channel, §16.6).
 
     Parameters
     ----------
@@ -252,6 +270,11 @@ def profile_mu(
         Grid, levels and the rules for a value.
     grip_lower : float
         The model-free measured-grip bound of the same data (NaN: none) [-].
+    torque : TorqueProfile, optional
+        What the steering torque says (:func:`gripsense.estimate.torque.torque_profile`, on
+        the same μ grid): its likelihood multiplies the compass's. Where the compass's upper
+        end is not trusted (a linear tyre explains it, the data are far from the limit, the
+        model is strained) the compass contributes nothing above its lower end.
 
     Returns
     -------
@@ -261,7 +284,7 @@ def profile_mu(
         ``load_transfer_error``, ``shape``, ``limited_by``.
     """
     f, df, inv_dx = curve_lookup()
-    fine = _mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
+    fine = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
     pen = np.ascontiguousarray(_shape_penalty()[shapes])
     b = np.ascontiguousarray(bins)
     n, m = b.shape[0], fine.size
@@ -352,6 +375,23 @@ def profile_mu(
         )
     elif not observable and fit == "ok" and not np.isfinite(hi):
         limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
+    if torque is not None and torque.fit == "ok" and fit != "inconsistent":
+        # the compass's likelihood where its upper end is trusted, else flat (it says nothing
+        # above what the data prove); times the torque's
+        trusted = np.isfinite(hi) and not strained
+        both = (nll - nll.min() if trusted else np.zeros(n_mu)) + torque.nll[done]
+        c = _torque_range(mu_g, both, level, grip_lower, o)
+        if c is not None:
+            lo_c, hi_c = lo, hi
+            lo, hi, mu_hat, observable, torque_says = c
+            if trusted:  # never wider than the compass's own range: more data never say less
+                lo, hi = max(lo, lo_c), min(hi, hi_c)
+            if strained and torque_says:
+                fit = "ok"  # the torque bounds what the compass's family could not
+            strained = False
+            observable = observable and fit == "ok"
+            if torque_says:
+                limited = f"steering torque: {torque.limited_by}"
     if np.isfinite(grip_lower):
         # the estimate never below what the data prove without a model
         mu_hat = max(mu_hat, float(grip_lower))
@@ -374,6 +414,76 @@ def profile_mu(
         "load_transfer_error": float(th[im, 2]),
         "shape": SHAPE_FAMILY[int(shp[im])].name,
         "limited_by": limited,
+    }
+
+
+def _torque_range(
+    mu_g: np.ndarray, nll: np.ndarray, level: float, grip_lower: float, o: WindowOptions
+) -> tuple[float, float, float, bool, bool] | None:
+    """The interval a combined likelihood gives: (low, high, best μ, whether a value is given,
+    whether it is bounded above), or None when it contradicts the measured grip (its upper end
+    below the bound: the torque is not used).
+    """
+    dev = 2.0 * (nll - nll.min())
+    im = int(np.argmin(nll))
+    lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
+    hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
+    lo_p = _crossing(mu_g, dev, level, im, -1)
+    hi_p = _crossing(mu_g, dev, level, im, +1)
+    if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
+        return None
+    if np.isfinite(grip_lower) and hi <= (1.0 + STRAINED_REL) * grip_lower:
+        hi = hi_p = np.inf  # strained: no upper end (docs/physics.md §15)
+    lo_p = max(lo_p, grip_lower) if np.isfinite(grip_lower) else lo_p
+    observable = bool(np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    return float(lo), float(hi), float(mu_g[im]), observable, bool(np.isfinite(hi))
+
+
+def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> dict:
+    """What the steering torque alone says of the front axle, for a drive whose compass data
+    never passed the screen (``docs/physics.md`` §16.6).
+
+    Parameters
+    ----------
+    torque : TorqueProfile
+        The torque's profile on the μ grid of *o*.
+    o : WindowOptions
+        Grid, levels and the rules for a value.
+    grip_lower : float
+        The measured-grip bound (NaN: none) [-].
+
+    Returns
+    -------
+    dict
+        ``mu``, ``mu_low``, ``mu_high``, ``observable``, ``fit``, ``mu_best``, ``shape``,
+        ``limited_by`` (the compass's nuisances NaN).
+    """
+    grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
+    level = _chi2_ppf(float(o.point_level), 1)
+    c = _torque_range(grid, torque.nll, level, grip_lower, o) if torque.fit == "ok" else None
+    lower = float(grip_lower) if np.isfinite(grip_lower) else 0.0
+    if c is None:
+        return {
+            "mu": np.nan,
+            "mu_low": lower,
+            "mu_high": np.inf,
+            "observable": False,
+            "fit": torque.fit if torque.fit != "ok" else "inconsistent",
+            "limited_by": "steering torque contradicts the measured grip",
+        }
+    lo, hi, best, observable, _ = c
+    mu_low = max(lo, lower)
+    return {
+        "mu": float(np.sqrt(mu_low * hi)) if observable else np.nan,
+        "mu_low": mu_low,
+        "mu_high": hi,
+        "observable": observable,
+        "fit": "ok",
+        "mu_best": max(best, lower),
+        "shape": torque.shape,
+        "limited_by": f"steering torque: {torque.limited_by}"
+        if np.isfinite(hi)
+        else "steering torque: too little of the trail's fall (shape and trail explain any μ)",
     }
 
 

@@ -33,6 +33,7 @@ from gripsense.errors import InputError
 from gripsense.estimate.grip import axle_grip
 from gripsense.estimate.options import FrictionOptions
 from gripsense.io.nmea.align import align_channels
+from gripsense.io.steer import STEERING_TORQUE
 from gripsense.physics.kinematics import (
     antenna_sideslip,
     heading_offset_from_straight,
@@ -212,6 +213,9 @@ def motion_from_epochs(
             "heading_rad": psi - offset,
         }
     )
+    for c in STEERING_TORQUE:  # a steering-torque channel rides along (docs/physics.md §16)
+        if c in ep.columns:
+            motion[c] = ep[c].to_numpy(float)
     return motion, meta
 
 
@@ -371,6 +375,8 @@ def wheel_kinematics(
             "_sig_v_rel": sig_v_rel,
             "_sig_f_rel": sig_f_rel,
         }
+        if axle == "front":
+            frame |= {c: motion[c].to_numpy(float) for c in STEERING_TORQUE if c in motion}
         frames.append(frame | dict.fromkeys(_ESTIMATED, nan))
         wheels_done.append(wname)
     meta["wheels"] = wheels_done
@@ -394,8 +400,9 @@ def wheel_table(frames: list[dict], vehicle: Vehicle) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per wheel and sample, columns :data:`WHEEL_COLUMNS`, ``wheel`` and ``flag``
-        categorical.
+        One row per wheel and sample, columns :data:`WHEEL_COLUMNS` (then the steering-torque
+        columns of :data:`STEERING_TORQUE` the front wheels carry, NaN on the rear),
+        ``wheel`` and ``flag`` categorical.
     """
     if not frames:
         wheels = pd.DataFrame({c: [] for c in WHEEL_COLUMNS})
@@ -405,10 +412,14 @@ def wheel_table(frames: list[dict], vehicle: Vehicle) -> pd.DataFrame:
     # one table from the wheels' columns (one DataFrame, categories from their codes: the
     # per-wheel frames, their concatenation and the string → category conversion cost ~4 ms
     # of a 75 s log)
+    extra = [c for c in STEERING_TORQUE if any(c in f for f in frames)]
     cols = {
-        c: np.concatenate([np.broadcast_to(f[c], f["t_s"].shape) for f in frames])
-        for c in WHEEL_COLUMNS
-    }
+        c: np.concatenate(
+            [np.broadcast_to(f.get(c, np.nan), f["t_s"].shape).astype(float, copy=False)
+             if c in extra else np.broadcast_to(f[c], f["t_s"].shape) for f in frames]
+        )
+        for c in (*WHEEL_COLUMNS, *extra)
+    }  # fmt: skip
     cols["wheel"] = pd.Categorical.from_codes(cols["wheel"], categories=list(vehicle.wheel_offsets))
     cols["flag"] = pd.Categorical.from_codes(cols["flag"], categories=list(FLAGS))
     return pd.DataFrame(cols)

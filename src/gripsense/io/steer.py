@@ -14,6 +14,7 @@ from gripsense.errors import InputError
 from gripsense.io.table import Quantity, map_table, read_table
 
 __all__ = [
+    "STEERING_TORQUE",
     "STEER_QUANTITIES",
     "TORQUE_COLUMNS",
     "channel_at",
@@ -36,6 +37,8 @@ STEER_QUANTITIES = {
 TORQUE_COLUMNS = {"torque": "torque_nm", "assist": "assist_nm", "rack": "rack_n"}
 """Steering-torque keys -> the columns they fill (the epoch table's names): column torque and
 assist torque at the steering wheel [N m], rack force [N]."""
+STEERING_TORQUE = tuple(TORQUE_COLUMNS.values())
+"""The steering-torque columns an epoch, motion or wheel table may carry."""
 
 
 def read_steer_csv(

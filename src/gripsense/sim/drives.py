@@ -23,9 +23,11 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.data import sample_path
+from gripsense.errors import InputError
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
 from gripsense.sim.sensors import emulate_steering
+from gripsense.sim.steering_torque import emulate_torque
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams, SimResult
 
@@ -280,6 +282,7 @@ def simulate_drive(
     relaxation_length_m: float = 0.5,
     steer_scale_error: float = 0.03,
     circle: tuple[float, float] | None = None,
+    torque: bool = False,
 ) -> Drive:
     """Simulate a drive with a truth tyre and emulate the receiver and the steering channel.
 
@@ -303,6 +306,9 @@ def simulate_drive(
         Scale error of the steering channel [-].
     circle : (speed [m/s], radius [m]), optional
         A 1.5-lap circle after a 6 s lead-in instead of *maneuver*.
+    torque : bool
+        Add the column-torque channel (``torque_Nm`` at 100 Hz) to the steering table
+        (:func:`gripsense.sim.steering_torque.emulate_torque`; the vehicle's ``[steering]``).
 
     Returns
     -------
@@ -321,7 +327,7 @@ def simulate_drive(
     res = M.run(p, maneuver, mu=mu)
     return record_drive(
         res, veh, maneuver.settle_s, receiver=receiver, seed=seed,
-        steer_scale_error=steer_scale_error,
+        steer_scale_error=steer_scale_error, torque=torque,
     )  # fmt: skip
 
 
@@ -333,6 +339,7 @@ def record_drive(
     receiver: str = "v100",
     seed: int = 0,
     steer_scale_error: float = 0.03,
+    torque: bool = False,
 ) -> Drive:
     """Record a simulated drive (of any vehicle model) as a user would: the emulated compass at
     the vehicle's antenna and a steering channel, with the per-axle truth.
@@ -351,6 +358,8 @@ def record_drive(
         Random seed of the receiver and steering noise.
     steer_scale_error : float
         Scale error of the steering channel [-].
+    torque : bool
+        Add the column-torque channel at 100 Hz to the steering table (rows of either rate).
 
     Returns
     -------
@@ -360,6 +369,11 @@ def record_drive(
     ant = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     log = emulate_compass(result, ant, noise=CompassNoise.preset(receiver), seed=seed)
     steer = emulate_steering(result, scale_error=steer_scale_error, seed=seed + 7919)
+    if torque:
+        if vehicle.steering is None or not vehicle.steering_ratio:
+            raise InputError(f"{vehicle.source}: a torque channel needs a [steering] table")
+        tq = emulate_torque(result, vehicle.steering, vehicle.steering_ratio, seed=seed + 104729)
+        steer = steer.merge(tq, on="t_s", how="outer").sort_values("t_s").reset_index(drop=True)
     return Drive(
         lines=log.lines,
         steer=steer,

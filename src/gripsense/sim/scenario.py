@@ -26,6 +26,8 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
     noise_deg = 0.05                # white noise, 1 σ
     scale_error = 0.03              # the channel reads (1 + scale_error) × the true angle
     offset_deg = 0.0
+    torque = false                  # true: also torque_Nm at torque_rate_hz (the column torque
+                                    # of the vehicle file's [steering], docs/physics.md §16.4)
 
     [accelerometer]                 # optional: 50 Hz CSV for the braking test
     rate_hz = 50
@@ -267,6 +269,9 @@ def run_scenario(
         acc = ACCELEROMETER.read(r, r.table("accelerometer", required=False))
     if "steering" in doc:
         steer = STEERING_CHANNEL.read(r, r.table("steering", required=False))
+        for key in ("torque", "assist_channel"):
+            if not isinstance(steer[key], bool):
+                r.fail("steering", key, f"= {steer[key]!r}: use true or false")
 
     specs: list[tuple[dict, float]] = []
     for c in doc.get("case", []):
@@ -350,6 +355,24 @@ def _tyres(base: Path, spec, src: str, where: str, cache: dict) -> dict[str, Sim
     return out
 
 
+def _with_torque(st, res, vehicle, steer: dict, seed: int):
+    """The steering table with the column torque (and assist) rows at their own rate."""
+    from gripsense.sim.steering_torque import emulate_torque
+
+    if vehicle.steering is None or not vehicle.steering_ratio:
+        raise InputError(
+            f"{vehicle.source}: [steering] torque = true needs the vehicle file's [steering] "
+            "table (ratio, caster trail, assist)"
+        )
+    tq = emulate_torque(
+        res, vehicle.steering, vehicle.steering_ratio, rate_hz=steer["torque_rate_hz"],
+        noise_Nm=steer["torque_noise_Nm"], scale_error=steer["torque_scale_error"],
+        offset_Nm=steer["torque_offset_Nm"], assist_channel=bool(steer["assist_channel"]),
+        seed=seed,
+    )  # fmt: skip
+    return st.merge(tq, on="t_s", how="outer").sort_values("t_s").reset_index(drop=True)
+
+
 def _simulate_cases(
     out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt="nmea"
 ):
@@ -375,6 +398,8 @@ def _simulate_cases(
             )
         log_name = f"{cid}{SUFFIXES[fmt]}"
         log_columns = write_log(log.epochs, out / log_name, fmt, nmea_lines=log.lines, steer=st)
+        if st is not None and steer["torque"]:
+            st = _with_torque(st, res, vehicle, steer, seed + 104729 + i)
         key = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
         if key and key not in user_files:
             from gripsense.sim.drives import user_vehicle_toml

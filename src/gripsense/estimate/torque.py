@@ -1,0 +1,485 @@
+"""Friction from the steering torque: what the front tyres' trail says about μ before the force
+saturates (``docs/physics.md`` §16.5–16.6).
+
+Per bin of the front axle (the same clock as :func:`gripsense.estimate.bins.axle_bins`) the
+steering moment the tyres ask, M, is measured from the torque channel and compared with
+
+    M = a F + b F W τ(|F| / (μ F_z)) + o + f s,
+
+F the axle force (model-free, from the motion), F_z the axle load, W = Σ_i (F_z,i/F_z)
+(F_z,i/F_z,static)^0.75 the load weighting of the zero-slip trail (it grows with the wheel's
+load), τ a trail shape of :data:`~gripsense.physics.trail_shapes.TRAIL_FAMILY`, s the steering
+friction's state from the steer history (a Dahl model, −1…1). The nuisances a = k t_c (caster
+trail), b = k t₀ (zero-slip pneumatic trail), both times the channel's unknown scale k, the
+offset o (the sensor's and the tyres' residual moment) and the friction f enter linearly with
+Gaussian priors from the vehicle file's ``[steering]`` table, so for every μ and shape the
+least-squares profile is exact; μ's profile is the smallest over the family.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy.stats import chi2
+
+from gripsense.config import Vehicle
+from gripsense.config.vehicle import SteeringSystem
+from gripsense.constants import G0
+from gripsense.errors import InputError
+from gripsense.estimate.bins import axle_pairs, bin_starts
+from gripsense.physics.steering_balance import dahl_friction
+from gripsense.physics.trail_shapes import TRAIL_FAMILY, trail_ratio, trail_shape_ids
+
+__all__ = ["TorqueBins", "TorqueProfile", "torque_bins", "torque_profile"]
+
+TRAIL_LOAD_EXPONENT = 0.75
+"""t₀ ∝ F_z^0.75 per wheel (brush: the contact length, ~0.5; Magic Formula D_t ∝ F_z, ~1)."""
+TRAIL_FORM_REL = 0.05
+"""1σ of the trail the family's shapes miss, relative to t₀ (the shipped ``.tir`` files lie
+within 0.05 of the family at 0.5–1.5 times their nominal load)."""
+MOMENT_MODEL_REL = 0.03
+"""1σ of the steering moment the balance misses (per-wheel utilisation, inertia, damping)."""
+RESIDUAL_MOMENT_PER_N = 0.0015
+"""1σ of the tyres' residual moment (conicity, ply steer) per newton of axle load [m]."""
+UTILISATION_SPREAD_REL = 0.06
+"""1σ of a wheel's utilisation about the axle's, relative (load transfer with μ's load
+sensitivity η ≈ 0.2 puts the loaded wheel ~5–8 % nearer its limit in a 0.8 g turn)."""
+FRICTION_STATE_SD = 0.3
+"""1σ of the Dahl friction state as the binned steer history gives it [-]."""
+
+
+@dataclass
+class TorqueBins:
+    """Bins of the front axle with the measured steering moment.
+
+    Attributes
+    ----------
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    n : numpy.ndarray
+        Samples per bin.
+    force : numpy.ndarray
+        Axle force, ISO [N].
+    force_sigma : numpy.ndarray
+        Its 1σ: white noise, and the spread within a transient bin [N].
+    fz_l, fz_r : numpy.ndarray
+        Wheel loads [N].
+    moment : numpy.ndarray
+        Measured steering moment at the steering axes, ISO [N m].
+    moment_sigma : numpy.ndarray
+        Its 1σ: white noise, and the spread within a transient bin [N m].
+    friction_state : numpy.ndarray
+        Dahl state of the steering friction (−1…1) [-].
+    grip : numpy.ndarray
+        Measured grip of the bin [-].
+    fz_static : float
+        Static wheel load [N].
+    source : str
+        What the moment was made of.
+    scale_sd, offset_sd : float
+        Priors of the channel: relative 1σ of its scale [-], 1σ of its offset at the axes [N m].
+    """
+
+    t0: np.ndarray
+    t1: np.ndarray
+    n: np.ndarray
+    force: np.ndarray
+    force_sigma: np.ndarray
+    fz_l: np.ndarray
+    fz_r: np.ndarray
+    moment: np.ndarray
+    moment_sigma: np.ndarray
+    friction_state: np.ndarray
+    grip: np.ndarray
+    fz_static: float
+    source: str
+    scale_sd: float
+    offset_sd: float
+
+
+def _moment(p: dict, vehicle: Vehicle, s: SteeringSystem) -> tuple[np.ndarray, str, float, float]:
+    """The steering moment at the axes per sample, what it was made of, and the channel's
+    scale and offset priors.
+    """
+    ratio = vehicle.steering_ratio
+    gain = s.assist_gain if s.assist == "linear" else 0.0
+    if "rack_n_L" in p and np.isfinite(p["rack_n_L"]).any():
+        if s.steering_arm_m is None:
+            raise InputError(
+                f"{vehicle.source}: a rack-force channel needs [steering] steering_arm_m "
+                "(the tie-rod lever about the steering axis, m)"
+            )
+        return (
+            p["rack_n_L"] * s.steering_arm_m,
+            "rack force × steering arm",
+            s.torque_scale_uncertainty,
+            s.torque_offset_uncertainty_Nm * (ratio or 15.0) * (1.0 + gain),
+        )
+    if not ratio:
+        raise InputError(
+            f"{vehicle.source}: a steering-torque channel needs the steering ratio "
+            "([steering] ratio or [vehicle] steering_ratio)"
+        )
+    torque = p["torque_nm_L"]
+    if "assist_nm_L" in p:
+        total, what = torque + p["assist_nm_L"], "(column + assist torque) × ratio"
+        scale_sd = s.torque_scale_uncertainty
+    else:
+        total, what = torque * (1.0 + gain), "column torque × (1 + assist gain) × ratio"
+        scale_sd = float(np.hypot(s.torque_scale_uncertainty,
+                                  s.assist_gain_uncertainty * gain / (1.0 + gain)))  # fmt: skip
+    offset = s.torque_offset_uncertainty_Nm * ratio * (1.0 + gain)
+    return total * ratio, what, scale_sd, offset
+
+
+def torque_bins(
+    wheels: pd.DataFrame, vehicle: Vehicle, bin_s: float = 1.0, min_samples: int = 5
+) -> TorqueBins | None:
+    """Bin the front axle's samples that carry a steering-torque channel.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table with the steering-torque columns (:data:`gripsense.io.steer.
+        STEERING_TORQUE`) on its front wheels.
+    vehicle : Vehicle
+        Vehicle description (its ``[steering]`` table; defaults when absent).
+    bin_s : float
+        Bin length [s].
+    min_samples : int
+        Fewest samples with a torque value in a bin.
+
+    Returns
+    -------
+    TorqueBins or None
+        None when the table has no steering-torque channel or no front-axle samples.
+    """
+    if not any(c in wheels.columns for c in ("torque_nm", "rack_n")):
+        return None
+    p = axle_pairs(wheels, "front")
+    if p["t_s_L"].size == 0:
+        return None
+    s = vehicle.steering or SteeringSystem()
+    m, source, scale_sd, offset_sd = _moment(p, vehicle, s)
+    ok = np.isfinite(m)
+    if "steer_rad_L" in p:
+        ok &= np.isfinite(p["steer_rad_L"])
+    t = p["t_s_L"][ok]
+    if t.size == 0:
+        return None
+    starts, n = bin_starts(t, bin_s)
+
+    def mean(x):
+        return np.add.reduceat(x[ok], starts) / n
+
+    mm = m[ok]
+    # the channel's white noise from successive differences within each bin (robust to the
+    # slow change of the moment along the bin)
+    d2 = np.concatenate([[0.0], np.diff(mm) ** 2])
+    d2[starts] = 0.0
+    cnt = np.maximum(n - 1, 1)
+    white = np.sqrt(np.add.reduceat(d2, starts) / cnt / 2.0)
+    f_white = p["force_sigma_N_L"] + p["force_sigma_N_R"]
+    # within a transient bin force and moment change together, through dynamics the balance
+    # does not carry (the axle force's yaw-acceleration term resolved only roughly, the
+    # steering's inertia, damping and friction switching, the trail's own lag): their spread
+    # beyond the white noise is an error of the bin's point, not averaged down
+    force = p["axle_force_N_L"][ok]
+    m_spread = np.sqrt(np.maximum(mean(m * m) - mean(m) ** 2 - white**2, 0.0))
+    f_spread = np.sqrt(np.maximum(
+        np.add.reduceat(force * force, starts) / n - (np.add.reduceat(force, starts) / n) ** 2
+        - np.add.reduceat(f_white[ok] ** 2, starts) / n, 0.0))  # fmt: skip
+    f_noise = np.sqrt(np.add.reduceat(f_white[ok] ** 2, starts)) / n
+    steer = mean(p["steer_rad_L"]) if "steer_rad_L" in p else np.zeros(starts.size)
+    state = dahl_friction(steer, 1.0)
+    keep = n >= min_samples
+    t_end = np.maximum.reduceat(t, starts)
+    return TorqueBins(
+        t0=t[starts][keep],
+        t1=t_end[keep],
+        n=n[keep],
+        force=mean(p["axle_force_N_L"])[keep],
+        force_sigma=np.hypot(f_noise, f_spread)[keep],
+        fz_l=mean(p["load_N_L"])[keep],
+        fz_r=mean(p["load_N_R"])[keep],
+        moment=mean(m)[keep],
+        moment_sigma=np.hypot(white / np.sqrt(n), m_spread)[keep],
+        friction_state=state[keep],
+        grip=mean(p["grip_used_L"])[keep],
+        fz_static=vehicle.static_load("front"),
+        source=source,
+        scale_sd=scale_sd,
+        offset_sd=offset_sd,
+    )
+
+
+def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
+    """Merge runs of consecutive bins whose measured grip stays within *tol* of the run's first
+    and whose friction state keeps its sign: a steady stretch is one point of the trail curve,
+    its friction and model errors shared (not averaged down).
+
+    Parameters
+    ----------
+    tb : TorqueBins
+        The bins.
+    tol : float
+        Largest change of measured grip within a run [-].
+
+    Returns
+    -------
+    TorqueBins
+        The merged bins (sample-weighted means; white noise combined).
+    """
+    k = tb.t0.size
+    if k == 0:
+        return tb
+    gid = np.zeros(k, dtype=np.int64)
+    g0 = 0
+    for i in range(1, k):
+        same = (
+            abs(tb.grip[i] - tb.grip[g0]) <= tol
+            and np.sign(tb.friction_state[i]) == np.sign(tb.friction_state[g0])
+            and tb.t0[i] - tb.t1[i - 1] <= 2.0
+            and np.sign(tb.force[i]) == np.sign(tb.force[g0])
+        )
+        if not same:
+            g0 = i
+        gid[i] = gid[i - 1] + (0 if same else 1)
+    w = tb.n.astype(float)
+    sw = np.bincount(gid, w)
+
+    def avg(x):
+        return np.bincount(gid, w * x) / sw
+
+    def rss(x):
+        return np.sqrt(np.bincount(gid, (w * x) ** 2)) / sw
+
+    first = np.flatnonzero(np.diff(np.concatenate([[-1], gid])))
+    last = np.concatenate([first[1:] - 1, [k - 1]])
+    return TorqueBins(
+        t0=tb.t0[first],
+        t1=tb.t1[last],
+        n=np.bincount(gid, tb.n).astype(np.int64),
+        force=avg(tb.force),
+        force_sigma=rss(tb.force_sigma),
+        fz_l=avg(tb.fz_l),
+        fz_r=avg(tb.fz_r),
+        moment=avg(tb.moment),
+        moment_sigma=rss(tb.moment_sigma),
+        friction_state=avg(tb.friction_state),
+        grip=avg(tb.grip),
+        fz_static=tb.fz_static,
+        source=tb.source,
+        scale_sd=tb.scale_sd,
+        offset_sd=tb.offset_sd,
+    )
+
+
+@dataclass
+class TorqueProfile:
+    """What the steering torque says about the front axle's μ.
+
+    Attributes
+    ----------
+    nll : numpy.ndarray
+        Negative log-likelihood on the μ grid, profiled over the nuisances and the trail shapes
+        (its minimum 0) [-].
+    fit : str
+        ``ok`` or ``inconsistent`` (the family explains the moment only beyond its noise: the
+        channel is not used).
+    bins : int
+        Merged bins used.
+    shape : str
+        The trail shape at the best μ.
+    caster_trail_m, pneumatic_trail_m : float
+        The fitted caster and zero-slip pneumatic trail at the best μ (the channel's scale
+        folded in) [m].
+    offset_Nm : float
+        The fitted offset at the steering axes [N m].
+    limited_by : str
+        The nuisance furthest from its prior at the best μ, or ``trail shape``.
+    """
+
+    nll: np.ndarray
+    fit: str
+    bins: int
+    shape: str
+    caster_trail_m: float
+    pneumatic_trail_m: float
+    offset_Nm: float
+    limited_by: str
+
+
+def _zero_slip_trail(vehicle: Vehicle, s: SteeringSystem) -> float:
+    """The declared zero-slip pneumatic trail of a front tyre at its static load [m]."""
+    if s.pneumatic_trail_m is not None:
+        return s.pneumatic_trail_m
+    tyre = vehicle.tyres["front"]
+    return float(tyre.contact_length(vehicle.static_load("front") / G0)) / 6.0
+
+
+def check_channel(tb: TorqueBins, vehicle: Vehicle, name: str = "steering torque") -> None:
+    """Refuse a torque channel whose sign or size contradicts the vehicle file.
+
+    The moment per unit front force on cornering bins (measured grip ≥ 0.1) must be positive
+    (it turns the wheels back: ISO, positive to the left in a left turn) and within a factor 5
+    of the declared caster plus zero-slip trail.
+
+    Parameters
+    ----------
+    tb : TorqueBins
+        The bins.
+    vehicle : Vehicle
+        The vehicle description.
+    name : str
+        The channel, for the message.
+
+    Raises
+    ------
+    InputError
+        A flipped sign or a wrong unit, ratio or assist gain, with how to fix it.
+    """
+    use = np.abs(tb.grip) >= 0.1
+    if use.sum() < 3:
+        return
+    f, m = tb.force[use], tb.moment[use]
+    xi = float(np.sum(m * f) / np.sum(f * f))  # the lever through the origin
+    s = vehicle.steering or SteeringSystem()
+    expected = s.mechanical_trail_m + _zero_slip_trail(vehicle, s)
+    corr = float(np.corrcoef(m, f)[0, 1]) if np.std(m) > 0 and np.std(f) > 0 else 0.0
+    if xi < 0 and corr < -0.5:
+        raise InputError(
+            f"{name}: the steering moment falls as the car turns left (−{-xi * 1e3:.0f} N m per "
+            "kN of front force): the channel's sign is flipped; give it as torque=-COLUMN "
+            "(--steer-columns) so that steering left reads positive"
+        )
+    if not 0.2 <= xi / expected <= 5.0:
+        raise InputError(
+            f"{name}: {tb.source} gives {xi * 1e3:.0f} N m per kN of front force, the vehicle "
+            f"file ~{expected * 1e3:.0f} (caster + pneumatic trail); check the channel's unit "
+            "(N m, not N cm or kN m), [steering] ratio and assist_gain"
+        )
+
+
+def torque_profile(
+    tb: TorqueBins, vehicle: Vehicle, mu_grid: np.ndarray, *, tol: float = 0.03
+) -> TorqueProfile:
+    """The profile likelihood of the front axle's μ from the steering moment (``docs/physics.md``
+    §16.6).
+
+    Parameters
+    ----------
+    tb : TorqueBins
+        The bins (:func:`torque_bins`).
+    vehicle : Vehicle
+        Vehicle description: ``[steering]`` priors, the front tyre's shape and contact length.
+    mu_grid : numpy.ndarray
+        μ values [-].
+    tol : float
+        Grip tolerance of a steady run (:func:`merge_torque_bins`) [-].
+
+    Returns
+    -------
+    TorqueProfile
+        The profile on *mu_grid* and the nuisances at its best μ.
+    """
+    s = vehicle.steering or SteeringSystem()
+    mb = merge_torque_bins(tb, tol)
+    k = mb.t0.size
+    g = np.asarray(mu_grid, float)
+    shapes = trail_shape_ids(vehicle.tyres["front"].shape)
+    if k == 0:
+        return TorqueProfile(np.zeros(g.size), "no data", 0, "", np.nan, np.nan, np.nan, "")
+    ratio = vehicle.steering_ratio or 15.0
+    t00 = _zero_slip_trail(vehicle, s)
+    tc0 = s.mechanical_trail_m
+    fz = mb.fz_l + mb.fz_r
+    w = (mb.fz_l * (mb.fz_l / mb.fz_static) ** TRAIL_LOAD_EXPONENT
+         + mb.fz_r * (mb.fz_r / mb.fz_static) ** TRAIL_LOAD_EXPONENT) / fz  # fmt: skip
+    f = mb.force
+    y = mb.moment
+    # noise of each bin: the channel's white noise, the force's (through the lever), the trail
+    # the family misses, the balance's own fidelity, the friction state's error
+    mc = s.friction_Nm * ratio
+    sig2 = (
+        mb.moment_sigma**2
+        + ((tc0 + t00 * w) * mb.force_sigma) ** 2
+        + (TRAIL_FORM_REL * t00 * w * f) ** 2
+        + (MOMENT_MODEL_REL * (tc0 + t00 * w) * f) ** 2
+        + (FRICTION_STATE_SD * mc) ** 2
+    )
+    # priors of θ = (a, b, o, f): a = k t_c, b = k t₀ correlated through the scale k
+    sd_t0 = t00 * s.pneumatic_trail_uncertainty
+    cov = np.zeros((4, 4))
+    cov[0, 0] = s.mechanical_trail_uncertainty_m**2 + (tc0 * tb.scale_sd) ** 2
+    cov[1, 1] = sd_t0**2 + (t00 * tb.scale_sd) ** 2
+    cov[0, 1] = cov[1, 0] = tc0 * t00 * tb.scale_sd**2
+    cov[2, 2] = tb.offset_sd**2 + (RESIDUAL_MOMENT_PER_N * 2.0 * mb.fz_static) ** 2
+    cov[3, 3] = (s.friction_uncertainty_Nm * ratio) ** 2 + 1e-9
+    prec = np.linalg.inv(cov)
+    th0 = np.array([tc0, t00, 0.0, mc])
+    # regressors: F, F W τ(u), 1, s; only the second depends on μ and the shape
+    u = np.abs(f)[None, :] / (g[:, None] * fz[None, :])  # (G, K)
+    fam = [TRAIL_FAMILY[i] for i in shapes]
+    tau = np.stack([trail_ratio(u, sh.p, sh.tau1) for sh in fam], axis=1)  # (G, S, K)
+    z = f * w * tau
+    # the axle's utilisation is not each wheel's: the loaded wheel, whose μ falls with its
+    # load, works nearer its limit and carries more of the trail — an error of u that the
+    # trail's slope turns into one of the moment (it depends on μ and the shape, so the
+    # likelihood keeps its normalisation)
+    slope = np.stack(
+        [(1.0 - sh.tau1) * sh.p * np.clip(u, 0.0, 1.0) ** (sh.p - 1.0) for sh in fam], axis=1
+    )
+    sig2_u = (t00 * w * f * slope * UTILISATION_SPREAD_REL * np.clip(u, 0.0, 1.0)[:, None]) ** 2
+    iw = 1.0 / (sig2 + sig2_u)  # (G, S, K)
+    x_fixed = np.stack([f, np.ones(k), mb.friction_state], axis=1)  # (K, 3) for a, o, f
+    a_ff = np.einsum("ki,gsk,kj->gsij", x_fixed, iw, x_fixed)
+    r_f = np.einsum("ki,gsk,k->gsi", x_fixed, iw, y)
+    a_zz = np.einsum("gsk,gsk,gsk->gs", z, iw, z)
+    a_zf = np.einsum("gsk,gsk,kj->gsj", z, iw, x_fixed)
+    r_z = np.einsum("gsk,gsk,k->gs", z, iw, y)
+    gs = z.shape[:2]  # the unknowns in the order (a, o, f, b)
+    A = np.zeros((*gs, 4, 4))
+    A[..., :3, :3] = a_ff
+    A[..., :3, 3] = a_zf
+    A[..., 3, :3] = a_zf
+    A[..., 3, 3] = a_zz
+    R = np.zeros((*gs, 4))
+    R[..., :3] = r_f
+    R[..., 3] = r_z
+    # the prior in the (a, o, f, b) order
+    perm = np.array([0, 2, 3, 1])
+    P = prec[np.ix_(perm, perm)]
+    t0p = th0[perm]
+    A = A + P
+    R = R + P @ t0p
+    th = np.linalg.solve(A, R[..., None])[..., 0]
+    chi = (
+        np.einsum("gsk,k->gs", iw, y * y)
+        + float(t0p @ P @ t0p)
+        - np.einsum("gsi,gsi->gs", R, th)
+        - np.sum(np.log(iw), axis=2)  # the noise's normalisation, which moves with μ
+    )
+    best_s = np.argmin(chi, axis=1)
+    prof = chi[np.arange(g.size), best_s]
+    im = int(np.argmin(prof))
+    fit = "ok"
+    chi_fit = prof[im] + float(np.sum(np.log(iw[im, best_s[im]])))  # χ² alone
+    if chi_fit > chi2.ppf(0.999, max(k, 1)) + 4.0:
+        fit = "inconsistent"
+    tb_best = th[im, best_s[im]]  # (a, o, f, b)
+    z_sd = (tb_best - t0p) / np.sqrt(np.diag(np.linalg.inv(P)))
+    names = ("caster trail", "torque offset", "steering friction", "pneumatic trail")
+    limited = names[int(np.argmax(np.abs(z_sd)))] if np.max(np.abs(z_sd)) > 1.0 else "trail shape"
+    return TorqueProfile(
+        nll=0.5 * (prof - prof.min()),
+        fit=fit,
+        bins=k,
+        shape=fam[int(best_s[im])].name,
+        caster_trail_m=float(tb_best[0]),
+        pneumatic_trail_m=float(tb_best[3]),
+        offset_Nm=float(tb_best[1]),
+        limited_by=limited,
+    )

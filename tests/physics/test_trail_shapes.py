@@ -1,0 +1,63 @@
+"""The trail-shape family (docs/physics.md §16.5) against the tyres it must cover: the shipped
+Magic Formula files' own aligning moments (MFeval-exact, tests/physics/test_magic_formula.py) and
+the brush closed form — none of them used to build it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gripsense.config.tyre_files import load_mf_tyre
+from gripsense.physics.brush import aligning_moment, lateral_force
+from gripsense.physics.trail_shapes import TRAIL_FAMILY, trail_ratio, trail_shape_ids
+
+TIR = Path(__file__).parents[1] / "data" / "tyre" / "tir"
+U = np.linspace(0.05, 0.97, 40)
+
+
+def _closest(tau: np.ndarray, ids=None) -> float:
+    members = [TRAIL_FAMILY[i] for i in (range(len(TRAIL_FAMILY)) if ids is None else ids)]
+    return min(float(np.max(np.abs(trail_ratio(U, s.p, s.tau1) - tau))) for s in members)
+
+
+def _mf_trail(path: Path, load_factor: float) -> np.ndarray:
+    """t/t₀ of a file over the utilisation of its rising side (left and right averaged, which
+    removes the residual moment's and the shifts' asymmetry)."""
+    tyre = load_mf_tyre(path)
+    fz = tyre.params["FNOMIN"] * load_factor
+    a = np.deg2rad(np.linspace(0.01, 25, 5000))
+    neg, pos = tyre.aligning_moment(fz, 0, -a), tyre.aligning_moment(fz, 0, a)
+    fy, mz = 0.5 * (neg.fy - pos.fy), 0.5 * (neg.mz - pos.mz)
+    ip = int(np.argmax(fy))
+    xi = (mz / fy)[: ip + 1]
+    return np.interp(U, fy[: ip + 1] / fy[ip], xi / xi[0])
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["FSAE_Defaults", "MagicFormula61_Paramerters", "PacejkaBook_Defaults", "Sedan_Pac02Tire",
+     "mf_185_80R14", "335_65R22_5_G275MSA_40psi"],
+)  # fmt: skip
+@pytest.mark.parametrize("load_factor", [0.5, 1.0, 1.5])
+def test_mf_files_lie_within_the_form_error(name, load_factor):
+    """Every file at 0.5–1.5 × its nominal load is within 0.065 of a member with p ≥ 1.9 (the
+    ``magic-formula`` family); the estimator's TRAIL_FORM_REL (0.05 of t₀) is that error's 1σ."""
+    tau = _mf_trail(TIR / f"{name}.tir", load_factor)
+    assert _closest(tau, trail_shape_ids("magic-formula")) <= 0.065
+
+
+def test_brush_trail_is_in_the_brush_family():
+    mu, fz, c, a = 0.9, 4000.0, 60000.0, 0.07
+    alpha = np.arctan(np.linspace(1e-4, 0.999, 400) * 3 * mu * fz / c)
+    u = lateral_force(mu, alpha, fz, c) / (mu * fz)
+    tau = np.interp(U, u, aligning_moment(mu, alpha, fz, c, a)[1] / (a / 3))
+    assert _closest(tau, trail_shape_ids("brush")) <= 0.06
+    assert _closest(tau, trail_shape_ids("magic-formula")) > 0.1  # a real tyre is not a brush
+
+
+def test_family_limits():
+    assert trail_ratio(0.0, 3.0, 0.2) == 1.0 and trail_ratio(1.0, 3.0, 0.2) == pytest.approx(0.2)
+    assert trail_ratio(1.7, 3.0, 0.2) == trail_ratio(1.0, 3.0, 0.2)  # past the peak: clipped
+    assert len(trail_shape_ids("any")) == len(TRAIL_FAMILY)
