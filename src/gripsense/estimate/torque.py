@@ -46,6 +46,11 @@ RESIDUAL_MOMENT_PER_N = 0.0015
 UTILISATION_SPREAD_REL = 0.06
 """1σ of a wheel's utilisation about the axle's, relative (load transfer with μ's load
 sensitivity η ≈ 0.2 puts the loaded wheel ~5–8 % nearer its limit in a 0.8 g turn)."""
+PEAK_FORM_FROM = 0.8
+PEAK_FORM_REL = 0.15
+"""1σ of the trail near and past the force's peak, relative to t₀: rising from 0 at the axle's
+utilisation PEAK_FORM_FROM to PEAK_FORM_REL at 1 (the shipped files' trails at their peak span
+−0.1…0.45 of t₀ and keep falling past it)."""
 FRICTION_STATE_SD = 0.3
 """1σ of the Dahl friction state as the binned steer history gives it [-]."""
 
@@ -421,25 +426,39 @@ def torque_profile(
     prec = np.linalg.inv(cov)
     th0 = np.array([tc0, t00, 0.0, mc])
     # regressors: F, F W τ(u), 1, s; only the second depends on μ and the shape
-    u = np.abs(f)[None, :] / (g[:, None] * fz[None, :])  # (G, K)
+    u = np.abs(f)[None, :] / (g[:, None] * fz[None, :])  # (G, K): the axle's utilisation
     fam = [TRAIL_FAMILY[i] for i in shapes]
-    tau = np.stack([trail_ratio(u, sh.p, sh.tau1) for sh in fam], axis=1)  # (G, S, K)
+    # each wheel at its own utilisation: the force shared by load, μ falling with the load
+    # (μ_i ∝ F_z,i^−η), so u_i = u (F_z,i/F̄_z)^η — the loaded wheel, which carries most of the
+    # trail's moment, works nearer its limit
+    eta = vehicle.tyres["front"].friction_load_sensitivity
+    fz_mean = 0.5 * fz
+    tau = np.zeros((g.size, len(fam), k))
+    for fzi in (mb.fz_l, mb.fz_r):
+        share = fzi / fz * (fzi / mb.fz_static) ** TRAIL_LOAD_EXPONENT
+        ui = u * (np.maximum(fzi, 1.0) / fz_mean) ** eta
+        tau += share * np.stack([trail_ratio(ui, sh.p, sh.tau1) for sh in fam], axis=1)
+    tau /= w  # (G, S, K): the load-weighted trail ratio of the axle
     z = f * w * tau
-    # the axle's utilisation is not each wheel's: the loaded wheel, whose μ falls with its
-    # load, works nearer its limit and carries more of the trail — an error of u that the
-    # trail's slope turns into one of the moment (it depends on μ and the shape, so the
-    # likelihood keeps its normalisation)
-    slope = np.stack(
-        [(1.0 - sh.tau1) * sh.p * np.clip(u, 0.0, 1.0) ** (sh.p - 1.0) for sh in fam], axis=1
+    # errors of the trail that grow towards the limit, weighted by where the bin can be at
+    # most — u ≤ |grip|/max|grip| since μ is at least the largest measured grip — so that no
+    # weight depends on μ: the wheels' utilisations spread about the axle's (load transfer, μ's
+    # load sensitivity), which the trail's slope turns into an error of the moment, and near
+    # the peak, where the family ends but the real trail keeps falling (on some tyres below
+    # zero), its shape is known less
+    u_up = np.clip(np.abs(mb.grip) / max(float(np.max(np.abs(mb.grip))), 1e-9), 0.0, 1.0)
+    slope_rep = (1.0 - 0.2) * 3.0 * u_up**2.0  # a middle member (p 3, τ₁ 0.2)
+    near_peak = np.clip((u_up - PEAK_FORM_FROM) / (1.0 - PEAK_FORM_FROM), 0.0, 1.0)
+    sig2 = sig2 + (t00 * w * f) ** 2 * (
+        (UTILISATION_SPREAD_REL * u_up * slope_rep) ** 2 + (PEAK_FORM_REL * near_peak) ** 2
     )
-    sig2_u = (t00 * w * f * slope * UTILISATION_SPREAD_REL * np.clip(u, 0.0, 1.0)[:, None]) ** 2
-    iw = 1.0 / (sig2 + sig2_u)  # (G, S, K)
+    iw = 1.0 / sig2
     x_fixed = np.stack([f, np.ones(k), mb.friction_state], axis=1)  # (K, 3) for a, o, f
-    a_ff = np.einsum("ki,gsk,kj->gsij", x_fixed, iw, x_fixed)
-    r_f = np.einsum("ki,gsk,k->gsi", x_fixed, iw, y)
-    a_zz = np.einsum("gsk,gsk,gsk->gs", z, iw, z)
-    a_zf = np.einsum("gsk,gsk,kj->gsj", z, iw, x_fixed)
-    r_z = np.einsum("gsk,gsk,k->gs", z, iw, y)
+    a_ff = x_fixed.T @ (iw[:, None] * x_fixed)
+    r_f = x_fixed.T @ (iw * y)
+    a_zz = np.einsum("gsk,k,gsk->gs", z, iw, z)
+    a_zf = np.einsum("gsk,k,kj->gsj", z, iw, x_fixed)
+    r_z = np.einsum("gsk,k,k->gs", z, iw, y)
     gs = z.shape[:2]  # the unknowns in the order (a, o, f, b)
     A = np.zeros((*gs, 4, 4))
     A[..., :3, :3] = a_ff
@@ -456,18 +475,12 @@ def torque_profile(
     A = A + P
     R = R + P @ t0p
     th = np.linalg.solve(A, R[..., None])[..., 0]
-    chi = (
-        np.einsum("gsk,k->gs", iw, y * y)
-        + float(t0p @ P @ t0p)
-        - np.einsum("gsi,gsi->gs", R, th)
-        - np.sum(np.log(iw), axis=2)  # the noise's normalisation, which moves with μ
-    )
+    chi = float(np.sum(iw * y * y)) + float(t0p @ P @ t0p) - np.einsum("gsi,gsi->gs", R, th)
     best_s = np.argmin(chi, axis=1)
     prof = chi[np.arange(g.size), best_s]
     im = int(np.argmin(prof))
     fit = "ok"
-    chi_fit = prof[im] + float(np.sum(np.log(iw[im, best_s[im]])))  # χ² alone
-    if chi_fit > chi2.ppf(0.999, max(k, 1)) + 4.0:
+    if prof[im] > chi2.ppf(0.999, max(k, 1)) + 4.0:
         fit = "inconsistent"
     tb_best = th[im, best_s[im]]  # (a, o, f, b)
     z_sd = (tb_best - t0p) / np.sqrt(np.diag(np.linalg.inv(P)))
