@@ -121,3 +121,19 @@ def test_simulate_a_torque_channel_and_estimate_with_it(tmp_path):
     assert r.returncode == 2
     assert "sign is flipped" in r.stderr and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_the_torque_rides_inside_an_mdf4_log(tmp_path):
+    """simulate --format mf4 puts the column torque in the MDF4 file at its own rate
+    (SteeringTorque); the case index's --columns read it back and friction uses it."""
+    sc = tmp_path / "sc.toml"
+    sc.write_text(TORQUE_SCENARIO)
+    out = tmp_path / "sim"
+    r = run("simulate", str(sc), "-o", str(out), "--format", "mf4")
+    assert r.returncode == 0, r.stderr
+    c = pd.read_csv(out / "cases.csv").iloc[0]
+    assert "torque=SteeringTorque" in c["columns"]
+    r = run("friction", str(out / c["log"]), "--vehicle", str(out / c["vehicle_file"]),
+            "--columns", c["columns"], "-o", str(tmp_path / "fr"))  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert "steering torque" in r.stdout

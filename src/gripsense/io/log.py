@@ -265,7 +265,8 @@ def write_log(
     nmea_lines : list of str, optional
         The receiver's NMEA sentences (needed for ``nmea``; interleaved in ``ubx``).
     steer : pandas.DataFrame, optional
-        ``t_s`` and ``road_wheel_deg``: a steering channel inside a VBOX or MDF4 file.
+        ``t_s`` and ``road_wheel_deg``: a steering channel inside a VBOX or MDF4 file (and
+        ``torque_Nm``, the column torque inside an MDF4 file; rows of several rates).
 
     Returns
     -------
@@ -293,7 +294,9 @@ def write_log(
         from gripsense.io.mdf import mdf_columns, write_mdf
 
         write_mdf(epochs, path, steer=steer)
-        return mdf_columns(steering=steer is not None)
+        return mdf_columns(
+            steering=steer is not None, torque=steer is not None and "torque_Nm" in steer
+        )
     raise InputError(f"--format {fmt!r}: use one of {', '.join(WRITABLE)}")
 
 

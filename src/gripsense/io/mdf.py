@@ -36,6 +36,7 @@ MDF_CHANNELS = {
     "alt": ("GNSS_Height", "m"),
     "yaw_rate": ("GNSS_YawRate", "deg/s"),
     "steer": ("RoadWheelAngle", "deg"),
+    "torque": ("SteeringTorque", "Nm"),
 }
 """Channel names and units :func:`write_mdf` (``gripsense simulate --format mf4``) uses."""
 
@@ -153,15 +154,25 @@ def _check_records(mdf, name: str) -> None:
             )
 
 
-def mdf_columns(*, steering: bool = False) -> str:
+def mdf_columns(*, steering: bool = False, torque: bool = False) -> str:
     """The ``--columns`` that read a file of :func:`write_mdf`.
 
     Parameters
     ----------
     steering : bool
         Include the road-wheel angle channel.
+    torque : bool
+        Include the steering-torque channel.
+
+    Returns
+    -------
+    str
+        ``key=CHANNEL,…``.
     """
-    keys = [k for k in MDF_CHANNELS if steering or k != "steer"]
+    keys = [
+        k for k in MDF_CHANNELS
+        if (steering or k != "steer") and (torque or k != "torque")
+    ]  # fmt: skip
     return ",".join(f"{k}={MDF_CHANNELS[k][0]}" for k in keys)
 
 
@@ -182,7 +193,8 @@ def write_mdf(
         Output file.
     steer : pandas.DataFrame, optional
         ``t_s`` (the epochs' clock) and ``road_wheel_deg`` (ISO, left positive): a channel at
-        its own rate (``RoadWheelAngle``).
+        its own rate (``RoadWheelAngle``); with ``torque_Nm``, the column torque as a channel
+        of its own rate too (``SteeringTorque``; the rows where each is given).
     """
     asammdf = require("asammdf", "writing MDF4")
     t_utc = pd.DatetimeIndex(epochs["time_utc"])
@@ -205,9 +217,13 @@ def write_mdf(
     mdf.append(gnss, comment="GNSS compass")
     if steer is not None:
         t0 = float(epochs["t_s"].iloc[0])
-        ts = steer["t_s"].to_numpy(float) - t0
-        n, u = MDF_CHANNELS["steer"]
-        sw = steer["road_wheel_deg"].to_numpy(float)
-        mdf.append([asammdf.Signal(sw, ts, name=n, unit=u)], comment="steering")
+        for key, col in (("steer", "road_wheel_deg"), ("torque", "torque_Nm")):
+            if col not in steer:
+                continue
+            x = steer[col].to_numpy(float)
+            ok = np.isfinite(x)
+            n, u = MDF_CHANNELS[key]
+            ts = steer["t_s"].to_numpy(float)[ok] - t0
+            mdf.append([asammdf.Signal(x[ok], ts, name=n, unit=u)], comment=key)
     mdf.save(str(path), overwrite=True)
     mdf.close()

@@ -436,8 +436,9 @@ def write_vbo(
               "True Heading", "Yaw Rate"]  # fmt: skip
     units = []
     if steer is not None:
-        a = np.interp(epochs["t_s"].to_numpy(float), steer["t_s"].to_numpy(float),
-                      steer["road_wheel_deg"].to_numpy(float))  # fmt: skip
+        ok = steer["road_wheel_deg"].notna().to_numpy()  # a table of several rates
+        a = np.interp(epochs["t_s"].to_numpy(float), steer["t_s"].to_numpy(float)[ok],
+                      steer["road_wheel_deg"].to_numpy(float)[ok])  # fmt: skip
         cols["RoadWheelAngle"] = [f"{x:+.6E}" for x in a]
         header.append("RoadWheelAngle")
         units.append("deg")

@@ -396,10 +396,10 @@ def _simulate_cases(
                 offset_deg=steer["offset_deg"],
                 seed=seed + 7919 + i,
             )
-        log_name = f"{cid}{SUFFIXES[fmt]}"
-        log_columns = write_log(log.epochs, out / log_name, fmt, nmea_lines=log.lines, steer=st)
         if st is not None and steer["torque"]:
             st = _with_torque(st, res, vehicle, steer, seed + 104729 + i)
+        log_name = f"{cid}{SUFFIXES[fmt]}"
+        log_columns = write_log(log.epochs, out / log_name, fmt, nmea_lines=log.lines, steer=st)
         key = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
         if key and key not in user_files:
             from gripsense.sim.drives import user_vehicle_toml
