@@ -499,6 +499,48 @@ def torque_report(df: pd.DataFrame) -> None:
     print("\nwhat limits the torque estimate\n" + what.to_string())
 
 
+def torque_plot(df: pd.DataFrame, path: str) -> None:
+    """The figure of ``docs/friction.md``: per band, how often an upper end is given, and each
+    axle-case's range over the true μ, with the torque and without."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a0, a1) = plt.subplots(1, 2, figsize=(12, 4.5))
+    labels = [f"{lo:.1f}–{min(hi, 1.0):.1f}" for lo, hi in TORQUE_BANDS]
+    x = np.arange(len(TORQUE_BANDS))
+    for j, (est, colour) in enumerate((("compass", "0.6"), ("torque", "C0"))):
+        share = []
+        for lo, hi in TORQUE_BANDS:
+            d = df[(df["estimate"] == est) & (df["utilisation_max"] >= lo)
+                   & (df["utilisation_max"] < hi)]  # fmt: skip
+            share.append(float(np.isfinite(d["mu_high"]).mean()) if len(d) else np.nan)
+        a0.bar(x + (j - 0.5) * 0.38, share, 0.38, color=colour,
+               label="compass only" if est == "compass" else "compass + torque")  # fmt: skip
+        # the axle-cases the torque bounds: their range with it and without
+        key = ["tyre", "vehicle", "mu_road", "kind", "target_u"]
+        bounded = df[(df["estimate"] == "torque") & np.isfinite(df["mu_high"])][key]
+        d = df[df["estimate"] == est].merge(bounded, on=key)
+        hi = np.minimum(d["mu_high"] / d["mu_true"], 3.0)
+        lo = d["mu_low"] / d["mu_true"]
+        off = (j - 0.5) * 0.003
+        a1.vlines(d["utilisation_max"] + off, lo, hi, color=colour, lw=1.0, alpha=0.7)
+    a0.set_xticks(x, labels)
+    a0.set_xlabel("largest utilisation of the front axle")
+    a0.set_ylabel("share of axle-cases with an upper end")
+    a0.legend()
+    a1.axhline(1.0, color="k", lw=0.8)
+    a1.set_ylim(0.3, 3.05)
+    a1.set_xlabel("largest utilisation of the front axle")
+    a1.set_ylabel("stated range / true μ (upper end cut at 3)")
+    a1.set_title("the axle-cases the torque bounds: without it (grey), with it (blue)",
+                 fontsize=9)  # fmt: skip
+    fig.suptitle("MF truth tyres, circles and sweeps (benchmarks/accuracy.py --torque)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
 def scores(df: pd.DataFrame) -> pd.Series:
     """The issue's numbers for a set of axle-cases."""
     obs = df["observable"].astype(bool)
@@ -595,6 +637,8 @@ def main() -> None:
             df.to_csv(args.csv, index=False)
         pd.set_option("display.width", 200)
         torque_report(df)
+        if args.plot:
+            torque_plot(df, args.plot)
         return
     if "ideal" in args.receivers.split(","):
         from gripsense.config.receiver import RECEIVERS as PRESETS
