@@ -336,9 +336,22 @@ TORQUE_U = (0.3, 0.45, 0.55, 0.65, 0.75, 0.85, 0.95, 1.0)
 understeering car reaches a little more)."""
 
 
-def jobs_torque(quick: bool, shape: str = "") -> list[dict]:
-    """Steady circles and constant-radius sweeps to utilisation 0.3–1.0 on MF tyres."""
+def jobs_torque(quick: bool, shape: str = "", truth: str = "gripsense") -> list[dict]:
+    """Steady circles and constant-radius sweeps to utilisation 0.3–1.0 on MF tyres (or on
+    CommonRoad's multi-body car, an MF file's trail added to its forces)."""
     out = []
+    if truth == "commonroad-mb":
+        rng = np.random.default_rng(271)
+        for tyre in ("mf-sedan",) if quick else ("mf-sedan", "mf61"):  # the trail added
+            for mu in (0.5, 0.9) if quick else (0.3, 0.5, 0.7, 0.9):
+                for kind in ("circle", "sweep"):
+                    for u in TORQUE_U[1::2] if quick else TORQUE_U[:-1]:
+                        out.append({"truth": truth, "tyre": tyre, "vehicle": "commonroad-2",
+                                    "mu_road": mu, "kind": kind, "target_u": u,
+                                    "receiver": "white-0.3", "shape": shape,
+                                    "stiffness_error": float(rng.uniform(-0.1, 0.1)),
+                                    "seed": len(out) + 1})  # fmt: skip
+        return out
     rng = np.random.default_rng(27)
     mus = (0.5, 0.9) if quick else (0.3, 0.5, 0.7, 0.9, 1.1)
     vehicles = ("sedan",) if quick else ("sedan", "sports")
@@ -382,21 +395,35 @@ def one_torque(job: dict) -> list[dict]:
     from gripsense.sim.steering_torque import emulate_torque
     from gripsense.sim.vehicle import SimParams
 
-    tv = truth_vehicle(job["vehicle"])
-    t = truth_tyre(job["tyre"])
-    p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
     radius = 40.0
     v_lim = float(np.sqrt(job["mu_road"] * 9.80665 * radius))
     v = v_lim * np.sqrt(job["target_u"])
-    if job["kind"] == "circle":
-        m = M.circle(v, radius, laps=20.0 * v / (2 * np.pi * radius), settle_s=5.0, params=p)
+    if job.get("truth") == "commonroad-mb":
+        from gripsense.sim import commonroad as CR
+
+        tv = CR.commonroad_vehicle()
+        plan = (CR.cr_circle(v, radius, steady_s=20.0) if job["kind"] == "circle"
+                else CR.cr_constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15))  # fmt: skip
+        res = CR.commonroad_result(plan, job["mu_road"], model="mb")
+        d = record_drive(res, tv, plan.settle_s, receiver=job["receiver"], seed=job["seed"])
+        tq = emulate_torque(
+            res, tv.steering, tv.steering_ratio, scale_error=0.03, offset_Nm=0.2,
+            seed=job["seed"] + 104729, trail_tyre=truth_tyre(job["tyre"]),
+        )  # fmt: skip
+        uv = CR.commonroad_vehicle(stiffness_error=job["stiffness_error"])
     else:
-        m = M.constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15, params=p)
-    res = M.run(p, m, mu=job["mu_road"])
-    d = record_drive(res, tv, m.settle_s, receiver=job["receiver"], seed=job["seed"])
-    tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03, offset_Nm=0.2,
-                        seed=job["seed"] + 104729)  # fmt: skip
-    uv = user_vehicle(tv, job["tyre"], stiffness_error=job["stiffness_error"])
+        tv = truth_vehicle(job["vehicle"])
+        t = truth_tyre(job["tyre"])
+        p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
+        if job["kind"] == "circle":
+            m = M.circle(v, radius, laps=20.0 * v / (2 * np.pi * radius), settle_s=5.0, params=p)
+        else:
+            m = M.constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15, params=p)
+        res = M.run(p, m, mu=job["mu_road"])
+        d = record_drive(res, tv, m.settle_s, receiver=job["receiver"], seed=job["seed"])
+        tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03,
+                            offset_Nm=0.2, seed=job["seed"] + 104729)  # fmt: skip
+        uv = user_vehicle(tv, job["tyre"], stiffness_error=job["stiffness_error"])
     if job.get("shape"):
         uv = dataclasses.replace(
             uv, tyres={k: dataclasses.replace(t, shape=job["shape"]) for k, t in uv.tyres.items()}
@@ -627,7 +654,7 @@ def main() -> None:
     ap.add_argument("--shape", default="", help="--torque: the tyre shape the user declares")
     args = ap.parse_args()
     if args.torque:
-        todo = jobs_torque(args.quick, args.shape)
+        todo = jobs_torque(args.quick, args.shape, args.truth)
         t0 = time.perf_counter()
         with ProcessPoolExecutor(args.workers) as ex:
             rows = [r for part in ex.map(one_torque, todo, chunksize=2) for r in part]

@@ -111,3 +111,27 @@ def test_a_tyre_without_aligning_moment_is_refused():
     )
     with pytest.raises(InputError, match="parabolic"):
         aligning_moments(dataclasses.replace(res, params=quartic))
+
+
+def test_trail_by_utilisation_is_the_files():
+    """The trail added to another vehicle model's forces: at a utilisation u of the file's own
+    peak, the MF equations' M_z/F_y where the pure-slip force reaches u of its peak (left and
+    right averaged), within 3 %."""
+    from scipy.optimize import brentq
+
+    mf = load_mf_tyre(sample_path("tyres/Sedan_Pac02Tire.tir"))
+    st = truth_tyre("mf-sedan")
+    fz = 4000.0
+    a = np.deg2rad(np.linspace(0.01, 25, 5000))
+
+    def sym(alpha):
+        neg, pos = mf.aligning_moment(fz, 0, -alpha), mf.aligning_moment(fz, 0, alpha)
+        return 0.5 * (neg.fy - pos.fy), 0.5 * (pos.mz - neg.mz)  # both positive
+
+    fy_all, _ = sym(a)
+    peak = float(fy_all.max())
+    a_peak = float(a[np.argmax(fy_all)])
+    for u in (0.3, 0.6, 0.9):
+        alpha = brentq(lambda x, u=u: sym(x)[0] / peak - u, 1e-5, a_peak)
+        fy, mz = sym(alpha)
+        assert st.trail_by_utilisation(u, fz) == pytest.approx(mz / fy, rel=0.03)

@@ -41,6 +41,7 @@ from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 __all__ = [
     "DrivePlan",
     "commonroad_drive",
+    "commonroad_result",
     "commonroad_vehicle",
     "cr_circle",
     "cr_constant_radius",
@@ -449,6 +450,29 @@ def _simulate_mb(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult
     )
 
 
+def commonroad_result(plan: DrivePlan, mu: float, *, model: str = "std") -> SimResult:
+    """Simulate *plan* with one of CommonRoad's models (the truth per wheel as it computes it).
+
+    Parameters
+    ----------
+    plan : DrivePlan
+        :func:`cr_circle`, :func:`cr_constant_radius` or :func:`cr_ramp_steer`.
+    mu : float
+        Road friction [-].
+    model : {"std", "mb"}
+        The single-track drift model or the multi-body model.
+
+    Returns
+    -------
+    SimResult
+        The drive (its ``params`` describe the vehicle as :func:`commonroad_vehicle` does).
+    """
+    simulate = {"std": _simulate, "mb": _simulate_mb}.get(model)
+    if simulate is None:
+        raise ValueError(f"model={model!r}: use 'std' or 'mb'")
+    return simulate(plan, mu)
+
+
 def commonroad_drive(
     plan: DrivePlan,
     mu: float,
@@ -483,10 +507,7 @@ def commonroad_drive(
     Drive
         The recording and the truth.
     """
-    simulate = {"std": _simulate, "mb": _simulate_mb}.get(model)
-    if simulate is None:
-        raise ValueError(f"model={model!r}: use 'std' or 'mb'")
     return record_drive(
-        simulate(plan, mu), commonroad_vehicle(), plan.settle_s, receiver=receiver, seed=seed,
-        steer_scale_error=steer_scale_error,
+        commonroad_result(plan, mu, model=model), commonroad_vehicle(), plan.settle_s,
+        receiver=receiver, seed=seed, steer_scale_error=steer_scale_error,
     )  # fmt: skip

@@ -10,7 +10,11 @@ Per front wheel the aligning moment of the truth tyre (``docs/physics.md`` §16.
   steady-state force, u = |F_ss|/(μ F_z), with the wheel's own contact half-length;
 
 then delayed like the force, over the relaxation length (a first-order lag of time constant
-σ/|U|). The steering moment M_s = Σ (t_c F_y − M_z) and seed 003's eq. (3) with the assist, the
+σ/|U|). A drive of another vehicle model (CommonRoad's) gets an aligning moment added: a
+``.tir`` file's own trail at the wheel's utilisation and load (:meth:`gripsense.sim.tyres.
+SimTyre.trail_by_utilisation`), M_z = −t F_y.
+
+The steering moment M_s = Σ (t_c F_y − M_z) and seed 003's eq. (3) with the assist, the
 kingpins' inertia and damping and a Dahl friction give the column torque
 (:func:`gripsense.physics.steering_balance.column_torque`); the sensor adds its scale error,
 offset and white noise.
@@ -25,6 +29,7 @@ from gripsense.config.vehicle import SteeringSystem
 from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.physics.steering_balance import column_torque, dahl_friction, steering_moment
+from gripsense.sim.tyres import SimTyre
 from gripsense.sim.vehicle import SimResult
 
 __all__ = ["aligning_moments", "emulate_torque"]
@@ -44,15 +49,20 @@ def _lag(x: np.ndarray, t: np.ndarray, tau: np.ndarray) -> np.ndarray:
     return y
 
 
-def aligning_moments(result: SimResult, wheels: tuple[str, ...] = FRONT) -> pd.DataFrame:
+def aligning_moments(
+    result: SimResult, wheels: tuple[str, ...] = FRONT, *, trail_tyre: SimTyre | None = None
+) -> pd.DataFrame:
     """Aligning moment of each truth tyre along a simulated drive.
 
     Parameters
     ----------
     result : SimResult
-        A drive of gripsense's simulator.
+        A simulated drive (gripsense's simulator, or another model's wheel table).
     wheels : tuple of str
         The wheels (default the front ones).
+    trail_tyre : SimTyre, optional
+        Add this ``.tir`` tyre's trail at each wheel's utilisation and load instead of the
+        truth tyre's own moment (for a vehicle model without an aligning moment).
 
     Returns
     -------
@@ -74,9 +84,14 @@ def aligning_moments(result: SimResult, wheels: tuple[str, ...] = FRONT) -> pd.D
         r = w[w["wheel"] == name]
         alpha = r["slip_angle_rad"].to_numpy(float)
         fz = r["load_N"].to_numpy(float)
-        f_ss = r["force_ss_N"].to_numpy(float)
+        f_ss = r["force_ss_N" if "force_ss_N" in r else "force_N"].to_numpy(float)
         sim_tyre = p.sim_tyres.get(axle)
-        if sim_tyre is not None:
+        if trail_tyre is not None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                u = np.abs(f_ss) / (r["mu_true"].to_numpy(float) * fz)
+            u = np.where(fz > 0, np.nan_to_num(u, nan=1.0), 1.0)
+            mz_ss = -trail_tyre.trail_by_utilisation(u, fz) * f_ss
+        elif sim_tyre is not None:
             if sim_tyre.mz is None:
                 raise InputError(
                     f"{sim_tyre.name}: the truth tyre has no aligning moment; a steering-torque "
@@ -121,6 +136,7 @@ def emulate_torque(
     offset_Nm: float = 0.0,
     assist_channel: bool = False,
     seed: int = 0,
+    trail_tyre: SimTyre | None = None,
 ) -> pd.DataFrame:
     """The column torque sensor of a simulated drive (and the assist torque, if asked).
 
@@ -146,6 +162,8 @@ def emulate_torque(
         wheel; noise-free).
     seed : int
         Random seed.
+    trail_tyre : SimTyre, optional
+        The aligning moment added to another vehicle model's forces (:func:`aligning_moments`).
 
     Returns
     -------
@@ -155,7 +173,7 @@ def emulate_torque(
     """
     b = result.body
     t = b["t_s"].to_numpy(float)
-    mz = aligning_moments(result)
+    mz = aligning_moments(result, trail_tyre=trail_tyre)
     w = result.wheels
     m_s = np.zeros(t.size)
     for name in FRONT:

@@ -161,6 +161,49 @@ class SimTyre:
         fy = RegularGridInterpolator(grid, self.fy)(pts).reshape(a.shape)
         return lam * mz, lam * fy
 
+    def trail_by_utilisation(self, utilisation, fz) -> np.ndarray:
+        """The file's pneumatic trail at a utilisation of its own peak, for a vehicle model
+        whose tyres are not this file's (an aligning moment added to another model's forces).
+
+        Per tabulated load, at zero inclination, the trail t = M_z/F_y of the curve's rising
+        side (left and right averaged, which removes the residual moment and the shifts) over
+        u = |F_y|/max |F_y|; interpolated in load and utilisation.
+
+        Parameters
+        ----------
+        utilisation : array_like
+            u = |F_y|/(μ F_z), clipped to [0, 1] [-].
+        fz : array_like
+            Vertical load [N].
+
+        Returns
+        -------
+        numpy.ndarray
+            t [m].
+        """
+        if self.mz is None:
+            raise InputError(f"{self.name}: the tyre model has no aligning moment")
+        na, nf, ng = self.fy.shape
+        k0, mid = (ng - 1) // 2, (na - 1) // 2
+        u_grid = np.linspace(0.0, 1.0, 101)
+        table = np.zeros((nf, u_grid.size))
+        for j in range(1, nf):
+            fy = 0.5 * (self.fy[mid::-1, j, k0] - self.fy[mid:, j, k0])  # α ≥ 0, ISO: F < 0
+            mz = 0.5 * (self.mz[mid:, j, k0] - self.mz[mid::-1, j, k0])
+            ip = int(np.argmax(fy))
+            u = fy[1 : ip + 1] / fy[ip]
+            t = mz[1 : ip + 1] / fy[1 : ip + 1]
+            table[j] = np.interp(u_grid, np.concatenate([[0.0], u]), np.concatenate([[t[0]], t]))
+        table[0] = table[1]
+        uu = np.clip(np.asarray(utilisation, float), 0.0, 1.0)
+        ff = np.clip(np.asarray(fz, float), 0.0, (nf - 1) * self.fz_step)
+        from scipy.interpolate import RegularGridInterpolator
+
+        grid = (self.fz_step * np.arange(nf), u_grid)
+        uu, ff = np.broadcast_arrays(uu, ff)
+        pts = np.column_stack([ff.ravel(), uu.ravel()])
+        return RegularGridInterpolator(grid, table)(pts).reshape(uu.shape)
+
     def cornering_stiffness(self, fz) -> np.ndarray:
         """Cornering stiffness |dF_y/dα| at α = 0, γ = 0 [N/rad].
 
