@@ -272,9 +272,10 @@ def profile_mu(
         The model-free measured-grip bound of the same data (NaN: none) [-].
     torque : TorqueProfile, optional
         What the steering torque says (:func:`gripsense.estimate.torque.torque_profile`, on
-        the same μ grid): its likelihood multiplies the compass's. Where the compass's upper
-        end is not trusted (a linear tyre explains it, the data are far from the limit, the
-        model is strained) the compass contributes nothing above its lower end.
+        the same μ grid): its likelihood multiplies the compass's, and the range stays
+        within the compass's own. Where the compass's upper end is not trusted (a linear tyre
+        explains its data, or its model is strained) the compass contributes nothing; the
+        measured grip stays the lower end.
 
     Returns
     -------
