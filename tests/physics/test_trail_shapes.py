@@ -46,6 +46,8 @@ def test_mf_files_lie_within_the_form_error(name, load_factor):
     ``magic-formula`` family); the estimator's TRAIL_FORM_REL (0.05 of t₀) is that error's 1σ."""
     tau = _mf_trail(TIR / f"{name}.tir", load_factor)
     assert _closest(tau, trail_shape_ids("magic-formula")) <= 0.065
+    if load_factor == 1.0:  # docs/physics.md §16.5: at half the grip 0.82–0.93 of t₀ is left
+        assert 0.815 <= float(np.interp(0.5, U, tau)) <= 0.935
 
 
 def test_brush_trail_is_in_the_brush_family():
@@ -54,6 +56,7 @@ def test_brush_trail_is_in_the_brush_family():
     u = lateral_force(mu, alpha, fz, c) / (mu * fz)
     tau = np.interp(U, u, aligning_moment(mu, alpha, fz, c, a)[1] / (a / 3))
     assert _closest(tau, trail_shape_ids("brush")) <= 0.06
+    assert float(np.interp(0.5, U, tau)) == pytest.approx(0.62, abs=0.005)  # §16.5
     assert _closest(tau, trail_shape_ids("magic-formula")) > 0.1  # a real tyre is not a brush
 
 

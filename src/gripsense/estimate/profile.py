@@ -382,6 +382,8 @@ def profile_mu(
         trusted = np.isfinite(hi) and not strained
         both = (nll - nll.min() if trusted else np.zeros(n_mu)) + torque.nll[done]
         c = _torque_range(mu_g, both, level, grip_lower, o)
+        if c is not None and trusted and not (c[0] < hi and lo < c[1]):
+            c = None  # the two channels' ranges do not meet: the compass's stands alone
         if c is not None:
             lo_c, hi_c = lo, hi
             lo, hi, mu_hat, observable, torque_says = c

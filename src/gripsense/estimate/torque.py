@@ -32,7 +32,14 @@ from gripsense.estimate.bins import axle_pairs, bin_starts
 from gripsense.physics.steering_balance import dahl_friction
 from gripsense.physics.trail_shapes import TRAIL_FAMILY, trail_ratio, trail_shape_ids
 
-__all__ = ["TorqueBins", "TorqueProfile", "torque_bins", "torque_profile"]
+__all__ = [
+    "TorqueBins",
+    "TorqueProfile",
+    "check_channel",
+    "merge_torque_bins",
+    "torque_bins",
+    "torque_profile",
+]
 
 TRAIL_LOAD_EXPONENT = 0.75
 """t₀ ∝ F_z^0.75 per wheel (brush: the contact length, ~0.5; Magic Formula D_t ∝ F_z, ~1)."""

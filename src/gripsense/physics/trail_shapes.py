@@ -7,10 +7,11 @@ on the rising side of the force curve, is written
     τ(u) = t/t₀ = 1 − (1 − τ₁) u^p,        0 ≤ u ≤ 1,
 
 with p how late the trail starts to fall and τ₁ what is left of it at the force's peak. The
-brush model with parabolic pressure (§16.1) is close to p = 1.4, τ₁ = 0 (within 0.04); the
-Magic Formula files the project ships span p ≈ 2.2–3.8 and τ₁ ≈ 0.05–0.4 (their Q*Z
-coefficients at the nominal load). :data:`TRAIL_FAMILY` covers both with margin; a vehicle file
-that says its tyre is ``brush`` or ``magic-formula`` narrows it (:func:`trail_shape_ids`).
+brush model with parabolic pressure (§16.1) lies within 0.06 of the members with p ≤ 1.9,
+τ₁ ≤ 0.15; the Magic Formula files the project ships (their Q*Z coefficients, at 0.5–1.5 times
+their nominal load) within 0.065 of members with p ≥ 1.9. :data:`TRAIL_FAMILY` covers both; a
+vehicle file that says its tyre is ``brush`` or ``magic-formula`` narrows it
+(:func:`trail_shape_ids`).
 """
 
 from __future__ import annotations

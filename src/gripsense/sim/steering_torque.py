@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from numba import njit
 
 from gripsense.config.vehicle import SteeringSystem
 from gripsense.constants import G0
@@ -37,16 +38,24 @@ __all__ = ["aligning_moments", "emulate_torque"]
 FRONT = ("front_left", "front_right")
 
 
-def _lag(x: np.ndarray, t: np.ndarray, tau: np.ndarray) -> np.ndarray:
-    """First-order lag y' = (x − y)/τ, exact for x held over each step (τ ≤ 0: no lag)."""
+@njit(cache=True)
+def _lag_loop(x: np.ndarray, k: np.ndarray) -> np.ndarray:  # pragma: no cover
     y = np.empty_like(x)
     y[0] = x[0]
-    dt = np.diff(t, prepend=t[0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.where(tau > 0, 1.0 - np.exp(-dt / np.where(tau > 0, tau, 1.0)), 1.0)
     for i in range(1, x.size):
         y[i] = y[i - 1] + k[i] * (x[i] - y[i - 1])
     return y
+
+
+def _lag(x: np.ndarray, t: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """First-order lag y' = (x − y)/τ, exact for x held over each step (τ ≤ 0: no lag)."""
+    if x.size == 0:
+        return x
+    dt = np.diff(t, prepend=t[0])
+    tau = np.broadcast_to(tau, x.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(tau > 0, 1.0 - np.exp(-dt / np.where(tau > 0, tau, 1.0)), 1.0)
+    return _lag_loop(np.ascontiguousarray(x, float), np.ascontiguousarray(k, float))
 
 
 def aligning_moments(
@@ -120,7 +129,7 @@ def aligning_moments(
             mz_ss = -trail * f_ss
         sigma = p.relaxation_length_m
         speed = np.abs(r["speed_mps"].to_numpy(float))
-        tau = np.where(speed > 0.5, sigma / np.maximum(speed, 0.5), 0.0) if sigma > 0 else 0 * t
+        tau = np.where(speed > 0.5, sigma / np.maximum(speed, 0.5), 0.0) if sigma > 0 else 0.0 * t
         out[name] = _lag(mz_ss, t, tau)
     return pd.DataFrame(out, index=pd.Index(t, name="t_s"))
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -123,16 +124,7 @@ class SimTyre:
     def aligning(self, alpha, fz, gamma=0.0, mu_road=None) -> tuple[np.ndarray, np.ndarray]:
         """Aligning moment and lateral force from the tables, scaled to the road.
 
-        Parameters
-        ----------
-        alpha : array_like
-            Slip angle [rad].
-        fz : array_like
-            Vertical load [N].
-        gamma : array_like
-            Inclination angle [rad].
-        mu_road : array_like, optional
-            Road friction (default: the file's own, λ = 1) [-].
+        Parameters as :meth:`SimTyre.force`.
 
         Returns
         -------
@@ -147,13 +139,7 @@ class SimTyre:
 
         lam = np.ones(1) if mu_road is None else np.asarray(mu_road, float) / self.mu_ref
         a, f, g, lam = np.broadcast_arrays(np.asarray(alpha, float) / lam, fz, gamma, lam)
-        ax = self.axes()
-        na, nf, ng = self.fy.shape
-        grid = (
-            ax[0] + ax[1] * np.arange(na),
-            ax[2] + ax[3] * np.arange(nf),
-            ax[4] + ax[5] * np.arange(ng),
-        )
+        grid = self._grid()
         pts = np.column_stack(
             [np.clip(x.ravel(), gr[0], gr[-1]) for x, gr in zip((a, f, g), grid, strict=True)]
         )
@@ -181,6 +167,28 @@ class SimTyre:
         numpy.ndarray
             t [m].
         """
+        from scipy.interpolate import RegularGridInterpolator
+
+        fz_grid, u_grid, table = self._trail_table
+        uu = np.clip(np.asarray(utilisation, float), 0.0, 1.0)
+        ff = np.clip(np.asarray(fz, float), 0.0, fz_grid[-1])
+        uu, ff = np.broadcast_arrays(uu, ff)
+        pts = np.column_stack([ff.ravel(), uu.ravel()])
+        return RegularGridInterpolator((fz_grid, u_grid), table)(pts).reshape(uu.shape)
+
+    def _grid(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The tables' α, Fz and γ grids."""
+        ax = self.axes()
+        na, nf, ng = self.fy.shape
+        return (
+            ax[0] + ax[1] * np.arange(na),
+            ax[2] + ax[3] * np.arange(nf),
+            ax[4] + ax[5] * np.arange(ng),
+        )
+
+    @cached_property
+    def _trail_table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Load grid, utilisation grid and the trail on them (:meth:`trail_by_utilisation`)."""
         if self.mz is None:
             raise InputError(f"{self.name}: the tyre model has no aligning moment")
         na, nf, ng = self.fy.shape
@@ -195,14 +203,7 @@ class SimTyre:
             t = mz[1 : ip + 1] / fy[1 : ip + 1]
             table[j] = np.interp(u_grid, np.concatenate([[0.0], u]), np.concatenate([[t[0]], t]))
         table[0] = table[1]
-        uu = np.clip(np.asarray(utilisation, float), 0.0, 1.0)
-        ff = np.clip(np.asarray(fz, float), 0.0, (nf - 1) * self.fz_step)
-        from scipy.interpolate import RegularGridInterpolator
-
-        grid = (self.fz_step * np.arange(nf), u_grid)
-        uu, ff = np.broadcast_arrays(uu, ff)
-        pts = np.column_stack([ff.ravel(), uu.ravel()])
-        return RegularGridInterpolator(grid, table)(pts).reshape(uu.shape)
+        return self._grid()[1], u_grid, table
 
     def cornering_stiffness(self, fz) -> np.ndarray:
         """Cornering stiffness |dF_y/dα| at α = 0, γ = 0 [N/rad].

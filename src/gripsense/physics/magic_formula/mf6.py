@@ -27,6 +27,7 @@ Fy(α, γ) → −Fy(−α, −γ), Fx(κ, α, γ) → Fx(κ, −α, −γ).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -247,21 +248,28 @@ class MFTyre:
         -------
         MFForces
         """
-        self._require(_MANDATORY_LATERAL + _MANDATORY_LONGITUDINAL)
         q = self._prepare(fz, kappa, alpha, gamma, vx, pressure, limits, side)
+        r, _ = self._solve(q, limits, combined)
+        fy, fy0 = (-r.fy, -r.fy0) if q.mirror else (r.fy, r.fy0)
+        return dataclasses.replace(r, fy=fy, fy0=fy0)
+
+    def _solve(self, q: _Inputs, limits: bool, combined: bool = True) -> tuple[MFForces, tuple]:
+        """The forces at prepared inputs, in the file's own side (not mirrored), and the pure
+        lateral force's shifts and factors (S_Hy, S_Vy, B_y, C_y) the aligning moment needs.
+        """
+        self._require(_MANDATORY_LATERAL + _MANDATORY_LONGITUDINAL)
         fz, kappa, alpha, gamma, vx = q.fz, q.kappa, q.alpha, q.gamma, q.vx
         dfz, dpi, low, smooth = q.dfz, q.dpi, q.low, q.smooth
         fx0, mux, kxk = self._fx0(fz, kappa, gamma, vx, dfz, dpi, low, smooth, limits)
-        fy0, muy, kya, _ = self._fy0(fz, alpha, gamma, dfz, dpi, low, smooth, limits)
+        fy0, muy, kya, shifts = self._fy0(fz, alpha, gamma, dfz, dpi, low, smooth, limits)
         if combined:
             fx = self._gxa(kappa, alpha, gamma, dfz, limits) * fx0
             gyk, svyk = self._gyk(fz, kappa, alpha, gamma, dfz, muy, low, smooth, limits)
             fy = gyk * fy0 + svyk
         else:
             fx, fy = fx0, fy0
-        if q.mirror:
-            fy, fy0 = -fy, -fy0
-        return MFForces(fx=fx, fy=fy, fx0=fx0, fy0=fy0, mux=mux, muy=muy, kxk=kxk, kya=kya)
+        forces = MFForces(fx=fx, fy=fy, fx0=fx0, fy0=fy0, mux=mux, muy=muy, kxk=kxk, kya=kya)
+        return forces, shifts
 
     def _prepare(self, fz, kappa, alpha, gamma, vx, pressure, limits, side) -> _Inputs:
         """Broadcast the inputs and apply the file's limits and the low-speed model (MFeval
@@ -324,41 +332,18 @@ class MFTyre:
         t scaled by LFZO; Fy' = Gyκ(γ = 0) Fy0(γ = 0) (4.E74); MF 5.2 files use
         Mz = −t (Fy − SVyκ) + Mzr + s Fx. No turn slip.
 
-        Parameters
-        ----------
-        fz : array_like
-            Vertical load [N] (negative is set to 0).
-        kappa : array_like
-            Longitudinal slip ratio [-].
-        alpha : array_like
-            Slip angle [rad], ISO-W.
-        gamma : array_like
-            Inclination (camber) angle [rad], ISO-W.
-        vx : array_like, optional
-            Forward speed of the wheel centre [m/s]; default the file's LONGVL.
-        pressure : array_like, optional
-            Inflation pressure [Pa]; default the file's INFLPRES (else NOMPRES).
-        limits : bool
-            Apply the file's validity limits and the low-speed model (MFeval use mode 1xx).
-        side : {"left", "right"}, optional
-            Side the tyre is mounted on; mirrors when it differs from the file's TYRESIDE.
+        Parameters as :meth:`MFTyre.forces` (always combined slip).
 
         Returns
         -------
         MFMoment
         """
-        self._require(_MANDATORY_LATERAL + _MANDATORY_LONGITUDINAL)
         p = self._p
         q = self._prepare(fz, kappa, alpha, gamma, vx, pressure, limits, side)
+        r, (shy, svy, by, cy) = self._solve(q, limits)
+        fx, fy, kxk, kya = r.fx, r.fy, r.kxk, r.kya
         fz, kappa, alpha, gamma, vx = q.fz, q.kappa, q.alpha, q.gamma, q.vx
         dfz, dpi, low, smooth = q.dfz, q.dpi, q.low, q.smooth
-        fx0, _, kxk = self._fx0(fz, kappa, gamma, vx, dfz, dpi, low, smooth, limits)
-        fy0, muy, kya, (shy, svy, by, cy) = self._fy0(
-            fz, alpha, gamma, dfz, dpi, low, smooth, limits
-        )
-        fx = self._gxa(kappa, alpha, gamma, dfz, limits) * fx0
-        gyk, svyk = self._gyk(fz, kappa, alpha, gamma, dfz, muy, low, smooth, limits)
-        fy = gyk * fy0 + svyk
         # at γ = 0 (4.E32, 4.E74); Gyκ keeps γ as MFeval 4.0 does (its note: closer to TNO)
         zero = np.zeros_like(gamma)
         fy0_0, muy_0, _, _ = self._fy0(fz, alpha, zero, dfz, dpi, low, smooth, limits)
