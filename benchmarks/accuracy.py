@@ -382,11 +382,13 @@ def one_torque(job: dict) -> list[dict]:
     import dataclasses
 
     from gripsense import FrictionRun
+    from gripsense.data import sample_path
     from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
     from gripsense.io.steer import steer_at, with_torque
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import (
+        TRUTH_TYRES,
         record_drive,
         truth_tyre,
         truth_vehicle,
@@ -424,13 +426,16 @@ def one_torque(job: dict) -> list[dict]:
         tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03,
                             offset_Nm=0.2, seed=job["seed"] + 104729)  # fmt: skip
         uv = user_vehicle(tv, job["tyre"], stiffness_error=job["stiffness_error"])
-    if job.get("shape"):
+    s = uv.steering
+    if job.get("shape") == "known":  # the front tyre's own .tir named in [steering]
+        tir = sample_path(f"tyres/{TRUTH_TYRES[job['tyre']]}")
+        s = dataclasses.replace(s, tyre_file=str(tir))
+    elif job.get("shape"):
         uv = dataclasses.replace(
             uv, tyres={k: dataclasses.replace(t, shape=job["shape"]) for k, t in uv.tyres.items()}
         )
     # the user declares the steering system to its stated uncertainty, not the truth
     rng = np.random.default_rng(job["seed"])
-    s = uv.steering
     uv = dataclasses.replace(
         uv,
         steering=dataclasses.replace(
@@ -664,7 +669,12 @@ def main() -> None:
         action="store_true",
         help="the steering-torque channel against compass-only (MF tyres, u 0.3–1)",
     )
-    ap.add_argument("--shape", default="", help="--torque: the tyre shape the user declares")
+    ap.add_argument(
+        "--shape",
+        default="",
+        help="--torque: the tyre shape the user declares (brush, magic-formula), or known (the "
+        "front tyre's own .tir in [steering] tyre_file)",
+    )
     args = ap.parse_args()
     if args.torque:
         todo = jobs_torque(args.quick, args.shape, args.truth)

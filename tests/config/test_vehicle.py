@@ -150,3 +150,28 @@ def test_steering_ratio_given_twice_must_agree(tmp_path):
     p.write_text(BASE.replace("cg_height_m", "steering_ratio = 16.0\ncg_height_m", 1) + STEERING)
     with pytest.raises(InputError, match=r"\[steering\] ratio: = 15.5 but \[vehicle\]"):
         Vehicle.from_toml(p)
+
+
+def test_steering_tyre_file(tmp_path):
+    """[steering] tyre_file: a path relative to the vehicle file; the zero-slip trail's default
+    uncertainty becomes 0.1 (an explicit one stays); a missing or unreadable file is refused."""
+    import shutil
+
+    from gripsense.data import sample_path
+
+    shutil.copy(sample_path("tyres/PacejkaBook_Defaults.tir"), tmp_path / "front.tir")
+    p = tmp_path / "car.toml"
+    p.write_text(BASE + STEERING + 'tyre_file = "front.tir"\n')
+    s = Vehicle.from_toml(p).steering
+    assert s.tyre_file == str(tmp_path / "front.tir") and s.trail_uncertainty == 0.1
+    p.write_text(BASE + STEERING + 'tyre_file = "front.tir"\npneumatic_trail_uncertainty = 0.2\n')
+    assert Vehicle.from_toml(p).steering.trail_uncertainty == 0.2
+    p.write_text(BASE + STEERING)
+    assert Vehicle.from_toml(p).steering.trail_uncertainty == 0.3
+    p.write_text(BASE + STEERING + 'tyre_file = "rear.tir"\n')
+    with pytest.raises(InputError, match=r"car.toml: \[steering\] tyre_file: = 'rear.tir': no"):
+        Vehicle.from_toml(p)
+    (tmp_path / "bad.tir").write_text("[MODEL]\nFITTYP = 61\nLONGVL = fast\n")
+    p.write_text(BASE + STEERING + 'tyre_file = "bad.tir"\n')
+    with pytest.raises(InputError, match=r"bad\.tir"):
+        Vehicle.from_toml(p)

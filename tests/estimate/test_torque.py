@@ -107,3 +107,26 @@ def test_a_wrong_channel_is_one_clear_error(mf_drive, edit, message):
     bad = torque.assign(torque_nm=edit(torque["torque_nm"]))
     with pytest.raises(InputError, match=message):
         _front(uv, with_torque(ep, bad), steer)
+
+
+def test_a_known_tyre_says_more(mf_drive):
+    """The front tyre's own .tir named in [steering] (docs/physics.md §16.7): the trail's shape
+    and its zero-slip value come from the file, not the family — on the same sweep the range
+    holds the truth and is narrower than with the family."""
+    import dataclasses
+
+    from gripsense.data import sample_path
+
+    d, uv, ep, steer, torque = mf_drive
+    truth = d.axles.set_index("axle").loc["front"]
+    family, _ = _front(uv, with_torque(ep, torque), steer)
+    tir = sample_path("tyres/MagicFormula61_Paramerters.tir")
+    known_v = dataclasses.replace(
+        uv,
+        steering=dataclasses.replace(uv.steering, tyre_file=str(tir)),
+    )
+    known, _ = _front(known_v, with_torque(ep, torque), steer)
+    assert known["mu_low"] <= truth["mu_true"] <= known["mu_high"]
+    assert known["mu_high"] - known["mu_low"] < family["mu_high"] - family["mu_low"]
+    assert family["mu_low"] <= known["mu_low"] and known["mu_high"] <= family["mu_high"]
+    assert known["grip_used_lower"] == family["grip_used_lower"]

@@ -64,3 +64,30 @@ def test_family_limits():
     assert trail_ratio(0.0, 3.0, 0.2) == 1.0 and trail_ratio(1.0, 3.0, 0.2) == pytest.approx(0.2)
     assert trail_ratio(1.7, 3.0, 0.2) == trail_ratio(1.0, 3.0, 0.2)  # past the peak: clipped
     assert len(trail_shape_ids("any")) == len(TRAIL_FAMILY)
+
+
+def test_fit_recovers_a_member():
+    """A curve of the family's own form is fitted back exactly."""
+    from gripsense.physics.trail_shapes import fit_trail_shape
+
+    shape, err = fit_trail_shape(U, trail_ratio(U, 2.7, 0.33))
+    assert (shape.p, shape.tau1) == pytest.approx((2.7, 0.33), abs=2e-3) and err < 2e-3
+
+
+@pytest.mark.parametrize("name", ["MagicFormula61_Paramerters", "PacejkaBook_Defaults"])
+def test_a_known_tyres_trail(name):
+    """tyre_trail_ratio gives the file's trail (this module's own evaluation, on another slip
+    grid); its fitted member is within 0.03 of it (docs/physics.md §16.7)."""
+    from gripsense.physics.trail_shapes import fit_trail_shape, tyre_trail_ratio
+
+    tyre = load_mf_tyre(TIR / f"{name}.tir")
+    tau, xi0 = tyre_trail_ratio(tyre, tyre.params["FNOMIN"], U)
+    assert np.max(np.abs(tau - _mf_trail(TIR / f"{name}.tir", 1.0))) < 0.01
+    # the zero-slip lever: the moment per force of a small slip, on both sides
+    a = np.deg2rad(0.05)
+    m = tyre.aligning_moment(tyre.params["FNOMIN"], 0, np.array([-a, a]))
+    assert xi0 == pytest.approx(-(m.mz[0] - m.mz[1]) / (m.fy[0] - m.fy[1]), rel=0.01)
+    assert 0.01 < xi0 < 0.08
+    shape, err = fit_trail_shape(U, tau)
+    assert err <= 0.03
+    assert np.max(np.abs(trail_ratio(U, shape.p, shape.tau1) - tau)) == pytest.approx(err)

@@ -48,6 +48,7 @@ import numpy as np
 
 from gripsense.config.receiver import Receiver
 from gripsense.config.toml_reader import TomlReader
+from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.config.vehicle_schema import (
     ANTENNA,
     ASSISTS,
@@ -178,6 +179,13 @@ class Tyre:
         return 0.5 * self.tread_stiffness_N_per_m3 * self.width_m * length**2
 
 
+DECLARED_TRAIL_UNCERTAINTY = 0.3
+"""Relative 1σ of the zero-slip trail l/6 of the contact length, or of a declared one [-]."""
+KNOWN_TYRE_TRAIL_UNCERTAINTY = 0.1
+"""Relative 1σ of the zero-slip trail a tyre file gives: a rig's new tyre at its nominal pressure;
+wear and inflation move it by about this much [-]."""
+
+
 @dataclass(frozen=True)
 class SteeringSystem:
     """The ``[steering]`` table: the steering system between the tyres and a torque channel
@@ -192,8 +200,8 @@ class SteeringSystem:
         Its 1σ [m].
     pneumatic_trail_m : float or None
         The front tyre's pneumatic trail at zero slip t₀ [m]; None: l/6 from the contact length.
-    pneumatic_trail_uncertainty : float
-        Relative 1σ of t₀ [-].
+    pneumatic_trail_uncertainty : float or None
+        Relative 1σ of t₀ as declared (None: :attr:`trail_uncertainty`'s default) [-].
     kingpin_inertia_kgm2 : float
         I_s of both steered wheels about their axes [kg m²].
     kingpin_damping_Nms : float
@@ -216,6 +224,8 @@ class SteeringSystem:
         1σ of its offset [N m].
     steering_arm_m : float or None
         Tie-rod lever about the steering axis (for a rack-force channel) [m].
+    tyre_file : str or None
+        The front tyre's Magic Formula file, when known (its own trail, §16.7).
     """
 
     mechanical_trail_m: float = STEERING_SYSTEM["mechanical_trail_m"].default  # 0.02
@@ -223,7 +233,7 @@ class SteeringSystem:
         "mechanical_trail_uncertainty_m"
     ].default  # 0.01
     pneumatic_trail_m: float | None = None
-    pneumatic_trail_uncertainty: float = STEERING_SYSTEM["pneumatic_trail_uncertainty"].default
+    pneumatic_trail_uncertainty: float | None = None
     kingpin_inertia_kgm2: float = STEERING_SYSTEM["kingpin_inertia_kgm2"].default  # 1.0
     kingpin_damping_Nms: float = STEERING_SYSTEM["kingpin_damping_Nms"].default  # 30
     friction_Nm: float = STEERING_SYSTEM["friction_Nm"].default  # 1.0
@@ -235,6 +245,16 @@ class SteeringSystem:
     torque_scale_uncertainty: float = STEERING_SYSTEM["torque_scale_uncertainty"].default
     torque_offset_uncertainty_Nm: float = STEERING_SYSTEM["torque_offset_uncertainty_Nm"].default
     steering_arm_m: float | None = None
+    tyre_file: str | None = None
+
+    @property
+    def trail_uncertainty(self) -> float:
+        """Relative 1σ of t₀: as declared, else 0.3 from the contact length's l/6, 0.1 from a
+        known tyre's file [-].
+        """
+        if self.pneumatic_trail_uncertainty is not None:
+            return self.pneumatic_trail_uncertainty
+        return KNOWN_TYRE_TRAIL_UNCERTAINTY if self.tyre_file else DECLARED_TRAIL_UNCERTAINTY
 
 
 @dataclass(frozen=True)
@@ -590,6 +610,19 @@ def _steering(r: TomlReader, t: dict, ratio: float | None) -> tuple[SteeringSyst
             f'= {v["assist_gain"]} with assist = "none"; set assist = "linear" or drop it',
         )
     kw = {k: v[k] for k in SteeringSystem.__dataclass_fields__}
+    if kw["tyre_file"] is not None:
+        path = Path(kw["tyre_file"])
+        if not path.is_absolute() and Path(r.source).parent.exists():
+            path = Path(r.source).parent / path
+        if path.suffix.lower() not in (".tir", ".gz") or not path.is_file():
+            r.fail(
+                "steering",
+                "tyre_file",
+                f"= {kw['tyre_file']!r}: no Magic Formula .tir file there (a path relative to "
+                "the vehicle file, or absolute)",
+            )
+        load_mf_tyre(path)  # a file that cannot be read is refused here, with its line
+        kw["tyre_file"] = str(path)
     return SteeringSystem(**kw), ratio
 
 

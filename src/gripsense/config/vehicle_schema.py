@@ -244,8 +244,8 @@ STEERING_SYSTEM = Table(
         Key(
             "pneumatic_trail_uncertainty",
             "-",
-            "relative 1σ of the pneumatic trail at zero slip",
-            0.3,
+            "relative 1σ of the pneumatic trail at zero slip (default 0.3; 0.1 with a tyre_file)",
+            None,
             (0.0, 1.0),
         ),
         Key(
@@ -312,6 +312,13 @@ STEERING_SYSTEM = Table(
             "tie-rod lever about the steering axis (turns a rack force into the axes' moment)",
             None,
             (0.03, 0.5),
+        ),
+        Key(
+            "tyre_file",
+            "",
+            "the front tyre's Magic Formula file (.tir), when known: its own trail shape and "
+            "zero-slip trail replace the family's (docs/physics.md §16.7)",
+            kind="text",
         ),
     ),
     "the steering system (what a steering-torque channel needs; docs/physics.md §16.3)",

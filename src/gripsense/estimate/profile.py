@@ -380,8 +380,8 @@ def profile_mu(
         # the compass's likelihood where its upper end is trusted, else flat (it says nothing
         # above what the data prove); times the torque's
         trusted = np.isfinite(hi) and not strained
-        both = (nll - nll.min() if trusted else np.zeros(n_mu)) + torque.nll[done]
-        c = _torque_range(mu_g, both, level, grip_lower, o)
+        compass = nll - nll.min() if trusted else np.zeros(n_mu)
+        c = _with_torque(mu_g, compass, torque, done, level, grip_lower, o)
         if c is not None and trusted and not (c[0] < hi and lo < c[1]):
             c = None  # the two channels' ranges do not meet: the compass's stands alone
         if c is not None:
@@ -442,6 +442,37 @@ def _torque_range(
     return float(lo), float(hi), float(mu_g[im]), observable, bool(np.isfinite(hi))
 
 
+def _with_torque(
+    mu_g: np.ndarray,
+    compass: np.ndarray,
+    torque: TorqueProfile,
+    done: np.ndarray,
+    level: float,
+    grip_lower: float,
+    o: WindowOptions,
+) -> tuple[float, float, float, bool, bool] | None:
+    """:func:`_torque_range` of the compass's likelihood times the torque's. With a known tyre
+    the range stays within what the family says without its file (the overlap; the family's
+    alone where they do not meet): knowing the tyre never says less.
+    """
+
+    def one(t: TorqueProfile | None):
+        if t is None or t.fit != "ok":
+            return None
+        return _torque_range(mu_g, compass + t.nll[done], level, grip_lower, o)
+
+    c = one(torque)
+    if torque.without is None or torque.without.fit != "ok":
+        return c
+    cf = one(torque.without)
+    if c is None or cf is None:
+        return cf if c is None else c
+    lo, hi = max(c[0], cf[0]), min(c[1], cf[1])
+    if not lo < hi:
+        return cf
+    return lo, hi, float(np.clip(c[2], lo, hi)), c[3] or cf[3], c[4] or cf[4]
+
+
 def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> dict:
     """What the steering torque alone says of the front axle, for a drive whose compass data
     never passed the screen (``docs/physics.md`` §16.6).
@@ -463,7 +494,7 @@ def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> d
     """
     grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
     level = _chi2_ppf(float(o.point_level), 1)
-    c = _torque_range(grid, torque.nll, level, grip_lower, o) if torque.fit == "ok" else None
+    c = _with_torque(grid, np.zeros(grid.size), torque, np.arange(grid.size), level, grip_lower, o)
     lower = float(grip_lower) if np.isfinite(grip_lower) else 0.0
     if c is None:
         return {

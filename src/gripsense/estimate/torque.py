@@ -13,32 +13,47 @@ friction's state from the steer history (a Dahl model, −1…1). The nuisances 
 trail), b = k t₀ (zero-slip pneumatic trail), both times the channel's unknown scale k, the
 offset o (the sensor's and the tyres' residual moment) and the friction f enter linearly with
 Gaussian priors from the vehicle file's ``[steering]`` table, so for every μ and shape the
-least-squares profile is exact; μ's profile is the smallest over the family.
+least-squares profile is exact; μ's profile is the smallest over the family. A vehicle file that
+names the front tyre's Magic Formula file (``[steering] tyre_file``) replaces the family by that
+tyre's own trail at 0.5–1.5 times the static load (§16.7).
 """
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from scipy.stats import chi2
 
 from gripsense.config import Vehicle
+from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.config.vehicle import SteeringSystem
 from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.estimate.bins import axle_pairs, bin_starts
 from gripsense.physics.steering_balance import dahl_friction
-from gripsense.physics.trail_shapes import TRAIL_FAMILY, trail_ratio, trail_shape_ids
+from gripsense.physics.trail_shapes import (
+    TRAIL_FAMILY,
+    TrailShape,
+    fit_trail_shape,
+    trail_ratio,
+    trail_shape_ids,
+    tyre_trail_ratio,
+)
 
 __all__ = [
     "TorqueBins",
     "TorqueProfile",
+    "TrailFamily",
     "check_channel",
     "merge_torque_bins",
     "torque_bins",
     "torque_profile",
+    "trail_family",
 ]
 
 TRAIL_LOAD_EXPONENT = 0.75
@@ -58,6 +73,13 @@ PEAK_FORM_REL = 0.15
 """1σ of the trail near and past the force's peak, relative to t₀: rising from 0 at the axle's
 utilisation PEAK_FORM_FROM to PEAK_FORM_REL at 1 (the shipped files' trails at their peak span
 −0.1…0.45 of t₀ and keep falling past it)."""
+KNOWN_TRAIL_LOADS = (0.5, 0.75, 1.0, 1.25, 1.5)
+"""Loads, as multiples of the static front wheel load, at which a known tyre's trail is taken
+(load transfer moves the wheels over about this range in a 0.8 g turn) [-]."""
+KNOWN_TRAIL_FORM_FLOOR = 0.03
+"""Least 1σ of a known tyre's trail the fitted shapes miss, relative to t₀: the file's own fit
+error is 0.01–0.03 (§16.7); the floor carries what a file does not know (wear, inflation, the
+road's texture beyond the similarity of the slip with μ) [-]."""
 FRICTION_STATE_SD = 0.3
 """1σ of the Dahl friction state as the binned steer history gives it [-]."""
 
@@ -109,6 +131,77 @@ class TorqueBins:
     source: str
     scale_sd: float
     offset_sd: float
+
+
+@dataclass(frozen=True)
+class TrailFamily:
+    """The trail shapes the torque's profile runs over, and what they miss.
+
+    Attributes
+    ----------
+    shapes : tuple of TrailShape
+        The members.
+    form_rel : float
+        1σ of the trail the members miss, relative to t₀ [-].
+    t0_m : float or None
+        A known tyre's zero-slip lever at the static load (None: the family's declaration) [m].
+    load_exponent : float
+        t₀ ∝ F_z^x per wheel: :data:`TRAIL_LOAD_EXPONENT`, or the known tyre's own over
+        0.5–1.5 × the static load [-].
+    source : str
+        ``family`` or the tyre file's name.
+    """
+
+    shapes: tuple[TrailShape, ...]
+    form_rel: float
+    t0_m: float | None
+    load_exponent: float
+    source: str
+
+
+@functools.lru_cache(maxsize=16)
+def _known_trail(path: str, fz_static: float) -> TrailFamily:
+    """A known tyre's own trail shapes at :data:`KNOWN_TRAIL_LOADS` × the static load."""
+    tyre = load_mf_tyre(path)
+    u = np.linspace(0.05, 0.97, 40)
+    shapes, errors, xi0 = [], [], []
+    for f in KNOWN_TRAIL_LOADS:
+        tau, xi = tyre_trail_ratio(tyre, fz_static * f, u)
+        shape, err = fit_trail_shape(u, tau)
+        shapes.append(shape)
+        errors.append(err)
+        xi0.append(xi)
+    exponent = np.polyfit(np.log(KNOWN_TRAIL_LOADS), np.log(np.maximum(xi0, 1e-6)), 1)[0]
+    return TrailFamily(
+        tuple(shapes),
+        max(KNOWN_TRAIL_FORM_FLOOR, *errors),
+        xi0[KNOWN_TRAIL_LOADS.index(1.0)],
+        float(np.clip(exponent, 0.0, 1.5)),
+        Path(path).name,
+    )
+
+
+def trail_family(vehicle: Vehicle) -> TrailFamily:
+    """The trail shapes of the front tyre: the known tyre's own (``[steering] tyre_file``),
+    else the members of :data:`~gripsense.physics.trail_shapes.TRAIL_FAMILY` its declared
+    shape allows (``docs/physics.md`` §16.5, §16.7).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Vehicle description.
+
+    Returns
+    -------
+    TrailFamily
+        Shapes, form error and, for a known tyre, its zero-slip lever.
+    """
+    s = vehicle.steering or SteeringSystem()
+    if s.tyre_file:
+        return _known_trail(s.tyre_file, float(vehicle.static_load("front")))
+    ids = trail_shape_ids(vehicle.tyres["front"].shape)
+    shapes = tuple(TRAIL_FAMILY[i] for i in ids)
+    return TrailFamily(shapes, TRAIL_FORM_REL, None, TRAIL_LOAD_EXPONENT, "family")
 
 
 def _moment(p: dict, vehicle: Vehicle, s: SteeringSystem) -> tuple[np.ndarray, str, float, float]:
@@ -312,6 +405,8 @@ class TorqueProfile:
         The fitted offset at the steering axes [N m].
     limited_by : str
         The nuisance furthest from its prior at the best μ, or ``trail shape``.
+    without : TorqueProfile or None
+        With a known tyre (``[steering] tyre_file``): the profile over the family without it.
     """
 
     nll: np.ndarray
@@ -322,12 +417,16 @@ class TorqueProfile:
     pneumatic_trail_m: float
     offset_Nm: float
     limited_by: str
+    without: TorqueProfile | None = None
 
 
 def _zero_slip_trail(vehicle: Vehicle, s: SteeringSystem) -> float:
     """The declared zero-slip pneumatic trail of a front tyre at its static load [m]."""
     if s.pneumatic_trail_m is not None:
         return s.pneumatic_trail_m
+    known = trail_family(vehicle).t0_m if s.tyre_file else None
+    if known is not None:
+        return known
     tyre = vehicle.tyres["front"]
     return float(tyre.contact_length(vehicle.static_load("front") / G0)) / 6.0
 
@@ -397,19 +496,31 @@ def torque_profile(
     TorqueProfile
         The profile on *mu_grid* and the nuisances at its best μ.
     """
-    s = vehicle.steering or SteeringSystem()
     mb = merge_torque_bins(tb, tol)
-    k = mb.t0.size
     g = np.asarray(mu_grid, float)
-    shapes = trail_shape_ids(vehicle.tyres["front"].shape)
-    if k == 0:
+    if mb.t0.size == 0:
         return TorqueProfile(np.zeros(g.size), "no data", 0, "", np.nan, np.nan, np.nan, "")
+    s = vehicle.steering or SteeringSystem()
+    res = _profile(mb, vehicle, g)
+    if s.tyre_file:
+        # what the family says without the file: a known tyre's range is kept within it
+        # (profile_mu), so that knowing the tyre never says less
+        without = dataclasses.replace(vehicle, steering=dataclasses.replace(s, tyre_file=None))
+        res = dataclasses.replace(res, without=_profile(mb, without, g))
+    return res
+
+
+def _profile(mb: TorqueBins, vehicle: Vehicle, g: np.ndarray) -> TorqueProfile:
+    """:func:`torque_profile` of merged bins over the vehicle's trail family."""
+    s = vehicle.steering or SteeringSystem()
+    k = mb.t0.size
+    family = trail_family(vehicle)
     ratio = vehicle.steering_ratio or 15.0
     t00 = _zero_slip_trail(vehicle, s)
     tc0 = s.mechanical_trail_m
     fz = mb.fz_l + mb.fz_r
-    w = (mb.fz_l * (mb.fz_l / mb.fz_static) ** TRAIL_LOAD_EXPONENT
-         + mb.fz_r * (mb.fz_r / mb.fz_static) ** TRAIL_LOAD_EXPONENT) / fz  # fmt: skip
+    x = family.load_exponent
+    w = (mb.fz_l * (mb.fz_l / mb.fz_static) ** x + mb.fz_r * (mb.fz_r / mb.fz_static) ** x) / fz
     f = mb.force
     y = mb.moment
     # noise of each bin: the channel's white noise, the force's (through the lever), the trail
@@ -418,23 +529,23 @@ def torque_profile(
     sig2 = (
         mb.moment_sigma**2
         + ((tc0 + t00 * w) * mb.force_sigma) ** 2
-        + (TRAIL_FORM_REL * t00 * w * f) ** 2
+        + (family.form_rel * t00 * w * f) ** 2
         + (MOMENT_MODEL_REL * (tc0 + t00 * w) * f) ** 2
         + (FRICTION_STATE_SD * mc) ** 2
     )
     # priors of θ = (a, b, o, f): a = k t_c, b = k t₀ correlated through the scale k
-    sd_t0 = t00 * s.pneumatic_trail_uncertainty
+    sd_t0 = t00 * s.trail_uncertainty
     cov = np.zeros((4, 4))
-    cov[0, 0] = s.mechanical_trail_uncertainty_m**2 + (tc0 * tb.scale_sd) ** 2
-    cov[1, 1] = sd_t0**2 + (t00 * tb.scale_sd) ** 2
-    cov[0, 1] = cov[1, 0] = tc0 * t00 * tb.scale_sd**2
-    cov[2, 2] = tb.offset_sd**2 + (RESIDUAL_MOMENT_PER_N * 2.0 * mb.fz_static) ** 2
+    cov[0, 0] = s.mechanical_trail_uncertainty_m**2 + (tc0 * mb.scale_sd) ** 2
+    cov[1, 1] = sd_t0**2 + (t00 * mb.scale_sd) ** 2
+    cov[0, 1] = cov[1, 0] = tc0 * t00 * mb.scale_sd**2
+    cov[2, 2] = mb.offset_sd**2 + (RESIDUAL_MOMENT_PER_N * 2.0 * mb.fz_static) ** 2
     cov[3, 3] = (s.friction_uncertainty_Nm * ratio) ** 2 + 1e-9
     prec = np.linalg.inv(cov)
     th0 = np.array([tc0, t00, 0.0, mc])
     # regressors: F, F W τ(u), 1, s; only the second depends on μ and the shape
     u = np.abs(f)[None, :] / (g[:, None] * fz[None, :])  # (G, K): the axle's utilisation
-    fam = [TRAIL_FAMILY[i] for i in shapes]
+    fam = family.shapes
     # each wheel at its own utilisation: the force shared by load, μ falling with the load
     # (μ_i ∝ F_z,i^−η), so u_i = u (F_z,i/F̄_z)^η — the loaded wheel, which carries most of the
     # trail's moment, works nearer its limit
@@ -442,7 +553,7 @@ def torque_profile(
     fz_mean = 0.5 * fz
     tau = np.zeros((g.size, len(fam), k))
     for fzi in (mb.fz_l, mb.fz_r):
-        share = fzi / fz * (fzi / mb.fz_static) ** TRAIL_LOAD_EXPONENT
+        share = fzi / fz * (fzi / mb.fz_static) ** x
         ui = u * (np.maximum(fzi, 1.0) / fz_mean) ** eta
         tau += share * np.stack([trail_ratio(ui, sh.p, sh.tau1) for sh in fam], axis=1)
     tau /= w  # (G, S, K): the load-weighted trail ratio of the axle

@@ -11,18 +11,31 @@ brush model with parabolic pressure (§16.1) lies within 0.06 of the members wit
 τ₁ ≤ 0.15; the Magic Formula files the project ships (their Q*Z coefficients, at 0.5–1.5 times
 their nominal load) within 0.065 of members with p ≥ 1.9. :data:`TRAIL_FAMILY` covers both; a
 vehicle file that says its tyre is ``brush`` or ``magic-formula`` narrows it
-(:func:`trail_shape_ids`).
+(:func:`trail_shape_ids`). A tyre whose Magic Formula file is known has its own members
+(:func:`tyre_trail_ratio`, :func:`fit_trail_shape`; §16.7).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from scipy.optimize import least_squares, minimize
 
 from gripsense._arrays import as_float_array
 
-__all__ = ["TRAIL_FAMILY", "TrailShape", "trail_ratio", "trail_shape_ids"]
+if TYPE_CHECKING:
+    from gripsense.physics.magic_formula import MFTyre
+
+__all__ = [
+    "TRAIL_FAMILY",
+    "TrailShape",
+    "fit_trail_shape",
+    "trail_ratio",
+    "trail_shape_ids",
+    "tyre_trail_ratio",
+]
 
 
 @dataclass(frozen=True)
@@ -106,3 +119,85 @@ def trail_shape_ids(shape: str) -> np.ndarray:
             continue
         ids.append(i)
     return np.array(ids, dtype=np.int64)
+
+
+def tyre_trail_ratio(
+    tyre: MFTyre, fz: float, utilisation: np.ndarray, *, max_slip_deg: float = 25.0
+) -> tuple[np.ndarray, float]:
+    """A Magic Formula tyre's lever of the lateral force over the utilisation of its rising
+    side, relative to its value at zero slip, and that zero-slip lever.
+
+    The lever is ξ = −M_z/F_y (pneumatic trail with the residual moment's share, as a steering
+    system feels it), the mean of a left and a right slip so that the residual moment's and the
+    shifts' asymmetry (conicity, ply steer) drops out; u = F_y/F_y,peak on the rising side.
+
+    Parameters
+    ----------
+    tyre : MFTyre
+        The tyre (:meth:`MFTyre.aligning_moment`).
+    fz : float
+        Vertical load [N].
+    utilisation : numpy.ndarray
+        Utilisations to evaluate, 0–1 [-].
+    max_slip_deg : float
+        Largest slip angle searched for the force's peak [deg].
+
+    Returns
+    -------
+    tau : numpy.ndarray
+        ξ(u)/ξ(0) [-].
+    xi0 : float
+        ξ at zero slip (the zero-slip trail with the residual moment's share) [m].
+
+    References
+    ----------
+    docs/physics.md §16.2 (the MF aligning moment) and §16.7.
+    """
+    alpha = np.deg2rad(np.geomspace(0.005, max_slip_deg, 4000))
+    left = tyre.aligning_moment(fz, 0.0, -alpha)
+    right = tyre.aligning_moment(fz, 0.0, alpha)
+    force = 0.5 * (left.fy - right.fy)
+    moment = 0.5 * (left.mz - right.mz)
+    peak = int(np.argmax(force))
+    lever = -moment[: peak + 1] / force[: peak + 1]
+    u = force[: peak + 1] / force[peak]
+    tau = np.interp(np.clip(as_float_array(utilisation, "utilisation"), 0, 1), u, lever / lever[0])
+    return tau, float(lever[0])
+
+
+def fit_trail_shape(utilisation, tau) -> tuple[TrailShape, float]:
+    """The member of the family's form τ = 1 − (1 − τ₁) u^p nearest a trail curve.
+
+    Parameters
+    ----------
+    utilisation : array_like
+        u, 0–1 [-].
+    tau : array_like
+        The curve's t/t₀ at *utilisation* [-].
+
+    Returns
+    -------
+    shape : TrailShape
+        p (0.5–10) and τ₁ making the largest error least (from the least-squares fit).
+    max_error : float
+        The largest |τ − τ_shape| over the points [-].
+
+    References
+    ----------
+    docs/physics.md §16.5, §16.7.
+    """
+    u = as_float_array(utilisation, "utilisation")
+    y = as_float_array(tau, "tau")
+    fit = least_squares(
+        lambda x: trail_ratio(u, x[0], x[1]) - y, x0=(3.0, 0.2), bounds=((0.5, -0.5), (10.0, 1.0))
+    )
+    # then the largest error made least (the form error is stated as that largest error)
+    worst = minimize(
+        lambda x: float(np.max(np.abs(trail_ratio(u, np.clip(x[0], 0.5, 10.0), x[1]) - y))),
+        fit.x,
+        method="Nelder-Mead",
+        options={"xatol": 1e-4, "fatol": 1e-6},
+    )
+    x = worst.x if worst.fun < np.max(np.abs(fit.fun)) else fit.x
+    shape = TrailShape(round(float(np.clip(x[0], 0.5, 10.0)), 3), round(float(x[1]), 3) + 0.0)
+    return shape, float(np.max(np.abs(trail_ratio(u, shape.p, shape.tau1) - y)))
