@@ -377,6 +377,39 @@ def jobs_torque(quick: bool, shape: str = "", truth: str = "gripsense") -> list[
     return out
 
 
+def learned_levers(jobs: list[dict], drives: int = 3) -> dict[tuple[str, str], tuple]:
+    """The steering lever ``gripsense calibrate`` learns per car and truth tyre from *drives*
+    everyday drives (60 km/h, curves to ~0.35 g, the jobs' receiver, μ 0.9) with the column
+    torque: (lever [m], relative 1σ) per (vehicle, tyre)."""
+    import gzip
+    import tempfile
+    from pathlib import Path
+
+    from gripsense.pipeline import learn_calibration
+    from gripsense.sim import maneuvers as M
+    from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
+
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for veh, tyre, receiver in sorted({(j["vehicle"], j["tyre"], j["receiver"]) for j in jobs}):
+            logs, steers = [], []
+            for i in range(drives):
+                d = simulate_drive(veh, tyre, M.everyday(60 / 3.6, seed=100 + i), 0.9,
+                                   receiver=receiver, seed=100 + i, torque=True)  # fmt: skip
+                log = Path(tmp) / f"{veh}_{tyre}_{i}.nmea.gz"
+                with gzip.open(log, "wt", encoding="ascii") as fh:
+                    fh.write("\n".join(d.lines) + "\n")
+                steers.append(Path(tmp) / f"{veh}_{tyre}_{i}_steer.csv")
+                d.steer.to_csv(steers[-1], index=False)
+                logs.append(log)
+            uv = user_vehicle(truth_vehicle(veh), tyre)
+            st = learn_calibration(logs, uv, receiver=receiver, steer_csvs=steers).steering
+            out[(veh, tyre)] = (st.lever_m, st.lever_uncertainty)
+            print(f"lever learned, {veh} on {tyre}: {1e3 * st.lever_m:.1f} mm "
+                  f"± {100 * st.lever_uncertainty:.1f} %", flush=True)  # fmt: skip
+    return out
+
+
 def one_torque(job: dict) -> list[dict]:
     """One drive with a torque channel, estimated with and without it (front axle)."""
     import dataclasses
@@ -434,6 +467,9 @@ def one_torque(job: dict) -> list[dict]:
         uv = dataclasses.replace(
             uv, tyres={k: dataclasses.replace(t, shape=job["shape"]) for k, t in uv.tyres.items()}
         )
+    if job.get("lever_m"):  # learned by gripsense calibrate from everyday drives
+        s = dataclasses.replace(s, calibrated_lever_m=job["lever_m"],
+                                calibrated_lever_uncertainty=job["lever_sd"])  # fmt: skip
     # the user declares the steering system to its stated uncertainty, not the truth
     rng = np.random.default_rng(job["seed"])
     uv = dataclasses.replace(
@@ -670,6 +706,12 @@ def main() -> None:
         help="the steering-torque channel against compass-only (MF tyres, u 0.3–1)",
     )
     ap.add_argument(
+        "--calibrated",
+        action="store_true",
+        help="--torque: the steering lever learned first by gripsense calibrate (3 everyday "
+        "drives per car and tyre)",
+    )
+    ap.add_argument(
         "--shape",
         default="",
         help="--torque: the tyre shape the user declares (brush, magic-formula), or known (the "
@@ -678,6 +720,12 @@ def main() -> None:
     args = ap.parse_args()
     if args.torque:
         todo = jobs_torque(args.quick, args.shape, args.truth)
+        if args.calibrated:
+            if args.truth != "gripsense":
+                ap.error("--calibrated drives gripsense's simulator (the everyday drives)")
+            levers = learned_levers(todo)
+            todo = [{**j, "lever_m": levers[(j["vehicle"], j["tyre"])][0],
+                     "lever_sd": levers[(j["vehicle"], j["tyre"])][1]} for j in todo]  # fmt: skip
         df = run_all(one_torque, todo, args.workers, args.csv, chunksize=2)
         torque_report(df)
         if args.plot:

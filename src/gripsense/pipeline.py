@@ -343,17 +343,19 @@ def log_drive_sums(
     Returns
     -------
     list of DriveSums
-        One per axle with usable bins.
+        One per axle with usable bins, and the steering's with a steering-torque channel.
     """
     import hashlib
 
-    from gripsense.estimate.calibration import drive_sums
+    from gripsense.estimate.calibration import drive_sums, steering_sums
 
     digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
     epochs = read_log(log, log_options or LogOptions()).epochs
     steer = None
     if steer_csv is not None:
-        steer = steer_at(read_steer_csv(steer_csv), epochs["t_s"].to_numpy(float))
+        ch = read_steer_csv(steer_csv, steering_ratio=run.vehicle.steering_ratio)
+        steer = steer_at(ch, epochs["t_s"].to_numpy(float))
+        epochs = with_torque(epochs, ch)
     else:
         steer = log_steer(epochs, run.vehicle.steering_ratio, str(log))
     wheels, _ = run.wheel_table(epochs, steer_rad=steer)
@@ -365,6 +367,9 @@ def log_drive_sums(
                        sha256=digest)  # fmt: skip
         if s is not None:
             out.append(s)
+    s = steering_sums(wheels, run.vehicle, file=Path(log).name, sha256=digest)
+    if s is not None:  # a steering-torque channel: the steering's lever (§16.8)
+        out.append(s)
     return out
 
 
@@ -390,7 +395,7 @@ def solve_calibration(
     Calibration
         Per axle the learned stiffness (axles without usable bins are left out) and the drives.
     """
-    from gripsense.estimate.calibration import solve_sums
+    from gripsense.estimate.calibration import solve_steering_sums, solve_sums
 
     _same_vehicle(previous, vehicle)
     kept = list(previous.drives) if previous is not None else []
@@ -407,4 +412,5 @@ def solve_calibration(
         a = solve_sums([d for d in kept if d.axle == axle], declared)
         if a is not None:
             axles[axle] = a
-    return Calibration(vehicle=vehicle.name, axles=axles, drives=kept)
+    steering = solve_steering_sums([d for d in kept if d.axle == "steering"])
+    return Calibration(vehicle=vehicle.name, axles=axles, drives=kept, steering=steering)

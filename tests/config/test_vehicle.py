@@ -153,8 +153,8 @@ def test_steering_ratio_given_twice_must_agree(tmp_path):
 
 
 def test_steering_tyre_file(tmp_path):
-    """[steering] tyre_file: a path relative to the vehicle file; the zero-slip trail's default
-    uncertainty becomes 0.1 (an explicit one stays); a missing or unreadable file is refused."""
+    """[steering] tyre_file: a path relative to the vehicle file; a missing or unreadable file is
+    refused with the key."""
     import shutil
 
     from gripsense.data import sample_path
@@ -163,11 +163,7 @@ def test_steering_tyre_file(tmp_path):
     p = tmp_path / "car.toml"
     p.write_text(BASE + STEERING + 'tyre_file = "front.tir"\n')
     s = Vehicle.from_toml(p).steering
-    assert s.tyre_file == str(tmp_path / "front.tir") and s.trail_uncertainty == 0.1
-    p.write_text(BASE + STEERING + 'tyre_file = "front.tir"\npneumatic_trail_uncertainty = 0.2\n')
-    assert Vehicle.from_toml(p).steering.trail_uncertainty == 0.2
-    p.write_text(BASE + STEERING)
-    assert Vehicle.from_toml(p).steering.trail_uncertainty == 0.3
+    assert s.tyre_file == str(tmp_path / "front.tir")
     p.write_text(BASE + STEERING + 'tyre_file = "rear.tir"\n')
     with pytest.raises(InputError, match=r"car.toml: \[steering\] tyre_file: = 'rear.tir': no"):
         Vehicle.from_toml(p)

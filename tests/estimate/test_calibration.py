@@ -59,7 +59,13 @@ def setup(tmp_path_factory):
     files = [
         _write(
             simulate_drive(
-                "sedan", TYRE, M.everyday(60 / 3.6, seed=i), 0.9, receiver="rtk", seed=i
+                "sedan",
+                TYRE,
+                M.everyday(60 / 3.6, seed=i),
+                0.9,
+                receiver="rtk",
+                seed=i,
+                torque=True,
             ),
             folder,
             f"everyday{i}",
@@ -92,6 +98,50 @@ def test_learned_stiffness_within_5_percent(setup):
         assert abs(err) <= 2.5 * a.stiffness_uncertainty
     assert {d.file for d in cal.drives} == {f[0].name for f in files}
     assert out.read_text(encoding="utf-8").startswith("# gripsense calibration")
+
+
+def simulated_lever(tyre: str = TYRE, vehicle: str = "sedan", seed: int = 0) -> float:
+    """The lever of the simulator's own steering moment at low grip: Σ (t_c F_y − M_z) of the
+    front wheels regressed on Σ F_y where the front axle's grip is 0.04–0.2 (the truth tyre's
+    MF moment with its camber, which the car's roll gives it; docs/physics.md §16.4)."""
+    from gripsense.physics.steering_balance import steering_moment
+    from gripsense.sim.steering_torque import FRONT, aligning_moments
+    from gripsense.sim.vehicle import SimParams
+
+    tv, t = truth_vehicle(vehicle), truth_tyre(tyre)
+    p = SimParams.from_vehicle(tv, sim_tyres={"front": t, "rear": t})
+    res = M.run(p, M.everyday(60 / 3.6, seed=seed), mu=0.9)
+    mz, w = aligning_moments(res), res.wheels
+    fy = [w.loc[w["wheel"] == n, "force_N"].to_numpy(float) for n in FRONT]
+    fz = sum(w.loc[w["wheel"] == n, "load_N"].to_numpy(float) for n in FRONT)
+    moment = sum(
+        steering_moment(f, mz[n].to_numpy(), tv.steering.mechanical_trail_m)
+        for f, n in zip(fy, FRONT, strict=True)
+    )
+    force = fy[0] + fy[1]
+    use = (np.abs(force) / fz >= 0.04) & (np.abs(force) / fz <= 0.2)
+    x = np.column_stack([force[use], np.ones(use.sum())])
+    return float(np.linalg.lstsq(x, moment[use], rcond=None)[0][0])
+
+
+def test_learned_steering_lever(setup):
+    """With the column torque in the drives' steering tables, calibrate also learns the
+    steering's lever at low grip, k (t_c + t₀) (docs/physics.md §16.8): through the compass's
+    axle force, the torque sensor, the assist and the steering's friction, within 5 % of the
+    simulator's own lever and within 2.5 × its stated 1σ; the file keeps it per drive."""
+    folder, car, files = setup
+    out = folder / "lever.calibration.toml"
+    args = ["calibrate", *[f[0] for f in files], "--vehicle", car, "-o", out]
+    for f in files:
+        args += ["--steer-csv", f[1]]
+    assert "steering lever learned" in invoke(*args)
+    cal = read_calibration(out)
+    st = cal.steering
+    truth = simulated_lever()
+    err = st.lever_m / truth - 1.0
+    assert abs(err) <= 0.05, (st, truth)
+    assert abs(err) <= 2.5 * st.lever_uncertainty
+    assert sum(d.axle == "steering" for d in cal.drives) == len(files)
 
 
 def test_update_adds_a_drive_once(setup):
@@ -177,6 +227,17 @@ def test_bad_calibration_files(setup, tmp_path):
     )
     out = invoke("friction", files[0][0], "--vehicle", car, "--calibration", other, code=2)
     assert "another car" in out
+    from gripsense.config import Vehicle
+
+    name = Vehicle.from_toml(car).name
+    for body, key in (
+        ("[calibration.steering]\nlever_m = 0.05\nlever_uncertainty = 0.04\nbin = 3\n", "bin"),
+        ('[[calibration.drive]]\naxle = "steering"\nsums = [1.0, 2.0]\n', "sums"),
+        ('[[calibration.drive]]\naxle = "steer"\nsums = [1.0]\n', "axle"),
+    ):
+        bad.write_text(f'[calibration]\nvehicle = "{name}"\n\n{body}', encoding="utf-8")
+        out = invoke("friction", files[0][0], "--vehicle", car, "--calibration", bad, code=2)
+        assert "bad.calibration.toml" in out and key in out, out
 
 
 def test_a_calibration_that_knows_less_never_widens_the_prior(setup):

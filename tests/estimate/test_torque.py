@@ -130,3 +130,24 @@ def test_a_known_tyre_says_more(mf_drive):
     assert known["mu_high"] - known["mu_low"] < family["mu_high"] - family["mu_low"]
     assert family["mu_low"] <= known["mu_low"] and known["mu_high"] <= family["mu_high"]
     assert known["grip_used_lower"] == family["grip_used_lower"]
+
+
+def test_a_learned_lever(mf_drive):
+    """The steering's lever learned by gripsense calibrate (docs/physics.md §16.8; here the
+    simulator's own lever at low grip, 4 % 1σ): the range holds the truth and stays within the
+    family's without it — also for a lever learned 10 % off."""
+    import dataclasses
+
+    from tests.estimate.test_calibration import simulated_lever
+
+    d, uv, ep, steer, torque = mf_drive
+    truth = d.axles.set_index("axle").loc["front"]
+    plain, _ = _front(uv, with_torque(ep, torque), steer)
+    lever = simulated_lever("mf61")
+    for factor in (1.0, 0.9, 1.1):
+        st = dataclasses.replace(uv.steering, calibrated_lever_m=lever * factor,
+                                 calibrated_lever_uncertainty=0.04)  # fmt: skip
+        cal, _ = _front(dataclasses.replace(uv, steering=st), with_torque(ep, torque), steer)
+        assert plain["mu_low"] <= cal["mu_low"] and cal["mu_high"] <= plain["mu_high"]
+        if factor == 1.0:
+            assert cal["mu_low"] <= truth["mu_true"] <= cal["mu_high"]

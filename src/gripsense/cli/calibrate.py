@@ -54,7 +54,8 @@ def calibrate(
     overwrite: Overwrite = False,
 ) -> None:
     """Learn each axle's cornering stiffness (one wheel, at the static load) and its
-    uncertainty from the linear range of everyday driving; friction and live take the file with
+    uncertainty from the linear range of everyday driving, and with a steering-torque channel
+    the steering's lever at low grip; friction and live take the file with
     --calibration, every command (fleet too) when the vehicle file names it in a calibration
     table (file = "car.calibration.toml").
     """
@@ -100,6 +101,14 @@ def calibrate(
             str(n_drives),
         )
     console.print(table)
+    if cal.steering is not None:
+        st = cal.steering
+        n_drives = sum(d.axle == "steering" for d in cal.drives)
+        say(
+            f"steering lever learned (caster + pneumatic trail × the torque channel's scale): "
+            f"{st.lever_m * 1e3:.1f} mm ± {100 * st.lever_uncertainty:.1f} % from {st.bins} "
+            f"bins of {n_drives} drive(s)"
+        )
     try:
         out = write_file_atomic(output, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
     except GripsenseError as e:

@@ -24,6 +24,17 @@ adding a drive (``--update``) combines them exactly::
     bins = 201
     sums = [ … ]                              # XᵀWX (2 × 2), XᵀWk (2), kᵀWk, centred
 
+With a steering-torque channel the file also keeps the steering's lever at low grip (the caster
+plus zero-slip pneumatic trail times the channel's scale, ``docs/physics.md`` §16.8), which the
+torque estimator then takes as a constraint of its trail nuisances::
+
+    [calibration.steering]
+    lever_m = 0.0391                          # k (t_c + t₀), moment at the axes per axle force
+    lever_uncertainty = 0.031                 # relative, 1σ
+    bins = 388
+
+(its drives have ``axle = "steering"``, their sums those of the lever and the friction).
+
 Unknown keys are errors, like everywhere else.
 """
 
@@ -45,6 +56,7 @@ __all__ = [
     "AxleCalibration",
     "Calibration",
     "DriveSums",
+    "SteeringCalibration",
     "apply_calibration",
     "calibrated_vehicle",
     "calibration_toml",
@@ -53,7 +65,8 @@ __all__ = [
 
 AXLE_KEYS = ("cornering_stiffness_N_per_rad", "stiffness_uncertainty", "scale", "bins")
 DRIVE_KEYS = ("file", "sha256", "axle", "bins", "sums")
-N_SUMS = 7  # 2 × 2 + 2 + 1
+STEERING_KEYS = ("lever_m", "lever_uncertainty", "bins")
+N_SUMS = {"front": 7, "rear": 7, "steering": 7}  # 2 × 2 + 2 + 1
 
 
 @dataclass(frozen=True)
@@ -67,7 +80,7 @@ class DriveSums:
     sha256 : str
         Its content hash (the same drive is not counted twice).
     axle : str
-        ``front`` or ``rear``.
+        ``front`` or ``rear`` (the stiffness), or ``steering`` (the steering's lever).
     bins : int
         Bins used.
     sums : numpy.ndarray
@@ -105,6 +118,26 @@ class AxleCalibration:
 
 
 @dataclass(frozen=True)
+class SteeringCalibration:
+    """The learned lever of the steering at low grip.
+
+    Attributes
+    ----------
+    lever_m : float
+        k (t_c + t₀): the moment at the steering axes per front axle force at low grip, the
+        caster plus zero-slip pneumatic trail times the torque channel's scale [m].
+    lever_uncertainty : float
+        Its relative 1σ [-].
+    bins : int
+        Bins of all drives used.
+    """
+
+    lever_m: float
+    lever_uncertainty: float
+    bins: int
+
+
+@dataclass(frozen=True)
 class Calibration:
     """A calibration file's content.
 
@@ -118,12 +151,15 @@ class Calibration:
         What it was learned from.
     source : str
         The file, for messages.
+    steering : SteeringCalibration or None
+        The steering's lever, when the drives had a torque channel.
     """
 
     vehicle: str
     axles: dict[str, AxleCalibration]
     drives: list[DriveSums] = field(default_factory=list)
     source: str = "<calibration>"
+    steering: SteeringCalibration | None = None
 
 
 def read_calibration(path: str | Path) -> Calibration:
@@ -146,7 +182,7 @@ def read_calibration(path: str | Path) -> Calibration:
     t = doc.get("calibration")
     if not isinstance(t, dict):
         raise InputError(f"{src}: no [calibration] table; write one with gripsense calibrate")
-    r.known(t, "calibration", ("vehicle", "front", "rear", "drive"))
+    r.known(t, "calibration", ("vehicle", "front", "rear", "steering", "drive"))
     vehicle = t.get("vehicle")
     if not isinstance(vehicle, str):
         raise InputError(f"{src}: [calibration] vehicle: a string (the vehicle's name) is needed")
@@ -162,6 +198,14 @@ def read_calibration(path: str | Path) -> Calibration:
         s = r.num(a, where, "scale", unit="-", plausible=(0.05, 20.0))
         n = r.num(a, where, "bins", unit="-", plausible=(1, 1e9))
         axles[axle] = AxleCalibration(float(c), float(u), float(s), int(n))
+    steering = None
+    st = t.get("steering")
+    if st is not None:
+        r.known(st, "calibration.steering", STEERING_KEYS)
+        lever = r.num(st, "calibration.steering", "lever_m", unit="m", plausible=(0.002, 0.5))
+        u = r.num(st, "calibration.steering", "lever_uncertainty", unit="-", plausible=(0.001, 1))
+        n = r.num(st, "calibration.steering", "bins", unit="-", plausible=(1, 1e9))
+        steering = SteeringCalibration(float(lever), float(u), int(n))
     drives = []
     for i, d in enumerate(t.get("drive", []) or []):
         where = f"calibration.drive[{i}]"
@@ -169,10 +213,13 @@ def read_calibration(path: str | Path) -> Calibration:
             raise InputError(f"{src}: {where}: a table is needed")
         r.known(d, where, DRIVE_KEYS)
         sums = d.get("sums")
-        if not (isinstance(sums, list) and len(sums) == N_SUMS):
-            raise InputError(f"{src}: {where}: sums: {N_SUMS} numbers are needed")
-        if d.get("axle") not in ("front", "rear"):
-            raise InputError(f"{src}: {where}: axle = {d.get('axle')!r}; use front or rear")
+        if d.get("axle") not in N_SUMS:
+            raise InputError(
+                f"{src}: {where}: axle = {d.get('axle')!r}; use front, rear or steering"
+            )
+        need = N_SUMS[d["axle"]]
+        if not (isinstance(sums, list) and len(sums) == need):
+            raise InputError(f"{src}: {where}: sums: {need} numbers are needed")
         drives.append(
             DriveSums(
                 str(d.get("file", "")),
@@ -182,7 +229,7 @@ def read_calibration(path: str | Path) -> Calibration:
                 np.asarray(sums, dtype=float),
             )
         )
-    return Calibration(vehicle, axles, drives, src)
+    return Calibration(vehicle, axles, drives, src, steering)
 
 
 def calibration_toml(cal: Calibration) -> str:
@@ -212,6 +259,14 @@ def calibration_toml(cal: Calibration) -> str:
             f"stiffness_uncertainty = {a.stiffness_uncertainty:.4f}",
             f"scale = {a.scale:.4f}",
             f"bins = {a.bins}",
+        ]
+    if cal.steering is not None:
+        out += [
+            "",
+            "[calibration.steering]",
+            f"lever_m = {cal.steering.lever_m:.6f}",
+            f"lever_uncertainty = {cal.steering.lever_uncertainty:.4f}",
+            f"bins = {cal.steering.bins}",
         ]
     for d in cal.drives:
         sums = ", ".join(f"{v:.10g}" for v in d.sums)
@@ -244,11 +299,12 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
     Returns
     -------
     Vehicle
-        The description the estimators use (same object when *cal* has no axle): per axle the
-        declaration and the learned stiffness combined by their uncertainties (in ln C: the
-        vehicle file's value is the prior, the drives the data) — a calibration that knows
-        less than the vehicle file (a receiver too noisy for the slips of everyday driving)
-        leaves the declaration nearly as it is, never widens it.
+        The description the estimators use: per axle the declaration and the learned stiffness
+        combined by their uncertainties (in ln C: the vehicle file's value is the prior, the
+        drives the data) — a calibration that knows less than the vehicle file (a receiver too
+        noisy for the slips of everyday driving) leaves the declaration nearly as it is, never
+        widens it; the steering's learned lever, a constraint the torque estimator adds to its
+        trail priors (docs/physics.md §16.8).
     """
     if cal.vehicle != vehicle.name:
         raise InputError(
@@ -268,7 +324,14 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
             cornering_stiffness_N_per_rad=float(np.exp(ln_c)),
             stiffness_uncertainty=float(np.expm1(1.0 / np.sqrt(w_d + w_l))),
         )
-    return dataclasses.replace(vehicle, tyres=tyres)
+    steering = vehicle.steering
+    if cal.steering is not None and steering is not None:
+        steering = dataclasses.replace(
+            steering,
+            calibrated_lever_m=cal.steering.lever_m,
+            calibrated_lever_uncertainty=cal.steering.lever_uncertainty,
+        )
+    return dataclasses.replace(vehicle, tyres=tyres, steering=steering)
 
 
 def calibrated_vehicle(

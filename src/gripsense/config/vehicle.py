@@ -179,13 +179,6 @@ class Tyre:
         return 0.5 * self.tread_stiffness_N_per_m3 * self.width_m * length**2
 
 
-DECLARED_TRAIL_UNCERTAINTY = 0.3
-"""Relative 1σ of the zero-slip trail l/6 of the contact length, or of a declared one [-]."""
-KNOWN_TYRE_TRAIL_UNCERTAINTY = 0.1
-"""Relative 1σ of the zero-slip trail a tyre file gives: a rig's new tyre at its nominal pressure;
-wear and inflation move it by about this much [-]."""
-
-
 @dataclass(frozen=True)
 class SteeringSystem:
     """The ``[steering]`` table: the steering system between the tyres and a torque channel
@@ -200,8 +193,8 @@ class SteeringSystem:
         Its 1σ [m].
     pneumatic_trail_m : float or None
         The front tyre's pneumatic trail at zero slip t₀ [m]; None: l/6 from the contact length.
-    pneumatic_trail_uncertainty : float or None
-        Relative 1σ of t₀ as declared (None: :attr:`trail_uncertainty`'s default) [-].
+    pneumatic_trail_uncertainty : float
+        Relative 1σ of t₀ [-].
     kingpin_inertia_kgm2 : float
         I_s of both steered wheels about their axes [kg m²].
     kingpin_damping_Nms : float
@@ -226,6 +219,9 @@ class SteeringSystem:
         Tie-rod lever about the steering axis (for a rack-force channel) [m].
     tyre_file : str or None
         The front tyre's Magic Formula file, when known (its own trail, §16.7).
+    calibrated_lever_m, calibrated_lever_uncertainty : float or None
+        The lever k (t_c + t₀) learned by ``gripsense calibrate`` [m] and its relative 1σ [-]
+        (§16.8; not a vehicle-file key: the calibration file's).
     """
 
     mechanical_trail_m: float = STEERING_SYSTEM["mechanical_trail_m"].default  # 0.02
@@ -233,7 +229,7 @@ class SteeringSystem:
         "mechanical_trail_uncertainty_m"
     ].default  # 0.01
     pneumatic_trail_m: float | None = None
-    pneumatic_trail_uncertainty: float | None = None
+    pneumatic_trail_uncertainty: float = STEERING_SYSTEM["pneumatic_trail_uncertainty"].default
     kingpin_inertia_kgm2: float = STEERING_SYSTEM["kingpin_inertia_kgm2"].default  # 1.0
     kingpin_damping_Nms: float = STEERING_SYSTEM["kingpin_damping_Nms"].default  # 30
     friction_Nm: float = STEERING_SYSTEM["friction_Nm"].default  # 1.0
@@ -246,15 +242,8 @@ class SteeringSystem:
     torque_offset_uncertainty_Nm: float = STEERING_SYSTEM["torque_offset_uncertainty_Nm"].default
     steering_arm_m: float | None = None
     tyre_file: str | None = None
-
-    @property
-    def trail_uncertainty(self) -> float:
-        """Relative 1σ of t₀: as declared, else 0.3 from the contact length's l/6, 0.1 from a
-        known tyre's file [-].
-        """
-        if self.pneumatic_trail_uncertainty is not None:
-            return self.pneumatic_trail_uncertainty
-        return KNOWN_TYRE_TRAIL_UNCERTAINTY if self.tyre_file else DECLARED_TRAIL_UNCERTAINTY
+    calibrated_lever_m: float | None = None
+    calibrated_lever_uncertainty: float | None = None
 
 
 @dataclass(frozen=True)
@@ -609,7 +598,7 @@ def _steering(r: TomlReader, t: dict, ratio: float | None) -> tuple[SteeringSyst
             "assist_gain",
             f'= {v["assist_gain"]} with assist = "none"; set assist = "linear" or drop it',
         )
-    kw = {k: v[k] for k in SteeringSystem.__dataclass_fields__}
+    kw = {k: v[k] for k in STEERING_SYSTEM.names if k in SteeringSystem.__dataclass_fields__}
     if kw["tyre_file"] is not None:
         path = Path(kw["tyre_file"])
         if not path.is_absolute() and Path(r.source).parent.exists():

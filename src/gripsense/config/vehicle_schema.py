@@ -244,8 +244,9 @@ STEERING_SYSTEM = Table(
         Key(
             "pneumatic_trail_uncertainty",
             "-",
-            "relative 1σ of the pneumatic trail at zero slip (default 0.3; 0.1 with a tyre_file)",
-            None,
+            "relative 1σ of the pneumatic trail at zero slip (a tyre_file's too: on the car, "
+            "roll camber and toe add to it)",
+            0.3,
             (0.0, 1.0),
         ),
         Key(

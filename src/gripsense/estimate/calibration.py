@@ -19,6 +19,17 @@ correlated over τ (20 s), so the weights are divided by 1 + 2τ/bin × its shar
 (fewer independent bins than bins). s's relative standard error (scaled by the reduced χ² when
 above 1), the axle force's own scale error (3 %) and the fit's form (5 %) make the learned
 stiffness's uncertainty.
+
+With a steering-torque channel the same drives teach the steering's lever at low grip
+(§16.8): per 1 s bin of :func:`~gripsense.estimate.torque.torque_bins` with measured grip in
+:data:`TRAIL_GRIP_RANGE`, the moment at the steering axes is regressed as
+
+    M = S F + f s + o_drive
+
+(F the front axle force, s the steering friction's Dahl state, o_drive the drive's offset),
+within each drive around its weighted means: S = k (t_c + t₀), the caster plus zero-slip
+pneumatic trail times the channel's scale, the sum the torque estimator's nuisances a + b share
+(:func:`gripsense.estimate.torque.torque_profile`).
 """
 
 from __future__ import annotations
@@ -27,11 +38,20 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Vehicle
-from gripsense.config.calibration import AxleCalibration, DriveSums
+from gripsense.config.calibration import AxleCalibration, DriveSums, SteeringCalibration
 from gripsense.estimate.bins import axle_bins, force_and_linear
 from gripsense.estimate.noise import NoiseModel
+from gripsense.estimate.torque import check_channel, torque_bins
 
-__all__ = ["FORCE_SCALE_REL", "GRIP_RANGE", "drive_sums", "solve_sums"]
+__all__ = [
+    "FORCE_SCALE_REL",
+    "GRIP_RANGE",
+    "TRAIL_GRIP_RANGE",
+    "drive_sums",
+    "solve_steering_sums",
+    "solve_sums",
+    "steering_sums",
+]
 
 GRIP_RANGE = (0.04, 0.3)
 """Measured grip of the bins the linear-range fit uses [-]: above the noise, below where any
@@ -142,4 +162,94 @@ def solve_sums(sums: list[DriveSums], declared_N_per_rad: float) -> AxleCalibrat
         stiffness_uncertainty=float(np.sqrt(se**2 + FORCE_SCALE_REL**2 + FIT_FORM_REL**2)),
         scale=1.0 / slope,
         bins=n,
+    )
+
+
+TRAIL_GRIP_RANGE = (0.04, 0.2)
+"""Measured grip of the bins the steering lever's fit uses [-]: below 0.2 a wet road's tyres
+(μ ≥ 0.5) are under 0.4 of their grip, where a real tyre keeps ≥ 0.9 of its trail
+(docs/physics.md §16.5). A bend term (F g²) was tried: with few bins below 0.1 g it traded
+against the lever and took it 20 % high."""
+TRAIL_FIT_FORM_REL = 0.04
+"""Relative 1σ of the lever's fit form (the trail's fall up to 0.2 g, the steering's friction
+and inertia, the axle force's scale): on three Magic Formula truth tyres × two cars × two
+receivers, three everyday drives each, the learned lever was 1.5–4.9 % high (median 3 %)
+against the simulator's own lever, where its statistics said 1 % (docs/physics.md §16.8) [-]."""
+
+
+def steering_sums(
+    wheels: pd.DataFrame, vehicle: Vehicle, *, file: str = "", sha256: str = ""
+) -> DriveSums | None:
+    """One drive's least-squares sums of the steering lever's fit (docs/physics.md §16.8).
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        Wheel table with a steering-torque channel on the front wheels.
+    vehicle : Vehicle
+        The vehicle (its ``[steering]`` turns the channel into the moment at the axes).
+    file : str
+        The drive's name, kept in the calibration file.
+    sha256 : str
+        Its content hash.
+
+    Returns
+    -------
+    DriveSums or None
+        ``axle = "steering"``: XᵀWX (2 × 2), XᵀWM (2) and MᵀWM of the centred bins; None
+        without a torque channel or with fewer than six bins in :data:`TRAIL_GRIP_RANGE`.
+    """
+    tb = torque_bins(wheels, vehicle)
+    if tb is None:
+        return None
+    check_channel(tb, vehicle)  # a flipped sign or a wrong unit: one clear error, as friction
+    g = np.abs(tb.grip)
+    use = (g >= TRAIL_GRIP_RANGE[0]) & (g <= TRAIL_GRIP_RANGE[1]) & np.isfinite(tb.moment)
+    if use.sum() < 6:
+        return None
+    f, m = tb.force[use], tb.moment[use]
+    x = np.column_stack([f, tb.friction_state[use]])
+    # the bin's noise: the moment's own and the force's through a nominal lever; the bins'
+    # spreads already carry the transients
+    lever = float(np.sum(m * f) / max(np.sum(f * f), 1e-9))
+    w = 1.0 / np.maximum(tb.moment_sigma[use] ** 2 + (lever * tb.force_sigma[use]) ** 2, 1e-12)
+    xc = x - (w @ x) / w.sum()
+    mc = m - (w @ m) / w.sum()
+    xtw = xc.T * w
+    sums = np.concatenate([(xtw @ xc).ravel(), xtw @ mc, [float(np.sum(w * mc * mc))]])
+    return DriveSums(file, sha256, "steering", int(use.sum()), sums)
+
+
+def solve_steering_sums(sums: list[DriveSums]) -> SteeringCalibration | None:
+    """The learned steering lever from the combined sums of the drives.
+
+    Parameters
+    ----------
+    sums : list of DriveSums
+        The drives' ``steering`` sums.
+
+    Returns
+    -------
+    SteeringCalibration or None
+        S = k (t_c + t₀) and its relative 1σ (the fit's standard error scaled by the reduced χ²
+        when above 1, and :data:`TRAIL_FIT_FORM_REL`); None with fewer than ten bins or a lever
+        that is not positive.
+    """
+    if not sums:
+        return None
+    tot = np.sum([s.sums for s in sums], axis=0)
+    n = int(sum(s.bins for s in sums))
+    a, b, mm = tot[:4].reshape(2, 2), tot[4:6], tot[6]
+    if n < 10 or not np.isfinite(a).all() or np.linalg.cond(a) > 1e12:
+        return None
+    cov = np.linalg.inv(a)
+    beta = cov @ b
+    chi2 = float(mm - 2 * beta @ b + beta @ a @ beta)
+    red = max(chi2 / max(n - 2 - len(sums), 1), 1.0)
+    lever = float(beta[0])
+    if not lever > 0:
+        return None
+    se = float(np.sqrt(cov[0, 0] * red)) / lever
+    return SteeringCalibration(
+        lever_m=lever, lever_uncertainty=float(np.hypot(se, TRAIL_FIT_FORM_REL)), bins=n
     )

@@ -387,8 +387,9 @@ def profile_mu(
         if c is not None:
             lo_c, hi_c = lo, hi
             lo, hi, mu_hat, observable, torque_says = c
-            if trusted:  # never wider than the compass's own range: more data never say less
-                lo, hi = max(lo, lo_c), min(hi, hi_c)
+            # never wider than the compass's own range (an untrusted upper end is already
+            # unbounded): more data never say less
+            lo, hi = max(lo, lo_c), min(hi, hi_c)
             if strained and torque_says:
                 fit = "ok"  # the torque bounds what the compass's family could not
             strained = False
@@ -452,8 +453,8 @@ def _with_torque(
     o: WindowOptions,
 ) -> tuple[float, float, float, bool, bool] | None:
     """:func:`_torque_range` of the compass's likelihood times the torque's. With a known tyre
-    the range stays within what the family says without its file (the overlap; the family's
-    alone where they do not meet): knowing the tyre never says less.
+    or a learned lever the range stays within what the family says without them (the overlap;
+    the family's alone where they do not meet): knowing more never says less.
     """
 
     def one(t: TorqueProfile | None):

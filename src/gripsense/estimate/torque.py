@@ -406,7 +406,8 @@ class TorqueProfile:
     limited_by : str
         The nuisance furthest from its prior at the best μ, or ``trail shape``.
     without : TorqueProfile or None
-        With a known tyre (``[steering] tyre_file``): the profile over the family without it.
+        With a known tyre (``[steering] tyre_file``) or a learned lever (``gripsense
+        calibrate``): the profile over the family without them.
     """
 
     nll: np.ndarray
@@ -502,10 +503,13 @@ def torque_profile(
         return TorqueProfile(np.zeros(g.size), "no data", 0, "", np.nan, np.nan, np.nan, "")
     s = vehicle.steering or SteeringSystem()
     res = _profile(mb, vehicle, g)
-    if s.tyre_file:
-        # what the family says without the file: a known tyre's range is kept within it
-        # (profile_mu), so that knowing the tyre never says less
-        without = dataclasses.replace(vehicle, steering=dataclasses.replace(s, tyre_file=None))
+    if s.tyre_file or s.calibrated_lever_m is not None:
+        # what the family says without the tyre's file and the learned lever: the range is kept
+        # within it (profile_mu), so that knowing more never says less
+        plain = dataclasses.replace(
+            s, tyre_file=None, calibrated_lever_m=None, calibrated_lever_uncertainty=None
+        )
+        without = dataclasses.replace(vehicle, steering=plain)
         res = dataclasses.replace(res, without=_profile(mb, without, g))
     return res
 
@@ -534,7 +538,7 @@ def _profile(mb: TorqueBins, vehicle: Vehicle, g: np.ndarray) -> TorqueProfile:
         + (FRICTION_STATE_SD * mc) ** 2
     )
     # priors of θ = (a, b, o, f): a = k t_c, b = k t₀ correlated through the scale k
-    sd_t0 = t00 * s.trail_uncertainty
+    sd_t0 = t00 * s.pneumatic_trail_uncertainty
     cov = np.zeros((4, 4))
     cov[0, 0] = s.mechanical_trail_uncertainty_m**2 + (tc0 * mb.scale_sd) ** 2
     cov[1, 1] = sd_t0**2 + (t00 * mb.scale_sd) ** 2
@@ -590,10 +594,18 @@ def _profile(mb: TorqueBins, vehicle: Vehicle, g: np.ndarray) -> TorqueProfile:
     perm = np.array([0, 2, 3, 1])
     P = prec[np.ix_(perm, perm)]
     t0p = th0[perm]
-    A = A + P
-    R = R + P @ t0p
+    p_all, r_all, c_all = P, P @ t0p, float(t0p @ P @ t0p)
+    if s.calibrated_lever_m is not None and s.calibrated_lever_uncertainty is not None:
+        # the lever learned from everyday driving (gripsense calibrate, §16.8): a + b = S ± σ
+        x_cal = np.array([1.0, 0.0, 0.0, 1.0])
+        w_cal = 1.0 / (s.calibrated_lever_uncertainty * s.calibrated_lever_m) ** 2
+        p_all = p_all + w_cal * np.outer(x_cal, x_cal)
+        r_all = r_all + w_cal * s.calibrated_lever_m * x_cal
+        c_all += w_cal * s.calibrated_lever_m**2
+    A = A + p_all
+    R = R + r_all
     th = np.linalg.solve(A, R[..., None])[..., 0]
-    chi = float(np.sum(iw * y * y)) + float(t0p @ P @ t0p) - np.einsum("gsi,gsi->gs", R, th)
+    chi = float(np.sum(iw * y * y)) + c_all - np.einsum("gsi,gsi->gs", R, th)
     best_s = np.argmin(chi, axis=1)
     prof = chi[np.arange(g.size), best_s]
     im = int(np.argmin(prof))
