@@ -117,13 +117,41 @@ def drive_sums(
     share = float(np.mean(var_slow / np.maximum(var_white + var_slow, 1e-30)))
     inflate = 1.0 + 2.0 * noise.heading_slow_tau_s * share  # bins of 1 s
     w = 1.0 / np.maximum((var_white + var_slow) * inflate, 1e-30)
-    x = np.column_stack([y, y * np.abs(y)])
     # within the drive, around its weighted means: the drive's own slip offset drops out
-    xc = x - (w @ x) / w.sum()
-    kc = k - (w @ k) / w.sum()
-    xtw = xc.T * w
-    sums = np.concatenate([(xtw @ xc).ravel(), xtw @ kc, [float(np.sum(w * kc * kc))]])
+    sums = _centred_sums(np.column_stack([y, y * np.abs(y)]), k, w)
     return DriveSums(file, sha256, axle, int(use.sum()), sums)
+
+
+def _centred_sums(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """XᵀWX (row-major), XᵀWy and yᵀWy of a drive's bins centred on their weighted means (the
+    drive's own offset drops out, so drives add exactly).
+    """
+    xc = x - (w @ x) / w.sum()
+    yc = y - (w @ y) / w.sum()
+    xtw = xc.T * w
+    return np.concatenate([(xtw @ xc).ravel(), xtw @ yc, [float(np.sum(w * yc * yc))]])
+
+
+def _first_coefficient(sums: list[DriveSums], min_bins: int) -> tuple[float, float, int] | None:
+    """The first coefficient of the drives' combined two-regressor fit, its standard error
+    relative to it (scaled by the reduced χ² when above 1) and the bins; None with fewer than
+    *min_bins* bins, a singular fit or a coefficient that is not positive.
+    """
+    if not sums:
+        return None
+    tot = np.sum([s.sums for s in sums], axis=0)
+    n = int(sum(s.bins for s in sums))
+    a, b, yy = tot[:4].reshape(2, 2), tot[4:6], tot[6]
+    if n < min_bins or not np.isfinite(a).all() or np.linalg.cond(a) > 1e12:
+        return None
+    cov = np.linalg.inv(a)
+    beta = cov @ b
+    chi2 = float(yy - 2 * beta @ b + beta @ a @ beta)
+    red = max(chi2 / max(n - 2 - len(sums), 1), 1.0)
+    first = float(beta[0])
+    if not first > 0:
+        return None
+    return first, float(np.sqrt(cov[0, 0] * red)) / first, n
 
 
 def solve_sums(sums: list[DriveSums], declared_N_per_rad: float) -> AxleCalibration | None:
@@ -142,21 +170,10 @@ def solve_sums(sums: list[DriveSums], declared_N_per_rad: float) -> AxleCalibrat
         The learned stiffness at the static load and its relative 1σ; None with fewer than
         six bins or without a change of the lateral force within a drive.
     """
-    if not sums:
+    fit = _first_coefficient(sums, 6)
+    if fit is None:
         return None
-    tot = np.sum([s.sums for s in sums], axis=0)
-    n = int(sum(s.bins for s in sums))
-    a, b, kk = tot[:4].reshape(2, 2), tot[4:6], tot[6]
-    if n < 6 or not np.isfinite(a).all() or np.linalg.cond(a) > 1e12:
-        return None
-    cov = np.linalg.inv(a)
-    beta = cov @ b
-    chi2 = float(kk - 2 * beta @ b + beta @ a @ beta)
-    red = max(chi2 / max(n - 2 - len(sums), 1), 1.0)
-    slope = float(beta[0])  # 1 / s
-    if not slope > 0:
-        return None
-    se = float(np.sqrt(cov[0, 0] * red)) / slope
+    slope, se, n = fit  # slope = 1 / s
     return AxleCalibration(
         cornering_stiffness_N_per_rad=declared_N_per_rad / slope,
         stiffness_uncertainty=float(np.sqrt(se**2 + FORCE_SCALE_REL**2 + FIT_FORM_REL**2)),
@@ -213,11 +230,7 @@ def steering_sums(
     # spreads already carry the transients
     lever = float(np.sum(m * f) / max(np.sum(f * f), 1e-9))
     w = 1.0 / np.maximum(tb.moment_sigma[use] ** 2 + (lever * tb.force_sigma[use]) ** 2, 1e-12)
-    xc = x - (w @ x) / w.sum()
-    mc = m - (w @ m) / w.sum()
-    xtw = xc.T * w
-    sums = np.concatenate([(xtw @ xc).ravel(), xtw @ mc, [float(np.sum(w * mc * mc))]])
-    return DriveSums(file, sha256, "steering", int(use.sum()), sums)
+    return DriveSums(file, sha256, "steering", int(use.sum()), _centred_sums(x, m, w))
 
 
 def solve_steering_sums(sums: list[DriveSums]) -> SteeringCalibration | None:
@@ -235,21 +248,10 @@ def solve_steering_sums(sums: list[DriveSums]) -> SteeringCalibration | None:
         when above 1, and :data:`TRAIL_FIT_FORM_REL`); None with fewer than ten bins or a lever
         that is not positive.
     """
-    if not sums:
+    fit = _first_coefficient(sums, 10)
+    if fit is None:
         return None
-    tot = np.sum([s.sums for s in sums], axis=0)
-    n = int(sum(s.bins for s in sums))
-    a, b, mm = tot[:4].reshape(2, 2), tot[4:6], tot[6]
-    if n < 10 or not np.isfinite(a).all() or np.linalg.cond(a) > 1e12:
-        return None
-    cov = np.linalg.inv(a)
-    beta = cov @ b
-    chi2 = float(mm - 2 * beta @ b + beta @ a @ beta)
-    red = max(chi2 / max(n - 2 - len(sums), 1), 1.0)
-    lever = float(beta[0])
-    if not lever > 0:
-        return None
-    se = float(np.sqrt(cov[0, 0] * red)) / lever
+    lever, se, n = fit
     return SteeringCalibration(
         lever_m=lever, lever_uncertainty=float(np.hypot(se, TRAIL_FIT_FORM_REL)), bins=n
     )
