@@ -567,9 +567,10 @@ def torque_report(df: pd.DataFrame) -> None:
     print("\nwhat limits the torque estimate\n" + what.to_string())
 
 
-def torque_plot(df: pd.DataFrame, path: str) -> None:
-    """The figure of ``docs/friction.md``: per band, how often an upper end is given, and each
-    axle-case's range over the true μ, with the torque and without."""
+def torque_plot(df: pd.DataFrame, path: str, what: str = "") -> None:
+    """The figures of ``docs/friction.md``: per band, how often an upper end is given, and each
+    axle-case's range over the true μ, with the torque and without (*what*: the run's options,
+    for the title)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -604,7 +605,7 @@ def torque_plot(df: pd.DataFrame, path: str) -> None:
     a1.set_ylabel("stated range / true μ (upper end cut at 3)")
     a1.set_title("the axle-cases the torque bounds: without it (grey), with it (blue)",
                  fontsize=9)  # fmt: skip
-    fig.suptitle("MF truth tyres, circles and sweeps (benchmarks/accuracy.py --torque)")
+    fig.suptitle(f"MF truth tyres, circles and sweeps (benchmarks/accuracy.py --torque{what})")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
@@ -729,7 +730,10 @@ def main() -> None:
         df = run_all(one_torque, todo, args.workers, args.csv, chunksize=2)
         torque_report(df)
         if args.plot:
-            torque_plot(df, args.plot)
+            what = (" --calibrated" if args.calibrated else "") + (
+                f" --shape {args.shape}" if args.shape else ""
+            )
+            torque_plot(df, args.plot, what)
         return
     if "ideal" in args.receivers.split(","):
         from gripsense.config.receiver import RECEIVERS as PRESETS
