@@ -240,6 +240,19 @@ def _cr_drive(job: dict):
     return d, uv
 
 
+def estimate_columns(s) -> dict:
+    """What a drive summary's row says of one axle, as the benchmark's columns."""
+    return {
+        "grip_used_lower": s["grip_used_lower"],
+        "observable": bool(s["observable"]),
+        "mu": s["mu"],
+        "mu_low": s["mu_low"],
+        "mu_high": s["mu_high"],
+        "fit": s["fit"],
+        "limited_by": s.get("limited_by", ""),
+    }
+
+
 def one(job: dict) -> list[dict]:
     from gripsense import FrictionRun
     from gripsense.estimate.noise import NoiseModel
@@ -316,13 +329,7 @@ def one(job: dict) -> list[dict]:
                 "mu_true_max": t["mu_true_max"],
                 "utilisation": t["utilisation"],
                 "utilisation_max": t["utilisation_max"],
-                "grip_used_lower": s["grip_used_lower"],
-                "observable": bool(s["observable"]),
-                "mu": s["mu"],
-                "mu_low": s["mu_low"],
-                "mu_high": s["mu_high"],
-                "fit": s["fit"],
-                "limited_by": s.get("limited_by", ""),
+                **estimate_columns(s),
                 "shape": s.get("shape", ""),
                 "estimate_s": wall,
             }
@@ -496,13 +503,7 @@ def one_torque(job: dict) -> list[dict]:
                 "mu_true": truth["mu_true"],
                 "utilisation": truth["utilisation"],
                 "utilisation_max": truth["utilisation_max"],
-                "grip_used_lower": s["grip_used_lower"],
-                "observable": bool(s["observable"]),
-                "mu": s["mu"],
-                "mu_low": s["mu_low"],
-                "mu_high": s["mu_high"],
-                "fit": s["fit"],
-                "limited_by": s.get("limited_by", ""),
+                **estimate_columns(s),
             }
         )
     return rows

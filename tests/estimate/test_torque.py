@@ -138,12 +138,21 @@ def test_a_learned_lever(mf_drive):
     family's without it — also for a lever learned 10 % off."""
     import dataclasses
 
+    from gripsense.data import sample_path
+    from gripsense.estimate.torque import trail_family
     from tests.estimate.test_calibration import simulated_lever
 
     d, uv, ep, steer, torque = mf_drive
     truth = d.axles.set_index("axle").loc["front"]
     plain, _ = _front(uv, with_torque(ep, torque), steer)
     lever = simulated_lever("mf61")
+    # docs/physics.md §16.8: on the road (the sedan's wheels lean with the body) the MF 6.1
+    # file's pneumatic part is ~0.026 m, its zero-camber zero-slip lever ~0.017 m
+    tir = dataclasses.replace(uv.steering, tyre_file=str(sample_path(
+        "tyres/MagicFormula61_Paramerters.tir")))  # fmt: skip
+    file_t0 = trail_family(dataclasses.replace(uv, steering=tir)).t0_m
+    road = lever - uv.steering.mechanical_trail_m
+    assert road == pytest.approx(0.026, abs=0.002) and file_t0 == pytest.approx(0.017, abs=0.001)
     for factor in (1.0, 0.9, 1.1):
         st = dataclasses.replace(uv.steering, calibrated_lever_m=lever * factor,
                                  calibrated_lever_uncertainty=0.04)  # fmt: skip

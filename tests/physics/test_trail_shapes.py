@@ -91,3 +91,37 @@ def test_a_known_tyres_trail(name):
     shape, err = fit_trail_shape(U, tau)
     assert err <= 0.03
     assert np.max(np.abs(trail_ratio(U, shape.p, shape.tau1) - tau)) == pytest.approx(err)
+
+
+@pytest.mark.parametrize(
+    ("name", "low", "high"),
+    [("MagicFormula61_Paramerters", 1.0, 1.1), ("PacejkaBook_Defaults", 0.95, 1.05),
+     ("Sedan_Pac02Tire", 0.88, 0.96)],
+)  # fmt: skip
+def test_a_known_tyres_trail_grows_with_load(name, low, high):
+    """docs/physics.md §16.7: the files' zero-slip lever grows about in proportion to the load
+    (x = 1.06, 1.00, 0.92 over 0.5–1.5 × the sedan's static front load, against the family's
+    0.75). trail_family's fit over five loads against the two-point slope of the file's own
+    moment at a small slip."""
+    import dataclasses
+
+    from gripsense.estimate.torque import trail_family
+    from gripsense.sim.drives import truth_vehicle
+
+    veh = truth_vehicle("sedan")
+    tir = TIR / f"{name}.tir"
+    known = trail_family(
+        dataclasses.replace(veh, steering=dataclasses.replace(veh.steering, tyre_file=str(tir)))
+    )
+    tyre, a = load_mf_tyre(tir), np.deg2rad(np.array([-0.05, 0.05]))
+
+    def lever(fz):
+        m = tyre.aligning_moment(fz, 0, a)
+        return -(m.mz[0] - m.mz[1]) / (m.fy[0] - m.fy[1])
+
+    fz = veh.static_load("front")
+    two_point = np.log(lever(1.5 * fz) / lever(0.5 * fz)) / np.log(3.0)
+    assert low <= known.load_exponent <= high
+    assert known.load_exponent == pytest.approx(two_point, abs=0.05)
+    assert known.t0_m == pytest.approx(lever(fz), rel=0.01)
+    assert known.form_rel <= 0.03 + 1e-12

@@ -151,7 +151,8 @@ def tyre_trail_ratio(
 
     References
     ----------
-    docs/physics.md §16.2 (the MF aligning moment) and §16.7.
+    Pacejka (2012) (4.E71)–(4.E76), M_z = −t F_y' + M_zr, through
+    :meth:`MFTyre.aligning_moment`; docs/physics.md §16.2 and §16.7.
     """
     alpha = np.deg2rad(np.geomspace(0.005, max_slip_deg, 4000))
     left = tyre.aligning_moment(fz, 0.0, -alpha)
