@@ -9,7 +9,7 @@ import pandas as pd
 
 from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, map_table, read_table
+from gripsense.io.table import Quantity, channel_rows, map_table, read_table
 
 __all__ = ["ACCEL_QUANTITIES", "read_accel_csv"]
 
@@ -57,8 +57,12 @@ def read_accel_csv(
     Returns
     -------
     pandas.DataFrame
-        ``t_s`` [s], ``ax``, ``ay``, ``az`` [m/s^2] (NaN when a column is not given);
-        ``attrs["columns"]`` holds the mapping used.
+        ``t_s`` [s], ``ax``, ``ay``, ``az`` [m/s^2] (NaN when a column is not given or a row
+        leaves it empty): the rows that carry ``ax`` (any subset of the columns may be mapped;
+        a row without ``ax`` is counted in ``attrs["rows"]``, not used; a row whose values have
+        no time, or a mapped column without any value, is an error naming the file, line and
+        column — :func:`gripsense.io.table.channel_rows`); ``attrs["columns"]`` holds the
+        mapping used.
     """
     path = Path(path)
     if columns is None:  # the old per-column arguments, as a mapping with factors to SI
@@ -71,10 +75,12 @@ def read_accel_csv(
     v, spec = map_table(
         df, path, ACCEL_QUANTITIES, columns, required=("t", "ax"), example="t=HEADER:s,ax=HEADER:g"
     )
+    keep, acc = channel_rows(df, path, v, spec, needed=("ax",))
     nan = np.full(len(df), np.nan)
     res = pd.DataFrame(
         {"t_s": v["t"], "ax": v["ax"], "ay": v.get("ay", nan), "az": v.get("az", nan)}
-    ).dropna(subset=["t_s", "ax"])
+    )[keep]
     res = res.sort_values("t_s", kind="stable").reset_index(drop=True)
     res.attrs["columns"] = spec
+    res.attrs["rows"] = acc
     return res

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, map_table, read_table
+from gripsense.io.table import Quantity, channel_rows, map_table, read_table
 
 __all__ = [
     "STEERING_TORQUE",
@@ -51,10 +51,17 @@ def read_steer_csv(
     angle (divided by the vehicle's ``steering_ratio``). It may also carry the steering torque:
     ``torque`` (column torque at the steering wheel, ISO: positive steers left), ``assist`` (the
     power steering's torque, at the steering wheel) and ``rack`` (rack force, positive steers
-    left) — ``docs/physics.md`` §16.3. Channels at different rates share the table: a row may
-    leave some empty, but each row must carry at least one. Headers with a unit suffix are
-    mapped by themselves (``t_s``, ``road_wheel_deg``, ``steering_wheel_deg``, ``torque_Nm``,
-    ``assist_Nm``, ``rack_N``; the one column convention, :func:`gripsense.io.table.map_table`).
+    left) — ``docs/physics.md`` §16.3. Headers with a unit suffix are mapped by themselves
+    (``t_s``, ``road_wheel_deg``, ``steering_wheel_deg``, ``torque_Nm``, ``assist_Nm``,
+    ``rack_N``; the one column convention, :func:`gripsense.io.table.map_table`).
+
+    Channels at different rates share the table (``gripsense simulate`` writes the angle at its
+    rate and the torque at 100 Hz): a row carries the channels sampled at its time and leaves
+    the others empty, and any subset of the channels may be mapped, as long as each mapped
+    channel has samples of its own. A row that carries none of the mapped channels (e.g. a
+    torque row when only the angle is mapped) is counted in ``attrs`` and not used; a row whose
+    values have no time, a cell that is not a number, or a mapped column without any value is
+    an error naming the file, line and column (:func:`gripsense.io.table.channel_rows`).
 
     Parameters
     ----------
@@ -69,9 +76,11 @@ def read_steer_csv(
     Returns
     -------
     pandas.DataFrame
-        ``t_s`` [s], ``steer_rad`` (road-wheel angle) [rad] and the torque channels given
+        ``t_s`` [s], ``steer_rad`` (road-wheel angle) [rad] and the torque channels mapped
         (``torque_nm``, ``assist_nm`` [N m], ``rack_n`` [N]; NaN where a row leaves a channel
-        empty), sorted by time; ``attrs["columns"]`` the mapping used.
+        empty), one row per row of the file that carries a mapped channel, sorted by time;
+        ``attrs["columns"]`` the mapping used, ``attrs["rows"]`` the accounting of the file's
+        rows (``rows``, ``rows_used``, ``rows_without_channel``, ``note``).
     """
     path = Path(path)
     df = read_table(path)
@@ -83,6 +92,9 @@ def read_steer_csv(
         required=("t", (("road_wheel",), ("steering_wheel",))),
         example="t=time:s,road_wheel=delta:deg",
     )
+    if "road_wheel" in v and "steering_wheel" in v:
+        v.pop("steering_wheel")  # the road-wheel angle needs no ratio
+        spec = {k: x for k, x in spec.items() if k != "steering_wheel"}
     if "road_wheel" in v:
         angle = v["road_wheel"]
     else:
@@ -92,23 +104,12 @@ def read_steer_csv(
                 "vehicle file (or give the road-wheel angle, e.g. road_wheel_deg)"
             )
         angle = v["steering_wheel"] / steering_ratio
-    t = v["t"]
-    extra = {col: v[key] for key, col in TORQUE_COLUMNS.items() if key in v}
-    some = np.isfinite(angle)
-    for x in extra.values():
-        some |= np.isfinite(x)
-    bad = ~(np.isfinite(t) & some)
-    if bad.any():
-        row = int(np.flatnonzero(bad)[0])
-        lines = df.attrs.get("line")
-        where = f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
-        what = "time or angle" if not extra else "time, or every channel (angle, torque)"
-        raise InputError(f"{path}: {where}: {what} is missing; fill it or delete the row")
-    if not np.isfinite(angle).any():
-        raise InputError(f"{path}: the steering angle column is empty")
-    out = pd.DataFrame({"t_s": t, "steer_rad": angle, **extra})
+    keep, acc = channel_rows(df, path, v, spec, flag="--steer-columns")
+    extra = {col: v[key][keep] for key, col in TORQUE_COLUMNS.items() if key in v}
+    out = pd.DataFrame({"t_s": v["t"][keep], "steer_rad": angle[keep], **extra})
     out = out.sort_values("t_s", kind="stable").reset_index(drop=True)
     out.attrs["columns"] = spec
+    out.attrs["rows"] = acc
     return out
 
 

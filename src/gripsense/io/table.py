@@ -51,6 +51,7 @@ __all__ = [
     "UNIT_DIMENSIONS",
     "Quantity",
     "auto_columns",
+    "channel_rows",
     "describe_columns",
     "map_table",
     "numeric_column",
@@ -406,6 +407,109 @@ def map_table(
             col = numeric_column(df, name, path)
         values[key] = col * factor
     return values, _spec_dict(spec)
+
+
+def _header(value) -> str:
+    """The header of one mapping value (``"[-]HEADER[:unit]"`` or ``(HEADER, factor)``)."""
+    if isinstance(value, tuple):
+        return str(value[0])
+    v = str(value).strip().lstrip("-")
+    return v.rsplit(":", 1)[0] if ":" in v else v
+
+
+def _where(df: pd.DataFrame, row: int) -> str:
+    lines = df.attrs.get("line")
+    return f"line {int(lines[row])}" if lines is not None else f"row {row + 1}"
+
+
+def channel_rows(
+    df: pd.DataFrame,
+    path: str | Path,
+    values: dict[str, np.ndarray],
+    mapping: dict,
+    *,
+    time_key: str = "t",
+    needed: tuple[str, ...] = (),
+    flag: str = "--columns",
+) -> tuple[np.ndarray, dict]:
+    """The rows of a table of several channels at their own rates (a row carries the channels
+    sampled at its time and leaves the others empty), with their accounting.
+
+    A row is used when it carries a time and at least one mapped channel; a row that carries
+    none of the mapped channels (the samples of a channel that is not mapped) is counted, not
+    used; a row whose channels have no time is an error naming the file, line and column; a
+    mapped channel that no row carries is an error naming its column.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table (:func:`read_table`; ``attrs["line"]`` gives line numbers).
+    path : str or Path
+        The file, for messages.
+    values : dict
+        Key -> values of :func:`map_table` [SI] (NaN where a row leaves the channel empty).
+    mapping : dict
+        Key -> ``"HEADER[:unit]"`` of :func:`map_table` (for the columns' names).
+    time_key : str
+        The key of the time.
+    needed : tuple of str
+        Keys whose channel a used row must carry (the others are optional per row) — rows
+        without them are counted like rows without any channel.
+    flag : str
+        The option that maps the columns, for messages.
+
+    Returns
+    -------
+    keep : numpy.ndarray
+        Boolean mask of the rows used.
+    accounting : dict
+        ``rows`` (data rows), ``rows_used``, ``rows_without_channel`` (counted, not used),
+        ``first_line_without_channel`` (its line or row, ``""`` when none) and ``note`` (one
+        line saying so, ``""`` when every row was used).
+    """
+    n = len(df)
+    t = values[time_key]
+    chans = [k for k in values if k != time_key]
+    some = np.zeros(n, bool)
+    for k in chans:
+        if not np.isfinite(values[k]).any():
+            head = _header(mapping.get(k, k))
+            raise InputError(
+                f"{path}: column {head!r} ({k}) has no value on any row; map another column "
+                f"or leave {k} out of {flag}"
+            )
+        some |= np.isfinite(values[k])
+    untimed = some & ~np.isfinite(t)
+    if untimed.any():
+        row = int(np.flatnonzero(untimed)[0])
+        head = _header(mapping.get(time_key, time_key))
+        raise InputError(
+            f"{path}: {_where(df, row)}, column {head!r} ({time_key}): no time for the row's "
+            "values; fill it or delete the row"
+        )
+    keep = some.copy()
+    for k in needed:
+        keep &= np.isfinite(values[k])
+    n_without = int(n - keep.sum())
+    acc = {
+        "rows": n,
+        "rows_used": int(keep.sum()),
+        "rows_without_channel": n_without,
+        "first_line_without_channel": "",
+        "note": "",
+    }
+    if n_without:
+        first = _where(df, int(np.flatnonzero(~keep)[0]))
+        heads = ", ".join(_header(mapping.get(k, k)) for k in (needed or chans))
+        acc["first_line_without_channel"] = first
+        acc["note"] = (
+            f"{Path(path).name}: {n_without} of {n} rows carry none of the mapped channels "
+            f"({heads}): not used (the first at {first})"
+            if not needed
+            else f"{Path(path).name}: {n_without} of {n} rows without {heads}: not used "
+            f"(the first at {first})"
+        )
+    return keep, acc
 
 
 MOTION_QUANTITIES = {

@@ -1,0 +1,1 @@
+from tests.io.simulated import simulated  # noqa: F401  (real files of `gripsense simulate`)
