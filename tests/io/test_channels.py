@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.channels import file_unit_factor, parse_channel_spec, resample
+from gripsense.io.channels import (
+    file_unit_factor,
+    parse_channel_spec,
+    recognise_steering,
+    resample,
+)
 
 
 def test_file_units_by_kind():
@@ -38,3 +43,45 @@ def test_spec_words():
         parse_channel_spec("torque=Trq:deg")
     with pytest.raises(InputError, match="not key=CHANNEL"):
         parse_channel_spec("heading")
+
+
+UNITS = {
+    "RoadWheelAngle": "deg",
+    "Road_Wheel_Angle": "rad",
+    "SteeringWheelAngle": "deg",
+    "Steering Wheel Angle": "°",
+    "SteeringWhAng": "deg",
+    "SteeringWheelSpeed": "deg/s",
+    "SteeringWheelTorque": "Nm",
+    "SWA": "",
+    "RoadWheelAng": "Nm",
+    "Steering_Angle": "deg",
+    "Speed": "km/h",
+}
+
+
+@pytest.mark.parametrize(
+    ("names", "key", "channel", "note"),
+    [
+        (["Speed", "RoadWheelAngle"], "steer", "RoadWheelAngle", "steer=RoadWheelAngle [deg]"),
+        (["Road_Wheel_Angle"], "steer", "Road_Wheel_Angle", "road-wheel angle"),
+        (["SteeringWheelAngle"], "steering_wheel", "SteeringWheelAngle", "steering-wheel angle"),
+        (["Steering Wheel Angle"], "steering_wheel", "Steering Wheel Angle", "[°]"),
+        (["SteeringWhAng"], "steering_wheel", "SteeringWhAng", "steering_wheel=SteeringWhAng"),
+        # the road-wheel angle needs no ratio: preferred, the other named
+        (["SteeringWheelAngle", "RoadWheelAngle"], "steer", "RoadWheelAngle",
+         "'SteeringWheelAngle' not used"),
+        # a name that says the hand wheel, a unit that is not an angle: not a steering angle
+        (["SteeringWheelSpeed", "SteeringWheelTorque"], None, None, None),
+        (["SWA"], None, None, "'SWA' is named like a steering-wheel angle but it has no unit"),
+        (["RoadWheelAng"], None, None, "its unit 'Nm' is not an angle"),
+        (["Steering_Angle"], None, None, "does not say which: map it with --columns steer="),
+    ],
+)  # fmt: skip
+def test_a_steering_channel_is_found_by_name_and_unit(names, key, channel, note):
+    spec, notes = recognise_steering(names, UNITS.get)
+    assert (spec.key, spec.channel, spec.factor) == (key, channel, None) if key else spec is None
+    if note is None:
+        assert notes == []
+    else:
+        assert any(note in n for n in notes), notes

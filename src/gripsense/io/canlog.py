@@ -5,7 +5,9 @@ Only the frames of the DBC messages that carry a mapped signal are decoded; ever
 accounted for: ``parsed`` per message, ``ignored`` (an identifier the DBC does not know, or a
 message without a mapped signal) or rejected as ``malformed field`` (the DBC does not decode
 it: a wrong length or a value outside its choices). Signal units come from the DBC
-(overridable in ``--columns``). Times are the log's: BLF stores absolute times; an ASC file's
+(overridable in ``--columns``). A steering signal whose name and unit say what it is
+(``SteeringWheelAngle`` [deg], :func:`gripsense.io.channels.recognise_steering`) is decoded too
+when ``--columns`` maps none. Times are the log's: BLF stores absolute times; an ASC file's
 ``date`` line gives its start; else ``--time-offset`` (seconds since 1970 UTC of the log's
 zero) makes them absolute. The signals are put on the heading signal's time base
 (:func:`gripsense.io.channels.resample`).
@@ -20,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, parse_channel_spec
+from gripsense.io.channels import Channel, add_steering, parse_channel_spec
 from gripsense.io.formats import require
 from gripsense.io.measurement import log_from_channels, missing_channel
 from gripsense.io.nmea.accounting import RejectedLine
@@ -112,6 +114,9 @@ def read_can(
     for spec in mapped.values():
         if spec.channel not in where:
             raise missing_channel(f"{name} (DBC {dbc})", spec, list(where))
+    steering, steer_notes = add_steering(
+        mapped, list(where), lambda s: where[s].get_signal_by_name(s).unit
+    )
     wanted = {where[s.channel].frame_id: where[s.channel] for s in mapped.values()}
     frames = _frames(Path(path), data, fmt)
     series: dict[str, tuple[list, list]] = {s.channel: ([], []) for s in mapped.values()}
@@ -162,8 +167,9 @@ def read_can(
     log = log_from_channels(
         mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
         strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
-        unit="frames",
+        unit="frames", notes=steer_notes,
     )  # fmt: skip
+    log.report.steering = steering
     # frames, not samples: the parsed count is per message
     rep = log.report
     rep.parsed = dict(sorted(parsed.items()))

@@ -22,10 +22,20 @@ torque          ``torque_nm``: steering-column torque                torque (Nm)
 assist          ``assist_nm``: power-steering assist torque          torque (Nm)
 rack            ``rack_n``: rack force                               force (N, kN, lbf)
 ==============  ===================================================  =========================
+
+A steering channel is found without ``--columns`` when its name **and** its unit say what it is
+(:data:`STEERING_CHANNELS`, :func:`recognise_steering`): the name, compared without case,
+spaces, ``_``, ``-`` or ``.``, is one of the table's and the unit the file states is an angle
+(``deg``, ``°``, ``rad`` …). A road-wheel angle fills ``steer``; a steering-wheel angle fills
+``steering_wheel`` (divided by the vehicle file's ``steering_ratio``). A name the table knows
+with no unit or a unit that is not an angle, or a name that does not say which angle it is
+(``SteeringAngle``), is not used: the ingest notes name it and the mapping that would use it.
 """
 
 from __future__ import annotations
 
+import re
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,11 +45,14 @@ from gripsense.io.table import UNIT_DIMENSIONS, UNITS
 
 __all__ = [
     "CHANNEL_KEYS",
+    "STEERING_CHANNELS",
     "Channel",
     "ChannelSpec",
+    "add_steering",
     "channels_to_epochs",
     "file_unit_factor",
     "parse_channel_spec",
+    "recognise_steering",
     "resample",
 ]
 
@@ -379,3 +392,167 @@ def channels_to_epochs(
         if key in _ANGLES:
             values[col] = np.mod(values[col], 360.0)
     return t, values
+
+
+STEERING_CHANNELS: dict[str, tuple[str, ...]] = {
+    "steer": (
+        "roadwheelangle",  # RoadWheelAngle: gripsense simulate (VBOX, MDF4)
+        "roadwheelang",
+        "roadwheelsteerangle",
+        "roadwheelsteeringangle",
+        "frontwheelangle",
+        "frontwheelsteerangle",
+        "wheelsteerangle",
+    ),
+    "steering_wheel": (
+        "steeringwheelangle",  # SteeringWheelAngle: the CAN DBC of the tests, VBOX CAN channels
+        "steeringwheelang",
+        "steeringwheel",
+        "steeringwhlangle",
+        "steeringwhlang",
+        "steerwheelangle",
+        "stwheelangle",
+        "stwhlangle",
+        "stwhlang",
+        "handwheelangle",
+        "handwheel",
+        "swa",
+        "steeringwh*",  # any name that starts so (VBOX cuts long channel names)
+    ),
+}
+"""Channel names (compared without case, spaces, ``_``, ``-`` or ``.``; a trailing ``*``
+matches any rest) that are read as a steering channel without ``--columns`` when the file's unit
+for them is an angle: key of :data:`CHANNEL_KEYS` -> names. A road-wheel angle is preferred to a
+steering-wheel angle (which needs the vehicle's ``steering_ratio``)."""
+
+_UNSAID = ("steer", "steering", "steerangle", "steeringangle", "steerang", "steeringang",
+           "steeringpos", "steeringposition")  # fmt: skip
+"""Names of a steering angle that do not say whether it is the road wheel's or the hand
+wheel's: never used unmapped, named in a note."""
+
+
+def _norm(name: str) -> str:
+    return re.sub(r"[\s_.\-]", "", name).lower()
+
+
+def _steering_key(name: str) -> tuple[str | None, bool]:
+    """The steering key a channel name says (or None), and whether the name is a whole one of
+    the table (not only its start).
+    """
+    n = _norm(name)
+    for key, names in STEERING_CHANNELS.items():
+        if n in names:
+            return key, True
+        if any(p.endswith("*") and n.startswith(p[:-1]) for p in names):
+            return key, False
+    return None, False
+
+
+_WHAT = {"steer": "road-wheel angle", "steering_wheel": "steering-wheel angle"}
+
+
+def recognise_steering(
+    names: Iterable[str], unit_of: Callable[[str], str | None]
+) -> tuple[ChannelSpec | None, list[str]]:
+    """The steering channel of a log found by its name and unit (:data:`STEERING_CHANNELS`).
+
+    Parameters
+    ----------
+    names : iterable of str
+        The log's channel names, in the file's order (those ``--columns`` already maps left
+        out).
+    unit_of : callable
+        Channel name -> the unit the file states for it (``None`` or ``""`` when none); called
+        only for the names of the table and the ambiguous ones.
+
+    Returns
+    -------
+    spec : ChannelSpec or None
+        ``steer`` (road-wheel angle) or ``steering_wheel`` mapped with the file's unit, or None.
+    notes : list of str
+        One line per channel the table knows that was not used, and why (for the ingest
+        report).
+    """
+    found: dict[str, list[tuple[str, str]]] = {"steer": [], "steering_wheel": []}
+    notes: list[str] = []
+    for name in names:
+        key, whole = _steering_key(name)
+        if key is None:
+            if _norm(name) in _UNSAID:
+                unit = unit_of(name) or ""
+                if file_unit_factor(unit, "angle") is not None:
+                    notes.append(
+                        f"channel {name!r} [{unit}] may be a steering angle, but its name does not "
+                        f"say which: map it with --columns steer={name} (road-wheel angle) or "
+                        f"steering_wheel={name} (steering-wheel angle)"
+                    )
+            continue
+        unit = unit_of(name) or ""
+        if file_unit_factor(unit, "angle") is None:
+            if not whole:  # SteeringWheelSpeed [deg/s], SteeringWheelTorque [Nm]: not an angle
+                continue
+            stated = f"its unit {unit!r} is not an angle" if unit else "it has no unit"
+            notes.append(
+                f"channel {name!r} is named like a {_WHAT[key]} but {stated}: not used; if it "
+                f"is one, map it with --columns {key}={name}:deg (or :rad)"
+            )
+            continue
+        found[key].append((name, unit))
+    key = "steer" if found["steer"] else "steering_wheel" if found["steering_wheel"] else None
+    if key is None:
+        return None, notes
+    (name, unit), *others = found[key]
+    other = [n for k in found if k != key for n, _ in found[k]] + [n for n, _ in others]
+    if other:
+        notes.append(
+            f"steering channel {name!r} used; {', '.join(repr(o) for o in other)} not used "
+            "(map another with --columns)"
+        )
+    notes.insert(
+        0,
+        f"steering channel found by its name and unit: {key}={name} [{unit}] ({_WHAT[key]}; "
+        "docs/ingest.md)",
+    )
+    return ChannelSpec(key, name, 1.0, None), notes
+
+
+def add_steering(
+    mapped: dict[str, ChannelSpec], names: Iterable[str], unit_of: Callable[[str], str | None]
+) -> tuple[dict[str, str], list[str]]:
+    """Add the log's steering channel to *mapped* when ``--columns`` maps none, if its name and
+    unit say what it is (:func:`recognise_steering`).
+
+    Parameters
+    ----------
+    mapped : dict
+        Key -> :class:`ChannelSpec` of ``--columns``; completed in place.
+    names : iterable of str
+        The log's channel names in the file's order.
+    unit_of : callable
+        Channel name -> the unit the file states for it.
+
+    Returns
+    -------
+    steering : dict
+        ``key``, ``channel``, ``unit`` (the file's) and ``source`` (``--columns`` or ``name and
+        unit``) of the steering channel read; empty when the log gives none
+        (:attr:`gripsense.io.nmea.accounting.IngestReport.steering`).
+    notes : list of str
+        What the ingest report should say about steering channels found or not used.
+    """
+    for key in STEERING_CHANNELS:
+        if key in mapped:
+            ch = mapped[key].channel
+            return {"key": key, "channel": ch, "unit": unit_of(ch) or "", "source": "--columns"}, []
+    used = {s.channel for s in mapped.values()}
+    spec, notes = recognise_steering([n for n in names if n not in used], unit_of)
+    if spec is None:
+        return {}, notes
+    mapped[spec.key] = spec
+    unit = unit_of(spec.channel) or ""
+    return {
+        "key": spec.key,
+        "channel": spec.channel,
+        "unit": unit,
+        "source": "name and unit",
+    }, notes

@@ -1,7 +1,9 @@
 """ASAM MDF4 measurement files (CANape, INCA, IPEmotion, vehicle loggers) via asammdf.
 
 The channels ``--columns`` names are read with :mod:`asammdf` (``MDF.get``) with the unit the
-file states for each (overridable after a colon); they are put on the heading channel's time
+file states for each (overridable after a colon), and a steering channel whose name and unit say
+what it is (``RoadWheelAngle`` [deg], :func:`gripsense.io.channels.recognise_steering`) when
+``--columns`` maps none; they are put on the heading channel's time
 base by linear interpolation (angles unwrapped, nothing across a channel's gaps; see
 :func:`gripsense.io.channels.resample`). Times are absolute from the file's start time
 (``HD`` block), or from ``--time-offset``. Channels not mapped are not read.
@@ -20,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, parse_channel_spec
+from gripsense.io.channels import Channel, add_steering, parse_channel_spec
 from gripsense.io.formats import require
 from gripsense.io.measurement import log_from_channels, missing_channel
 from gripsense.io.nmea.reader import NmeaLog
@@ -82,6 +84,7 @@ def read_mdf(
         for spec in mapped.values():
             if spec.channel not in mdf.channels_db:
                 raise missing_channel(name, spec, available)
+        steering, steer_notes = add_steering(mapped, available, mdf.get_channel_unit)
         try:  # one pass over each channel group's records for all the mapped channels
             sigs = mdf.select([spec.channel for spec in mapped.values()])
         except Exception as e:
@@ -103,8 +106,11 @@ def read_mdf(
     used = {s.channel for s in mapped.values()}
     n_other = len({c for c in available if c not in used and c.lower() not in ("time", "t")})
     notes = [f"{n_other} channels of the file not mapped (not read)"] if n_other else []
-    return log_from_channels(mapped, found, name=name, fmt="MDF4", start_s=start_s,
-                             time_offset=time_offset, strict=strict, notes=notes)  # fmt: skip
+    log = log_from_channels(mapped, found, name=name, fmt="MDF4", start_s=start_s,
+                            time_offset=time_offset, strict=strict,
+                            notes=steer_notes + notes)  # fmt: skip
+    log.report.steering = steering
+    return log
 
 
 def _open(asammdf, src, name: str):

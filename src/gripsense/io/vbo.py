@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.channels import ChannelSpec, parse_channel_spec
+from gripsense.io.channels import ChannelSpec, add_steering, parse_channel_spec
 from gripsense.io.epoch_table import build_epochs
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.reader import NmeaLog
@@ -207,6 +207,9 @@ def parse_vbo(
                 f"{', '.join(cols[:30])}"
             )
     units = _units(sec, cols)
+    used = list(mapped)
+    others = [c for c in cols if _ALIASES.get(c.lower()) is None]
+    steering, steer_notes = add_steering(mapped, others, units.get)
 
     # data rows: every line after [data] is one row (or blank)
     d0 = sec.start["data"] + 1
@@ -315,7 +318,6 @@ def parse_vbo(
     epochs = build_epochs(
         values, seconds, has_date=has_date, heading_source=hsrc, yaw_rate_source=yaw_src
     )
-    used = list(mapped)
     pre_blank = _blank(sec.lines[:d0])
     report = IngestReport(
         source=name,
@@ -330,7 +332,8 @@ def parse_vbo(
         epochs_without_time=0,
         has_date=has_date,
         format="VBOX VBO",
-        notes=[f"mapped by --columns: {', '.join(used)}"] if used else [],
+        notes=([f"mapped by --columns: {', '.join(used)}"] if used else []) + steer_notes,
+        steering=steering,
     )
     rows_t = pd.DataFrame({"line": np.asarray(good_idx, dtype=np.int64) + 1, "epoch": np.arange(n)})
     return NmeaLog(epochs=epochs, report=report, sentences={"VBO": rows_t})

@@ -68,6 +68,11 @@ class IngestReport:
     channels : dict
         Epoch-table channel -> the rate it came at [Hz] (median interval of the rows that have
         it).
+    steering : dict
+        The log's own steering channel, if it has one: ``key`` (``steer`` or
+        ``steering_wheel``), ``channel``, ``unit`` (the file's) and ``source`` (``--columns``,
+        or ``name and unit``: found without being mapped, :func:`gripsense.io.channels.
+        recognise_steering`); empty when the log carries none.
     """
 
     source: str
@@ -84,6 +89,7 @@ class IngestReport:
     format: str = "NMEA 0183"
     unit: str = "lines"
     channels: dict[str, float] = field(default_factory=dict)
+    steering: dict[str, str] = field(default_factory=dict)
 
     @property
     def n_parsed(self) -> int:
@@ -130,4 +136,5 @@ class IngestReport:
             "format": self.format,
             "unit": self.unit,
             "channels": dict(self.channels),
+            "steering": dict(self.steering),
         }
