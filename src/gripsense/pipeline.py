@@ -29,14 +29,132 @@ from gripsense.estimate.results import FrictionResult
 from gripsense.estimate.wheels import motion_from_epochs
 from gripsense.io.log import LogOptions, log_steer, read_log
 from gripsense.io.steer import read_steer_csv, steer_at, with_torque
+from gripsense.io.table import describe_columns
 
 __all__ = [
+    "NO_STEERING",
     "FrictionResult",
     "FrictionRun",
+    "Steering",
     "learn_calibration",
     "log_drive_sums",
+    "log_steering",
     "solve_calibration",
+    "steering_meta",
 ]
+
+NO_STEERING = (
+    "front axle: no steering channel — give --steer-csv FILE or map one with --columns "
+    "steer=CHANNEL (docs/ingest.md)"
+)
+"""What a result says when the front axle could not be estimated for want of a steering
+channel."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Steering:
+    """The steering channel of a drive, as found for it (:func:`log_steering`).
+
+    Attributes
+    ----------
+    steer_rad : numpy.ndarray or None
+        Road-wheel angle per epoch [rad]; None without a steering channel.
+    epochs : pandas.DataFrame
+        The epoch table, with a steering CSV's torque channels joined.
+    source : str
+        One line: which channel was read, and from where.
+    front_axle : str
+        Why the front axle cannot be estimated (``""`` when it has a steering channel).
+    notes : list of str
+        What the ingest report should add (a steering CSV's rows that carry no mapped channel,
+        a log's channel not used because a CSV was given).
+    """
+
+    steer_rad: np.ndarray | None
+    epochs: pd.DataFrame
+    source: str
+    front_axle: str = ""
+    notes: tuple[str, ...] = ()
+
+
+def log_steering(
+    epochs: pd.DataFrame,
+    vehicle: Vehicle,
+    *,
+    log: str | Path = "log",
+    steer_csv: str | Path | None = None,
+    steer_columns: str | dict | None = None,
+    steering: dict | None = None,
+) -> Steering:
+    """The steering channel of a drive: the steering CSV given for it, else the log's own
+    channel (mapped by ``--columns`` or found by its name and unit,
+    :func:`gripsense.io.channels.recognise_steering`), else none — and then the one line that
+    says why the front axle is not estimated.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch table of the log.
+    vehicle : Vehicle
+        The vehicle (its ``steering_ratio`` for a steering-wheel angle).
+    log : str or Path
+        The log, for messages.
+    steer_csv : str or Path, optional
+        Steering CSV (:func:`gripsense.io.steer.read_steer_csv`), aligned by ``t_s``.
+    steer_columns : str or dict, optional
+        Its column mapping.
+    steering : dict, optional
+        :attr:`gripsense.io.nmea.accounting.IngestReport.steering` of the log.
+
+    Returns
+    -------
+    Steering
+    """
+    steering = steering or {}
+    if steer_csv is not None:
+        ch = read_steer_csv(steer_csv, steering_ratio=vehicle.steering_ratio, columns=steer_columns)
+        notes = [ch.attrs["rows"]["note"]] if ch.attrs["rows"]["note"] else []
+        if steering:
+            notes.append(
+                f"the log's steering channel {steering['channel']!r} not used: --steer-csv given"
+            )
+        return Steering(
+            steer_at(ch, epochs["t_s"].to_numpy(float)),
+            with_torque(epochs, ch),
+            f"--steer-csv {Path(steer_csv).name} ({describe_columns(ch.attrs['columns'])})",
+            notes=tuple(notes),
+        )
+    if steering.get("source") == "name and unit" and steering.get("key") == "steering_wheel":
+        if not vehicle.steering_ratio:  # found, not asked for: the front axle says why
+            return Steering(
+                None,
+                epochs,
+                "",
+                f"front axle: the log's steering-wheel angle {steering['channel']!r} needs "
+                "[vehicle] steering_ratio in the vehicle file (or give --steer-csv FILE)",
+            )
+    steer = log_steer(epochs, vehicle.steering_ratio, str(log))
+    if steer is None:
+        return Steering(None, epochs, "", NO_STEERING)
+    how = "by --columns" if steering.get("source") == "--columns" else "found by name and unit"
+    what = f"{steering['channel']!r} [{steering.get('unit') or '?'}]" if steering else "channel"
+    return Steering(steer, epochs, f"the log's {what} ({how})")
+
+
+def steering_meta(st: Steering) -> dict[str, str]:
+    """The entries a result's ``meta`` gets from its steering channel: ``steering`` (which
+    channel was read) or ``front_axle`` (why the front axle is not estimated).
+
+    Parameters
+    ----------
+    st : Steering
+        Of :func:`log_steering`.
+
+    Returns
+    -------
+    dict
+    """
+    return {"front_axle": st.front_axle} if st.front_axle else {"steering": st.source}
 
 
 class FrictionRun:
@@ -134,9 +252,12 @@ class FrictionRun:
             Log of the drive.
         steer_csv : str or Path, optional
             Steering channel (:func:`gripsense.io.steer.read_steer_csv`); enables the front
-            wheels. Without it, a steering channel of the log itself is used (a mapped
-            ``steer`` or ``steering_wheel`` channel of a VBOX, MDF4 or CAN log). Its torque
-            channels, if any, join the epoch table (``torque_nm``, ``assist_nm``, ``rack_n``).
+            wheels. Without it, a steering channel of the log itself is used (a ``steer`` or
+            ``steering_wheel`` channel of a VBOX, MDF4 or CAN log, mapped or found by its name
+            and unit; :func:`log_steering`). Its torque channels, if any, join the epoch table
+            (``torque_nm``, ``assist_nm``, ``rack_n``). The result's ``meta`` says which
+            channel was read (``steering``) or why the front axle is not estimated
+            (``front_axle``, e.g. :data:`NO_STEERING`).
         steer_columns : str, optional
             Column mapping of *steer_csv* (``t=…,road_wheel=…:deg,torque=…:Nm``); default by
             header names.
@@ -165,16 +286,11 @@ class FrictionRun:
             )
         if since is not None:
             ep = ep[ep["time_utc"] >= since].reset_index(drop=True)
-        steer = None
-        if steer_csv is not None:
-            ch = read_steer_csv(
-                steer_csv, steering_ratio=self.vehicle.steering_ratio, columns=steer_columns
-            )
-            steer = steer_at(ch, ep["t_s"].to_numpy())
-            ep = with_torque(ep, ch)
-        else:
-            steer = log_steer(ep, self.vehicle.steering_ratio, str(log))
-        return self.run(ep, steer_rad=steer, ingest=rep.to_dict())
+        st = log_steering(ep, self.vehicle, log=log, steer_csv=steer_csv,
+                          steer_columns=steer_columns, steering=rep.steering)  # fmt: skip
+        rep.notes.extend(st.notes)
+        res = self.run(st.epochs, steer_rad=st.steer_rad, ingest=rep.to_dict())
+        return res.replace(meta={**res.meta, **steering_meta(st)})
 
     def run(
         self,
@@ -323,6 +439,7 @@ def log_drive_sums(
     run: FrictionRun,
     *,
     steer_csv: str | Path | None = None,
+    steer_columns: str | dict | None = None,
     log_options: LogOptions | None = None,
 ) -> list:
     """The linear-range sums of one log per axle (:func:`gripsense.estimate.calibration.
@@ -336,7 +453,10 @@ def log_drive_sums(
     run : FrictionRun
         The run (vehicle without calibration, receiver).
     steer_csv : str or Path, optional
-        The log's steering channel (the front axle needs it; else the log's own, if mapped).
+        The log's steering channel (the front axle needs it; else the log's own, if it has
+        one: :func:`log_steering`).
+    steer_columns : str or dict, optional
+        Column mapping of *steer_csv*.
     log_options : LogOptions, optional
         Channel mapping, DBC and time offset of a measurement log.
 
@@ -350,15 +470,10 @@ def log_drive_sums(
     from gripsense.estimate.calibration import drive_sums, steering_sums
 
     digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
-    epochs = read_log(log, log_options or LogOptions()).epochs
-    steer = None
-    if steer_csv is not None:
-        ch = read_steer_csv(steer_csv, steering_ratio=run.vehicle.steering_ratio)
-        steer = steer_at(ch, epochs["t_s"].to_numpy(float))
-        epochs = with_torque(epochs, ch)
-    else:
-        steer = log_steer(epochs, run.vehicle.steering_ratio, str(log))
-    wheels, _ = run.wheel_table(epochs, steer_rad=steer)
+    nlog = read_log(log, log_options or LogOptions())
+    st = log_steering(nlog.epochs, run.vehicle, log=log, steer_csv=steer_csv,
+                      steer_columns=steer_columns, steering=nlog.report.steering)  # fmt: skip
+    wheels, _ = run.wheel_table(st.epochs, steer_rad=st.steer_rad)
     if wheels.empty:
         return []
     out = []

@@ -114,7 +114,13 @@ def friction(
         if table is not None:
             motion = read_motion_table(table, columns or "auto")
             say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")
-            result = run.run_motion(motion, meta={"vehicle": veh.name, "source": str(table)})
+            meta = {"vehicle": veh.name, "source": str(table)}
+            if motion["steer_rad"].isna().all():
+                meta["front_axle"] = (
+                    "front axle: no steering column — add steer=COLUMN:deg (road-wheel angle) "
+                    "to --columns"
+                )
+            result = run.run_motion(motion, meta=meta)
         else:
             opts = log_options(columns, dbc, time_offset)
             result = run.run_log(
@@ -125,6 +131,10 @@ def friction(
     except GripsenseError as e:
         fail(e)
     print_friction(result)
+    if result.meta.get("front_axle"):  # the front axle never disappears without a word
+        say(result.meta["front_axle"])
+    elif result.meta.get("steering"):
+        say(f"steering: {result.meta['steering']}")
     try:
         texts = {}
         if report:
