@@ -57,6 +57,22 @@ def live(
     columns: Annotated[
         str | None, typer.Option("--columns", help="for --replay: " + LOG_COLUMNS_HELP)
     ] = None,
+    steer_csv: Annotated[
+        Path | None,
+        typer.Option(
+            "--steer-csv",
+            help="for --replay: a steering CSV replayed beside the log, aligned by time as "
+            "gripsense friction --steer-csv (t_s, road_wheel_deg; enables the front axle)",
+        ),
+    ] = None,
+    steer_columns: Annotated[
+        str | None,
+        typer.Option(
+            "--steer-columns",
+            help="mapping for --steer-csv: t=...,road_wheel=...|steering_wheel=...,torque=... "
+            "(as gripsense friction)",
+        ),
+    ] = None,
     dbc: Dbc = None,
     time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
@@ -80,12 +96,20 @@ def live(
             )
         if vehicle is None:
             raise InputError("--vehicle car.toml is required")
+        if steer_csv is not None and replay is None:
+            raise InputError(
+                "--steer-csv is replayed beside --replay LOG on the log's clock; a live "
+                "receiver's steering must come in its stream"
+            )
+        if steer_columns is not None and steer_csv is None:
+            raise InputError("--steer-columns maps the columns of --steer-csv FILE: give it too")
         if calibration is not None:
             from gripsense.config.calibration import calibrated_vehicle
 
             vehicle = calibrated_vehicle(vehicle, calibration)
         if output is not None:  # before the source is opened: nothing is lost to a bad -o
-            check_live_outputs(output, overwrite=overwrite, inputs=[replay] if replay else [])
+            ins = [p for p in (replay, steer_csv) if p is not None]
+            check_live_outputs(output, overwrite=overwrite, inputs=ins)
         if replay is not None:
             src = open_replay(replay, speed, log_options(columns, dbc, time_offset))
         elif tcp is not None:
@@ -105,6 +129,8 @@ def live(
                 window_s=window_s,
                 duration_s=duration_s,
                 overwrite=overwrite,
+                steer_csv=steer_csv,
+                steer_columns=steer_columns,
             )
         else:
             with LiveDisplay(console) as disp:
@@ -118,6 +144,8 @@ def live(
                     duration_s=duration_s,
                     display=disp,
                     overwrite=overwrite,
+                    steer_csv=steer_csv,
+                    steer_columns=steer_columns,
                 )
     except GripsenseError as e:
         fail(e)
@@ -130,8 +158,10 @@ def live(
         f"{sum(rep.rejected.values())} rejected), {rep.n_epochs} epochs, "
         f"{getattr(src, 'reconnects', 0)} reconnects"
     )
-    for note in getattr(src, "notes", []):
+    for note in [*getattr(src, "notes", []), *res.get("notes", [])]:
         say(f"note: {note}")
+    if res.get("steering") and not res.get("front_axle"):  # else the display said why not
+        say(f"steering: {res['steering']}")
     for t0, dt in st.gaps:
         console.print(f"gap: {dt:.1f} s of data missing after t = {t0:.1f} s")
     if output is not None:

@@ -83,4 +83,7 @@ def render(summary, stats, ingest, source):
                 f"{lb:.2f}" if np.isfinite(lb) else "",
                 str(r.get("n_valid", "")),
             )
-    return Group(head, t)
+    parts = [head, t]
+    if getattr(stats, "front_axle", ""):  # the front axle never disappears without a word
+        parts.append(Text(stats.front_axle))
+    return Group(*parts)

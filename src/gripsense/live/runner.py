@@ -56,13 +56,64 @@ class LiveFriction:
     OnlineAxleWindow`) per axle (bins kept as running means), so an update costs the newest
     window's profile whatever the window length; the row per axle is the newest window's
     measured grip and estimate (the batch ``windows.parquet`` row of the same samples).
+
+    The front axle needs a steering channel: a steering CSV replayed beside the log
+    (*steer_csv*, aligned by ``t_s`` as ``gripsense friction --steer-csv``), else the log's own
+    (*steering*: a VBOX, MDF4 or CAN replay's channel, mapped or found by its name and unit);
+    without one :attr:`front_axle` says so in one line.
+
+    Parameters
+    ----------
+    vehicle : Vehicle or str or Path
+        Vehicle description.
+    method : str
+        Friction method (``gripsense friction --method``).
+    window_s : float
+        Estimation window [s].
+    receiver : str or Path or Receiver, optional
+        The receiver.
+    steer_csv : str or Path, optional
+        Steering CSV (:func:`gripsense.io.steer.read_steer_csv`).
+    steer_columns : str, optional
+        Its column mapping.
+    steering : dict, optional
+        The log's own steering channel (:attr:`gripsense.io.nmea.accounting.IngestReport.
+        steering`).
     """
 
-    def __init__(self, vehicle, method: str = "axle-window", window_s: float = 30.0, receiver=None):
-        from gripsense.pipeline import FrictionRun
+    def __init__(
+        self,
+        vehicle,
+        method: str = "axle-window",
+        window_s: float = 30.0,
+        receiver=None,
+        *,
+        steer_csv: str | Path | None = None,
+        steer_columns: str | None = None,
+        steering: dict | None = None,
+    ):
+        from gripsense.io.steer import read_steer_csv
+        from gripsense.pipeline import NO_STEERING, FrictionRun
 
         self.run = FrictionRun(vehicle, method=method, receiver=receiver)
         self.window_s = float(window_s)
+        #: the steering CSV replayed beside the log (:func:`gripsense.io.steer.read_steer_csv`)
+        self.steer = None
+        #: the log's own steering channel (``IngestReport.steering``), when it has one
+        self.steering = dict(steering or {})
+        #: what the steering CSV's reading noted (rows without a mapped channel)
+        self.notes: list[str] = []
+        #: why the front axle is not estimated ("" when it has a steering channel)
+        self.front_axle = "" if self.steering else NO_STEERING
+        self.steering_source = ""
+        if steer_csv is not None:
+            self.steer = read_steer_csv(
+                steer_csv, steering_ratio=self.run.vehicle.steering_ratio, columns=steer_columns
+            )
+            note = self.steer.attrs["rows"]["note"]
+            self.notes = [note] if note else []
+            self.front_axle = ""
+            self.steering_source = f"--steer-csv {Path(steer_csv).name}"
         self._online: dict = {}
         self._pushed_t = -np.inf
         self._last_rows: dict = {}
@@ -103,6 +154,18 @@ class LiveFriction:
             else:
                 break
 
+    def _steering(self, ep: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray | None]:
+        """The window's epochs (with the CSV's torque channels) and its road-wheel angle."""
+        from gripsense.io.steer import steer_at, with_torque
+        from gripsense.pipeline import log_steering
+
+        if self.steer is not None:
+            return with_torque(ep, self.steer), steer_at(self.steer, ep["t_s"].to_numpy(float))
+        st = log_steering(ep, self.run.vehicle, steering=self.steering)
+        self.front_axle = st.front_axle
+        self.steering_source = st.source
+        return st.epochs, st.steer_rad
+
     def estimate(self) -> pd.DataFrame:
         """Summary over the window (one row per wheel/axle; empty when there is no data)."""
         if not self._epochs:
@@ -116,20 +179,21 @@ class LiveFriction:
         self._epochs = deque([ep])  # one frame: the next update joins two, not hundreds
         if len(ep) < 5:
             return pd.DataFrame()
+        ep, steer = self._steering(ep)
         if self.run.estimator.per_window:
-            return self._online_estimate(ep)
+            return self._online_estimate(ep, steer)
         try:
-            res = self.run.run(ep)
+            res = self.run.run(ep, steer_rad=steer)
         except GripsenseError:
             return pd.DataFrame()  # e.g. too little data in the window yet
         return res.unit_table()
 
-    def _online_estimate(self, ep: pd.DataFrame) -> pd.DataFrame:
+    def _online_estimate(self, ep: pd.DataFrame, steer: np.ndarray | None) -> pd.DataFrame:
         """Feed the samples that became final to the online estimators; the newest windows."""
         from gripsense.physics.surface import slippery_call, surface_class_interval
 
         try:
-            wheels, _ = self.run.wheel_table(ep)
+            wheels, _ = self.run.wheel_table(ep, steer_rad=steer)
         except GripsenseError:
             return pd.DataFrame()
         if wheels.empty:
@@ -184,6 +248,7 @@ class LiveStats:
     gaps: list = field(default_factory=list)  # (t_s before, seconds missing)
     last_epoch_t: float | None = None
     median_dt: float | None = None
+    front_axle: str = ""  # why the front axle is not estimated ("" when it has steering)
 
 
 LIVE_KIND = "live"
@@ -399,6 +464,8 @@ def run_live(
     on_epochs=None,
     handle_signals: bool = True,
     overwrite: bool = False,
+    steer_csv: str | Path | None = None,
+    steer_columns: str | None = None,
 ) -> dict:
     """Run until the source ends, ``duration_s`` passes, or SIGINT/SIGTERM.
 
@@ -428,22 +495,33 @@ def run_live(
         Install SIGINT/SIGTERM handlers that stop the loop cleanly.
     overwrite : bool
         Replace the outputs of an earlier live run with the same name (gripsense's own only).
+    steer_csv : str or Path, optional
+        A steering CSV replayed beside the log (:func:`gripsense.io.steer.read_steer_csv`),
+        aligned by ``t_s`` as ``gripsense friction --steer-csv`` does: enables the front axle.
+        Without it the front axle uses the log's own steering channel (a VBOX, MDF4 or CAN
+        replay's, ``source.steering``), if any.
+    steer_columns : str, optional
+        Column mapping of *steer_csv*.
 
     Returns
     -------
     dict
-        ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``.
+        ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``, ``notes``
+        (what reading the steering CSV noted), ``front_axle`` (why the front axle was not
+        estimated, ``""`` when it had a steering channel) and ``steering`` (the channel read).
     """
     reads_epochs = hasattr(source, "read_epochs")  # a VBOX, MDF4 or CAN replay
     ingest = source.ingest if reads_epochs else AutoIngest(source=getattr(source, "name", "<live>"))
-    est = LiveFriction(vehicle, method, window_s, receiver=receiver)
+    est = LiveFriction(vehicle, method, window_s, receiver=receiver, steer_csv=steer_csv,
+                       steer_columns=steer_columns,
+                       steering=getattr(source, "steering", None))  # fmt: skip
     rec = Recorder(
         output,
         flush_s,
         overwrite=overwrite,
         inputs=[p for p in [getattr(source, "path", None)] if p],
     )
-    stats = LiveStats()
+    stats = LiveStats(front_axle=est.front_axle)
     stop = {"why": None}
 
     def _stop(signum, _frame):
@@ -545,13 +623,22 @@ def run_live(
         source.close()
         for s, h in old.items():
             signal.signal(s, h)
-    return {"report": ingest.report, "stats": stats, "summary": summary, "stopped_by": stop["why"]}
+    return {
+        "report": ingest.report,
+        "stats": stats,
+        "summary": summary,
+        "stopped_by": stop["why"],
+        "notes": est.notes,
+        "front_axle": est.front_axle,
+        "steering": est.steering_source,
+    }
 
 
 def _update(
     est: LiveFriction, rec: Recorder, stats: LiveStats, now: float, stale_s: float
 ) -> pd.DataFrame:
     s = est.estimate()
+    stats.front_axle = est.front_axle
     stats.updates += 1
     if len(s):
         stale = stats.last_data is None or now - stats.last_data > stale_s

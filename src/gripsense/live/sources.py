@@ -178,6 +178,8 @@ class EpochReplay:
         self.reconnects = 0
         self.notes = list(log.report.notes)
         self.ingest = _ReadIngest(log.report)
+        #: the log's own steering channel (``IngestReport.steering``; empty when none)
+        self.steering = dict(log.report.steering)
 
     @property
     def eof(self) -> bool:
