@@ -60,6 +60,15 @@ def fleet(
         ),
     ] = False,
     columns: Annotated[str | None, typer.Option("--columns", help=LOG_COLUMNS_HELP)] = None,
+    steer_columns: Annotated[
+        str | None,
+        typer.Option(
+            "--steer-columns",
+            help="mapping of the logs' steering CSVs (<log stem>_steer.csv beside each log, "
+            "e.g. drive1.nmea.gz → drive1_steer.csv): t=...,road_wheel=...|steering_wheel=... "
+            "(as gripsense friction --steer-columns; default by header names)",
+        ),
+    ] = None,
     dbc: Dbc = None,
     time_offset: TimeOffset = None,
     overwrite: Overwrite = False,
@@ -95,12 +104,21 @@ def fleet(
                 command=command_line(),
                 calibrate=calibrate,
                 log_options=log_options(columns, dbc, time_offset),
+                steer_columns=steer_columns,
             )
     except GripsenseError as e:
         fail(e)
     lg, c = res.logs, res.cells
     bad = int((lg["problem"] != "").sum())
     say(f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})")
+    used = lg[lg["problem"] == ""]
+    n_front = int((used["front_axle"].fillna("") != "").sum()) if "front_axle" in used else 0
+    if n_front:  # the front axles never disappear without a word
+        say(
+            f"{n_front} log{'s' if n_front != 1 else ''} without a steering channel: front axle "
+            f"not estimated (give <log stem>_steer.csv beside each log, or a steering channel in "
+            f"the log; {res.paths['logs']} says which; docs/fleet.md)"
+        )
     n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
     n_bad = int((c["status"] == STATUS_INCONSISTENT).sum()) if len(c) else 0
     console.print(

@@ -26,10 +26,18 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
-from gripsense.fleet.tasks import calibration_batch, process_batch
+from gripsense.fleet.tasks import STEER_SUFFIX, calibration_batch, process_batch, steer_csv_for
 from gripsense.io.output_folder import ResultWriter
 
-__all__ = ["FleetResult", "expand_logs", "read_vehicle_map", "run_fleet", "safe_id"]
+__all__ = [
+    "STEER_SUFFIX",
+    "FleetResult",
+    "expand_logs",
+    "read_vehicle_map",
+    "run_fleet",
+    "safe_id",
+    "steer_csv_for",
+]
 
 
 @dataclass
@@ -52,14 +60,17 @@ class FleetResult:
 
 
 def expand_logs(patterns: list[str]) -> list[str]:
-    """Glob patterns (``**`` allowed) → sorted unique file paths."""
+    """Glob patterns (``**`` allowed) → sorted unique file paths; a file that is the steering
+    CSV of another matched log (:func:`steer_csv_for`) is not a log.
+    """
     out: set[str] = set()
     for p in patterns:
         hits = glob.glob(p, recursive=True)
         if not hits and Path(p).is_file():
             hits = [p]
         out.update(h for h in hits if Path(h).is_file())
-    return sorted(out)
+    steers = {steer_csv_for(h) for h in out}
+    return sorted(h for h in out if Path(h) not in steers)
 
 
 def read_vehicle_map(path: str | Path) -> list[tuple[str, str, str]]:
@@ -140,6 +151,7 @@ def run_fleet(
     command: str = "",
     calibrate: bool = False,
     log_options=None,
+    steer_columns: str | None = None,
 ) -> FleetResult:
     """Process every log matching *patterns* and build the cell table and the map.
 
@@ -183,6 +195,11 @@ def run_fleet(
         Learn each vehicle id's tyre stiffness from its logs and apply it (module docstring).
     log_options : gripsense.io.log.LogOptions, optional
         Channel mapping and DBC of MDF4 / CAN logs (every format is recognised by content).
+    steer_columns : str, optional
+        Column mapping of the logs' steering CSVs (``<log stem>_steer.csv`` beside each log,
+        :func:`steer_csv_for`; default by header names). A log without one uses its own
+        steering channel, if any; ``logs.csv`` says per log which (``steering``) or why its
+        front axle was not estimated (``front_axle``).
     """
     if receiver is not None:
         from gripsense.config import receiver_from
@@ -195,14 +212,20 @@ def run_fleet(
     vmap = read_vehicle_map(vehicle_map) if vehicle_map else []
     items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
     batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
-    inputs = [*logs, *sorted({it[1] for it in items})] + ([vehicle_map] if vehicle_map else [])
+    steers = [str(p) for p in map(steer_csv_for, logs) if p.is_file()]
+    inputs = [*logs, *steers, *sorted({it[1] for it in items})]
+    inputs += [vehicle_map] if vehicle_map else []
     if calibrate:
         _one_file_per_id(items)
     with (
         ResultWriter(outdir, "fleet", overwrite=overwrite, command=command, inputs=inputs) as tmp,
         _client(scheduler, workers) as client,
     ):
-        calibrations = _calibrate(client, batches, tmp, receiver, log_options) if calibrate else {}
+        calibrations = (
+            _calibrate(client, batches, tmp, receiver, log_options, steer_columns)
+            if calibrate
+            else {}
+        )
         records = _map(
             client,
             process_batch,
@@ -215,6 +238,7 @@ def run_fleet(
             receiver=receiver,
             calibrations=calibrations,
             log_options=log_options,
+            steer_columns=steer_columns,
         )
         logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
         problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
@@ -251,7 +275,9 @@ def _one_file_per_id(items: list[tuple[str, str, str]]) -> None:
             )
 
 
-def _calibrate(client, batches, outdir: Path, receiver, log_options=None) -> dict[str, str]:
+def _calibrate(
+    client, batches, outdir: Path, receiver, log_options=None, steer_columns=None
+) -> dict[str, str]:
     """First pass: the logs' sums on the workers, one calibration per vehicle id written to
     ``outdir/calibration/`` (id → file).
     """
@@ -261,9 +287,8 @@ def _calibrate(client, batches, outdir: Path, receiver, log_options=None) -> dic
     from gripsense.config.calibration import calibration_toml, read_calibration
     from gripsense.pipeline import solve_calibration
 
-    records = _map(
-        client, calibration_batch, batches, None, receiver=receiver, log_options=log_options
-    )
+    records = _map(client, calibration_batch, batches, None, receiver=receiver,
+                   log_options=log_options, steer_columns=steer_columns)  # fmt: skip
     files = {vid: vfile for b in batches for _, vfile, vid in b}
     out = {}
     folder = Path(outdir) / "calibration"

@@ -31,7 +31,14 @@ import pandas as pd
 from gripsense.errors import GripsenseError
 from gripsense.io.output_folder import write_parquet
 
-__all__ = ["ROW_COLUMNS", "calibration_batch", "process_batch", "process_log"]
+__all__ = [
+    "ROW_COLUMNS",
+    "STEER_SUFFIX",
+    "calibration_batch",
+    "process_batch",
+    "process_log",
+    "steer_csv_for",
+]
 
 ROW_COLUMNS = [
     "vehicle",
@@ -50,6 +57,33 @@ ROW_COLUMNS = [
     "grip_used",
     "grip_used_lower",
 ]
+
+
+STEER_SUFFIX = "_steer.csv"
+"""A log's steering CSV is ``<log stem>_steer.csv`` beside it (:func:`steer_csv_for`)."""
+
+
+def steer_csv_for(log: str | Path) -> Path:
+    """Where a log's steering CSV is by the fleet's naming rule: ``<stem>_steer.csv`` in the
+    log's folder, the stem being the log's file name without a trailing ``.gz`` and then
+    without its last suffix (``drive1.nmea.gz``, ``drive1.nmea``, ``drive1.vbo`` →
+    ``drive1_steer.csv``; ``a.b.ubx`` → ``a.b_steer.csv``; ``drive1`` → ``drive1_steer.csv``) —
+    the name ``gripsense simulate`` gives it.
+
+    Parameters
+    ----------
+    log : str or Path
+        The log.
+
+    Returns
+    -------
+    Path
+        The steering CSV's path (which may not exist).
+    """
+    p = Path(log)
+    name = p.name[:-3] if p.name.lower().endswith(".gz") else p.name
+    stem = Path(name).stem if Path(name).suffix else name
+    return p.with_name(stem + STEER_SUFFIX)
 
 
 def _cells(lat: np.ndarray, lon: np.ndarray, res: int) -> list[str]:
@@ -71,6 +105,7 @@ def process_log(
     since: pd.Timestamp | None = None,
     receiver: str | None = None,
     log_options=None,
+    steer_columns: str | None = None,
 ) -> pd.DataFrame:
     """Rows of one log (schema :data:`ROW_COLUMNS`).
 
@@ -93,13 +128,19 @@ def process_log(
         file's ``[receiver]``, else ``v100``.
     log_options : gripsense.io.log.LogOptions, optional
         Channel mapping and DBC of MDF4 / CAN logs (:func:`gripsense.io.log.read_log`).
+    steer_columns : str, optional
+        Column mapping of the log's steering CSV, ``<log stem>_steer.csv`` beside it
+        (:func:`gripsense.fleet.run.steer_csv_for`), used when it exists; else the log's own
+        steering channel, if any.
 
     Returns
     -------
     pandas.DataFrame
         One row per estimate placed at the epoch nearest its middle, plus, for estimates that
         carry no bound of their own (per-sample methods), one bound row per cell: the 95th
-        percentile of the friction used there.
+        percentile of the friction used there. ``attrs["steering"]``: the steering channel
+        read, ``attrs["front_axle"]``: why the front axle was not estimated (``""`` when it
+        was).
 
     Raises
     ------
@@ -109,10 +150,19 @@ def process_log(
     from gripsense.pipeline import FrictionRun
 
     run = FrictionRun(vehicle, method=method, receiver=receiver)
-    res = run.run_log(path, since=since, log_options=log_options)
+    steer = steer_csv_for(path)
+    res = run.run_log(path, since=since, log_options=log_options,
+                      steer_csv=steer if steer.is_file() else None,
+                      steer_columns=steer_columns)  # fmt: skip
+    steering = {
+        "steering": str(res.meta.get("steering", "")),
+        "front_axle": str(res.meta.get("front_axle", "")),
+    }
     ep = res.epochs
     if ep.empty:
-        return pd.DataFrame(columns=ROW_COLUMNS)
+        out = pd.DataFrame(columns=ROW_COLUMNS)
+        out.attrs.update(steering)
+        return out
     if not np.isfinite(ep["lat_deg"].to_numpy(float)).any():
         raise GripsenseError("no position fix in the log (GGA/RMC)")
     est = res.estimates()
@@ -157,11 +207,17 @@ def process_log(
     rows = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     rows = rows.assign(vehicle=vehicle_id, log=Path(path).name)
     rows = rows[rows["cell"].notna()]
-    return rows[ROW_COLUMNS].reset_index(drop=True)
+    out = rows[ROW_COLUMNS].reset_index(drop=True)
+    out.attrs.update(steering)
+    return out
 
 
 def calibration_batch(
-    items: list[tuple[str, str, str]], *, receiver: str | None = None, log_options=None
+    items: list[tuple[str, str, str]],
+    *,
+    receiver: str | None = None,
+    log_options=None,
+    steer_columns: str | None = None,
 ) -> list[dict]:
     """The first pass of a calibrating fleet run: each log's linear-range sums per axle.
 
@@ -173,6 +229,9 @@ def calibration_batch(
         Receiver class or file (default: the vehicle file's, else ``v100``).
     log_options : gripsense.io.log.LogOptions, optional
         Channel mapping and DBC of MDF4 / CAN logs.
+    steer_columns : str, optional
+        Column mapping of the logs' steering CSVs (``<log stem>_steer.csv``, as
+        :func:`process_log`).
 
     Returns
     -------
@@ -197,7 +256,10 @@ def calibration_batch(
                 if vfile not in runs:
                     veh = dataclasses.replace(Vehicle.from_toml(vfile), calibration_file=None)
                     runs[vfile] = FrictionRun(veh, receiver=receiver)
-                rec["sums"] = log_drive_sums(path, runs[vfile], log_options=log_options)
+                steer = steer_csv_for(path)
+                rec["sums"] = log_drive_sums(path, runs[vfile], log_options=log_options,
+                                             steer_csv=steer if steer.is_file() else None,
+                                             steer_columns=steer_columns)  # fmt: skip
             except Exception as e:  # the second pass reports it with its reason
                 rec["problem"] = f"{type(e).__name__}: {e}"
             out.append(rec)
@@ -216,11 +278,14 @@ def process_batch(
     receiver: str | None = None,
     calibrations: dict[str, str] | None = None,
     log_options=None,
+    steer_columns: str | None = None,
 ) -> list[dict]:
     """Process ``(log path, vehicle toml, vehicle id)`` items; write
-    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log. A vehicle id
-    in *calibrations* (id → calibration TOML) uses that calibration instead of the one its
-    vehicle file names.
+    ``outdir/epochs/vehicle=<id>/<log>.parquet``; return one status dict per log (``rows``,
+    ``problem``, ``steering``: the steering channel read, ``front_axle``: why the front axle
+    was not estimated). A vehicle id in *calibrations* (id → calibration TOML) uses that
+    calibration instead of the one its vehicle file names; *steer_columns* maps the logs'
+    steering CSVs (:func:`process_log`).
     """
     # a fleet worker has one thread per core: numba's parallel loops stay on this thread
     # (numba's thread count is per thread), so two workers on two cores do not each wake a
@@ -228,16 +293,16 @@ def process_batch(
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        return _process_items(
-            items, outdir, method, h3_res, since, receiver, calibrations or {}, log_options
-        )
+        return _process_items(items, outdir, method, h3_res, since, receiver,
+                              calibrations or {}, log_options, steer_columns)  # fmt: skip
     finally:
         numba.set_num_threads(threads)
 
 
 def _process_items(
-    items, outdir, method, h3_res, since, receiver, calibrations, log_options=None
-) -> list[dict]:
+    items, outdir, method, h3_res, since, receiver, calibrations, log_options=None,
+    steer_columns=None,
+) -> list[dict]:  # fmt: skip
     """The loop of :func:`process_batch`."""
     from gripsense.config.calibration import calibrated_vehicle
 
@@ -247,7 +312,8 @@ def _process_items(
     if since_ts is not None and since_ts.tzinfo is None:
         since_ts = since_ts.tz_localize("UTC")
     for path, vfile, vid in items:
-        rec = {"log": path, "vehicle": vid, "rows": 0, "problem": ""}
+        rec = {"log": path, "vehicle": vid, "rows": 0, "problem": "", "steering": "",
+               "front_axle": ""}  # fmt: skip
         try:
             key = f"{vfile}\0{vid}"
             if key not in vehicles:
@@ -261,7 +327,10 @@ def _process_items(
                 since=since_ts,
                 receiver=receiver,
                 log_options=log_options,
+                steer_columns=steer_columns,
             )
+            rec["steering"] = rows.attrs.get("steering", "")
+            rec["front_axle"] = rows.attrs.get("front_axle", "")
             if len(rows):
                 d = Path(outdir) / "epochs" / f"vehicle={vid}"
                 d.mkdir(parents=True, exist_ok=True)
