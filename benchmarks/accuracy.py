@@ -64,6 +64,7 @@ Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|tran
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -250,6 +251,7 @@ def estimate_columns(s) -> dict:
         "mu_high": s["mu_high"],
         "fit": s["fit"],
         "limited_by": s.get("limited_by", ""),
+        "steering_torque": s.get("steering_torque", ""),
     }
 
 
@@ -343,7 +345,9 @@ TORQUE_U = (0.3, 0.45, 0.55, 0.65, 0.75, 0.85, 0.95, 1.0)
 understeering car reaches a little more)."""
 
 
-def jobs_torque(quick: bool, shape: str = "", truth: str = "gripsense") -> list[dict]:
+def jobs_torque(
+    quick: bool, shape: str = "", truth: str = "gripsense", exits: bool = False
+) -> list[dict]:
     """Steady circles and constant-radius sweeps to utilisation 0.3–1.0 on MF tyres (or on
     CommonRoad's multi-body car, an MF file's trail added to its forces)."""
     out = []
@@ -357,7 +361,7 @@ def jobs_torque(quick: bool, shape: str = "", truth: str = "gripsense") -> list[
                                     "mu_road": mu, "kind": kind, "target_u": u,
                                     "receiver": "white-0.3", "shape": shape,
                                     "stiffness_error": float(rng.uniform(-0.1, 0.1)),
-                                    "seed": len(out) + 1})  # fmt: skip
+                                    "seed": len(out) + 1, "exits": exits})  # fmt: skip
         return out
     rng = np.random.default_rng(27)
     mus = (0.5, 0.9) if quick else (0.3, 0.5, 0.7, 0.9, 1.1)
@@ -379,6 +383,7 @@ def jobs_torque(quick: bool, shape: str = "", truth: str = "gripsense") -> list[
                                 "shape": shape,
                                 "stiffness_error": float(rng.uniform(-0.1, 0.1)),
                                 "seed": len(out) + 1,
+                                "exits": exits,
                             }
                         )
     return out
@@ -419,8 +424,6 @@ def learned_levers(jobs: list[dict], drives: int = 3) -> dict[tuple[str, str], t
 
 def one_torque(job: dict) -> list[dict]:
     """One drive with a torque channel, estimated with and without it (front axle)."""
-    import dataclasses
-
     from gripsense import FrictionRun
     from gripsense.data import sample_path
     from gripsense.estimate.noise import NoiseModel
@@ -446,6 +449,8 @@ def one_torque(job: dict) -> list[dict]:
         tv = CR.commonroad_vehicle()
         plan = (CR.cr_circle(v, radius, steady_s=20.0) if job["kind"] == "circle"
                 else CR.cr_constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15))  # fmt: skip
+        if job.get("exits"):
+            plan = CR.with_corner_exits(plan)
         res = CR.commonroad_result(plan, job["mu_road"], model="mb")
         d = record_drive(res, tv, plan.settle_s, receiver=job["receiver"], seed=job["seed"])
         tq = emulate_torque(
@@ -455,6 +460,12 @@ def one_torque(job: dict) -> list[dict]:
         uv = CR.commonroad_vehicle(stiffness_error=job["stiffness_error"])
     else:
         tv = truth_vehicle(job["vehicle"])
+        if job.get("exits"):  # a steering system of its own: friction, assist and damping
+            r2 = np.random.default_rng(job["seed"] + 17)
+            tv = dataclasses.replace(tv, steering=dataclasses.replace(
+                tv.steering, friction_Nm=float(r2.uniform(0.3, 1.6)),
+                assist_gain=float(r2.uniform(1.0, 4.0)),
+                kingpin_damping_Nms=float(r2.uniform(15.0, 60.0))))  # fmt: skip
         t = truth_tyre(job["tyre"])
         p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
         if job["kind"] == "circle":
@@ -462,6 +473,9 @@ def one_torque(job: dict) -> list[dict]:
         else:
             m = M.constant_radius(radius, 0.45 * v_lim, v, accel_mps2=0.15, params=p)
         res = M.run(p, m, mu=job["mu_road"])
+        if job.get("exits"):  # the same corner, then a reversal, an S-bend and the exit
+            m = M.with_corner_exits(m, res)
+            res = M.run(p, m, mu=job["mu_road"])
         d = record_drive(res, tv, m.settle_s, receiver=job["receiver"], seed=job["seed"])
         tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03,
                             offset_Nm=0.2, seed=job["seed"] + 104729)  # fmt: skip
@@ -479,13 +493,18 @@ def one_torque(job: dict) -> list[dict]:
                                 calibrated_lever_uncertainty=job["lever_sd"])  # fmt: skip
     # the user declares the steering system to its stated uncertainty, not the truth
     rng = np.random.default_rng(job["seed"])
-    uv = dataclasses.replace(
-        uv,
-        steering=dataclasses.replace(
-            s, mechanical_trail_m=s.mechanical_trail_m
-            + float(rng.normal(0, s.mechanical_trail_uncertainty_m)),
-        ),
+    s = dataclasses.replace(
+        s, mechanical_trail_m=s.mechanical_trail_m
+        + float(rng.normal(0, s.mechanical_trail_uncertainty_m)),
     )  # fmt: skip
+    if job.get("exits") and tv.steering is not None:  # friction and assist known roughly
+        s = dataclasses.replace(
+            s, friction_Nm=max(tv.steering.friction_Nm
+                               + float(rng.normal(0, 0.5 * s.friction_uncertainty_Nm)), 0.05),
+            assist_gain=max(tv.steering.assist_gain
+                            + float(rng.normal(0, 0.5 * s.assist_gain_uncertainty)), 0.0),
+        )  # fmt: skip
+    uv = dataclasses.replace(uv, steering=s)
     ep = read_nmea(d.lines).epochs
     ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
     steer = steer_at(ch, ep["t_s"].to_numpy(float))
@@ -554,6 +573,7 @@ def torque_report(df: pd.DataFrame) -> None:
     both = df.pivot_table(
         index=key, columns="estimate", values=["mu_low", "mu_high"], aggfunc="first"
     )
+    mu_true = df[df["estimate"] == "torque"].set_index(key)["mu_true"].reindex(both.index)
     w_t = both[("mu_high", "torque")] - both[("mu_low", "torque")]
     w_c = both[("mu_high", "compass")] - both[("mu_low", "compass")]
     finite = np.isfinite(w_t) & np.isfinite(w_c)
@@ -562,6 +582,30 @@ def torque_report(df: pd.DataFrame) -> None:
     print(f"\nwidth with torque / compass-only (both bounded): median {ratio.median():.3f} "
           f"(n {int(finite.sum())}); ranges wider with the torque: {int(wider.sum())} of "
           f"{len(w_t)}")  # fmt: skip
+    cov = {e: (both[("mu_low", e)] <= mu_true) & (mu_true <= both[("mu_high", e)])
+           for e in ("torque", "compass")}  # fmt: skip
+    bad = ~cov["torque"] & cov["compass"]
+    print(f"ranges excluding the truth with the torque where compass-only did not: "
+          f"{int(bad.sum())} of {len(bad)}")  # fmt: skip
+    for k, r in both[bad].iterrows():
+        print(f"    {k}: torque [{r[('mu_low', 'torque')]:.3f}, {r[('mu_high', 'torque')]:.3f}]"
+              f", compass [{r[('mu_low', 'compass')]:.3f}, {r[('mu_high', 'compass')]:.3f}], "
+              f"true {mu_true[k]:.3f}")  # fmt: skip
+    same = (np.isclose(both[("mu_low", "torque")], both[("mu_low", "compass")])
+            & (np.isclose(both[("mu_high", "torque")], both[("mu_high", "compass")])
+               | (~np.isfinite(w_t) & ~np.isfinite(w_c))))  # fmt: skip
+    tq = df[df["estimate"] == "torque"].set_index(key).reindex(both.index)
+    claims = tq["limited_by"].astype(str).str.startswith("steering torque")
+    note = tq.get("steering_torque", pd.Series("", index=tq.index)).fillna("").astype(str)
+    kept = note.str.contains("did not change|not used") | (note == "")
+    print(
+        f"limited_by names the torque while the range equals compass-only: "
+        f"{int((claims & same).sum())} of {int(same.sum())} identical ranges, "
+        f"{int((claims & kept).sum())} of {int(kept.sum())} the torque left unchanged"
+    )
+    print("what the torque did: " + ", ".join(
+        f"{k} {v}" for k, v in note.str.split(": ").str[-1].str.split(" [0-9]").str[0]
+        .replace("", "no channel read").value_counts().items()))  # fmt: skip
     excess = (df["grip_used_lower"] - df["mu_true"]).max()
     print(f"largest measured-grip bound over the truth: {excess:+.3f}")
     what = df[df["estimate"] == "torque"].groupby("limited_by").size()
@@ -719,9 +763,15 @@ def main() -> None:
         help="--torque: the tyre shape the user declares (brush, magic-formula), or known (the "
         "front tyre's own .tir in [steering] tyre_file)",
     )
+    ap.add_argument(
+        "--exits",
+        action="store_true",
+        help="--torque: every drive ends with a steering reversal, an S-bend and the corner "
+        "exit, and the truth's steering friction, assist and damping are drawn at random",
+    )
     args = ap.parse_args()
     if args.torque:
-        todo = jobs_torque(args.quick, args.shape, args.truth)
+        todo = jobs_torque(args.quick, args.shape, args.truth, args.exits)
         if args.calibrated:
             if args.truth != "gripsense":
                 ap.error("--calibrated drives gripsense's simulator (the everyday drives)")

@@ -35,11 +35,16 @@ def test_each_channel_on_its_own_rows(tmp_path):
     np.testing.assert_allclose(channel_at(d, "steer_rad", [0.01, 0.55]), np.sin([0.01, 0.55]),
                                atol=5e-5)  # fmt: skip
     np.testing.assert_allclose(channel_at(d, "torque_nm", t), -2.0 * np.cos(t), atol=1e-12)
-    ep = pd.DataFrame({"t_s": [0.105, 0.5, 2.0]})
+    ep = pd.DataFrame({"t_s": [0.105, 0.205, 0.305, 2.0]})
     out = with_torque(ep, d)
     assert "torque_nm" in out and "torque_nm" not in ep
-    assert out["torque_nm"].iloc[0] == pytest.approx(-2.0 * np.cos(0.105), abs=1e-4)
-    assert np.isnan(out["torque_nm"].iloc[2])  # after the table: not extrapolated
+    # the torque at its own rate: every sample within half an epoch step (0.05 s) averaged
+    tq = d.dropna(subset=["torque_nm"])
+    near = tq[(tq["t_s"] >= 0.055) & (tq["t_s"] < 0.155)]
+    assert out["torque_samples"].iloc[0] == len(near) > 1
+    assert out["torque_nm"].iloc[0] == pytest.approx(float(near["torque_nm"].mean()), abs=1e-12)
+    assert out["torque_nm"].iloc[0] == pytest.approx(-2.0 * np.cos(0.105), abs=2e-3)
+    assert np.isnan(out["torque_nm"].iloc[3])  # after the table: not extrapolated
 
 
 def test_headers_with_units_map_themselves(tmp_path):

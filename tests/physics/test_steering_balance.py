@@ -48,3 +48,40 @@ def test_dahl_friction_holds_its_last_motion():
     assert f[-1] == pytest.approx(-10.0, rel=1e-3)
     assert np.all(np.abs(f) <= 10.0)
     assert np.all(dahl_friction(d, 0.0) == 0.0)
+
+
+def test_friction_state_by_hand():
+    """Travel 1 mrad, no noise (band 2 mrad), worked by hand: the direction is unknown until
+    the steer has moved by the band; steering left is +1 once built up (1 mrad from where it
+    began); unwinding is confirmed 2 mrad below the maximum and began after its last sample
+    within the margin (1 mrad) of it (the samples between are not known); a hold keeps the
+    state; a correction smaller than the band is not seen; NaN: not known."""
+    from gripsense.physics.steering_balance import friction_state
+
+    d = np.array([0.0, 1.0, 2.5, 4.0, 4.0, 3.5, 2.0, 1.0, 1.0, np.nan, 1.0, 2.5, 0.0]) * 1e-3
+    state, known = friction_state(d, 0.0, 1e-3)
+    #            0    1    2    3    4    5    6     7     8     9   10    11    12
+    want = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 0.0, -1.0, -1.0, 0.0, -1.0, -1.0, -1.0]
+    np.testing.assert_array_equal(state, want)
+    np.testing.assert_array_equal(known, np.abs(want) > 0)
+    # unwinding confirmed at 1 (3 below the first sample), then a reversal confirmed at 3.5:
+    # the sample after the minimum is not known once it is more than the margin above it
+    state, known = friction_state(np.array([4.0, 2.0, 1.0, 2.1, 3.5, 5.0]) * 1e-3, 0.0, 1e-3)
+    np.testing.assert_array_equal(state, [0.0, 0.0, -1.0, 0.0, 1.0, 1.0])
+
+
+def test_friction_state_holds_through_noise():
+    """A turn-in, then a hold read with white noise: the state stays +1 (the Dahl model's
+    memory) on almost every sample; the Dahl model run on the same noisy samples wanders —
+    the physical law is no estimator of its own state."""
+    from gripsense.physics.steering_balance import friction_state
+
+    rng = np.random.default_rng(5)
+    sd = 2e-4
+    d = np.concatenate([np.linspace(0.0, 0.05, 100), np.full(900, 0.05)])
+    d = d + rng.normal(0.0, sd, d.size)
+    state, known = friction_state(d, sd, 0.002)
+    assert np.all(state[known] == 1.0)
+    assert known[100:].mean() > 0.9
+    dahl = dahl_friction(d, 1.0, 0.002)
+    assert np.min(dahl[100:]) < 0.0

@@ -132,7 +132,8 @@ def friction(
         fail(e)
     print_friction(result)
     if result.meta.get("front_axle"):  # the front axle never disappears without a word
-        say(result.meta["front_axle"])
+        if result.meta["front_axle"] not in result.explain():  # (the axle methods' line says it)
+            say(result.meta["front_axle"])
     elif result.meta.get("steering"):
         say(f"steering: {result.meta['steering']}")
     try:

@@ -35,6 +35,7 @@ from gripsense.estimate.grip import drive_bound, grip_bins
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.profile import (
+    UNCHANGED,
     ProfileCache,
     axle_priors,
     merge_bins,
@@ -43,7 +44,7 @@ from gripsense.estimate.profile import (
     shape_ids,
     torque_only,
 )
-from gripsense.estimate.torque import check_channel, torque_bins, torque_profile
+from gripsense.estimate.torque import check_channel, torque_bins, torque_profile, torque_read
 
 __all__ = ["WINDOW_COLUMNS", "estimate_windows"]
 
@@ -143,8 +144,9 @@ def estimate_windows(
         error (NaN where the window was screened), ``shape``, ``limited_by``,
         ``cornering_stiffness_N_per_rad``.
     summary : pandas.DataFrame
-        One row per axle over the drive, the same columns plus ``n_windows`` and
-        ``n_screened``.
+        One row per axle over the drive, the same columns plus ``n_windows``, ``n_screened``
+        and ``steering_torque`` (what a steering-torque channel was and what it did to the
+        range, :func:`~gripsense.estimate.torque.torque_read`; empty where none was read).
     """
     noise = noise or NoiseModel()
     o = options or WindowOptions()
@@ -169,7 +171,8 @@ def estimate_windows(
             mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
             est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, cols["grip_used_lower"][i])
             for k, v in est.items():
-                cols[k][i] = v
+                if k != "torque_note":  # windows stay compass-only (docs/physics.md §16.6)
+                    cols[k][i] = v
         cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
         tables.append(cols)
         if not analysed_bins.any():
@@ -178,13 +181,14 @@ def estimate_windows(
             analysed_bins = ab.data[:, 9] >= o.screen_utilisation
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
         g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
-        torque = None
+        torque, read = None, ""
         if axle == "front":  # a steering-torque channel: the trail's fall (docs/physics.md §16)
             tb = torque_bins(wheels, vehicle, o.bin_s, o.min_samples)
             if tb is not None and tb.t0.size:
                 check_channel(tb, vehicle)
                 grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
                 torque = torque_profile(tb, vehicle, grid, tol=o.steady_tolerance)
+                read = torque_read(tb, torque)
         base = {
             "axle": axle,
             "n": int(ab.n.sum()),
@@ -215,8 +219,8 @@ def estimate_windows(
             c = 0.5 * (ab.data[analysed_bins, 4] + ab.data[analysed_bins, 5]).mean()
             est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
             summ.append({**base, **est})
-        elif torque is not None:
-            summ.append({**base, **torque_only(torque, o, base["grip_used_lower"])})
+        elif torque is not None and (only := torque_only(torque, o, base["grip_used_lower"])):
+            summ.append({**base, **only})
         else:
             summ.append(
                 {
@@ -229,8 +233,12 @@ def estimate_windows(
                     "limited_by": "no cornering above the screening utilisation"
                     if n_b
                     else "no steady or transient cornering",
+                    "torque_note": UNCHANGED if torque is not None else "",
                 }
             )
+        # what a steering-torque channel was and did ("" where none was read)
+        note = summ[-1].pop("torque_note", "")
+        summ[-1]["steering_torque"] = f"{read}: {note}" if read else ""
     windows = {
         c: np.concatenate([t[c] for t in tables]) if tables else np.zeros(0, dtype=dt)
         for c, dt in WINDOW_COLUMNS.items()

@@ -282,7 +282,9 @@ def profile_mu(
     dict
         ``mu``, ``mu_low``, ``mu_high``, ``observable``, ``fit``, ``mu_best``,
         ``stiffness_scale``, ``heading_bias_deg``, ``camber_slip_deg_per_g``,
-        ``load_transfer_error``, ``shape``, ``limited_by``.
+        ``load_transfer_error``, ``shape``, ``limited_by``, ``torque_note`` (with *torque*: what
+        it did to the range — :data:`UNCHANGED`, the ends it moved, or why it was not used;
+        empty without).
     """
     f, df, inv_dx = curve_lookup()
     fine = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
@@ -376,25 +378,48 @@ def profile_mu(
         )
     elif not observable and fit == "ok" and not np.isfinite(hi):
         limited = "too little lateral acceleration (shape and stiffness explain any μ above)"
-    if torque is not None and torque.fit == "ok" and fit != "inconsistent":
+    torque_note = ""
+    if torque is not None and torque.fit != "ok":
+        torque_note = f"not used (its fit is {torque.fit})"
+    elif torque is not None and fit == "inconsistent":
+        torque_note = "not used (the compass's fit is inconsistent)"
+    elif torque is not None:
         # the compass's likelihood where its upper end is trusted, else flat (it says nothing
         # above what the data prove); times the torque's
         trusted = np.isfinite(hi) and not strained
         compass = nll - nll.min() if trusted else np.zeros(n_mu)
         c = _with_torque(mu_g, compass, torque, done, level, grip_lower, o)
+        torque_note = "not used (its range contradicts the measured grip)"
         if c is not None and trusted and not (c[0] < hi and lo < c[1]):
             c = None  # the two channels' ranges do not meet: the compass's stands alone
+            torque_note = "not used (its range does not meet the compass's)"
         if c is not None:
-            lo_c, hi_c = lo, hi
+            before = (max(lo, grip_lower) if np.isfinite(grip_lower) else lo, hi, observable)
+            lo_c, hi_c, before_best = lo, hi, mu_hat
+            fit_c, strained_c, torque_note = fit, strained, ""
             lo, hi, mu_hat, observable, torque_says = c
             # never wider than the compass's own range (an untrusted upper end is already
             # unbounded): more data never say less
             lo, hi = max(lo, lo_c), min(hi, hi_c)
             if strained and torque_says:
                 fit = "ok"  # the torque bounds what the compass's family could not
-            strained = False
+            strained = strained and not torque_says
             observable = observable and fit == "ok"
-            if torque_says:
+            if not observable:
+                # the lower end is a model's only with a value (as the compass's own, far from
+                # the limit): without one it stays the compass's — the measured grip unless the
+                # compass gave a value (docs/friction.md, "the lower end")
+                lo = lo_c
+            if np.isfinite(grip_lower) and hi <= (1.0 + STRAINED_REL) * max(lo, grip_lower):
+                # the combined upper end reaches the lower: not a range (strained); the
+                # compass's stands
+                lo, hi, mu_hat, observable = lo_c, hi_c, before_best, before[2]
+                fit, strained = fit_c, strained_c
+                torque_note = "not used (its upper end reaches the measured grip)"
+            after = (max(lo, grip_lower) if np.isfinite(grip_lower) else lo, hi, observable)
+            if not torque_note.startswith("not used"):
+                torque_note = _range_change(before, after)
+            if torque_says and torque_note.startswith(("gave", "raised", "lowered")):
                 limited = f"steering torque: {torque.limited_by}"
     if np.isfinite(grip_lower):
         # the estimate never below what the data prove without a model
@@ -418,7 +443,27 @@ def profile_mu(
         "load_transfer_error": float(th[im, 2]),
         "shape": SHAPE_FAMILY[int(shp[im])].name,
         "limited_by": limited,
+        "torque_note": torque_note,
     }
+
+
+UNCHANGED = "did not change the range"
+"""``torque_note`` of a front axle whose stated range the steering torque left as it was."""
+
+
+def _range_change(before: tuple, after: tuple, tol: float = 0.005) -> str:
+    """What the steering torque did to a stated range (low, high, value given): the parts that
+    moved by more than *tol* (absolute, in μ), or :data:`UNCHANGED`.
+    """
+    (l0, h0, o0), (l1, h1, o1) = before, after
+    parts = []
+    if o1 and not o0:
+        parts.append("gave a value")
+    if l1 - l0 > tol:
+        parts.append(f"raised the lower end {l0:.2f} → {l1:.2f}")
+    if np.isfinite(h1) and (not np.isfinite(h0) or h0 - h1 > tol):
+        parts.append(f"lowered the upper end {h0:.2f} → {h1:.2f}".replace("inf", "∞"))
+    return "; ".join(parts) if parts else UNCHANGED
 
 
 def _torque_range(
@@ -426,10 +471,15 @@ def _torque_range(
 ) -> tuple[float, float, float, bool, bool] | None:
     """The interval a combined likelihood gives: (low, high, best μ, whether a value is given,
     whether it is bounded above), or None when it contradicts the measured grip (its upper end
-    below the bound: the torque is not used).
+    below the bound: the torque is not used). The likelihood ratio is taken against its best
+    μ at or above the measured grip: a μ the data disprove without a model is no reference (a
+    trail that fits best "past the limit" would otherwise make every μ allowed look unlikely).
     """
-    dev = 2.0 * (nll - nll.min())
-    im = int(np.argmin(nll))
+    allowed = mu_g >= grip_lower if np.isfinite(grip_lower) else np.ones(mu_g.size, bool)
+    if not allowed.any():
+        return None
+    im = int(np.flatnonzero(allowed)[np.argmin(nll[allowed])])
+    dev = 2.0 * (nll - nll[im])
     lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
     hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
     lo_p = _crossing(mu_g, dev, level, im, -1)
@@ -474,7 +524,7 @@ def _with_torque(
     return lo, hi, float(np.clip(c[2], lo, hi)), c[3] or cf[3], c[4] or cf[4]
 
 
-def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> dict:
+def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> dict | None:
     """What the steering torque alone says of the front axle, for a drive whose compass data
     never passed the screen (``docs/physics.md`` §16.6).
 
@@ -489,9 +539,10 @@ def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> d
 
     Returns
     -------
-    dict
+    dict or None
         ``mu``, ``mu_low``, ``mu_high``, ``observable``, ``fit``, ``mu_best``, ``shape``,
-        ``limited_by`` (the compass's nuisances NaN).
+        ``limited_by``, ``torque_note`` (the compass's nuisances NaN); None when the torque
+        says nothing beyond the measured grip (no upper end, the same lower end).
     """
     grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
     level = _chi2_ppf(float(o.point_level), 1)
@@ -505,9 +556,12 @@ def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> d
             "observable": False,
             "fit": torque.fit if torque.fit != "ok" else "inconsistent",
             "limited_by": "steering torque contradicts the measured grip",
+            "torque_note": "not used (its range contradicts the measured grip)",
         }
     lo, hi, best, observable, _ = c
-    mu_low = max(lo, lower)
+    mu_low = max(lo, lower) if observable else lower  # a model's lower end only with a value
+    if not np.isfinite(hi) and not observable and mu_low <= lower + 0.005:
+        return None  # the torque says nothing the measured grip does not: compass-only stands
     return {
         "mu": float(np.sqrt(mu_low * hi)) if observable else np.nan,
         "mu_low": mu_low,
@@ -518,7 +572,8 @@ def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> d
         "shape": torque.shape,
         "limited_by": f"steering torque: {torque.limited_by}"
         if np.isfinite(hi)
-        else "steering torque: too little of the trail's fall (shape and trail explain any μ)",
+        else "no cornering above the screening utilisation",
+        "torque_note": _range_change((lower, np.inf, False), (mu_low, hi, observable)),
     }
 
 

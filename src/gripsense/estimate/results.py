@@ -425,6 +425,11 @@ class AxleFriction(FrictionResult):
                 )
                 why = rec.get("limited_by") or "not enough near-limit data"
                 parts.append(f"{ax}: no value ({why}){proven}{est}{said}")
+            read = rec.get("steering_torque")
+            if isinstance(read, str) and read:
+                parts[-1] += f" [steering torque read: {read}]"
+        if self.meta.get("front_axle"):  # the front axle never disappears without a word
+            parts.append(str(self.meta["front_axle"]))
         return "; ".join(parts)
 
     def estimates(self) -> pd.DataFrame:

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.ndimage import uniform_filter1d
 from scipy.stats import chi2
 
 from gripsense.config import Vehicle
@@ -35,7 +36,7 @@ from gripsense.config.vehicle import SteeringSystem
 from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.estimate.bins import axle_pairs, bin_starts
-from gripsense.physics.steering_balance import dahl_friction
+from gripsense.physics.steering_balance import dahl_friction, friction_state
 from gripsense.physics.trail_shapes import (
     TRAIL_FAMILY,
     TrailShape,
@@ -53,6 +54,7 @@ __all__ = [
     "merge_torque_bins",
     "torque_bins",
     "torque_profile",
+    "torque_read",
     "trail_family",
 ]
 
@@ -76,12 +78,27 @@ utilisation PEAK_FORM_FROM to PEAK_FORM_REL at 1 (the shipped files' trails at t
 KNOWN_TRAIL_LOADS = (0.5, 0.75, 1.0, 1.25, 1.5)
 """Loads, as multiples of the static front wheel load, at which a known tyre's trail is taken
 (load transfer moves the wheels over about this range in a 0.8 g turn) [-]."""
+KNOWN_TRAIL_CAMBER_RAD = (-0.035, 0.035)
+"""Inclinations at which a known tyre's trail is also taken (a car's static camber and its
+roll in a turn; the file's are at the rig's 0) [rad]."""
 KNOWN_TRAIL_FORM_FLOOR = 0.03
 """Least 1σ of a known tyre's trail the fitted shapes miss, relative to t₀: the file's own fit
 error is 0.01–0.03 (§16.7); the floor carries what a file does not know (wear, inflation, the
 road's texture beyond the similarity of the slip with μ) [-]."""
 FRICTION_STATE_SD = 0.3
-"""1σ of the Dahl friction state as the binned steer history gives it [-]."""
+"""1σ of the friction state where the steer history says it is built up (a hand's dither, the
+Dahl build-up the play operator makes linear) [-]."""
+STATE_SMOOTHING_S = 1.0
+"""The steer is averaged over this window before the Dahl model gives the friction's state
+(measured on simulated sweeps and corner exits with a 0.05° channel: the state per bin within
+0.30–0.35 RMS of the truth's, against 0.7 for a state that only follows confirmed reversals)
+[s]."""
+FRICTION_TRAVEL_RAD = 0.002
+"""Road-wheel steer travel over which the steering friction builds up (the Dahl travel of
+§16.3); the play operator's half-width, unless the steer channel's noise is larger [rad]."""
+DAMPING_REL = 0.5
+"""1σ of the declared kingpin damping, relative: the damping moment C_s δ̇ of a bin is taken
+out of the measured moment and this share of it stays as an error [-]."""
 
 
 @dataclass
@@ -105,7 +122,12 @@ class TorqueBins:
     moment_sigma : numpy.ndarray
         Its 1σ: white noise, and the spread within a transient bin [N m].
     friction_state : numpy.ndarray
-        Dahl state of the steering friction (−1…1) [-].
+        Mean state of the steering friction over the bin (−1…1): the Dahl model along the steer
+        at the epochs' rate, smoothed over :data:`STATE_SMOOTHING_S` [-].
+    friction_sd : numpy.ndarray
+        1σ of that state: :data:`FRICTION_STATE_SD`, plus the bin's share of samples whose
+        friction a reversal the steer confirms has left unknown
+        (:func:`~gripsense.physics.steering_balance.friction_state`) [-].
     grip : numpy.ndarray
         Measured grip of the bin [-].
     fz_static : float
@@ -114,6 +136,11 @@ class TorqueBins:
         What the moment was made of.
     scale_sd, offset_sd : float
         Priors of the channel: relative 1σ of its scale [-], 1σ of its offset at the axes [N m].
+    samples : int
+        Samples of the channel's own rate behind the bins (the epochs' when it was
+        interpolated) [-].
+    rate_hz : float
+        The channel's rate as read: its samples over the bins' time [Hz].
     """
 
     t0: np.ndarray
@@ -126,11 +153,14 @@ class TorqueBins:
     moment: np.ndarray
     moment_sigma: np.ndarray
     friction_state: np.ndarray
+    friction_sd: np.ndarray
     grip: np.ndarray
     fz_static: float
     source: str
     scale_sd: float
     offset_sd: float
+    samples: int = 0
+    rate_hz: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -171,9 +201,14 @@ def _known_trail(path: str, fz_static: float) -> TrailFamily:
         shapes.append(shape)
         errors.append(err)
         xi0.append(xi)
+    # a rig's curve carried to a car on a road (docs/physics.md §16.7): its wheels lean
+    for g in KNOWN_TRAIL_CAMBER_RAD:
+        shape, err = fit_trail_shape(u, tyre_trail_ratio(tyre, fz_static, u, gamma_rad=g)[0])
+        shapes.append(shape)
+        errors.append(err)
     exponent = np.polyfit(np.log(KNOWN_TRAIL_LOADS), np.log(np.maximum(xi0, 1e-6)), 1)[0]
     return TrailFamily(
-        tuple(shapes),
+        tuple(dict.fromkeys(shapes)),
         max(KNOWN_TRAIL_FORM_FLOOR, *errors),
         xi0[KNOWN_TRAIL_LOADS.index(1.0)],
         float(np.clip(exponent, 0.0, 1.5)),
@@ -279,6 +314,9 @@ def torque_bins(
     def mean(x):
         return np.add.reduceat(x[ok], starts) / n
 
+    def mean_of(x):  # of samples already selected
+        return np.add.reduceat(x, starts) / n
+
     mm = m[ok]
     # the channel's white noise from successive differences within each bin (robust to the
     # slow change of the moment along the bin)
@@ -297,10 +335,36 @@ def torque_bins(
         np.add.reduceat(force * force, starts) / n - (np.add.reduceat(force, starts) / n) ** 2
         - np.add.reduceat(f_white[ok] ** 2, starts) / n, 0.0))  # fmt: skip
     f_noise = np.sqrt(np.add.reduceat(f_white[ok] ** 2, starts)) / n
-    steer = mean(p["steer_rad_L"]) if "steer_rad_L" in p else np.zeros(starts.size)
-    state = dahl_friction(steer, 1.0)
+    # the steering friction per sample: a play operator along the steer at the epochs' rate
+    # (its band above the channel's noise), so that a reversal inside a bin — a corner exit,
+    # the wheel unwound — is seen where it happens; samples in the middle of a reversal leave
+    # the state between −1 and 1 and count as unknown (docs/physics.md §16.6)
+    if "steer_rad_L" in p:
+        steer = p["steer_rad_L"][ok]
+        # the Dahl model along the steer smoothed over a second (its noise would otherwise
+        # reverse the friction in every hold; a slow sweep's gradual build-up is kept), and
+        # where a reversal the steer confirms has left it unknown
+        state_i = dahl_friction(_smoothed(steer, t, STATE_SMOOTHING_S), 1.0, FRICTION_TRAVEL_RAD)
+        _, known = friction_state(steer, _steer_noise(steer), FRICTION_TRAVEL_RAD)
+    else:
+        steer, state_i, known = np.zeros(t.size), np.zeros(t.size), np.zeros(t.size, bool)
+    state = mean_of(state_i)
+    f_sd = np.minimum(FRICTION_STATE_SD + mean_of(1.0 - known), 1.0)
     keep = n >= min_samples
     t_end = np.maximum.reduceat(t, starts)
+    # the damping moment C_s δ̇ of the bin (its mean steering rate), taken out with its
+    # uncertainty
+    last = np.concatenate([starts[1:], [t.size]]) - 1
+    dur = t_end - t[starts]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rate = np.where(dur > 0, (steer[last] - steer[starts]) / dur, 0.0)
+    s_damp = s.kingpin_damping_Nms * rate
+    if "torque_samples_L" in p:
+        per = np.nan_to_num(p["torque_samples_L"][ok], nan=0.0)
+        samples = np.add.reduceat(np.where(per > 0, per, 1.0), starts)
+    else:
+        samples = n.astype(float)
+    span = float(np.sum((t_end - t[starts] + bin_s / np.maximum(n, 1))[keep]))
     return TorqueBins(
         t0=t[starts][keep],
         t1=t_end[keep],
@@ -309,15 +373,41 @@ def torque_bins(
         force_sigma=np.hypot(f_noise, f_spread)[keep],
         fz_l=mean(p["load_N_L"])[keep],
         fz_r=mean(p["load_N_R"])[keep],
-        moment=mean(m)[keep],
-        moment_sigma=np.hypot(white / np.sqrt(n), m_spread)[keep],
+        moment=(mean(m) - s_damp)[keep],
+        moment_sigma=np.sqrt(white**2 / n + m_spread**2 + (DAMPING_REL * s_damp) ** 2)[keep],
         friction_state=state[keep],
+        friction_sd=f_sd[keep],
         grip=mean(p["grip_used_L"])[keep],
         fz_static=vehicle.static_load("front"),
         source=source,
         scale_sd=scale_sd,
         offset_sd=offset_sd,
+        samples=int(samples[keep].sum()),
+        rate_hz=float(samples[keep].sum() / span) if span > 0 else float("nan"),
     )
+
+
+def _smoothed(x: np.ndarray, t: np.ndarray, window_s: float) -> np.ndarray:
+    """A centred moving average over about *window_s* of samples (an odd count at the median
+    sampling step) [x's unit].
+    """
+    if x.size < 3:
+        return x
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    k = round(window_s / dt) if dt > 0 else 1
+    k = max(1, min(k, x.size)) | 1
+    return uniform_filter1d(x, k, mode="nearest")
+
+
+def _steer_noise(steer: np.ndarray) -> float:
+    """1σ white noise of a steer channel's samples, from their second differences (robustly:
+    the median absolute deviation) [rad].
+    """
+    x = steer[np.isfinite(steer)]
+    if x.size < 5:
+        return 0.0
+    d2 = np.diff(x, 2)
+    return 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0)
 
 
 def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
@@ -374,11 +464,14 @@ def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
         moment=avg(tb.moment),
         moment_sigma=rss(tb.moment_sigma),
         friction_state=avg(tb.friction_state),
+        friction_sd=avg(tb.friction_sd),
         grip=avg(tb.grip),
         fz_static=tb.fz_static,
         source=tb.source,
         scale_sd=tb.scale_sd,
         offset_sd=tb.offset_sd,
+        samples=tb.samples,
+        rate_hz=tb.rate_hz,
     )
 
 
@@ -475,6 +568,27 @@ def check_channel(tb: TorqueBins, vehicle: Vehicle, name: str = "steering torque
         )
 
 
+def torque_read(tb: TorqueBins, profile: TorqueProfile) -> str:
+    """What was read of a steering-torque channel, in words: the moment's source, the channel's
+    rate and samples, and the bins and merged points the profile used.
+
+    Parameters
+    ----------
+    tb : TorqueBins
+        The bins (:func:`torque_bins`).
+    profile : TorqueProfile
+        Their profile (:func:`torque_profile`).
+
+    Returns
+    -------
+    str
+        E.g. ``column torque × (1 + assist gain) × ratio at 100 Hz (4210 samples), 42 bins →
+        9 points``.
+    """
+    rate = f" at {tb.rate_hz:.0f} Hz" if np.isfinite(tb.rate_hz) else ""
+    return f"{tb.source}{rate} ({tb.samples} samples), {tb.t0.size} bins → {profile.bins} points"
+
+
 def torque_profile(
     tb: TorqueBins, vehicle: Vehicle, mu_grid: np.ndarray, *, tol: float = 0.03
 ) -> TorqueProfile:
@@ -530,12 +644,16 @@ def _profile(mb: TorqueBins, vehicle: Vehicle, g: np.ndarray) -> TorqueProfile:
     # noise of each bin: the channel's white noise, the force's (through the lever), the trail
     # the family misses, the balance's own fidelity, the friction state's error
     mc = s.friction_Nm * ratio
+    # the friction state's error: at the declared friction where the state is built up, at its
+    # upper 1σ for the share of a bin whose friction is reversing
+    mc_hi = mc + s.friction_uncertainty_Nm * ratio
+    f_err = np.hypot(FRICTION_STATE_SD * mc, (mb.friction_sd - FRICTION_STATE_SD) * mc_hi)
     sig2 = (
         mb.moment_sigma**2
         + ((tc0 + t00 * w) * mb.force_sigma) ** 2
         + (family.form_rel * t00 * w * f) ** 2
         + (MOMENT_MODEL_REL * (tc0 + t00 * w) * f) ** 2
-        + (FRICTION_STATE_SD * mc) ** 2
+        + f_err**2
     )
     # priors of θ = (a, b, o, f): a = k t_c, b = k t₀ correlated through the scale k
     sd_t0 = t00 * s.pneumatic_trail_uncertainty

@@ -28,6 +28,7 @@ EXTRA_COLUMNS = {
     "torque_nm": "steering (column) torque, ISO (positive steers left) [N·m]",
     "assist_nm": "power-steering assist torque at the steering wheel, ISO [N·m]",
     "rack_n": "rack force, ISO (positive steers left) [N]",
+    "torque_samples": "samples of the steering-torque channel averaged into the epoch [-]",
     "heading_acc_deg": "the receiver's stated heading accuracy (1 σ) [deg]",
     "speed_acc_mps": "the receiver's stated speed accuracy (1 σ) [m/s]",
 }

@@ -18,6 +18,7 @@ __all__ = [
     "STEER_QUANTITIES",
     "TORQUE_COLUMNS",
     "channel_at",
+    "channel_mean_at",
     "read_steer_csv",
     "steer_at",
     "with_torque",
@@ -37,8 +38,9 @@ STEER_QUANTITIES = {
 TORQUE_COLUMNS = {"torque": "torque_nm", "assist": "assist_nm", "rack": "rack_n"}
 """Steering-torque keys -> the columns they fill (the epoch table's names): column torque and
 assist torque at the steering wheel [N m], rack force [N]."""
-STEERING_TORQUE = tuple(TORQUE_COLUMNS.values())
-"""The steering-torque columns an epoch, motion or wheel table may carry."""
+STEERING_TORQUE = (*TORQUE_COLUMNS.values(), "torque_samples")
+"""The steering-torque columns an epoch, motion or wheel table may carry (``torque_samples``:
+how many of the channel's samples each epoch averages, :func:`channel_mean_at`)."""
 
 
 def read_steer_csv(
@@ -143,6 +145,61 @@ def channel_at(steer: pd.DataFrame, column: str, t_s: np.ndarray) -> np.ndarray:
     return out
 
 
+def channel_mean_at(
+    steer: pd.DataFrame, column: str, t_s: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """One channel of a steering table averaged over each epoch's interval, at the channel's
+    own rate: every sample within half an epoch step of an epoch time (the step its neighbours
+    give, at most the median step) counts once, so a 100 Hz channel read at 10 Hz epochs keeps
+    all its samples and its white noise falls by √10. An epoch whose interval holds no sample
+    (a channel slower than the epochs) takes the linear interpolation.
+
+    Parameters
+    ----------
+    steer : pandas.DataFrame
+        Table of :func:`read_steer_csv`.
+    column : str
+        ``torque_nm``, ``assist_nm``, ``rack_n`` or ``steer_rad``.
+    t_s : array_like
+        Epoch times, ascending [s] on the channel's clock.
+
+    Returns
+    -------
+    values : numpy.ndarray
+        The channel per epoch [its unit] (NaN outside the channel).
+    samples : numpy.ndarray
+        The channel's samples averaged into each epoch (0: interpolated or none) [-].
+    """
+    t = np.asarray(t_s, dtype=float)
+    interp = channel_at(steer, column, t)
+    n = np.zeros(t.shape, dtype=np.int64)
+    tc = steer["t_s"].to_numpy(float)
+    x = steer[column].to_numpy(float)
+    ok = np.isfinite(x) & np.isfinite(tc)
+    tc, x = tc[ok], x[ok]
+    fin = np.flatnonzero(np.isfinite(t))
+    if tc.size == 0 or fin.size < 2:
+        return interp, n
+    order = np.argsort(tc, kind="stable")
+    tc, x = tc[order], x[order]
+    te = t[fin]
+    gaps = np.diff(te)
+    half = 0.5 * float(np.median(gaps[gaps > 0])) if (gaps > 0).any() else 0.0
+    before = np.minimum(0.5 * np.concatenate([[2 * half], gaps]), half)
+    after = np.minimum(0.5 * np.concatenate([gaps, [2 * half]]), half)
+    i0 = np.searchsorted(tc, te - np.maximum(before, 0.0), side="left")
+    i1 = np.searchsorted(tc, te + np.maximum(after, 0.0), side="left")
+    csum = np.concatenate([[0.0], np.cumsum(x)])
+    cnt = np.maximum(i1 - i0, 0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = (csum[i1] - csum[i0]) / cnt
+    has = cnt > 0
+    out = interp.copy()
+    out[fin[has]] = mean[has]
+    n[fin] = cnt
+    return out, n
+
+
 def steer_at(steer: pd.DataFrame, t_s: np.ndarray) -> np.ndarray:
     """Road-wheel angle [rad] at times t_s by linear interpolation (NaN outside the channel).
 
@@ -171,7 +228,9 @@ def with_torque(epochs: pd.DataFrame, steer: pd.DataFrame) -> pd.DataFrame:
     -------
     pandas.DataFrame
         *epochs* itself when the table has no torque channel, else a copy with ``torque_nm``,
-        ``assist_nm``, ``rack_n`` as the table has them.
+        ``assist_nm``, ``rack_n`` as the table has them, each averaged over the epoch's
+        interval at its own rate (:func:`channel_mean_at`), and ``torque_samples``: the first
+        channel's samples per epoch.
     """
     cols = [c for c in TORQUE_COLUMNS.values() if c in steer.columns]
     if not cols:
@@ -179,5 +238,7 @@ def with_torque(epochs: pd.DataFrame, steer: pd.DataFrame) -> pd.DataFrame:
     out = epochs.copy()
     t = out["t_s"].to_numpy(float)
     for c in cols:
-        out[c] = channel_at(steer, c, t)
+        out[c], n = channel_mean_at(steer, c, t)
+        if c == cols[0]:
+            out["torque_samples"] = n
     return out

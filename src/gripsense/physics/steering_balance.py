@@ -21,7 +21,7 @@ from numba import njit
 
 from gripsense._arrays import as_float_array
 
-__all__ = ["column_torque", "dahl_friction", "steering_moment"]
+__all__ = ["column_torque", "dahl_friction", "friction_state", "steering_moment"]
 
 
 def steering_moment(fy_N, mz_Nm, mechanical_trail_m):
@@ -93,6 +93,89 @@ def dahl_friction(steer_rad, limit_Nm: float, travel_rad: float = 0.002):
     if d.size == 0 or limit_Nm <= 0:
         return np.zeros(d.size)
     return _dahl(d, float(limit_Nm), float(limit_Nm) / float(travel_rad))
+
+
+@njit(cache=True)
+def _relay(d: np.ndarray, band: float, margin: float, travel: float):  # pragma: no cover
+    n = d.size
+    state = np.zeros(n)
+    known = np.zeros(n)
+    s = 0.0  # the direction of the last confirmed motion (0: none yet)
+    hi = np.nan  # the running extremes since the last reversal, and where they were
+    lo = np.nan
+    hi_i = 0
+    lo_i = 0
+    ext = np.nan  # the steer where the last reversal began
+    for k in range(n):
+        x = d[k]
+        if np.isnan(x):
+            continue
+        if np.isnan(hi):
+            hi, lo, hi_i, lo_i = x, x, k, k
+        if x >= hi:  # the last sample at the extreme: a reversal begins after it
+            hi, hi_i = x, k
+        if x <= lo:
+            lo, lo_i = x, k
+        if s >= 0.0 and x < hi - band:  # unwinding, confirmed: it began where the steer
+            s, ext = -1.0, hi  # last was within the noise of its maximum
+            j = k - 1
+            while j > hi_i and not d[j] >= hi - margin:
+                state[j], known[j] = 0.0, 0.0
+                j -= 1
+            lo, lo_i = x, k
+        elif s <= 0.0 and x > lo + band:
+            s, ext = 1.0, lo
+            j = k - 1
+            while j > lo_i and not d[j] <= lo + margin:
+                state[j], known[j] = 0.0, 0.0
+                j -= 1
+            hi, hi_i = x, k
+        if s == 0.0 or (not np.isnan(ext) and abs(x - ext) < travel):
+            continue  # no direction yet, or the friction still building up
+        state[k], known[k] = s, 1.0
+    return state, known
+
+
+def friction_state(steer_rad, noise_rad: float = 0.0, travel_rad: float = 0.002):
+    """The steering friction's state along a measured steer history, and where it is known.
+
+    The friction opposes the steering's last motion (the Dahl model's memory, §16.3). From a
+    measured steer it is known only where that motion is certain: a reversal counts once the
+    steer has moved back from its extreme by the band b = max(2 *travel_rad*, 6 *noise_rad*)
+    (the sensor's noise does not cross it), and it began after the last sample within
+    max(*travel_rad*, 3 *noise_rad*) of the extreme (a held steer's noise makes no motion);
+    the samples from there until the friction has built up again (a *travel_rad* from the
+    extreme) are not known.
+    A correction smaller than the band is not seen: its share of the friction is the
+    estimator's to carry (``FRICTION_STATE_SD``).
+
+    Parameters
+    ----------
+    steer_rad : array_like
+        Road-wheel angle in time order [rad] (NaN: no sample).
+    noise_rad : float
+        1σ white noise of the steer samples [rad].
+    travel_rad : float
+        Steer travel over which the friction builds up (the Dahl model's) [rad].
+
+    Returns
+    -------
+    state : numpy.ndarray
+        +1 after steering left, −1 after steering right, 0 where not known [-].
+    known : numpy.ndarray of bool
+        Where the state is known.
+
+    References
+    ----------
+    P. Dahl (1968); docs/physics.md §16.3, §16.6.
+    """
+    d = np.ascontiguousarray(as_float_array(steer_rad, "steer_rad"), dtype=float).ravel()
+    if d.size == 0:
+        return np.zeros(0), np.zeros(0, dtype=bool)
+    band = max(2.0 * travel_rad, 6.0 * noise_rad)
+    margin = max(travel_rad, 3.0 * noise_rad)
+    state, known = _relay(d, float(band), float(margin), float(travel_rad))
+    return state, known.astype(bool)
 
 
 def column_torque(

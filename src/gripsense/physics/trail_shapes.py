@@ -122,7 +122,12 @@ def trail_shape_ids(shape: str) -> np.ndarray:
 
 
 def tyre_trail_ratio(
-    tyre: MFTyre, fz: float, utilisation: np.ndarray, *, max_slip_deg: float = 25.0
+    tyre: MFTyre,
+    fz: float,
+    utilisation: np.ndarray,
+    *,
+    max_slip_deg: float = 25.0,
+    gamma_rad: float = 0.0,
 ) -> tuple[np.ndarray, float]:
     """A Magic Formula tyre's lever of the lateral force over the utilisation of its rising
     side, relative to its value at zero slip, and that zero-slip lever.
@@ -141,6 +146,8 @@ def tyre_trail_ratio(
         Utilisations to evaluate, 0–1 [-].
     max_slip_deg : float
         Largest slip angle searched for the force's peak [deg].
+    gamma_rad : float
+        Inclination of the wheel (both slips at the same one) [rad].
 
     Returns
     -------
@@ -155,8 +162,8 @@ def tyre_trail_ratio(
     :meth:`MFTyre.aligning_moment`; docs/physics.md §16.2 and §16.7.
     """
     alpha = np.deg2rad(np.geomspace(0.005, max_slip_deg, 4000))
-    left = tyre.aligning_moment(fz, 0.0, -alpha)
-    right = tyre.aligning_moment(fz, 0.0, alpha)
+    left = tyre.aligning_moment(fz, 0.0, -alpha, gamma_rad)
+    right = tyre.aligning_moment(fz, 0.0, alpha, gamma_rad)
     force = 0.5 * (left.fy - right.fy)
     moment = 0.5 * (left.mz - right.mz)
     peak = int(np.argmax(force))

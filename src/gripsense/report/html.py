@@ -114,8 +114,11 @@ def _compact(summary: pd.DataFrame, unit: str) -> str:
         }
         if "limited_by" in r:
             row["what limits the estimate"] = r.get("limited_by") or ""
+        read = r.get("steering_torque")
+        if isinstance(read, str) and read:
+            row["steering torque read"] = read
         rows.append(row)
-    return "<div class='summary'>" + html_table(pd.DataFrame(rows)) + "</div>"
+    return "<div class='summary'>" + html_table(pd.DataFrame(rows).fillna("")) + "</div>"
 
 
 def _quality(epochs: pd.DataFrame | None, ingest: dict | None) -> str:
@@ -320,6 +323,7 @@ def render_report(
                 "fit",
                 "shape",
                 "limited_by",
+                "steering_torque",
                 "stiffness_scale",
             )
             if c in s.columns

@@ -46,6 +46,7 @@ __all__ = [
     "cr_circle",
     "cr_constant_radius",
     "cr_ramp_steer",
+    "with_corner_exits",
 ]
 
 G_CR = 9.81
@@ -233,6 +234,54 @@ def cr_ramp_steer(
         return None, math.radians(rate_deg_s * max(t - 6.0, 0.0)), speed_mps
 
     return DrivePlan(duration_s=dur, settle_s=6.0, target=target)
+
+
+def with_corner_exits(
+    plan: DrivePlan, *, unwind: float = 0.4, other_way: float = 0.7, change_s: float = 1.2
+) -> DrivePlan:
+    """A plan followed by the corner's end a driver adds (as
+    :func:`gripsense.sim.maneuvers.with_corner_exits`): at the plan's last target a steering
+    reversal (the yaw rate or steer unwound by *unwind*, held 2 s, back and held 3 s), an
+    S-bend into a corner the other way at *other_way* (held 5 s), the exit and 3 s straight, at
+    the plan's last speed.
+
+    Parameters
+    ----------
+    plan : DrivePlan
+        The plan.
+    unwind : float
+        Share unwound in the reversal [-].
+    other_way : float
+        The opposite corner over the last one [-].
+    change_s : float
+        Time of a change by the whole last target [s].
+
+    Returns
+    -------
+    DrivePlan
+        The longer plan.
+    """
+    t_end = plan.duration_s
+    r_end, d_end, v_end = plan.target(t_end)  # type: ignore[operator]
+    knots_t, knots_s = [t_end], [1.0]
+    for share, hold in ((1.0 - unwind, 2.0), (1.0, 3.0), (-other_way, 5.0), (0.0, 3.0)):
+        knots_t.append(knots_t[-1] + max(abs(share - knots_s[-1]) * change_s, 0.2))
+        knots_s.append(share)
+        knots_t.append(knots_t[-1] + hold)
+        knots_s.append(share)
+    kt, ks = np.array(knots_t), np.array(knots_s)
+
+    def target(t):
+        if t <= t_end:
+            return plan.target(t)  # type: ignore[operator]
+        share = float(np.interp(t, kt, ks))
+        return (
+            None if r_end is None else r_end * share,
+            None if d_end is None else d_end * share,
+            v_end,
+        )
+
+    return DrivePlan(duration_s=float(kt[-1]), settle_s=plan.settle_s, target=target)
 
 
 def _simulate(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult:

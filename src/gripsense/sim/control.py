@@ -14,7 +14,8 @@ __all__ = ["N_CTRL", "controls"]
 C_STEER_MODE, C_CX, C_CY, C_R, C_DIR, C_LOOK = 0, 1, 2, 3, 4, 5
 C_SPEED_MODE, C_V, C_KP, C_FXMAX, C_T_BRAKE, C_RATIO, C_T_LEAD = 6, 7, 8, 9, 10, 11, 12
 C_ACCEL = 13  # speed ramp [m/s²] (SPEED_RAMP, from C_T_BRAKE on)
-N_CTRL = 14
+C_V_END = 14  # the ramp's last speed [m/s] (0: no end)
+N_CTRL = 15
 STEER_TABLE, STEER_CIRCLE, STEER_LINE = 0, 1, 2
 SPEED_HOLD, SPEED_FREE, SPEED_BRAKE_LOCK, SPEED_RAMP = 0, 1, 2, 3
 
@@ -58,6 +59,8 @@ def controls(t, s, ctrl, steer_t, steer_v, lf, lr):
         fx = max(min(fx, ctrl[C_FXMAX]), -ctrl[C_FXMAX])
     elif smode == SPEED_RAMP:  # ISO 4138 constant radius: the speed raised slowly
         v_t = ctrl[C_V] + ctrl[C_ACCEL] * max(t - ctrl[C_T_BRAKE], 0.0)
+        if ctrl[C_V_END] > 0.0:
+            v_t = min(v_t, ctrl[C_V_END])
         fx = ctrl[C_KP] * (v_t - U)
         fx = max(min(fx, ctrl[C_FXMAX]), -ctrl[C_FXMAX])
     return delta, fx, lock

@@ -29,6 +29,7 @@ __all__ = [
     "slalom",
     "thesis_grid_2016",
     "thesis_grid_2018",
+    "with_corner_exits",
 ]
 
 
@@ -160,6 +161,7 @@ def constant_radius(
                params=params)  # fmt: skip
     m.controller[C.C_SPEED_MODE] = C.SPEED_RAMP
     m.controller[C.C_ACCEL] = accel_mps2
+    m.controller[C.C_V_END] = max(speed_end_mps, speed_start_mps)
     m.controller[C.C_T_BRAKE] = lead_s + settle_s
     sweep = max(speed_end_mps - speed_start_mps, 0.0) / accel_mps2
     m.duration_s = lead_s + settle_s + sweep
@@ -227,6 +229,67 @@ def everyday(
         (np.array(t), np.array(v)),
         lead_s,
         {"maneuver": "everyday", "speed_mps": speed_mps, "seed": seed},
+    )
+
+
+def with_corner_exits(
+    m: Maneuver,
+    result: SimResult,
+    *,
+    unwind: float = 0.4,
+    rate_rad_s: float = np.deg2rad(4.0),
+    other_way: float = 0.7,
+) -> Maneuver:
+    """A simulated manoeuvre replayed open-loop with the corner's end a driver adds: at its last
+    steer a steering reversal (the wheel unwound by *unwind* of its angle, held 2 s, turned back
+    in and held 3 s), an S-bend into a corner the other way at *other_way* of the angle (held
+    5 s), the corner exit to the straight and 3 s straight. The steering rate of each change is
+    *rate_rad_s* (road wheel); the speed is held at the manoeuvre's last.
+
+    Parameters
+    ----------
+    m : Maneuver
+        The manoeuvre as simulated (closed- or open-loop).
+    result : SimResult
+        Its simulation: the steer history replayed.
+    unwind : float
+        Share of the angle unwound in the reversal [-].
+    rate_rad_s : float
+        Road-wheel steering rate of the changes [rad/s].
+    other_way : float
+        The opposite corner's angle over the last one [-].
+
+    Returns
+    -------
+    Maneuver
+        The open-loop manoeuvre (its first part the original's steer history).
+    """
+    b = result.body
+    t = b["t_s"].to_numpy(float)
+    d = b["steer_rad"].to_numpy(float)
+    d_end = float(np.median(d[t >= t[-1] - 1.0]))
+    seq = [  # (target as a share of d_end, hold after reaching it [s])
+        (1.0 - unwind, 2.0), (1.0, 3.0), (-other_way, 5.0), (0.0, 3.0),
+    ]  # fmt: skip
+    tt, dd = [float(t[-1])], [d_end]
+    for share, hold in seq:
+        target = share * d_end
+        tt.append(tt[-1] + max(abs(target - dd[-1]) / rate_rad_s, 0.1))
+        dd.append(target)
+        tt.append(tt[-1] + hold)
+        dd.append(target)
+    ctrl = m.controller.copy()
+    ctrl[C.C_STEER_MODE] = C.STEER_TABLE
+    if int(ctrl[C.C_SPEED_MODE]) == C.SPEED_RAMP and ctrl[C.C_V_END] <= 0.0:
+        ctrl[C.C_V_END] = float(b["u_mps"].iloc[-1])
+    return Maneuver(
+        m.name + " + corner exits",
+        ctrl,
+        tt[-1],
+        m.initial,
+        (np.concatenate([t, tt[1:]]), np.concatenate([d, dd[1:]])),
+        m.settle_s,
+        {**m.info, "corner_exits": True},
     )
 
 
