@@ -85,3 +85,29 @@ def test_friction_state_holds_through_noise():
     assert known[100:].mean() > 0.9
     dahl = dahl_friction(d, 1.0, 0.002)
     assert np.min(dahl[100:]) < 0.0
+
+
+def test_backlash_by_hand():
+    """The play operator, half-width 1, worked by hand: the output holds until the input is
+    more than 1 away, then follows at that distance; NaN holds it."""
+    from gripsense.physics.steering_balance import backlash
+
+    x = np.array([0.0, 0.5, 1.5, 3.0, 2.5, 1.0, 0.5, np.nan, 0.6, -1.0])
+    want = [0.0, 0.0, 0.5, 2.0, 2.0, 2.0, 1.5, 1.5, 1.5, 0.0]
+    np.testing.assert_allclose(backlash(x, 1.0), want)
+
+
+def test_a_held_steer_keeps_its_friction_behind_the_deadband():
+    """The Dahl model along a held, noisy steer drifts towards zero (a step back reverses the
+    friction, a step on builds nothing); behind a deadband of 4σ the hold keeps +1 — what
+    learned the steering's lever 4–7 % high when it drifted (docs/physics.md §16.6)."""
+    from gripsense.physics.steering_balance import backlash
+
+    rng = np.random.default_rng(2)
+    sd = 3e-4
+    d = np.concatenate([np.linspace(0.0, 0.03, 30), np.full(300, 0.03)])
+    noisy = d + rng.normal(0.0, sd, d.size)
+    drifted = dahl_friction(noisy, 1.0, 0.002)
+    held = dahl_friction(backlash(noisy, 4 * sd), 1.0, 0.002)
+    assert np.mean(drifted[100:]) < 0.7
+    assert np.min(held[100:]) > 0.95

@@ -171,8 +171,7 @@ def estimate_windows(
             mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
             est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, cols["grip_used_lower"][i])
             for k, v in est.items():
-                if k != "torque_note":  # windows stay compass-only (docs/physics.md §16.6)
-                    cols[k][i] = v
+                cols[k][i] = v
         cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
         tables.append(cols)
         if not analysed_bins.any():

@@ -610,5 +610,6 @@ class ProfileCache:
                 return est
             # this window's bound strains the previous answer: its own profile decides
         est = profile_mu(merged, mid, pri, shapes, p0, o, lower)
+        est.pop("torque_note", None)  # windows are compass-only (docs/physics.md §16.6)
         self.data, self.est = merged.copy(), est
         return dict(est)

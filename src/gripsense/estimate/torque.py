@@ -36,7 +36,7 @@ from gripsense.config.vehicle import SteeringSystem
 from gripsense.constants import G0
 from gripsense.errors import InputError
 from gripsense.estimate.bins import axle_pairs, bin_starts
-from gripsense.physics.steering_balance import dahl_friction, friction_state
+from gripsense.physics.steering_balance import backlash, dahl_friction, friction_state
 from gripsense.physics.trail_shapes import (
     TRAIL_FAMILY,
     TrailShape,
@@ -78,9 +78,17 @@ utilisation PEAK_FORM_FROM to PEAK_FORM_REL at 1 (the shipped files' trails at t
 KNOWN_TRAIL_LOADS = (0.5, 0.75, 1.0, 1.25, 1.5)
 """Loads, as multiples of the static front wheel load, at which a known tyre's trail is taken
 (load transfer moves the wheels over about this range in a 0.8 g turn) [-]."""
-KNOWN_TRAIL_CAMBER_RAD = (-0.035, 0.035)
-"""Inclinations at which a known tyre's trail is also taken (a car's static camber and its
-roll in a turn; the file's are at the rig's 0) [rad]."""
+KNOWN_TRAIL_CAMBER_RAD = (-0.07, -0.035, 0.035, 0.07)
+"""Inclinations at which a known tyre's trail is also taken, ±2° and ±4° (a car's static camber
+and its roll in a turn — the simulated sedan's front wheels lean 2.5° at 0.78 g; the file's
+shapes are at the rig's 0) [rad]."""
+KNOWN_TRAIL_STRETCH = (0.9, 1.1)
+"""How much earlier or later in the utilisation a known tyre's trail may fall on the car than
+on the rig: its shapes are also taken at u × s. Similarity (the slip scaled with μ,
+``docs/physics.md`` §15.1) leaves τ(u) as it is; a car's stiffness declared ±10 % off the file's
+(inflation, wear, the rim), or a road that scales the force's slip and the trail's differently
+(the Magic Formula's own μ scaling leaves the trail's slip scale B_t where it is), moves the
+trail's fall against the force's by about as much [-]."""
 KNOWN_TRAIL_FORM_FLOOR = 0.03
 """Least 1σ of a known tyre's trail the fitted shapes miss, relative to t₀: the file's own fit
 error is 0.01–0.03 (§16.7); the floor carries what a file does not know (wear, inflation, the
@@ -89,10 +97,14 @@ FRICTION_STATE_SD = 0.3
 """1σ of the friction state where the steer history says it is built up (a hand's dither, the
 Dahl build-up the play operator makes linear) [-]."""
 STATE_SMOOTHING_S = 1.0
-"""The steer is averaged over this window before the Dahl model gives the friction's state
-(measured on simulated sweeps and corner exits with a 0.05° channel: the state per bin within
-0.30–0.35 RMS of the truth's, against 0.7 for a state that only follows confirmed reversals)
-[s]."""
+"""The steer is averaged over this window before the deadband and the Dahl model give the
+friction's state: the angle channel's noise falls by the square root of the samples, so the
+deadband can be narrow and a reversal is placed within half the window [s]."""
+STATE_DEADBAND_SD = 4.0
+"""Half the deadband the smoothed steer passes before the Dahl model, in its noise's 1σ: the
+Dahl model's friction drifts towards 0 under any noise of a held steer (a step back reverses
+it, a step on does not build it further), which learned the steering's lever 4–7 % high on
+everyday drives; behind the deadband a hold keeps its friction [-]."""
 FRICTION_TRAVEL_RAD = 0.002
 """Road-wheel steer travel over which the steering friction builds up (the Dahl travel of
 §16.3); the play operator's half-width, unless the steer channel's noise is larger [rad]."""
@@ -201,11 +213,19 @@ def _known_trail(path: str, fz_static: float) -> TrailFamily:
         shapes.append(shape)
         errors.append(err)
         xi0.append(xi)
-    # a rig's curve carried to a car on a road (docs/physics.md §16.7): its wheels lean
+    # a rig's curve carried to a car on a road (docs/physics.md §16.7): its wheels lean, and
+    # its trail may fall a little earlier or later against the force than the rig's
     for g in KNOWN_TRAIL_CAMBER_RAD:
         shape, err = fit_trail_shape(u, tyre_trail_ratio(tyre, fz_static, u, gamma_rad=g)[0])
         shapes.append(shape)
         errors.append(err)
+    for f in KNOWN_TRAIL_LOADS:
+        for stretch in KNOWN_TRAIL_STRETCH:
+            us = u[u * stretch <= u[-1]]  # where the rig's curve is known
+            tau = tyre_trail_ratio(tyre, fz_static * f, us * stretch)[0]
+            shape, err = fit_trail_shape(us, tau)
+            shapes.append(shape)
+            errors.append(err)
     exponent = np.polyfit(np.log(KNOWN_TRAIL_LOADS), np.log(np.maximum(xi0, 1e-6)), 1)[0]
     return TrailFamily(
         tuple(dict.fromkeys(shapes)),
@@ -344,8 +364,11 @@ def torque_bins(
         # the Dahl model along the steer smoothed over a second (its noise would otherwise
         # reverse the friction in every hold; a slow sweep's gradual build-up is kept), and
         # where a reversal the steer confirms has left it unknown
-        state_i = dahl_friction(_smoothed(steer, t, STATE_SMOOTHING_S), 1.0, FRICTION_TRAVEL_RAD)
-        _, known = friction_state(steer, _steer_noise(steer), FRICTION_TRAVEL_RAD)
+        noise = _steer_noise(steer)
+        smooth, k = _smoothed(steer, t, STATE_SMOOTHING_S)
+        held = backlash(smooth, STATE_DEADBAND_SD * noise / np.sqrt(k))
+        state_i = dahl_friction(held, 1.0, FRICTION_TRAVEL_RAD)
+        _, known = friction_state(steer, noise, FRICTION_TRAVEL_RAD)
     else:
         steer, state_i, known = np.zeros(t.size), np.zeros(t.size), np.zeros(t.size, bool)
     state = mean_of(state_i)
@@ -387,16 +410,16 @@ def torque_bins(
     )
 
 
-def _smoothed(x: np.ndarray, t: np.ndarray, window_s: float) -> np.ndarray:
+def _smoothed(x: np.ndarray, t: np.ndarray, window_s: float) -> tuple[np.ndarray, int]:
     """A centred moving average over about *window_s* of samples (an odd count at the median
-    sampling step) [x's unit].
+    sampling step) [x's unit], and that count.
     """
     if x.size < 3:
-        return x
+        return x, 1
     dt = float(np.median(np.diff(t))) if t.size > 1 else 0.0
     k = round(window_s / dt) if dt > 0 else 1
     k = max(1, min(k, x.size)) | 1
-    return uniform_filter1d(x, k, mode="nearest")
+    return uniform_filter1d(x, k, mode="nearest"), k
 
 
 def _steer_noise(steer: np.ndarray) -> float:

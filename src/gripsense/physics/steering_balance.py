@@ -21,7 +21,7 @@ from numba import njit
 
 from gripsense._arrays import as_float_array
 
-__all__ = ["column_torque", "dahl_friction", "friction_state", "steering_moment"]
+__all__ = ["backlash", "column_torque", "dahl_friction", "friction_state", "steering_moment"]
 
 
 def steering_moment(fy_N, mz_Nm, mechanical_trail_m):
@@ -93,6 +93,50 @@ def dahl_friction(steer_rad, limit_Nm: float, travel_rad: float = 0.002):
     if d.size == 0 or limit_Nm <= 0:
         return np.zeros(d.size)
     return _dahl(d, float(limit_Nm), float(limit_Nm) / float(travel_rad))
+
+
+@njit(cache=True)
+def _backlash(x: np.ndarray, half: float) -> np.ndarray:  # pragma: no cover
+    out = np.empty(x.size)
+    y = np.nan
+    for k in range(x.size):
+        v = x[k]
+        if np.isnan(v):
+            out[k] = y
+            continue
+        if np.isnan(y):
+            y = v
+        y = min(max(y, v - half), v + half)
+        out[k] = y
+    return out
+
+
+def backlash(x, half_width: float):
+    """The play (backlash) operator: the output stays until the input has moved more than
+    *half_width* from it, then follows at that distance — a deadband that a signal's noise
+    inside it does not cross, while any motion beyond it passes (delayed by the half-width).
+
+    Parameters
+    ----------
+    x : array_like
+        The input in time order [its unit] (NaN: the output held).
+    half_width : float
+        Half the deadband [x's unit].
+
+    Returns
+    -------
+    numpy.ndarray
+        The output [x's unit].
+
+    References
+    ----------
+    M. A. Krasnosel'skii, A. V. Pokrovskii, *Systems with Hysteresis* (1989), the play
+    operator; docs/physics.md §16.6.
+    """
+    d = np.ascontiguousarray(as_float_array(x, "x"), dtype=float).ravel()
+    if d.size == 0:
+        return np.zeros(0)
+    return _backlash(d, float(max(half_width, 0.0)))
 
 
 @njit(cache=True)
