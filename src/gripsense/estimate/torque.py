@@ -94,8 +94,8 @@ KNOWN_TRAIL_FORM_FLOOR = 0.03
 error is 0.01–0.03 (§16.7); the floor carries what a file does not know (wear, inflation, the
 road's texture beyond the similarity of the slip with μ) [-]."""
 FRICTION_STATE_SD = 0.3
-"""1σ of the friction state where the steer history says it is built up (a hand's dither, the
-Dahl build-up the play operator makes linear) [-]."""
+"""1σ of the friction state where the steer says which way the friction acts (a hand's dither
+below the angle channel's noise, the Dahl build-up on a slow sweep) [-]."""
 STATE_SMOOTHING_S = 1.0
 """The steer is averaged over this window before the deadband and the Dahl model give the
 friction's state: the angle channel's noise falls by the square root of the samples, so the
@@ -107,7 +107,8 @@ it, a step on does not build it further), which learned the steering's lever 4�
 everyday drives; behind the deadband a hold keeps its friction [-]."""
 FRICTION_TRAVEL_RAD = 0.002
 """Road-wheel steer travel over which the steering friction builds up (the Dahl travel of
-§16.3); the play operator's half-width, unless the steer channel's noise is larger [rad]."""
+§16.3): the Dahl model's, and the least band of a confirmed reversal
+(:func:`~gripsense.physics.steering_balance.friction_state`) [rad]."""
 DAMPING_REL = 0.5
 """1σ of the declared kingpin damping, relative: the damping moment C_s δ̇ of a bin is taken
 out of the measured moment and this share of it stays as an error [-]."""
@@ -355,15 +356,13 @@ def torque_bins(
         np.add.reduceat(force * force, starts) / n - (np.add.reduceat(force, starts) / n) ** 2
         - np.add.reduceat(f_white[ok] ** 2, starts) / n, 0.0))  # fmt: skip
     f_noise = np.sqrt(np.add.reduceat(f_white[ok] ** 2, starts)) / n
-    # the steering friction per sample: a play operator along the steer at the epochs' rate
-    # (its band above the channel's noise), so that a reversal inside a bin — a corner exit,
-    # the wheel unwound — is seen where it happens; samples in the middle of a reversal leave
-    # the state between −1 and 1 and count as unknown (docs/physics.md §16.6)
+    # the steering friction per sample, so that a reversal inside a bin — a corner exit, the
+    # wheel unwound — is seen where it happens (docs/physics.md §16.6): the Dahl model along
+    # the steer smoothed over a second and behind a deadband above its noise (along the noisy
+    # samples the friction of a held curve would drift to zero), and unknown where a reversal
+    # the steer confirms is under way
     if "steer_rad_L" in p:
         steer = p["steer_rad_L"][ok]
-        # the Dahl model along the steer smoothed over a second (its noise would otherwise
-        # reverse the friction in every hold; a slow sweep's gradual build-up is kept), and
-        # where a reversal the steer confirms has left it unknown
         noise = _steer_noise(steer)
         smooth, k = _smoothed(steer, t, STATE_SMOOTHING_S)
         held = backlash(smooth, STATE_DEADBAND_SD * noise / np.sqrt(k))
@@ -387,7 +386,8 @@ def torque_bins(
         samples = np.add.reduceat(np.where(per > 0, per, 1.0), starts)
     else:
         samples = n.astype(float)
-    span = float(np.sum((t_end - t[starts] + bin_s / np.maximum(n, 1))[keep]))
+    step = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    span = float(n[keep].sum()) * step  # the epochs' time the bins cover
     return TorqueBins(
         t0=t[starts][keep],
         t1=t_end[keep],
