@@ -64,3 +64,15 @@ def test_with_torque_counts_the_samples():
     out = with_torque(ep, _channel())
     assert (out["torque_samples"] == 10).all()
     assert "torque_samples" not in ep.columns
+
+
+def test_jittered_epochs_lose_no_sample():
+    """Epoch times read from NMEA carry float jitter (0.0999999, 0.20000005 …): every sample
+    between the first and the last epoch's interval is still counted once."""
+    ch = _channel()
+    rng = np.random.default_rng(1)
+    te = np.arange(1.0, 19.0, 0.1) + rng.uniform(-2e-7, 2e-7, 180)
+    _, n = channel_mean_at(ch, "torque_nm", te)
+    tc = ch["t_s"].to_numpy()
+    assert (n == 10).all()
+    assert n.sum() == ((tc >= 0.5 * (te[0] + te[0] - 0.1)) & (tc < te[-1] + 0.05)).sum()

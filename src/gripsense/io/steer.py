@@ -149,10 +149,10 @@ def channel_mean_at(
     steer: pd.DataFrame, column: str, t_s: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """One channel of a steering table averaged over each epoch's interval, at the channel's
-    own rate: every sample within half an epoch step of an epoch time (the step its neighbours
-    give, at most the median step) counts once, so a 100 Hz channel read at 10 Hz epochs keeps
-    all its samples and its white noise falls by √10. An epoch whose interval holds no sample
-    (a channel slower than the epochs) takes the linear interpolation.
+    own rate: every sample between the midpoints to the neighbouring epochs (half the median
+    step on the side of a gap of more than 1.5 steps) counts once, so a 100 Hz channel read at
+    10 Hz epochs keeps all its samples and its white noise falls by √10. An epoch whose interval
+    holds no sample (a channel slower than the epochs) takes the linear interpolation.
 
     Parameters
     ----------
@@ -185,10 +185,15 @@ def channel_mean_at(
     te = t[fin]
     gaps = np.diff(te)
     half = 0.5 * float(np.median(gaps[gaps > 0])) if (gaps > 0).any() else 0.0
-    before = np.minimum(0.5 * np.concatenate([[2 * half], gaps]), half)
-    after = np.minimum(0.5 * np.concatenate([gaps, [2 * half]]), half)
-    i0 = np.searchsorted(tc, te - np.maximum(before, 0.0), side="left")
-    i1 = np.searchsorted(tc, te + np.maximum(after, 0.0), side="left")
+    # one boundary between neighbours (the same number for both: no sample falls between
+    # them, whatever the epochs' jitter), or half a step on either side of a gap (a missing
+    # epoch: more than 1.5 steps)
+    mid = 0.5 * (te[:-1] + te[1:])
+    close = gaps <= 3.0 * half
+    hi = np.append(np.where(close, mid, te[:-1] + half), te[-1] + half)
+    lo = np.insert(np.where(close, mid, te[1:] - half), 0, te[0] - half)
+    i0 = np.searchsorted(tc, lo, side="left")
+    i1 = np.searchsorted(tc, hi, side="left")
     csum = np.concatenate([[0.0], np.cumsum(x)])
     cnt = np.maximum(i1 - i0, 0)
     with np.errstate(invalid="ignore", divide="ignore"):
