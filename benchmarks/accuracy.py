@@ -767,7 +767,8 @@ def main() -> None:
         "--exits",
         action="store_true",
         help="--torque: every drive ends with a steering reversal, an S-bend and the corner "
-        "exit, and the truth's steering friction, assist and damping are drawn at random",
+        "exit; on gripsense's simulator the truth's steering friction, assist and damping are "
+        "drawn at random",
     )
     args = ap.parse_args()
     if args.torque:

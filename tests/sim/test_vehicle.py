@@ -124,3 +124,22 @@ def test_a_lifted_wheel_leaves_its_axle_the_load():
     g = t.groupby("t_s")
     np.testing.assert_allclose(g["load_N"].sum(), truth_vehicle("suv").mass_kg * G0, rtol=1e-9)
     assert (g["force_N"].sum().abs() <= 1.1 * g["load_N"].sum() * (1 + 1e-9)).all()
+
+
+def test_the_sedans_wheels_lean_within_the_known_tyres_cambers():
+    """The simulated sedan's front wheels lean 2–3° with its roll at about 0.8 g (ISO 8855
+    inclination, both away from the turn): within the cambers at which a known tyre's trail is
+    also taken (docs/physics.md §16.7)."""
+    from gripsense.estimate.torque import KNOWN_TRAIL_CAMBER_RAD
+    from gripsense.sim.drives import truth_tyre, truth_vehicle
+
+    tv, t = truth_vehicle("sedan"), truth_tyre("mf61")
+    p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
+    res = M.run(p, M.circle(np.sqrt(0.8 * G0 * 40.0), 40.0, laps=0.5, params=p), mu=1.1)
+    w = res.wheels[res.wheels["t_s"] > res.wheels["t_s"].max() - 2.0]
+    front = w[w["wheel"].str.startswith("front")]
+    lean = np.rad2deg(front.groupby("wheel")["camber_rad"].mean())
+    ay_g = res.body["ay_mps2"].iloc[-200:].mean() / G0
+    assert 0.7 < ay_g < 0.85
+    assert ((lean > 2.0) & (lean < 3.0)).all(), lean
+    assert lean.abs().max() < np.rad2deg(max(np.abs(KNOWN_TRAIL_CAMBER_RAD)))

@@ -80,8 +80,8 @@ KNOWN_TRAIL_LOADS = (0.5, 0.75, 1.0, 1.25, 1.5)
 (load transfer moves the wheels over about this range in a 0.8 g turn) [-]."""
 KNOWN_TRAIL_CAMBER_RAD = (-0.07, -0.035, 0.035, 0.07)
 """Inclinations at which a known tyre's trail is also taken, ±2° and ±4° (a car's static camber
-and its roll in a turn — the simulated sedan's front wheels lean 2.5° at 0.78 g; the file's
-shapes are at the rig's 0) [rad]."""
+and its roll in a turn — the simulated sedan's front wheels lean 2–3° at about 0.8 g; the
+file's shapes are at the rig's 0) [rad]."""
 KNOWN_TRAIL_STRETCH = (0.9, 1.1)
 """How much earlier or later in the utilisation a known tyre's trail may fall on the car than
 on the rig: its shapes are also taken at u × s. Similarity (the slip scaled with μ,
@@ -103,8 +103,8 @@ deadband can be narrow and a reversal is placed within half the window [s]."""
 STATE_DEADBAND_SD = 4.0
 """Half the deadband the smoothed steer passes before the Dahl model, in its noise's 1σ: the
 Dahl model's friction drifts towards 0 under any noise of a held steer (a step back reverses
-it, a step on does not build it further), which learned the steering's lever 4–7 % high on
-everyday drives; behind the deadband a hold keeps its friction [-]."""
+it, a step on does not build it further), which learned the steering's lever several per cent
+high on everyday drives; behind the deadband a hold keeps its friction [-]."""
 FRICTION_TRAVEL_RAD = 0.002
 """Road-wheel steer travel over which the steering friction builds up (the Dahl travel of
 §16.3): the Dahl model's, and the least band of a confirmed reversal

@@ -36,6 +36,7 @@ from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.data import sample_path
 from gripsense.sim.drives import Drive, record_drive
+from gripsense.sim.maneuvers import corner_end
 from gripsense.sim.vehicle import WHEEL_NAMES, SimParams, SimResult
 
 __all__ = [
@@ -239,11 +240,10 @@ def cr_ramp_steer(
 def with_corner_exits(
     plan: DrivePlan, *, unwind: float = 0.4, other_way: float = 0.7, change_s: float = 1.2
 ) -> DrivePlan:
-    """A plan followed by the corner's end a driver adds (as
-    :func:`gripsense.sim.maneuvers.with_corner_exits`): at the plan's last target a steering
-    reversal (the yaw rate or steer unwound by *unwind*, held 2 s, back and held 3 s), an
-    S-bend into a corner the other way at *other_way* (held 5 s), the exit and 3 s straight, at
-    the plan's last speed.
+    """A plan followed by the corner's end a driver adds
+    (:func:`gripsense.sim.maneuvers.corner_end`, as :func:`gripsense.sim.maneuvers.
+    with_corner_exits` does for gripsense's simulator), on the plan's last yaw rate or steer
+    and at its last speed.
 
     Parameters
     ----------
@@ -264,7 +264,7 @@ def with_corner_exits(
     t_end = plan.duration_s
     r_end, d_end, v_end = plan.target(t_end)  # type: ignore[operator]
     knots_t, knots_s = [t_end], [1.0]
-    for share, hold in ((1.0 - unwind, 2.0), (1.0, 3.0), (-other_way, 5.0), (0.0, 3.0)):
+    for share, hold in corner_end(unwind, other_way):
         knots_t.append(knots_t[-1] + max(abs(share - knots_s[-1]) * change_s, 0.2))
         knots_s.append(share)
         knots_t.append(knots_t[-1] + hold)

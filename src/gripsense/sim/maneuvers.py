@@ -21,6 +21,7 @@ __all__ = [
     "braking",
     "circle",
     "constant_radius",
+    "corner_end",
     "everyday",
     "fixed_steer",
     "ramp_steer",
@@ -232,6 +233,26 @@ def everyday(
     )
 
 
+def corner_end(unwind: float = 0.4, other_way: float = 0.7) -> tuple[tuple[float, float], ...]:
+    """The end a driver gives a corner, as targets over the corner's last and how long each is
+    held: the wheel unwound by *unwind* (2 s), turned back in (3 s), an S-bend into a corner the
+    other way at *other_way* (5 s), the exit to a straight (3 s).
+
+    Parameters
+    ----------
+    unwind : float
+        Share of the corner unwound in the reversal [-].
+    other_way : float
+        The opposite corner over the last one [-].
+
+    Returns
+    -------
+    tuple of (float, float)
+        (target over the corner's last [-], hold [s]) in order.
+    """
+    return ((1.0 - unwind, 2.0), (1.0, 3.0), (-other_way, 5.0), (0.0, 3.0))
+
+
 def with_corner_exits(
     m: Maneuver,
     result: SimResult,
@@ -268,11 +289,8 @@ def with_corner_exits(
     t = b["t_s"].to_numpy(float)
     d = b["steer_rad"].to_numpy(float)
     d_end = float(np.median(d[t >= t[-1] - 1.0]))
-    seq = [  # (target as a share of d_end, hold after reaching it [s])
-        (1.0 - unwind, 2.0), (1.0, 3.0), (-other_way, 5.0), (0.0, 3.0),
-    ]  # fmt: skip
     tt, dd = [float(t[-1])], [d_end]
-    for share, hold in seq:
+    for share, hold in corner_end(unwind, other_way):
         target = share * d_end
         tt.append(tt[-1] + max(abs(target - dd[-1]) / rate_rad_s, 0.1))
         dd.append(target)
