@@ -389,37 +389,40 @@ def jobs_torque(
     return out
 
 
-def learned_levers(jobs: list[dict], drives: int = 3) -> dict[tuple[str, str], tuple]:
-    """The steering lever ``gripsense calibrate`` learns per car and truth tyre from *drives*
-    everyday drives (60 km/h, curves to ~0.35 g, the jobs' receiver, μ 0.9) with the column
-    torque: (lever [m], relative 1σ) per (vehicle, tyre)."""
+def learned_lever(tv, tyre: str, uv, receiver: str, drives: int = 3) -> tuple[float, float]:
+    """The steering lever ``gripsense calibrate`` learns for this car — its truth *tv* on the
+    truth tyre *tyre*, its vehicle file *uv*, the drives' torque sensor (scale +3 %, offset
+    0.2 N m) — from *drives* everyday drives (60 km/h, curves to ~0.35 g, μ 0.9): (lever [m],
+    relative 1σ)."""
     import gzip
     import tempfile
     from pathlib import Path
 
     from gripsense.pipeline import learn_calibration
     from gripsense.sim import maneuvers as M
-    from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
+    from gripsense.sim.drives import record_drive, truth_tyre
+    from gripsense.sim.steering_torque import emulate_torque
+    from gripsense.sim.vehicle import SimParams
 
-    out = {}
+    t = truth_tyre(tyre)
+    p = SimParams.from_vehicle(tv, relaxation_length_m=0.5, sim_tyres={"front": t, "rear": t})
+    logs, steers = [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for veh, tyre, receiver in sorted({(j["vehicle"], j["tyre"], j["receiver"]) for j in jobs}):
-            logs, steers = [], []
-            for i in range(drives):
-                d = simulate_drive(veh, tyre, M.everyday(60 / 3.6, seed=100 + i), 0.9,
-                                   receiver=receiver, seed=100 + i, torque=True)  # fmt: skip
-                log = Path(tmp) / f"{veh}_{tyre}_{i}.nmea.gz"
-                with gzip.open(log, "wt", encoding="ascii") as fh:
-                    fh.write("\n".join(d.lines) + "\n")
-                steers.append(Path(tmp) / f"{veh}_{tyre}_{i}_steer.csv")
-                d.steer.to_csv(steers[-1], index=False)
-                logs.append(log)
-            uv = user_vehicle(truth_vehicle(veh), tyre)
-            st = learn_calibration(logs, uv, receiver=receiver, steer_csvs=steers).steering
-            out[(veh, tyre)] = (st.lever_m, st.lever_uncertainty)
-            print(f"lever learned, {veh} on {tyre}: {1e3 * st.lever_m:.1f} mm "
-                  f"± {100 * st.lever_uncertainty:.1f} %", flush=True)  # fmt: skip
-    return out
+        for i in range(drives):
+            m = M.everyday(60 / 3.6, seed=100 + i)
+            res = M.run(p, m, mu=0.9)
+            d = record_drive(res, tv, m.settle_s, receiver=receiver, seed=100 + i)
+            tq = emulate_torque(res, tv.steering, tv.steering_ratio, scale_error=0.03,
+                                offset_Nm=0.2, seed=100 + i + 104729)  # fmt: skip
+            steer = d.steer.merge(tq, on="t_s", how="outer").sort_values("t_s")
+            log = Path(tmp) / f"drive{i}.nmea.gz"
+            with gzip.open(log, "wt", encoding="ascii") as fh:
+                fh.write("\n".join(d.lines) + "\n")
+            steers.append(Path(tmp) / f"drive{i}_steer.csv")
+            steer.to_csv(steers[-1], index=False)
+            logs.append(log)
+        st = learn_calibration(logs, uv, receiver=receiver, steer_csvs=steers).steering
+    return st.lever_m, st.lever_uncertainty
 
 
 def one_torque(job: dict) -> list[dict]:
@@ -488,9 +491,6 @@ def one_torque(job: dict) -> list[dict]:
         uv = dataclasses.replace(
             uv, tyres={k: dataclasses.replace(t, shape=job["shape"]) for k, t in uv.tyres.items()}
         )
-    if job.get("lever_m"):  # learned by gripsense calibrate from everyday drives
-        s = dataclasses.replace(s, calibrated_lever_m=job["lever_m"],
-                                calibrated_lever_uncertainty=job["lever_sd"])  # fmt: skip
     # the user declares the steering system to its stated uncertainty, not the truth
     rng = np.random.default_rng(job["seed"])
     s = dataclasses.replace(
@@ -505,6 +505,13 @@ def one_torque(job: dict) -> list[dict]:
                             + float(rng.normal(0, 0.5 * s.assist_gain_uncertainty)), 0.0),
         )  # fmt: skip
     uv = dataclasses.replace(uv, steering=s)
+    lever = (np.nan, np.nan)
+    if job.get("calibrated"):  # gripsense calibrate on this car first, with its vehicle file
+        lever = learned_lever(tv, job["tyre"], uv, job["receiver"])
+        st = dataclasses.replace(
+            uv.steering, calibrated_lever_m=lever[0], calibrated_lever_uncertainty=lever[1]
+        )
+        uv = dataclasses.replace(uv, steering=st)
     ep = read_nmea(d.lines).epochs
     ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
     steer = steer_at(ch, ep["t_s"].to_numpy(float))
@@ -519,6 +526,8 @@ def one_torque(job: dict) -> list[dict]:
             {
                 **job,
                 "estimate": with_t,
+                "lever_m": lever[0],
+                "lever_sd": lever[1],
                 "mu_true": truth["mu_true"],
                 "utilisation": truth["utilisation"],
                 "utilisation_max": truth["utilisation_max"],
@@ -571,7 +580,11 @@ def torque_report(df: pd.DataFrame) -> None:
           + torque_scores(df).to_string(**fmt))  # fmt: skip
     key = ["tyre", "vehicle", "mu_road", "kind", "target_u"]
     both = df.pivot_table(
-        index=key, columns="estimate", values=["mu_low", "mu_high"], aggfunc="first"
+        index=key,
+        columns="estimate",
+        values=["mu_low", "mu_high", "mu"],
+        aggfunc="first",
+        dropna=False,
     )
     mu_true = df[df["estimate"] == "torque"].set_index(key)["mu_true"].reindex(both.index)
     w_t = both[("mu_high", "torque")] - both[("mu_low", "torque")]
@@ -593,14 +606,15 @@ def torque_report(df: pd.DataFrame) -> None:
               f"true {mu_true[k]:.3f}")  # fmt: skip
     same = (np.isclose(both[("mu_low", "torque")], both[("mu_low", "compass")])
             & (np.isclose(both[("mu_high", "torque")], both[("mu_high", "compass")])
-               | (~np.isfinite(w_t) & ~np.isfinite(w_c))))  # fmt: skip
+               | (~np.isfinite(w_t) & ~np.isfinite(w_c)))
+            & (both[("mu", "torque")].notna() == both[("mu", "compass")].notna()))  # fmt: skip
     tq = df[df["estimate"] == "torque"].set_index(key).reindex(both.index)
     claims = tq["limited_by"].astype(str).str.startswith("steering torque")
     note = tq.get("steering_torque", pd.Series("", index=tq.index)).fillna("").astype(str)
     kept = note.str.contains("did not change|not used") | (note == "")
     print(
         f"limited_by names the torque while the range equals compass-only: "
-        f"{int((claims & same).sum())} of {int(same.sum())} identical ranges, "
+        f"{int((claims & same).sum())} of {int(same.sum())} identical ranges (and values), "
         f"{int((claims & kept).sum())} of {int(kept.sum())} the torque left unchanged"
     )
     print("what the torque did: " + ", ".join(
@@ -755,7 +769,7 @@ def main() -> None:
         "--calibrated",
         action="store_true",
         help="--torque: the steering lever learned first by gripsense calibrate (3 everyday "
-        "drives per car and tyre)",
+        "drives of each drive's car: its steering system, vehicle file and torque sensor)",
     )
     ap.add_argument(
         "--shape",
@@ -776,9 +790,7 @@ def main() -> None:
         if args.calibrated:
             if args.truth != "gripsense":
                 ap.error("--calibrated drives gripsense's simulator (the everyday drives)")
-            levers = learned_levers(todo)
-            todo = [{**j, "lever_m": levers[(j["vehicle"], j["tyre"])][0],
-                     "lever_sd": levers[(j["vehicle"], j["tyre"])][1]} for j in todo]  # fmt: skip
+            todo = [{**j, "calibrated": True} for j in todo]
         df = run_all(one_torque, todo, args.workers, args.csv, chunksize=2)
         torque_report(df)
         if args.plot:

@@ -52,6 +52,7 @@ __all__ = [
     "TrailFamily",
     "check_channel",
     "merge_torque_bins",
+    "past_peak",
     "torque_bins",
     "torque_profile",
     "torque_read",
@@ -94,8 +95,17 @@ KNOWN_TRAIL_FORM_FLOOR = 0.03
 error is 0.01–0.03 (§16.7); the floor carries what a file does not know (wear, inflation, the
 road's texture beyond the similarity of the slip with μ) [-]."""
 FRICTION_STATE_SD = 0.3
-"""1σ of the friction state where the steer says which way the friction acts (a hand's dither
-below the angle channel's noise, the Dahl build-up on a slow sweep) [-]."""
+"""1σ of the friction state where the steer drives it one way (:data:`FRICTION_DRIVE_S`): a
+hand's dither below the angle channel's noise [-]."""
+FRICTION_DRIVE_S = 1.0
+"""The steer drives the friction one way where, behind the deadband, it moved on in that
+direction by at least the Dahl travel within this trailing window; elsewhere it holds, and a
+held steer's friction state is known no better than a reversal's (1σ 1, about the Dahl model's
+state): a back-motion of a third of the travel — below the angle channel's noise — reverses half
+a built-up friction, so the last correction nobody saw may have moved it anywhere in −1…1. On
+the simulator's drives (a controller settling into a circle, a sweep's slow creep) the held
+friction ended at −0.25…+0.65 where the Dahl model along the measured steer said +0.4…−1
+(docs/physics.md §16.6) [s]."""
 STATE_SMOOTHING_S = 1.0
 """The steer is averaged over this window before the deadband and the Dahl model give the
 friction's state: the angle channel's noise falls by the square root of the samples, so the
@@ -138,8 +148,9 @@ class TorqueBins:
         Mean state of the steering friction over the bin (−1…1): the Dahl model along the steer
         at the epochs' rate, smoothed over :data:`STATE_SMOOTHING_S` [-].
     friction_sd : numpy.ndarray
-        1σ of that state: :data:`FRICTION_STATE_SD`, plus the bin's share of samples whose
-        friction a reversal the steer confirms has left unknown
+        1σ of that state, the mean over the bin's samples: :data:`FRICTION_STATE_SD` where the
+        steer drives the friction one way (:data:`FRICTION_DRIVE_S`), 1 where it holds or a
+        reversal the steer confirms is under way
         (:func:`~gripsense.physics.steering_balance.friction_state`) [-].
     grip : numpy.ndarray
         Measured grip of the bin [-].
@@ -154,6 +165,8 @@ class TorqueBins:
         interpolated) [-].
     rate_hz : float
         The channel's rate as read: its samples over the bins' time [Hz].
+    slip, slip_sigma : numpy.ndarray or None
+        The axle's measured slip angle (mean of its wheels) and its 1σ per sample [rad].
     """
 
     t0: np.ndarray
@@ -174,6 +187,8 @@ class TorqueBins:
     offset_sd: float
     samples: int = 0
     rate_hz: float = float("nan")
+    slip: np.ndarray | None = None
+    slip_sigma: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -359,19 +374,23 @@ def torque_bins(
     # the steering friction per sample, so that a reversal inside a bin — a corner exit, the
     # wheel unwound — is seen where it happens (docs/physics.md §16.6): the Dahl model along
     # the steer smoothed over a second and behind a deadband above its noise (along the noisy
-    # samples the friction of a held curve would drift to zero), and unknown where a reversal
-    # the steer confirms is under way
+    # samples the friction of a held curve would drift to zero); known only where the steer
+    # drives it one way, not where it holds (an unseen correction moves it anywhere) or a
+    # reversal the steer confirms is under way
     if "steer_rad_L" in p:
         steer = p["steer_rad_L"][ok]
         noise = _steer_noise(steer)
         smooth, k = _smoothed(steer, t, STATE_SMOOTHING_S)
-        held = backlash(smooth, STATE_DEADBAND_SD * noise / np.sqrt(k))
-        state_i = dahl_friction(held, 1.0, FRICTION_TRAVEL_RAD)
+        played = backlash(smooth, STATE_DEADBAND_SD * noise / np.sqrt(k))
+        state_i = dahl_friction(played, 1.0, FRICTION_TRAVEL_RAD)
         _, known = friction_state(steer, noise, FRICTION_TRAVEL_RAD)
+        driven = _driven(played, state_i, t, FRICTION_DRIVE_S, FRICTION_TRAVEL_RAD)
+        # known where the steer drives it; held or reversing, its whole size
+        sd_i = np.where(driven & known, FRICTION_STATE_SD, 1.0)
     else:
-        steer, state_i, known = np.zeros(t.size), np.zeros(t.size), np.zeros(t.size, bool)
+        steer, state_i, sd_i = np.zeros(t.size), np.zeros(t.size), np.ones(t.size)
     state = mean_of(state_i)
-    f_sd = np.minimum(FRICTION_STATE_SD + mean_of(1.0 - known), 1.0)
+    f_sd = mean_of(sd_i)
     keep = n >= min_samples
     t_end = np.maximum.reduceat(t, starts)
     # the damping moment C_s δ̇ of the bin (its mean steering rate), taken out with its
@@ -407,6 +426,8 @@ def torque_bins(
         offset_sd=offset_sd,
         samples=int(samples[keep].sum()),
         rate_hz=float(samples[keep].sum() / span) if span > 0 else float("nan"),
+        slip=mean(0.5 * (p["slip_angle_rad_L"] + p["slip_angle_rad_R"]))[keep],
+        slip_sigma=mean(0.5 * (p["slip_sigma_rad_L"] + p["slip_sigma_rad_R"]))[keep],
     )
 
 
@@ -420,6 +441,20 @@ def _smoothed(x: np.ndarray, t: np.ndarray, window_s: float) -> tuple[np.ndarray
     k = round(window_s / dt) if dt > 0 else 1
     k = max(1, min(k, x.size)) | 1
     return uniform_filter1d(x, k, mode="nearest"), k
+
+
+def _driven(
+    played: np.ndarray, state: np.ndarray, t: np.ndarray, window_s: float, travel: float
+) -> np.ndarray:
+    """Where the steer behind the deadband (*played*) moved on in the friction's direction
+    (*state*'s sign) by at least *travel* [rad] within the trailing *window_s* [s]: there the
+    friction is built up that way; elsewhere the steer holds (bool).
+    """
+    if t.size == 0:
+        return np.zeros(0, dtype=bool)
+    j = np.searchsorted(t, t - window_s, side="left")
+    with np.errstate(invalid="ignore"):
+        return np.sign(state) * (played - played[j]) >= travel
 
 
 def _steer_noise(steer: np.ndarray) -> float:
@@ -461,6 +496,7 @@ def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
             and np.sign(tb.friction_state[i]) == np.sign(tb.friction_state[g0])
             and tb.t0[i] - tb.t1[i - 1] <= 2.0
             and np.sign(tb.force[i]) == np.sign(tb.force[g0])
+            and (tb.slip is None or not _slip_apart(tb, i, g0))
         )
         if not same:
             g0 = i
@@ -495,6 +531,8 @@ def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
         offset_sd=tb.offset_sd,
         samples=tb.samples,
         rate_hz=tb.rate_hz,
+        slip=None if tb.slip is None else avg(tb.slip),
+        slip_sigma=None if tb.slip_sigma is None else avg(tb.slip_sigma),
     )
 
 
@@ -524,6 +562,9 @@ class TorqueProfile:
     without : TorqueProfile or None
         With a known tyre (``[steering] tyre_file``) or a learned lever (``gripsense
         calibrate``): the profile over the family without them.
+    past_peak : int
+        Merged points left out because the data show them at or past the force's peak
+        (:func:`past_peak`).
     """
 
     nll: np.ndarray
@@ -535,6 +576,7 @@ class TorqueProfile:
     offset_Nm: float
     limited_by: str
     without: TorqueProfile | None = None
+    past_peak: int = 0
 
 
 def _zero_slip_trail(vehicle: Vehicle, s: SteeringSystem) -> float:
@@ -591,6 +633,70 @@ def check_channel(tb: TorqueBins, vehicle: Vehicle, name: str = "steering torque
         )
 
 
+def _points(tb: TorqueBins, keep: np.ndarray) -> TorqueBins:
+    """The bins or points where *keep* holds."""
+    if keep.all():
+        return tb
+    per = {
+        f.name: getattr(tb, f.name)[keep]
+        for f in dataclasses.fields(tb)
+        if isinstance(getattr(tb, f.name), np.ndarray)
+    }
+    return dataclasses.replace(tb, **per)
+
+
+def _slip_apart(tb: TorqueBins, i: int, j: int) -> bool:
+    """Whether bin *i*'s slip is more than twice bin *j*'s, or less than half of it, beyond
+    their slips' 3σ (a slide and a hold at the same grip are two points, not one run).
+    """
+    a, b = abs(tb.slip[i]), abs(tb.slip[j])  # type: ignore[index]
+    m = 3.0 * float(np.hypot(tb.slip_sigma[i], tb.slip_sigma[j]))  # type: ignore[index]
+    return bool(a > 2.0 * b + m or b > 2.0 * a + m)
+
+
+def past_peak(tb: TorqueBins) -> np.ndarray:
+    """The points at or past the peak of the axle's force, shown by the data alone: another
+    point on the same side carries at least as much grip at less than half the slip.
+
+    On the rising side the force grows with the slip, so a point whose slip is more than twice
+    another's (beyond both slips' 3σ) while its grip is not larger (beyond 2σ) has passed the
+    peak — a slide, a controller's overshoot into a corner. There the trail has fallen further
+    than the rising side's τ(u) at that grip says, towards zero and below, and the trail would
+    read the slide as a tyre at its limit on a lower μ; such a point is left out of the torque's
+    fit. No tyre model is used, only the measured slip and grip.
+
+    Parameters
+    ----------
+    tb : TorqueBins
+        Bins or merged points with their slip (:func:`torque_bins`).
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        Per point: at or past the peak.
+
+    References
+    ----------
+    docs/physics.md §16.6.
+    """
+    k = tb.t0.size
+    if tb.slip is None or tb.slip_sigma is None or k < 2:
+        return np.zeros(k, dtype=bool)
+    a = np.abs(tb.slip)
+    g = np.abs(tb.grip)
+    gs = np.abs(tb.force_sigma) / np.maximum(tb.fz_l + tb.fz_r, 1.0)
+    side = np.sign(tb.force)
+    sa = np.hypot(tb.slip_sigma[:, None], tb.slip_sigma[None, :])
+    sg = np.hypot(gs[:, None], gs[None, :])
+    # [i, j]: j, on i's side, holds at least i's grip at less than half i's slip
+    beaten = (
+        (side[:, None] == side[None, :])
+        & (a[:, None] > 2.0 * a[None, :] + 3.0 * sa)
+        & (g[None, :] >= g[:, None] - 2.0 * sg)
+    )
+    return np.asarray(beaten.any(axis=1) & np.isfinite(a))
+
+
 def torque_read(tb: TorqueBins, profile: TorqueProfile) -> str:
     """What was read of a steering-torque channel, in words: the moment's source, the channel's
     rate and samples, and the bins and merged points the profile used.
@@ -609,7 +715,10 @@ def torque_read(tb: TorqueBins, profile: TorqueProfile) -> str:
         9 points``.
     """
     rate = f" at {tb.rate_hz:.0f} Hz" if np.isfinite(tb.rate_hz) else ""
-    return f"{tb.source}{rate} ({tb.samples} samples), {tb.t0.size} bins → {profile.bins} points"
+    out = f"{tb.source}{rate} ({tb.samples} samples), {tb.t0.size} bins → {profile.bins} points"
+    if profile.past_peak:
+        out += f" ({profile.past_peak} past the force's peak left out)"
+    return out
 
 
 def torque_profile(
@@ -636,10 +745,15 @@ def torque_profile(
     """
     mb = merge_torque_bins(tb, tol)
     g = np.asarray(mu_grid, float)
+    beyond = past_peak(mb)
+    mb = _points(mb, ~beyond)
     if mb.t0.size == 0:
-        return TorqueProfile(np.zeros(g.size), "no data", 0, "", np.nan, np.nan, np.nan, "")
+        return TorqueProfile(
+            np.zeros(g.size), "no data", 0, "", np.nan, np.nan, np.nan, "",
+            past_peak=int(beyond.sum()),
+        )  # fmt: skip
     s = vehicle.steering or SteeringSystem()
-    res = _profile(mb, vehicle, g)
+    res = dataclasses.replace(_profile(mb, vehicle, g), past_peak=int(beyond.sum()))
     if s.tyre_file or s.calibrated_lever_m is not None:
         # what the family says without the tyre's file and the learned lever: the range is kept
         # within it (profile_mu), so that knowing more never says less
