@@ -60,7 +60,11 @@ def calibrate(
     table (file = "car.calibration.toml").
     """
     from gripsense.config import Vehicle
-    from gripsense.config.calibration import calibration_toml, read_calibration
+    from gripsense.config.calibration import (
+        calibration_toml,
+        read_calibration,
+        usable_calibration,
+    )
     from gripsense.pipeline import learn_calibration
 
     try:
@@ -68,7 +72,7 @@ def calibrate(
         check_output_file(output, "calibration", overwrite=overwrite, inputs=inputs)
         veh = Vehicle.from_toml(vehicle)
         previous = read_calibration(update) if update is not None else None
-        cal = learn_calibration(
+        cal = learn_calibration(  # only what friction and --update can read back
             [str(p) for p in logs],
             veh,
             receiver=receiver,
@@ -76,6 +80,7 @@ def calibrate(
             previous=previous,
             log_options=log_options(columns, dbc, time_offset),
         )
+        cal = usable_calibration(cal)
         text = calibration_toml(cal)
     except GripsenseError as e:
         fail(e)
@@ -90,6 +95,8 @@ def calibrate(
         n_drives = sum(d.axle == axle for d in cal.drives)
         if a is None:
             why = "no steering channel" if axle == "front" and not steer_csv else "too few bins"
+            if axle in cal.left_out:
+                why = "see below"
             table.add_row(axle, f"{declared:.0f}", f"not learned ({why})", "—", "0", "0")
             continue
         table.add_row(
@@ -101,6 +108,8 @@ def calibrate(
             str(n_drives),
         )
     console.print(table)
+    for why in cal.left_out.values():
+        say(why)
     if cal.steering is not None:
         st = cal.steering
         n_drives = sum(d.axle == "steering" for d in cal.drives)

@@ -35,12 +35,18 @@ torque estimator then takes as a constraint of its trail nuisances::
 
 (its drives have ``axle = "steering"``, their sums those of the lever and the friction).
 
-Unknown keys are errors, like everywhere else.
+Unknown keys are errors, like everywhere else. Every number has the range the reader accepts
+(:data:`AXLE_LIMITS`, :data:`STEERING_LIMITS`), and the writer keeps to it: a learned value
+outside it (a slalom's stiffness known to ±800 %) is not written — the file says why in a
+comment, and keeps the drives' sums so that more drives (``--update``) can learn it — and the
+text is read back with the same reader before anyone installs it, so gripsense never writes a
+calibration that ``friction`` or ``calibrate --update`` would refuse.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,6 +59,8 @@ from gripsense.io.text import read_toml
 
 __all__ = [
     "AXLE_KEYS",
+    "AXLE_LIMITS",
+    "STEERING_LIMITS",
     "AxleCalibration",
     "Calibration",
     "DriveSums",
@@ -60,13 +68,39 @@ __all__ = [
     "apply_calibration",
     "calibrated_vehicle",
     "calibration_toml",
+    "parse_calibration",
     "read_calibration",
+    "usable_calibration",
 ]
 
 AXLE_KEYS = ("cornering_stiffness_N_per_rad", "stiffness_uncertainty", "scale", "bins")
 DRIVE_KEYS = ("file", "sha256", "axle", "bins", "sums")
 STEERING_KEYS = ("lever_m", "lever_uncertainty", "bins")
 N_SUMS = {"front": 7, "rear": 7, "steering": 7}  # 2 × 2 + 2 + 1
+
+AXLE_LIMITS: dict[str, tuple[float, float, str]] = {
+    "cornering_stiffness_N_per_rad": (1e3, 1e6, "N/rad"),
+    "stiffness_uncertainty": (0.001, 1.0, "-"),
+    "scale": (0.05, 20.0, "-"),
+    "bins": (1, 1e9, "-"),
+}
+"""Key of ``[calibration.front|rear]`` -> (low, high, unit): what the reader accepts, and so
+what the writer may write (a learned value outside is left out with the reason)."""
+STEERING_LIMITS: dict[str, tuple[float, float, str]] = {
+    "lever_m": (0.002, 0.5, "m"),
+    "lever_uncertainty": (0.001, 1.0, "-"),
+    "bins": (1, 1e9, "-"),
+}
+"""Key of ``[calibration.steering]`` -> (low, high, unit), as :data:`AXLE_LIMITS`."""
+_DIGITS = {
+    "cornering_stiffness_N_per_rad": ".1f",
+    "stiffness_uncertainty": ".4f",
+    "scale": ".4f",
+    "bins": "d",
+    "lever_m": ".6f",
+    "lever_uncertainty": ".4f",
+}
+"""How the writer formats each number (the limits are checked on the value as written)."""
 
 
 @dataclass(frozen=True)
@@ -153,6 +187,9 @@ class Calibration:
         The file, for messages.
     steering : SteeringCalibration or None
         The steering's lever, when the drives had a torque channel.
+    left_out : dict
+        ``front`` / ``rear`` / ``steering`` / ``drive …`` -> why a learned part was not kept
+        (:func:`usable_calibration`; the file writes it as a comment).
     """
 
     vehicle: str
@@ -160,6 +197,7 @@ class Calibration:
     drives: list[DriveSums] = field(default_factory=list)
     source: str = "<calibration>"
     steering: SteeringCalibration | None = None
+    left_out: dict[str, str] = field(default_factory=dict)
 
 
 def read_calibration(path: str | Path) -> Calibration:
@@ -175,8 +213,33 @@ def read_calibration(path: str | Path) -> Calibration:
     Calibration
         Its content.
     """
-    src = str(path)
-    doc = read_toml(path)
+    return _from_doc(read_toml(path), str(path))
+
+
+def parse_calibration(text: str, source: str = "<calibration>") -> Calibration:
+    """Read the text of a calibration file with the same checks as :func:`read_calibration`
+    (the writer reads back what it would install).
+
+    Parameters
+    ----------
+    text : str
+        TOML text.
+    source : str
+        Its name, for messages.
+
+    Returns
+    -------
+    Calibration
+        Its content.
+    """
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"{source}: not valid TOML ({e})") from None
+    return _from_doc(doc, source)
+
+
+def _from_doc(doc: dict, src: str) -> Calibration:
     r = TomlReader(doc, src)
     r.known(doc, "", ("calibration",))
     t = doc.get("calibration")
@@ -192,21 +255,24 @@ def read_calibration(path: str | Path) -> Calibration:
         if a is None:
             continue
         where = f"calibration.{axle}"
+        if not isinstance(a, dict):
+            raise InputError(f"{src}: [{where}] must be a table")
         r.known(a, where, AXLE_KEYS)
-        c = r.num(a, where, "cornering_stiffness_N_per_rad", unit="N/rad", plausible=(1e3, 1e6))
-        u = r.num(a, where, "stiffness_uncertainty", unit="-", plausible=(0.001, 1.0))
-        s = r.num(a, where, "scale", unit="-", plausible=(0.05, 20.0))
-        n = r.num(a, where, "bins", unit="-", plausible=(1, 1e9))
-        axles[axle] = AxleCalibration(float(c), float(u), float(s), int(n))
+        c, u, s, n = _limited(r, a, where, AXLE_LIMITS)
+        axles[axle] = AxleCalibration(c, u, s, int(n))
     steering = None
     st = t.get("steering")
     if st is not None:
+        if not isinstance(st, dict):
+            raise InputError(f"{src}: [calibration.steering] must be a table")
         r.known(st, "calibration.steering", STEERING_KEYS)
-        lever = r.num(st, "calibration.steering", "lever_m", unit="m", plausible=(0.002, 0.5))
-        u = r.num(st, "calibration.steering", "lever_uncertainty", unit="-", plausible=(0.001, 1))
-        n = r.num(st, "calibration.steering", "bins", unit="-", plausible=(1, 1e9))
-        steering = SteeringCalibration(float(lever), float(u), int(n))
+        lever, u, n = _limited(r, st, "calibration.steering", STEERING_LIMITS)
+        steering = SteeringCalibration(lever, u, int(n))
     drives = []
+    if not isinstance(t.get("drive", []), list):
+        raise InputError(
+            f"{src}: calibration.drive: an array of tables is needed ([[calibration.drive]])"
+        )
     for i, d in enumerate(t.get("drive", []) or []):
         where = f"calibration.drive[{i}]"
         if not isinstance(d, dict):
@@ -220,20 +286,116 @@ def read_calibration(path: str | Path) -> Calibration:
         need = N_SUMS[d["axle"]]
         if not (isinstance(sums, list) and len(sums) == need):
             raise InputError(f"{src}: {where}: sums: {need} numbers are needed")
+        if not all(
+            isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v) for v in sums
+        ):
+            raise InputError(
+                f"{src}: {where}: sums: {need} finite numbers are needed; write the file again "
+                "with gripsense calibrate"
+            )
+        bins = r.num(d, where, "bins", unit="-", required=False, plausible=(0, 1e9))
         drives.append(
             DriveSums(
                 str(d.get("file", "")),
                 str(d.get("sha256", "")),
                 str(d["axle"]),
-                int(d.get("bins", 0)),
+                int(bins or 0),
                 np.asarray(sums, dtype=float),
             )
         )
     return Calibration(vehicle, axles, drives, src, steering)
 
 
+def _limited(r: TomlReader, t: dict, where: str, limits: dict) -> list[float]:
+    """The numbers of one table, each required and within its limits."""
+    out = []
+    for key, (lo, hi, unit) in limits.items():
+        v = r.num(t, where, key, unit=unit, plausible=(lo, hi))
+        out.append(float(v if v is not None else np.nan))
+    return out
+
+
+_HOW = {
+    "stiffness_uncertainty": (
+        "these drives change the lateral force too little, or too fast, for the linear-range "
+        "fit; add drives with steady curves in both directions (gripsense calibrate --update "
+        "adds them to the sums this file keeps)"
+    ),
+    "lever_uncertainty": (
+        "these drives hold too few steady low-grip curves; add drives (--update adds them to the "
+        "sums this file keeps)"
+    ),
+}
+_HOW_RANGE = (
+    "check the steering channel's unit and sign and the vehicle file's declared stiffness, or "
+    "add drives with steady curves in both directions (--update adds them to the sums this file "
+    "keeps)"
+)
+
+
+def _outside(part: object, limits: dict) -> str:
+    """Why a learned part cannot be written (``""`` when it can): the first value that, as
+    the writer formats it, is outside what the reader accepts.
+    """
+    for key, (lo, hi, unit) in limits.items():
+        v = getattr(part, key)
+        written = float(format(v, _DIGITS[key])) if np.isfinite(v) else v
+        if not (np.isfinite(written) and lo <= written <= hi):
+            u = "" if unit == "-" else f" {unit}"
+            if key.endswith("uncertainty") and np.isfinite(v) and v > hi:
+                what = f"{key} would be {100 * v:,.0f} %".replace(",", " ")
+                return f"{what} (a calibration holds at most {100 * hi:.0f} %): {_HOW[key]}"
+            return f"{key} = {v:.6g}{u} is outside {lo:g}–{hi:g}{u}: {_HOW_RANGE}"
+    return ""
+
+
+def usable_calibration(cal: Calibration) -> Calibration:
+    """The calibration without the learned parts a calibration file may not hold: an axle or
+    the steering's lever with a value outside :data:`AXLE_LIMITS` / :data:`STEERING_LIMITS`
+    (as written), a drive whose sums are not finite; each with its reason in ``left_out``.
+
+    Parameters
+    ----------
+    cal : Calibration
+        As learned.
+
+    Returns
+    -------
+    Calibration
+        What :func:`calibration_toml` writes and :func:`read_calibration` reads back.
+    """
+    left = dict(cal.left_out)
+    axles = {}
+    for axle, a in cal.axles.items():
+        why = _outside(a, AXLE_LIMITS)
+        if why:
+            left[axle] = f"{axle} axle not learned: {why}"
+        else:
+            axles[axle] = a
+    steering = cal.steering
+    if steering is not None:
+        why = _outside(steering, STEERING_LIMITS)
+        if why:
+            left["steering"] = f"steering lever not learned: {why}"
+            steering = None
+    drives = []
+    for d in cal.drives:
+        written = [float(f"{v:.10g}") for v in np.asarray(d.sums, dtype=float)]
+        if np.isfinite(written).all() and d.axle in N_SUMS and len(written) == N_SUMS[d.axle]:
+            drives.append(d)
+        else:
+            left[f"drive {d.file} ({d.axle})"] = (
+                f"drive {d.file!r} ({d.axle}) not kept: its sums are not finite numbers"
+            )
+    return dataclasses.replace(cal, axles=axles, steering=steering, drives=drives, left_out=left)
+
+
 def calibration_toml(cal: Calibration) -> str:
     """The text of a calibration file (the header marks it as gripsense's own output).
+
+    Only what :func:`read_calibration` accepts is written (:func:`usable_calibration`: a part
+    left out is named in a comment with the reason), and the text is read back with the same
+    reader before it is returned.
 
     Parameters
     ----------
@@ -244,10 +406,17 @@ def calibration_toml(cal: Calibration) -> str:
     -------
     str
         TOML text.
+
+    Raises
+    ------
+    InputError
+        When the text would not read back as *cal* (nothing is written then).
     """
+    cal = usable_calibration(cal)
     out = [
         "# gripsense calibration — written by gripsense; learned from the drives listed below",
         "# (per axle: one wheel's cornering stiffness at the static load, docs/physics.md §15.7)",
+        *(f"# {_comment(why)}" for why in cal.left_out.values()),
         "[calibration]",
         f"vehicle = {_q(cal.vehicle)}",
     ]
@@ -279,11 +448,37 @@ def calibration_toml(cal: Calibration) -> str:
             f"bins = {d.bins}",
             f"sums = [{sums}]",
         ]
-    return "\n".join(out) + "\n"
+    text = "\n".join(out) + "\n"
+    back = parse_calibration(text, "the calibration to be written")
+    if back.vehicle != cal.vehicle or set(back.axles) != set(cal.axles):
+        raise InputError(
+            f"the calibration of {cal.vehicle!r} would not read back as written; not written "
+            "(a bug: please report it)"
+        )
+    return text
+
+
+def _comment(text: str) -> str:
+    return "".join(c if c.isprintable() else " " for c in text)
 
 
 def _q(s: str) -> str:
-    return '"' + s.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    """A TOML basic string: control characters escaped, text that is not Unicode (a file name
+    of undecodable bytes) with replacement characters.
+    """
+    try:
+        raw = s.encode("utf-8", "surrogateescape")
+    except UnicodeEncodeError:
+        raw = s.encode("utf-8", "replace")
+    out = []
+    for ch in raw.decode("utf-8", "replace"):
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04x}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
 
 
 def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
