@@ -1,27 +1,44 @@
-"""Result folders: written atomically with a manifest, read back, never mixed with other files.
+"""Result folders and output files: written atomically, owned by proof, never mixed with other
+files.
 
 A result folder holds tables (Parquet), JSON documents and copies of small inputs, plus
 ``manifest.json``: the kind of result, the command, gripsense's version, the inputs with their
-SHA-256 and every file the folder's writer created. The manifest is written last, so a folder
-without one is incomplete (a killed run) and is never taken for a result.
+SHA-256, every file the folder's writer created and the SHA-256 of each (``sha256``). The
+manifest is written last, so a folder without one is incomplete (a killed run) and is never
+taken for a result. A single output file (a CSV, a report, a calibration) is recorded in
+``.gripsense-outputs.json`` in its folder: name, kind, size and SHA-256.
 
 Rules (``docs/reliability.md``):
 
-* a new folder is written as a temporary sibling and renamed into place (atomic);
+* gripsense owns a file only while its bytes match the SHA-256 it recorded when it wrote it
+  (a manifest's ``sha256`` or the folder's ``.gripsense-outputs.json``); what a file says
+  about itself (a header, a "gripsense report" tag) proves nothing;
+* a new folder is written as a temporary sibling and renamed into place (atomic); a new file
+  is linked into place (which fails if the name appeared meanwhile);
 * an existing folder is written into only if its manifest says it is gripsense's result of the
-  same kind **and** ``overwrite`` is set; then each file is replaced atomically, the files the
-  old manifest listed and the new one does not are deleted (nothing else), the manifest last;
-* a folder that exists and is not empty and is not a gripsense result is refused.
+  same kind, every file it lists still has its recorded bytes, no file the new result writes is
+  one the manifest does not list, **and** ``overwrite`` is set; then each file is replaced
+  atomically, the files the old manifest listed and the new one does not are deleted (nothing
+  else), the manifest last;
+* the check before the work remembers what it found; the install re-checks under an advisory
+  lock (``flock``) on the output's folder and goes ahead only if the output is still as it
+  was then: of two runs racing for one output, the second is refused and nothing is lost;
+* a folder that exists and is not empty and is not a gripsense result is refused; so is an
+  output that is not a regular file (a device such as ``/dev/stdout``, a FIFO, a socket, a
+  symbolic link).
 """
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
 import json
 import os
 import shutil
+import stat
 import tempfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,6 +58,7 @@ __all__ = [
     "is_own_file",
     "read_manifest",
     "read_result_folder",
+    "record_output",
     "user_mode",
     "write_file_atomic",
     "write_parquet",
@@ -93,8 +111,164 @@ def read_manifest(folder: str | Path) -> dict | None:
     return doc if isinstance(doc, dict) and doc.get("gripsense_result") == FORMAT else None
 
 
-def check_output_folder(folder: str | Path, kind: str, *, overwrite: bool) -> None:
-    """Check before any work that *folder* may receive a result of *kind*.
+REGISTRY = ".gripsense-outputs.json"
+"""gripsense's record of the single output files it wrote in a folder (name → kind, size,
+SHA-256): the proof that a file is gripsense's own."""
+REGISTRY_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class _Claim:
+    """What a run found at its output when it checked it, before its work.
+
+    ``state`` is None for a new output (absent, or an empty folder), else the SHA-256 of the
+    file (or of the result folder's manifest). The output is installed only if it is still in
+    this state then, so a run never replaces what another run wrote meanwhile.
+    """
+
+    kind: str
+    overwrite: bool
+    state: str | None
+
+
+_CLAIMS: dict[str, _Claim] = {}
+"""Output path → what this process's check found there (consumed when the output is
+installed)."""
+
+
+def _key(path: str | Path) -> str:
+    return os.path.abspath(path)
+
+
+@contextlib.contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """Hold an exclusive advisory lock (``flock``) on *folder* itself — no lock file is left
+    behind — while an output in it is re-checked and installed. A killed holder releases it.
+    """
+    try:
+        import fcntl
+    except ImportError:  # no advisory locks (Windows): the no-clobber link/rename still refuse
+        yield
+        return
+    try:
+        fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError as e:
+        raise InputError(f"{folder}: cannot be opened to lock it ({e.strerror or e})") from None
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError:  # a file system without flock: the no-clobber link/rename still refuse
+            pass
+        yield
+    finally:
+        os.close(fd)
+
+
+def _changed_meanwhile(path: Path) -> InputError:
+    return InputError(
+        f"{path}: changed while this run worked (another run wrote it); this run's output was "
+        "not installed — check that output, then run again (with --overwrite to replace it)"
+    )
+
+
+def _not_regular(path: Path) -> InputError:
+    return InputError(
+        f"{path}: is not a regular file (a device, pipe, socket or symbolic link); gripsense "
+        "writes a file through a temporary sibling renamed into place — give a file path"
+    )
+
+
+def _folder_state(folder: Path) -> str | None:
+    """None for a missing or empty folder, the manifest's SHA-256 for a result folder, ``""``
+    for anything else.
+    """
+    if not folder.is_dir():
+        return "" if os.path.lexists(folder) else None
+    try:
+        entries = [p for p in folder.iterdir() if not p.name.startswith(".gripsense-")]
+    except OSError:
+        return ""
+    if not entries:
+        return None
+    try:
+        return file_sha256(folder / MANIFEST)
+    except OSError:
+        return ""
+
+
+def _inside(folder: Path, name: str) -> bool:
+    try:
+        return folder.resolve() in (folder / name).resolve().parents
+    except (OSError, RuntimeError):
+        return False
+
+
+def _verify_result_folder(
+    folder: Path, kind: str, *, overwrite: bool, files: Sequence[str] = ()
+) -> None:
+    """Refuse unless *folder* may receive a result of *kind* (see :func:`check_output_folder`)."""
+    if os.path.lexists(folder) and not folder.is_dir():
+        raise InputError(f"{folder}: exists and is not a folder; give -o a folder path")
+    if not folder.is_dir():
+        return
+    try:
+        entries = [p for p in folder.iterdir() if not p.name.startswith(".gripsense-")]
+    except PermissionError:
+        raise InputError(f"{folder}: permission denied (cannot list the folder)") from None
+    if not entries:
+        return
+    man = read_manifest(folder)
+    if man is None:
+        raise InputError(
+            f"{folder}: not empty and not a gripsense result folder; give -o a new or "
+            "empty folder (gripsense never writes among files it did not create)"
+        )
+    if man.get("kind") != kind:
+        raise InputError(
+            f"{folder}: holds a gripsense {man.get('kind')!r} result, not {kind!r}; "
+            "give -o another folder"
+        )
+    if not overwrite:
+        raise InputError(
+            f"{folder}: holds an earlier {kind} result; add --overwrite to replace it "
+            "or give -o another folder"
+        )
+    listed = [str(n) for n in man.get("files", [])]
+    hashes = man.get("sha256")
+    if not isinstance(hashes, dict) or any(not isinstance(hashes.get(n), str) for n in listed):
+        raise InputError(
+            f"{folder}: its {MANIFEST} records no fingerprint of the files (an older gripsense "
+            "wrote it), so gripsense cannot prove they are its own — delete the folder "
+            "yourself or give -o another folder"
+        )
+    for name in listed:
+        p = folder / name
+        if not _inside(folder, name):
+            raise InputError(
+                f"{folder / MANIFEST}: lists {name!r}, outside the folder; give -o another folder"
+            )
+        if not os.path.lexists(p):
+            continue  # the user removed it: nothing to protect
+        if p.is_symlink() or not p.is_file() or file_sha256(p) != hashes[name]:
+            raise InputError(
+                f"{p}: changed since gripsense wrote it; --overwrite replaces only files whose "
+                f"bytes still match what gripsense recorded — move it out of {folder} or give "
+                "-o another folder"
+            )
+    for name in files:
+        p = folder / name
+        if name not in listed and os.path.lexists(p):
+            raise InputError(
+                f"{p}: not written by gripsense (its {MANIFEST} does not list it); move it out "
+                f"of {folder} or give -o another folder"
+            )
+
+
+def check_output_folder(
+    folder: str | Path, kind: str, *, overwrite: bool, files: Sequence[str] = ()
+) -> None:
+    """Check before any work that *folder* may receive a result of *kind*, and remember what is
+    there: the result is installed only if the folder is still in that state then.
 
     Parameters
     ----------
@@ -104,38 +278,27 @@ def check_output_folder(folder: str | Path, kind: str, *, overwrite: bool) -> No
         Result kind (``"friction"``, ``"fleet"`` …).
     overwrite : bool
         Whether the user asked to replace an earlier result of the same kind.
+    files : list of str
+        Names (relative to *folder*) the result will hold, when known before the work (e.g.
+        ``report.html``): a file of that name that gripsense did not write is refused now.
 
     Raises
     ------
     InputError
-        When the path is a file, the folder holds something that is not a gripsense result of
-        this kind, or holds one and *overwrite* is not set, or the parent cannot be written.
+        When the path is not a folder; the folder holds something that is not a gripsense
+        result of this kind, or holds one and *overwrite* is not set; a file the manifest lists
+        changed since gripsense wrote it (its SHA-256 differs) or the manifest records no
+        fingerprints; a file of *files* is there and not the result's; or the parent cannot be
+        written.
     """
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"{folder}: exists and is not a folder; give -o a folder path")
+    _check_folder(Path(folder), kind, overwrite=overwrite, files=files, keep_claim=False)
+
+
+def _check_folder(
+    folder: Path, kind: str, *, overwrite: bool, files: Sequence[str], keep_claim: bool
+) -> None:
+    _verify_result_folder(folder, kind, overwrite=overwrite, files=files)
     if folder.is_dir():
-        try:
-            entries = [p for p in folder.iterdir() if not p.name.startswith(".gripsense-")]
-        except PermissionError:
-            raise InputError(f"{folder}: permission denied (cannot list the folder)") from None
-        if entries:
-            man = read_manifest(folder)
-            if man is None:
-                raise InputError(
-                    f"{folder}: not empty and not a gripsense result folder; give -o a new or "
-                    "empty folder (gripsense never writes among files it did not create)"
-                )
-            if man.get("kind") != kind:
-                raise InputError(
-                    f"{folder}: holds a gripsense {man.get('kind')!r} result, not {kind!r}; "
-                    "give -o another folder"
-                )
-            if not overwrite:
-                raise InputError(
-                    f"{folder}: holds an earlier {kind} result; add --overwrite to replace it "
-                    "or give -o another folder"
-                )
         parent = folder
     else:
         parent = folder.parent
@@ -145,6 +308,10 @@ def check_output_folder(folder: str | Path, kind: str, *, overwrite: bool) -> No
             raise InputError(f"{folder}: {parent} is not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"{folder}: permission denied ({parent} is not writable)")
+    claim = _Claim(kind, overwrite, _folder_state(folder))
+    old = _CLAIMS.get(_key(folder))
+    if not (keep_claim and old is not None and old.kind == kind):
+        _CLAIMS[_key(folder)] = claim
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -154,12 +321,106 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def is_own_file(path: str | Path, kind: str, *, header: list[str] | None = None) -> bool:
-    """Whether *path* is a file gripsense wrote as output of *kind*.
+def _read_registry(folder: Path) -> dict[str, dict]:
+    """The records of *folder*'s registry (name → record); ``{}`` when there is none.
 
-    Parquet files carry ``gripsense_kind`` in their metadata; CSV files are recognised by their
-    header (*header*); other formats (HTML, JSON, PNG, ``.tir``) carry ``gripsense <kind>`` in
-    their first bytes (a generator tag, a key, a PNG text chunk, a header comment).
+    Raises
+    ------
+    InputError
+        When a file of the registry's name is there and is not one.
+    """
+    p = folder / REGISTRY
+    if not os.path.lexists(p):
+        return {}
+    try:
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        doc = None
+    if (
+        p.is_symlink()
+        or not isinstance(doc, dict)
+        or doc.get("gripsense_outputs") != REGISTRY_FORMAT
+        or not isinstance(doc.get("files"), dict)
+    ):
+        raise InputError(
+            f"{p}: not gripsense's record of its outputs (damaged, or not gripsense's); move "
+            "it away — gripsense will then refuse to replace the files it recorded"
+        )
+    return {str(k): v for k, v in doc["files"].items() if isinstance(v, dict)}
+
+
+def _write_registry(folder: Path, files: dict[str, dict]) -> None:
+    doc = {"gripsense_outputs": REGISTRY_FORMAT, "files": dict(sorted(files.items()))}
+    fd, tmp = tempfile.mkstemp(prefix=".gripsense-outputs.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(json.dumps(doc, indent=1) + "\n")
+        user_mode(tmp)
+        os.replace(tmp, folder / REGISTRY)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _record_file(path: Path, kind: str, sha: str, size: int) -> None:
+    """Add *path* to its folder's registry (call under :func:`_locked`); records of files
+    that are gone are dropped.
+    """
+    files = _read_registry(path.parent)
+    files = {n: r for n, r in files.items() if os.path.lexists(path.parent / n)}
+    files[path.name] = {"kind": kind, "bytes": size, "sha256": sha}
+    _write_registry(path.parent, files)
+
+
+def _file_owner(path: Path) -> str | None:
+    """The kind gripsense recorded for *path* when the file's bytes still match the record;
+    None otherwise (no record, a changed file, not a regular file).
+    """
+    try:
+        st = os.lstat(path)
+        rec = _read_registry(path.parent).get(path.name)
+    except (OSError, InputError):
+        return None
+    if rec is None or not stat.S_ISREG(st.st_mode) or rec.get("bytes") != st.st_size:
+        return None
+    try:
+        if file_sha256(path) != rec.get("sha256"):
+            return None
+    except OSError:
+        return None
+    return str(rec.get("kind"))
+
+
+def record_output(path: str | Path, kind: str) -> None:
+    """Record a file gripsense wrote in place (not through :func:`write_file_atomic`, e.g. a
+    recording appended as it goes) as its own output of *kind*, with its SHA-256 as it is now,
+    so a later ``--overwrite`` may replace it while its bytes still match.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file, complete.
+    kind : str
+        Output kind.
+    """
+    path = Path(path)
+    try:
+        st = os.lstat(path)
+        if not stat.S_ISREG(st.st_mode):
+            raise _not_regular(path)
+        sha = file_sha256(path)
+        with _locked(path.parent):
+            _record_file(path, kind, sha, st.st_size)
+    except OSError as e:
+        raise InputError(f"{path}: cannot record it ({e.strerror or e})") from None
+
+
+def is_own_file(path: str | Path, kind: str, *, header: list[str] | None = None) -> bool:
+    """Whether *path* is a file gripsense wrote as output of *kind* and nobody changed since.
+
+    The proof is gripsense's record in the file's folder (``.gripsense-outputs.json``: name,
+    kind, size and SHA-256 of every single output file it wrote there); what a file says about
+    itself (a header, a "gripsense report" tag) proves nothing.
 
     Parameters
     ----------
@@ -168,31 +429,15 @@ def is_own_file(path: str | Path, kind: str, *, header: list[str] | None = None)
     kind : str
         Output kind (``"epochs"``, ``"report"`` …).
     header : list of str, optional
-        The column names a CSV of this kind starts with.
+        Ignored (a CSV header is no proof); kept for existing callers.
 
     Returns
     -------
     bool
-        True only when the file is recognisably gripsense's output of that kind.
+        True only when the record names *kind* and the file's bytes match it.
     """
-    path = Path(path)
-    try:
-        if path.suffix.lower() == ".parquet":
-            import pyarrow.parquet as pq
-
-            meta = pq.read_schema(path).metadata or {}
-            return meta.get(b"gripsense_kind") == kind.encode()
-        with open(path, "rb") as fh:
-            head = fh.read(65536)
-    except (OSError, ValueError):
-        return False
-    if header is not None:
-        for line in head.decode("utf-8", "replace").splitlines():
-            if line.startswith("#") or not line.strip():
-                continue
-            return line.strip().split(",") == list(header)
-        return False
-    return f"gripsense {kind}".encode() in head
+    del header
+    return _file_owner(Path(path)) == kind
 
 
 def check_output_file(
@@ -203,7 +448,8 @@ def check_output_file(
     inputs: Sequence[str | Path] = (),
     header: list[str] | None = None,
 ) -> None:
-    """Check before any work that *path* may receive an output file of *kind*.
+    """Check before any work that *path* may receive an output file of *kind*, and remember
+    what is there: the file is installed only if the path is still in that state then.
 
     Parameters
     ----------
@@ -216,28 +462,42 @@ def check_output_file(
     inputs : list
         The command's input files: an output may never be one of them.
     header : list of str, optional
-        CSV header of this kind (:func:`is_own_file`).
+        Ignored (a CSV header is no proof of ownership; :func:`is_own_file`).
 
     Raises
     ------
     InputError
-        When the path is a folder or an input, exists without *overwrite* or is not
-        gripsense's output of this kind, or its folder cannot be created or written.
+        When the path is a folder, an input, or not a regular file (device, FIFO, socket,
+        symbolic link); exists without *overwrite*; exists and gripsense has no record of
+        writing it as *kind* with these bytes; or its folder cannot be created or written.
     """
+    del header
     path = Path(path)
     for inp in inputs:
         if _same_file(path, Path(inp)):
             raise InputError(f"{path}: is also an input; give the output another name")
     if path.is_dir():
         raise InputError(f"{path}: is a folder; give a file name")
-    if path.exists():
+    if path.name.startswith(".gripsense-"):
+        raise InputError(f"{path}: names starting with .gripsense- are gripsense's own records")
+    state = None
+    if os.path.lexists(path):
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            raise _not_regular(path)
         if not overwrite:
             raise InputError(f"{path}: exists; add --overwrite to replace it, or give another name")
-        if not is_own_file(path, kind, header=header):
+        owner = _file_owner(path)
+        if owner is None:
             raise InputError(
-                f"{path}: exists and is not a gripsense {kind} output; gripsense overwrites only "
-                "its own files — give another name"
+                f"{path}: exists and gripsense has no record of writing it (or it changed "
+                "since); gripsense replaces only its own unchanged files — move it away or "
+                "give another name"
             )
+        if owner != kind:
+            raise InputError(
+                f"{path}: holds a gripsense {owner} output, not {kind}; give another name"
+            )
+        state = file_sha256(path)
     parent = path.parent
     while not parent.exists() and parent != parent.parent:
         parent = parent.parent
@@ -245,6 +505,7 @@ def check_output_file(
         raise InputError(f"{path}: {parent} is not a folder")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"{path}: permission denied ({parent} is not writable)")
+    _CLAIMS[_key(path)] = _Claim(kind, overwrite, state)
 
 
 def _umask() -> int:
@@ -276,9 +537,17 @@ def user_mode(path: str | Path, *, folder: bool = False) -> None:
     os.chmod(path, (0o777 if folder else 0o666) & ~_umask())
 
 
-def write_file_atomic(path: str | Path, write) -> Path:
-    """Write a file through a temporary sibling renamed into place, so a reader (or a crash)
-    never sees half a file; missing parent folders are created.
+def write_file_atomic(
+    path: str | Path, write: Callable[[Path], object], *, kind: str | None = None
+) -> Path:
+    """Write a file through a temporary sibling installed when complete, so a reader (or a
+    crash) never sees half a file; missing parent folders are created.
+
+    The install re-checks the path under a lock on its folder: it must be as the command's
+    :func:`check_output_file` found it (a new file still absent — it is linked in, which fails
+    if anything appeared meanwhile; an earlier output still with the bytes gripsense recorded).
+    Without a check, only a new file or gripsense's own unchanged output is replaced. The file
+    is then recorded as gripsense's (:func:`is_own_file`).
 
     Parameters
     ----------
@@ -286,6 +555,8 @@ def write_file_atomic(path: str | Path, write) -> Path:
         The file.
     write : callable
         ``write(tmp_path)`` writes the content to the temporary path.
+    kind : str, optional
+        Output kind recorded for the file when no :func:`check_output_file` named it.
 
     Returns
     -------
@@ -293,6 +564,11 @@ def write_file_atomic(path: str | Path, write) -> Path:
         The file written.
     """
     path = Path(path)
+    if os.path.lexists(path) and not stat.S_ISREG(os.lstat(path).st_mode):
+        _CLAIMS.pop(_key(path), None)
+        if path.is_dir():
+            raise InputError(f"{path}: is a folder; give a file name")
+        raise _not_regular(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(
@@ -304,13 +580,59 @@ def write_file_atomic(path: str | Path, write) -> Path:
     try:
         write(Path(tmp))
         user_mode(tmp)
-        os.replace(tmp, path)
+        sha, size = file_sha256(tmp), os.path.getsize(tmp)
+        with _locked(path.parent):
+            claim = _CLAIMS.pop(_key(path), None)
+            current = _file_state(path)
+            if claim is not None and current != claim.state:
+                raise _changed_meanwhile(path)
+            rec_kind = claim.kind if claim is not None else (kind or "file")
+            _read_registry(path.parent)  # a damaged record is refused before anything changes
+            if current is None:
+                _link_new(Path(tmp), path)
+            else:
+                owner = _file_owner(path)
+                if owner is None or (claim is None and kind is not None and owner != kind):
+                    raise InputError(
+                        f"{path}: exists and gripsense has no record of writing it (or it "
+                        "changed since); gripsense replaces only its own unchanged files — "
+                        "move it away or give another name"
+                    )
+                os.replace(tmp, path)
+            _record_file(path, rec_kind, sha, size)
     except OSError as e:
         raise InputError(f"{path}: cannot write ({e.strerror or e})") from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
     return path
+
+
+def _file_state(path: Path) -> str | None:
+    """None for a missing file, its SHA-256 for a regular file; refuses anything else."""
+    if not os.path.lexists(path):
+        return None
+    if not stat.S_ISREG(os.lstat(path).st_mode):
+        raise _not_regular(path)
+    return file_sha256(path)
+
+
+def _link_new(tmp: Path, path: Path) -> None:
+    """Install *tmp* as the new file *path*; refuse if *path* appeared (even from a process
+    that takes no lock): a hard link never replaces an existing name.
+    """
+    try:
+        os.link(tmp, path)
+    except FileExistsError:
+        raise _changed_meanwhile(path) from None
+    except OSError as e:
+        if e.errno not in (errno.EPERM, errno.EOPNOTSUPP, errno.ENOTSUP, errno.EXDEV, errno.EMLINK):
+            raise
+        if os.path.lexists(path):  # no hard links here: the lock alone orders gripsense runs
+            raise _changed_meanwhile(path) from None
+        os.replace(tmp, path)
+        return
+    os.unlink(tmp)
 
 
 def write_parquet(df: pd.DataFrame, path: str | Path, kind: str | None = None) -> None:
@@ -409,7 +731,7 @@ class ResultWriter:
         self.extra = dict(extra or {})
         self.tmp: Path | None = None
         self.files: list[str] = []
-        check_output_folder(self.folder, kind, overwrite=overwrite)
+        _check_folder(self.folder, kind, overwrite=overwrite, files=(), keep_claim=True)
 
     def __enter__(self) -> Path:
         parent = self.folder.parent
@@ -434,7 +756,10 @@ class ResultWriter:
         from gripsense._version import __version__
 
         tmp = self.tmp
-        self.files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
+        assert tmp is not None
+        (tmp / REGISTRY).unlink(missing_ok=True)  # the manifest is the folder's record
+        found = sorted(p for p in tmp.rglob("*") if p.is_file())
+        self.files = [p.relative_to(tmp).as_posix() for p in found]
         manifest = {
             "gripsense_result": FORMAT,
             "kind": self.kind,
@@ -442,12 +767,19 @@ class ResultWriter:
             "command": self.command,
             "inputs": [_describe_input(p) for p in self.inputs],
             "files": self.files,
+            "sha256": {n: file_sha256(p) for n, p in zip(self.files, found, strict=True)},
             **self.extra,
         }
         try:
             (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n", encoding="utf-8")
             user_mode(tmp, folder=True)  # a new folder is this one, renamed
-            _install(tmp, self.folder)
+            with _locked(self.folder.parent):
+                claim = _CLAIMS.pop(_key(self.folder), None)
+                if claim is not None and _folder_state(self.folder) != claim.state:
+                    raise _changed_meanwhile(self.folder)
+                overwrite = claim.overwrite if claim is not None else self.overwrite
+                _verify_result_folder(self.folder, self.kind, overwrite=overwrite, files=self.files)
+                _install(tmp, self.folder)
         except OSError as e:
             raise InputError(
                 f"{self.folder}: cannot write the result ({e.strerror or e})"
@@ -525,7 +857,11 @@ def write_result_folder(
 
 def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool = False) -> Path:
     """Add (or, with *overwrite*, replace) one text file in a gripsense result folder and list it
-    in the folder's manifest, so a later ``--overwrite`` of the folder replaces it too.
+    with its SHA-256 in the folder's manifest, so a later ``--overwrite`` of the folder replaces
+    it too.
+
+    A file of that name is replaced only when the manifest lists it and its bytes still match
+    the recorded SHA-256: a user's own file of that name (or gripsense's, edited) is refused.
 
     Parameters
     ----------
@@ -536,7 +872,7 @@ def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool =
     text : str
         Content (UTF-8).
     overwrite : bool
-        Replace the file when the manifest already lists it.
+        Replace the file when it is gripsense's, unchanged.
 
     Returns
     -------
@@ -544,22 +880,56 @@ def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool =
         The file written.
     """
     folder = Path(folder)
-    man = read_manifest(folder)
-    if man is None:
-        raise InputError(f"{folder}: not a result folder of gripsense (no {MANIFEST})")
     target = folder / name
-    if target.exists():
-        if name not in man.get("files", []):
-            raise InputError(f"{target}: exists and was not written by gripsense; give -o")
-        if not overwrite:
-            raise InputError(f"{target}: exists; add --overwrite to replace it")
-    write_file_atomic(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
-    if name not in man["files"]:
-        man["files"] = sorted([*man["files"], name])
-        write_file_atomic(
-            folder / MANIFEST,
-            lambda tmp: tmp.write_text(json.dumps(man, indent=2) + "\n", encoding="utf-8"),
-        )
+    if read_manifest(folder) is None:
+        raise InputError(f"{folder}: not a result folder of gripsense (no {MANIFEST})")
+    try:
+        with _locked(folder.parent):
+            man = read_manifest(folder)
+            if man is None:
+                raise InputError(f"{folder}: not a result folder of gripsense (no {MANIFEST})")
+            listed = [str(n) for n in man.get("files", [])]
+            hashes = man.get("sha256") if isinstance(man.get("sha256"), dict) else {}
+            if os.path.lexists(target):
+                if (
+                    name not in listed
+                    or target.is_symlink()
+                    or not target.is_file()
+                    or file_sha256(target) != hashes.get(name)
+                ):
+                    raise InputError(
+                        f"{target}: not written by gripsense, or changed since (its "
+                        f"{MANIFEST} has no matching fingerprint); move it away or give -o "
+                        "another file"
+                    )
+                if not overwrite:
+                    raise InputError(f"{target}: exists; add --overwrite to replace it")
+            fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".gripsense-tmp", dir=folder)
+            try:
+                with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                    fh.write(text)
+                user_mode(tmp)
+                sha = file_sha256(tmp)
+                if os.path.lexists(target):
+                    os.replace(tmp, target)
+                else:
+                    _link_new(Path(tmp), target)
+            finally:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+            man["files"] = sorted({*listed, name})
+            man["sha256"] = {**hashes, name: sha}
+            fd, tmp = tempfile.mkstemp(prefix=".manifest.", suffix=".gripsense-tmp", dir=folder)
+            try:
+                with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                    fh.write(json.dumps(man, indent=2) + "\n")
+                user_mode(tmp)
+                os.replace(tmp, folder / MANIFEST)
+            finally:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+    except OSError as e:
+        raise InputError(f"{target}: cannot write ({e.strerror or e})") from None
     return target
 
 
@@ -576,7 +946,12 @@ def _install(tmp: Path, folder: Path) -> None:
     old manifest lists; folders only when they became empty).
     """
     if not folder.exists():
-        os.rename(tmp, folder)
+        try:
+            os.rename(tmp, folder)  # onto an empty folder at most: a non-empty one refuses
+        except OSError as e:
+            if e.errno in (errno.EEXIST, errno.ENOTEMPTY, errno.ENOTDIR):
+                raise _changed_meanwhile(folder) from None
+            raise
         tmp.mkdir()  # so that the caller's cleanup has something to remove
         return
     old = read_manifest(folder) or {}
