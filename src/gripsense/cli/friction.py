@@ -108,7 +108,9 @@ def friction(
             raise GripsenseError("--vehicle car.toml is required")
         if (log is None) == (table is None):
             raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
-        check_output_folder(outdir, "friction", overwrite=overwrite)
+        check_output_folder(
+            outdir, "friction", overwrite=overwrite, files=["report.html"] if report else []
+        )
         run = FrictionRun(vehicle, method=method, receiver=receiver, calibration=calibration)
         veh = run.vehicle
         if table is not None:
