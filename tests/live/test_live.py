@@ -101,20 +101,22 @@ def test_serial_pseudo_terminal_equals_batch():
     name = os.ttyname(slave)
 
     def writer():
-        time.sleep(0.5)  # let pyserial open the port first
+        _wait_for(lambda: src.state == "open", 60.0)  # pyserial flushes what came before
         for i in range(0, len(data), 512):
             os.write(master, data[i : i + 512])
             time.sleep(0.002)
 
+    src = SerialSource(name, 115200)
     th = threading.Thread(target=writer, daemon=True)
     th.start()
     got = []
     res = run_live(
-        SerialSource(name, 115200),
+        src,
         VEHICLE,
-        duration_s=4.0,
+        duration_s=120.0,  # a guard: the run stops when every byte has arrived
         on_epochs=got.append,
         handle_signals=False,
+        stop_when=lambda st: st.bytes >= len(data),
     )
     th.join()
     os.close(master)
@@ -154,7 +156,9 @@ def test_tcp_receiver_drops_and_comes_back():
     th.start()
     got = []
     src = TcpSource("127.0.0.1", port)
-    res = run_live(src, VEHICLE, duration_s=5.0, on_epochs=got.append, handle_signals=False)
+    n = len(part1) + len(part2)
+    res = run_live(src, VEHICLE, duration_s=120.0, on_epochs=got.append, handle_signals=False,
+                   stop_when=lambda st: st.bytes >= n)  # fmt: skip
     th.join()
     batch = read_nmea(part1 + part2)
     ep = pd.concat(got, ignore_index=True)
@@ -185,9 +189,26 @@ def _start(tmp_path, out: str):
     )
 
 
+def _wait_for(cond, timeout: float) -> None:
+    """Poll *cond* until it holds (fails the test after *timeout* seconds)."""
+    deadline = time.monotonic() + timeout
+    while not cond():
+        assert time.monotonic() < deadline, "timed out waiting for a condition"
+        time.sleep(0.05)
+
+
+def _rows(path: Path) -> int:
+    """Complete data rows in a live rows file so far (0 when it does not exist yet)."""
+    try:
+        return max(path.read_bytes().count(b"\n") - 1, 0)
+    except FileNotFoundError:
+        return 0
+
+
 def test_sigint_stops_cleanly(tmp_path):
     p = _start(tmp_path, "res.csv")
-    time.sleep(8.0)
+    _wait_for(lambda: _rows(tmp_path / "res.csv") >= 2 or p.poll() is not None, 120.0)
+    assert p.poll() is None, p.communicate()
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=60)
     assert p.returncode == 0, err
@@ -200,10 +221,11 @@ def test_sigint_stops_cleanly(tmp_path):
 
 def test_sigkill_leaves_a_readable_file_and_recovery(tmp_path):
     p = _start(tmp_path, "res.parquet")
-    time.sleep(8.0)
+    part = tmp_path / "res.parquet.partial.csv"
+    _wait_for(lambda: _rows(part) >= 2 or p.poll() is not None, 120.0)
+    assert p.poll() is None, p.communicate()
     p.send_signal(signal.SIGKILL)
     p.wait(timeout=30)
-    part = tmp_path / "res.parquet.partial.csv"
     df = pd.read_csv(part)  # complete rows up to the last flush
     assert len(df) > 0
     r = subprocess.run(

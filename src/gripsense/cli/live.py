@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
+import math
+import signal
 from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.text import Text
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
     Dbc,
     Overwrite,
     TimeOffset,
+    command_line,
     console,
+    err_console,
     fail,
     log_options,
     say,
@@ -80,20 +85,105 @@ def live(
     """Read NMEA or UBX as it arrives (serial, TCP or replay), update μ continuously, show and
     record it; Ctrl-C (SIGINT) or SIGTERM stops cleanly.
     """
+    # a signal while the run is set up stops it with one line and nothing written; from the
+    # moment the output's files exist it stops the loop, which closes them complete (exit 0)
+    state: dict = {"phase": "setup", "signal": None}
+
+    def on_signal(signum, _frame):
+        if state["phase"] == "setup":
+            raise _Interrupted(signum)
+        state["signal"] = state["signal"] or signal.Signals(signum).name
+
+    old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        _live(
+            vehicle=vehicle, serial=serial, baud=baud, tcp=tcp, replay=replay, speed=speed,
+            method=method, receiver=receiver, output=output, calibration=calibration,
+            window_s=window_s, duration_s=duration_s, quiet=quiet, recover=recover,
+            columns=columns, steer_csv=steer_csv, steer_columns=steer_columns, dbc=dbc,
+            time_offset=time_offset, overwrite=overwrite, state=state,
+        )  # fmt: skip
+    except _Interrupted as e:
+        name = signal.Signals(e.signum).name
+        err_console.print(
+            Text.assemble(("error: ", "bold red"), f"interrupted ({name}) before the run "
+                          "started; nothing was written"),
+            highlight=False,
+        )  # fmt: skip
+        raise typer.Exit(128 + e.signum) from None
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+class _Interrupted(BaseException):
+    """SIGINT or SIGTERM while a live run is set up (a BaseException: nothing swallows it)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _check_numbers(speed: float, window_s: float, duration_s: float | None, baud: int) -> None:
+    if not (math.isfinite(speed) and speed >= 0):
+        raise InputError(f"--speed {speed}: must be a number >= 0 (0 = as fast as possible)")
+    if not (math.isfinite(window_s) and window_s > 0):
+        raise InputError(f"--window-s {window_s}: must be a number of seconds > 0")
+    if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0):
+        raise InputError(f"--duration-s {duration_s}: must be a number of seconds > 0")
+    if baud <= 0:
+        raise InputError(f"--baud {baud}: must be a positive baud rate, e.g. 115200")
+
+
+def _live(
+    *,
+    vehicle,
+    serial,
+    baud,
+    tcp,
+    replay,
+    speed,
+    method,
+    receiver,
+    output,
+    calibration,
+    window_s,
+    duration_s,
+    quiet,
+    recover,
+    columns,
+    steer_csv,
+    steer_columns,
+    dbc,
+    time_offset,
+    overwrite,
+    state,
+) -> None:
     from gripsense.live import SerialSource, TcpSource, open_replay, run_live
     from gripsense.live import recover as do_recover
     from gripsense.live.display import LiveDisplay, render
-    from gripsense.live.runner import check_live_outputs, output_paths
+    from gripsense.live.recording import check_live_outputs, output_paths
+    from gripsense.live.sources import parse_host_port
 
     try:
         if recover is not None:
-            p = do_recover(recover, overwrite=overwrite)
-            say(f"recovered {p}")
+            state["phase"] = "recover"  # a signal now waits until the recovery is complete
+            rec = do_recover(recover, overwrite=overwrite)
+            say(f"recovered {rec['results']}: {rec['rows']} rows")
+            if rec["rejected"]:
+                n = len(rec["rejected"])
+                line, _, why = rec["rejected"][0]
+                say(
+                    f"note: {n} row{'s' if n > 1 else ''} could not be read (line {line}: {why}"
+                    f"{' …' if n > 1 else ''}); kept byte for byte in {rec['rejected_path']}"
+                )
             return
+        _check_numbers(speed, window_s, duration_s, baud)
         if sum(x is not None for x in (serial, tcp, replay)) != 1:
             raise InputError(
                 "give exactly one source: --serial DEV, --tcp HOST:PORT or --replay LOG"
             )
+        address = parse_host_port(tcp) if tcp is not None else None
         if vehicle is None:
             raise InputError("--vehicle car.toml is required")
         if steer_csv is not None and replay is None:
@@ -113,12 +203,14 @@ def live(
         if replay is not None:
             src = open_replay(replay, speed, log_options(columns, dbc, time_offset))
         elif tcp is not None:
-            host, _, port = tcp.rpartition(":")
-            if not host or not port.isdigit():
-                raise InputError(f"--tcp {tcp!r}: expected HOST:PORT")
-            src = TcpSource(host, int(port))
+            src = TcpSource(*address)
         else:
             src = SerialSource(serial, baud)
+        common = {
+            "stop_when": lambda _stats: state["signal"],
+            "command": command_line(),
+        }
+        state["phase"] = "run"
         if quiet:
             res = run_live(
                 src,
@@ -131,6 +223,7 @@ def live(
                 overwrite=overwrite,
                 steer_csv=steer_csv,
                 steer_columns=steer_columns,
+                **common,
             )
         else:
             with LiveDisplay(console) as disp:
@@ -146,9 +239,12 @@ def live(
                     overwrite=overwrite,
                     steer_csv=steer_csv,
                     steer_columns=steer_columns,
+                    **common,
                 )
     except GripsenseError as e:
+        state["phase"] = "done"
         fail(e)
+    state["phase"] = "done"
     rep, st = res["report"], res["stats"]
     if quiet:
         console.print(render(res["summary"], st, _Ing(rep), src))

@@ -7,15 +7,15 @@ SIGKILL the file is readable up to the last flush. With a ``.parquet`` output th
 ``<output>.partial.csv`` while running and are converted at a clean stop; :func:`recover`
 converts what a killed run left. SIGINT/SIGTERM stop the loop cleanly (exit 0).
 
-Nothing is overwritten by accident (:func:`check_live_outputs`): existing outputs need
-``overwrite`` and must be gripsense's own live outputs; an unrecovered ``.partial.csv`` is never
-touched until it is recovered; no output may be an input.
+Nothing is overwritten by accident, and one output has one run at a time: the files, their
+record (``<output>.gripsense.json``, the fingerprint of every byte written), the locks and
+:func:`recover` are :mod:`gripsense.live.recording`'s. SIGINT/SIGTERM are taken over before
+anything is created, so a signal at any moment of the run gives complete, recorded files.
 """
 
 from __future__ import annotations
 
 import itertools
-import os
 import signal
 import time
 from collections import deque
@@ -25,12 +25,21 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from gripsense.errors import GripsenseError, InputError
+from gripsense.errors import GripsenseError
 from gripsense.estimate.results import UNIT_COLUMNS
-from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
+from gripsense.live.recording import (
+    LIVE_KIND,
+    RESULT_COLUMNS,
+    Recorder,
+    check_live_outputs,
+    output_paths,
+    recover,
+)
 from gripsense.live.stream_ingest import AutoIngest
 
 __all__ = [
+    "LIVE_KIND",
+    "RESULT_COLUMNS",
     "LiveFriction",
     "LiveStats",
     "Recorder",
@@ -39,8 +48,6 @@ __all__ = [
     "recover",
     "run_live",
 ]
-
-RESULT_COLUMNS = ["wall_time_s", "t_s", "time_utc", *UNIT_COLUMNS, "stale"]
 
 DISPLAY_S = 0.25
 """Refresh interval of the display, on the wall clock [s] (the rows follow the log's clock)."""
@@ -251,186 +258,6 @@ class LiveStats:
     front_axle: str = ""  # why the front axle is not estimated ("" when it has steering)
 
 
-LIVE_KIND = "live"
-
-
-def output_paths(output: str | Path) -> dict[str, Path]:
-    """Files a live run with *output* writes: ``results`` (the output), ``rows`` (where rows go
-    while running: the output itself for CSV, ``<output>.partial.csv`` for Parquet) and ``raw``
-    (``<output>.raw.nmea``).
-
-    Parameters
-    ----------
-    output : str or Path
-        ``.csv`` or ``.parquet`` results file.
-
-    Returns
-    -------
-    dict
-        Name → path.
-    """
-    output = Path(output)
-    suffix = output.suffix.lower()
-    if suffix not in (".csv", ".parquet"):
-        raise InputError(f"{output}: use a .csv or .parquet output")
-    rows = output if suffix == ".csv" else output.with_name(output.name + ".partial.csv")
-    return {"results": output, "rows": rows, "raw": output.with_name(output.name + ".raw.nmea")}
-
-
-def check_live_outputs(
-    output: str | Path, *, overwrite: bool = False, inputs: list[str | Path] = ()
-) -> None:
-    """Refuse a live output that would destroy something (see the module documentation).
-
-    Parameters
-    ----------
-    output : str or Path
-        ``.csv`` or ``.parquet`` results file.
-    overwrite : bool
-        Replace the outputs of an earlier live run with the same name.
-    inputs : list
-        Input files (a replayed log): never written.
-    """
-    paths = output_paths(output)
-    part = paths["rows"]
-    if part != paths["results"] and part.exists():
-        raise InputError(
-            f"{part}: an earlier run was stopped before it finished; recover it first "
-            f"(gripsense live --recover {paths['results']}) or move it away"
-        )
-    header = RESULT_COLUMNS if paths["results"].suffix.lower() == ".csv" else None
-    check_output_file(
-        paths["results"], LIVE_KIND, overwrite=overwrite, inputs=list(inputs), header=header
-    )
-    raw = paths["raw"]
-    for inp in inputs:
-        if raw.exists() and raw.resolve() == Path(inp).resolve():
-            raise InputError(f"{raw}: is also an input; give -o another name")
-    if raw.exists() and not overwrite:
-        raise InputError(f"{raw}: exists; add --overwrite to replace it, or give -o another name")
-
-
-class Recorder:
-    """Append-only result CSV plus the raw bytes; periodic flush + fsync.
-
-    Parameters
-    ----------
-    output : str or Path or None
-        ``.csv`` or ``.parquet`` results file (None: record nothing).
-    flush_s : float
-        Flush interval [s].
-    overwrite : bool
-        Replace the outputs of an earlier live run with the same name.
-    inputs : list
-        Input files, never written (:func:`check_live_outputs`).
-    """
-
-    def __init__(
-        self,
-        output: str | Path | None,
-        flush_s: float = 1.0,
-        *,
-        overwrite: bool = False,
-        inputs: list[str | Path] = (),
-    ):
-        self.output = None if output is None else Path(output)
-        self.flush_s = flush_s
-        self._last_flush = time.monotonic()
-        self._csv = self._raw = None
-        if self.output is None:
-            return
-        check_live_outputs(self.output, overwrite=overwrite, inputs=inputs)
-        paths = output_paths(self.output)
-        self.csv_path, self.raw_path = paths["rows"], paths["raw"]
-        mode = "w" if overwrite else "x"  # "x": never truncate a file that appeared meanwhile
-        try:
-            self.csv_path.parent.mkdir(parents=True, exist_ok=True)
-            self._csv = open(self.csv_path, mode, encoding="utf-8", newline="")
-            self._raw = open(self.raw_path, mode + "b")
-        except OSError as e:
-            raise InputError(f"{self.output}: cannot write ({e.strerror or e})") from None
-        self._csv.write(",".join(RESULT_COLUMNS) + "\n")
-
-    def raw(self, data: bytes) -> None:
-        """Append received bytes to the raw recording.
-
-        Parameters
-        ----------
-        data : bytes
-            The bytes as received.
-        """
-        if self._raw is not None and data:
-            self._raw.write(data)
-
-    def rows(self, df: pd.DataFrame) -> None:
-        """Append result rows to the results file.
-
-        Parameters
-        ----------
-        df : pandas.DataFrame
-            Rows with (some of) :data:`RESULT_COLUMNS`.
-        """
-        if self._csv is not None and len(df):
-            df.reindex(columns=RESULT_COLUMNS).to_csv(self._csv, header=False, index=False)
-
-    def maybe_flush(self, force: bool = False) -> None:
-        """Flush and fsync the files when ``flush_s`` has passed (or *force*).
-
-        Parameters
-        ----------
-        force : bool
-            Flush now.
-        """
-        now = time.monotonic()
-        if force or now - self._last_flush >= self.flush_s:
-            for fh in (self._csv, self._raw):
-                if fh is not None:
-                    fh.flush()
-                    os.fsync(fh.fileno())
-            self._last_flush = now
-
-    def close(self) -> None:
-        """Flush, close, and convert the rows to Parquet for a ``.parquet`` output."""
-        self.maybe_flush(force=True)
-        for fh in (self._csv, self._raw):
-            if fh is not None:
-                fh.close()
-        if self.output is not None and self.output.suffix.lower() == ".parquet":
-            recover(self.output, overwrite=True)
-
-
-def recover(output: str | Path, *, overwrite: bool = False) -> Path:
-    """Convert ``<output>.partial.csv`` (left by a running or killed live session) to
-    ``output`` (.parquet); return the path.
-
-    Parameters
-    ----------
-    output : str or Path
-        The ``.parquet`` output of the killed run.
-    overwrite : bool
-        Replace an existing ``output`` (gripsense's own live output only).
-
-    Returns
-    -------
-    Path
-        The Parquet file.
-    """
-    output = Path(output)
-    part = output_paths(output)["rows"]
-    if part == output:
-        raise InputError(f"{output}: a .csv output needs no recovery (it is written as it goes)")
-    if not part.exists():
-        raise InputError(f"{part}: nothing to recover")
-    check_output_file(output, LIVE_KIND, overwrite=overwrite)
-    try:
-        df = pd.read_csv(part, on_bad_lines="skip")
-    except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as e:
-        raise InputError(f"{part}: cannot be read back ({e})") from None
-    write_file_atomic(output, lambda tmp: write_parquet(df, tmp, LIVE_KIND))
-    part.unlink()
-    return output
-
-
 def _note_epochs(stats: LiveStats, ep: pd.DataFrame) -> None:
     t = ep["t_s"].to_numpy(float)
     t = t[np.isfinite(t)]
@@ -466,8 +293,10 @@ def run_live(
     overwrite: bool = False,
     steer_csv: str | Path | None = None,
     steer_columns: str | None = None,
+    stop_when=None,
+    command: str = "",
 ) -> dict:
-    """Run until the source ends, ``duration_s`` passes, or SIGINT/SIGTERM.
+    """Run until the source ends, ``duration_s`` passes, *stop_when* says so, or SIGINT/SIGTERM.
 
     Parameters
     ----------
@@ -502,6 +331,11 @@ def run_live(
         replay's, ``source.steering``), if any.
     steer_columns : str, optional
         Column mapping of *steer_csv*.
+    stop_when : callable, optional
+        ``stop_when(stats)`` is asked after every read; a true value stops the run (a string
+        is the reason reported as ``stopped_by``; tests, embedding).
+    command : str
+        The command line, kept in the output's record.
 
     Returns
     -------
@@ -510,27 +344,49 @@ def run_live(
         (what reading the steering CSV noted), ``front_axle`` (why the front axle was not
         estimated, ``""`` when it had a steering channel) and ``steering`` (the channel read).
     """
-    reads_epochs = hasattr(source, "read_epochs")  # a VBOX, MDF4 or CAN replay
-    ingest = source.ingest if reads_epochs else AutoIngest(source=getattr(source, "name", "<live>"))
-    est = LiveFriction(vehicle, method, window_s, receiver=receiver, steer_csv=steer_csv,
-                       steer_columns=steer_columns,
-                       steering=getattr(source, "steering", None))  # fmt: skip
-    rec = Recorder(
-        output,
-        flush_s,
-        overwrite=overwrite,
-        inputs=[p for p in [getattr(source, "path", None)] if p],
-    )
-    stats = LiveStats(front_axle=est.front_axle)
-    stop = {"why": None}
+    stop: dict = {"why": None}
 
     def _stop(signum, _frame):
         stop["why"] = signal.Signals(signum).name
 
     old = {}
-    if handle_signals:
+    if handle_signals:  # first: a signal from here on stops the loop, never the setup midway
         for s in (signal.SIGINT, signal.SIGTERM):
             old[s] = signal.signal(s, _stop)
+    rec = None
+    try:
+        reads_epochs = hasattr(source, "read_epochs")  # a VBOX, MDF4 or CAN replay
+        ingest = (
+            source.ingest if reads_epochs else AutoIngest(source=getattr(source, "name", "<live>"))
+        )
+        est = LiveFriction(vehicle, method, window_s, receiver=receiver, steer_csv=steer_csv,
+                           steer_columns=steer_columns,
+                           steering=getattr(source, "steering", None))  # fmt: skip
+        rec = Recorder(
+            output,
+            flush_s,
+            overwrite=overwrite,
+            inputs=[p for p in [getattr(source, "path", None), steer_csv] if p],
+            command=command,
+        )
+        return _loop(source, ingest, est, rec, stop, update_s=update_s, stale_s=stale_s,
+                     duration_s=duration_s, display=display, on_epochs=on_epochs,
+                     stop_when=stop_when)  # fmt: skip
+    finally:
+        try:
+            if rec is not None:
+                rec.close()
+        finally:
+            source.close()
+            for s, h in old.items():
+                signal.signal(s, h)
+
+
+def _loop(source, ingest, est, rec, stop, *, update_s, stale_s, duration_s, display, on_epochs,
+          stop_when) -> dict:  # fmt: skip
+    """The loop of :func:`run_live` (its files and signals are set up and closed there)."""
+    reads_epochs = hasattr(source, "read_epochs")
+    stats = LiveStats(front_axle=est.front_axle)
 
     summary = pd.DataFrame()
     # updates follow the log's own clock (every update_s of epoch time), so a replay gives the
@@ -594,35 +450,32 @@ def run_live(
             clock["last"] = float(t[np.isfinite(t)][-1])
 
     t_end = None if duration_s is None else time.monotonic() + duration_s
-    try:
-        while stop["why"] is None:
-            if reads_epochs:
-                ep = source.read_epochs(0.05)
-                if len(ep):
-                    stats.last_data = time.monotonic()
-                    take(ep)
-            data = source.read(0.05) if not reads_epochs else b""
-            now = time.monotonic()
-            if data:
-                stats.bytes += len(data)
-                stats.last_data = now
-                rec.raw(data)
-                take(ingest.feed(data))
-            show(now)
-            rec.maybe_flush()
-            if source.eof and not data:
-                stop["why"] = "end of input"
-            if t_end is not None and now >= t_end:
-                stop["why"] = "duration"
-        take(ingest.finish())
-        clock["pending"] = True  # the end: one last update on everything
-        flush_pending()
-        show(time.monotonic(), force=True)
-    finally:
-        rec.close()
-        source.close()
-        for s, h in old.items():
-            signal.signal(s, h)
+    while stop["why"] is None:
+        if reads_epochs:
+            ep = source.read_epochs(0.05)
+            if len(ep):
+                stats.last_data = time.monotonic()
+                take(ep)
+        data = source.read(0.05) if not reads_epochs else b""
+        now = time.monotonic()
+        if data:
+            stats.bytes += len(data)
+            stats.last_data = now
+            rec.raw(data)
+            take(ingest.feed(data))
+        show(now)
+        rec.maybe_flush()
+        if source.eof and not data:
+            stop["why"] = "end of input"
+        if t_end is not None and now >= t_end:
+            stop["why"] = "duration"
+        why = stop_when(stats) if stop_when is not None and stop["why"] is None else None
+        if why:
+            stop["why"] = why if isinstance(why, str) else "stop_when"
+    take(ingest.finish())
+    clock["pending"] = True  # the end: one last update on everything
+    flush_pending()
+    show(time.monotonic(), force=True)
     return {
         "report": ingest.report,
         "stats": stats,

@@ -17,7 +17,14 @@ from pathlib import Path
 from gripsense.errors import InputError
 from gripsense.io.nmea.reader import read_log_bytes
 
-__all__ = ["EpochReplay", "ReplaySource", "SerialSource", "TcpSource", "open_replay"]
+__all__ = [
+    "EpochReplay",
+    "ReplaySource",
+    "SerialSource",
+    "TcpSource",
+    "open_replay",
+    "parse_host_port",
+]
 
 _TIME = re.compile(rb"^\s*\$..(?:GGA|RMC|ZDA),(\d{2})(\d{2})(\d{2}(?:\.\d*)?)")
 _BACKOFF = (0.1, 5.0)
@@ -270,6 +277,58 @@ def open_replay(path: str | Path, speed: float = 1.0, log_options=None):
     return EpochReplay(path, speed=speed, log_options=log_options)
 
 
+_HOST_NAME = re.compile(
+    r"^(?=.{1,253}$)[A-Za-z0-9_](?:[A-Za-z0-9_-]{0,62})(?:\.[A-Za-z0-9_-]{1,63})*\.?$"
+)
+
+
+def _check_host(host: str, where: str) -> str:
+    import ipaddress
+
+    if host.startswith("[") and host.endswith("]"):
+        try:
+            return str(ipaddress.IPv6Address(host[1:-1]))
+        except ValueError:
+            raise InputError(f"{where}: {host} is not an IPv6 address") from None
+    if ":" in host:
+        raise InputError(f"{where}: write an IPv6 address in brackets, e.g. [::1]:10110")
+    if not _HOST_NAME.match(host) or host.strip(".").split(".")[-1].startswith("-"):
+        raise InputError(f"{where}: {host!r} is not a host name or address")
+    return host
+
+
+def _check_port(port: object, where: str) -> int:
+    text = str(port)
+    if not (text.isascii() and text.isdigit() and 1 <= int(text) <= 65535):
+        raise InputError(f"{where}: the port must be a number from 1 to 65535, not {port!r}")
+    return int(text)
+
+
+def parse_host_port(text: str) -> tuple[str, int]:
+    """Host and port of ``HOST:PORT`` (an IPv6 address in brackets: ``[::1]:10110``).
+
+    Parameters
+    ----------
+    text : str
+        The address as given to ``--tcp``.
+
+    Returns
+    -------
+    tuple
+        ``(host, port)``; the port is 1-65535.
+
+    Raises
+    ------
+    InputError
+        One line naming what is wrong (no port, a port out of range, a malformed host).
+    """
+    where = f"--tcp {text!r}"
+    host, sep, port = text.strip().rpartition(":")
+    if not sep or not host or not port:
+        raise InputError(f"{where}: expected HOST:PORT, e.g. 192.168.1.10:10110")
+    return _check_host(host, where), _check_port(port, where)
+
+
 class TcpSource:
     """TCP client for receivers that stream NMEA over the network (a plain socket: pyserial's
     ``socket://`` drops bytes received while opening).
@@ -285,7 +344,8 @@ class TcpSource:
     """
 
     def __init__(self, host: str, port: int, *, connect_timeout: float = 2.0):
-        self.host, self.port = host, int(port)
+        where = f"tcp {host}:{port}"
+        self.host, self.port = _check_host(str(host), where), _check_port(port, where)
         self.name = f"tcp://{host}:{port}"
         self._sock: socket.socket | None = None
         self._next_try = 0.0
@@ -317,7 +377,7 @@ class TcpSource:
             self._connected_once = True
             self._backoff = _BACKOFF[0]
             self.state = "connected"
-        except OSError:
+        except (OSError, OverflowError, UnicodeError):
             self.state = f"reconnecting in {self._backoff:.1f} s"
             self._next_try = now + self._backoff
             self._backoff = min(self._backoff * 2, _BACKOFF[1])
