@@ -28,7 +28,7 @@ from gripsense.estimate.options import FrictionOptions, WindowOptions
 from gripsense.estimate.results import FrictionResult
 from gripsense.estimate.wheels import motion_from_epochs
 from gripsense.io.log import LogOptions, log_steer, read_log
-from gripsense.io.steer import read_steer_csv, steer_at, with_torque
+from gripsense.io.steer import read_steer_csv, steer_at, steer_overlap, with_torque
 from gripsense.io.table import describe_columns
 
 __all__ = [
@@ -113,7 +113,8 @@ def log_steering(
     steering = steering or {}
     if steer_csv is not None:
         ch = read_steer_csv(steer_csv, steering_ratio=vehicle.steering_ratio, columns=steer_columns)
-        notes = [ch.attrs["rows"]["note"]] if ch.attrs["rows"]["note"] else []
+        overlap = steer_overlap(ch, epochs["t_s"].to_numpy(float), steer_csv)  # none: an error
+        notes = [n for n in (ch.attrs["rows"]["note"], overlap) if n]
         if steering:
             notes.append(
                 f"the log's steering channel {steering['channel']!r} not used: --steer-csv given"

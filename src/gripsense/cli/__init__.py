@@ -24,6 +24,7 @@ import typer
 from rich.text import Text
 
 from gripsense.cli._common import err_console
+from gripsense.cli._numbers import FiniteGroup
 from gripsense.cli.calibrate import calibrate
 from gripsense.cli.fleet import fleet
 from gripsense.cli.friction import friction, report_cmd, stiffness
@@ -38,6 +39,7 @@ from gripsense.errors import GripsenseError
 __all__ = ["app", "main"]
 
 app = typer.Typer(
+    cls=FiniteGroup,  # no command takes nan or inf for a number
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,

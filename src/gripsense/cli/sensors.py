@@ -77,6 +77,8 @@ def brake_mu(
                 columns=None if used_old else (columns or "auto"),
             )
             say(f"{f.name}: columns {describe_columns(acc.attrs['columns'])}")
+            if acc.attrs["rows"]["note"]:  # rows not used (inf, no ax): counted, said
+                say(acc.attrs["rows"]["note"])
             res = estimate_braking(acc, source=str(f))
             frames.append(res.events.assign(file=f.name))
             runs.append((acc, res))
@@ -174,6 +176,8 @@ def camber(
         else:
             d = read_laser_csv(laser, columns=columns)
         say(f"{laser.name}: columns {describe_columns(d.attrs['columns'])}")
+        if d.attrs["rows"]["note"]:  # rows with an inf reading: rejected, counted, said
+            say(d.attrs["rows"]["note"])
         off_o, off_i = calibration_offsets(d, calibrate_s) if calibrate_s > 0 else (0.0, 0.0)
         d["camber_deg"] = np.rad2deg(
             camber_from_lasers(

@@ -12,7 +12,8 @@ import numpy as np
 import typer
 
 from gripsense.cli._common import Columns, Overwrite, command_line, console, fail, say
-from gripsense.errors import GripsenseError, InputError
+from gripsense.cli._numbers import finite_numbers
+from gripsense.errors import GripsenseError
 from gripsense.io.output_folder import ResultWriter, check_output_folder
 
 steering_app = typer.Typer(
@@ -23,10 +24,7 @@ steering_app = typer.Typer(
 
 
 def _floats(text: str, what: str) -> list[float]:
-    try:
-        return [float(x) for x in text.split(",") if x.strip()]
-    except ValueError:
-        raise InputError(f"--{what}: {text!r} is not a comma-separated list of numbers") from None
+    return finite_numbers(text, f"--{what}")  # each a finite number, else one line naming it
 
 
 @steering_app.command("identify")

@@ -12,6 +12,7 @@ from rich.table import Table
 from rich.text import Text
 
 from gripsense.cli._common import Columns, Overwrite, console, fail, say
+from gripsense.cli._numbers import finite_numbers
 from gripsense.errors import GripsenseError, InputError
 from gripsense.io.output_folder import check_output_file, write_file_atomic
 from gripsense.io.table import Quantity
@@ -26,7 +27,10 @@ tyre_app = typer.Typer(
 
 
 def parse_range(text: str, what: str) -> np.ndarray:
-    """``"-12:12:0.5"`` (start:stop:step, stop included), ``"2000,4000"`` or ``"4000"``."""
+    """``"-12:12:0.5"`` (start:stop:step, stop included), ``"2000,4000"`` or ``"4000"``; every
+    number finite.
+    """
+    finite_numbers(text, f"--{what}", sep=",:")  # nan, inf: one line naming the option
     try:
         if ":" in text:
             parts = [float(p) for p in text.split(":")]

@@ -9,16 +9,29 @@ import pandas as pd
 
 from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, channel_rows, map_table, read_table
+from gripsense.io.table import (
+    ACCEL_LIMIT,
+    ACCEL_TYPICAL,
+    Quantity,
+    channel_rows,
+    map_table,
+    read_table,
+)
 
 __all__ = ["ACCEL_QUANTITIES", "read_accel_csv"]
 
 ACCEL_QUANTITIES = {
     "t": Quantity("time", ("t", "time", "timestamp")),
-    "ax": Quantity("acceleration", ("ax", "a_x", "acc_x", "accel_x")),
-    "ay": Quantity("acceleration", ("ay", "a_y", "acc_y", "accel_y")),
-    "az": Quantity("acceleration", ("az", "a_z", "acc_z", "accel_z")),
-}
+    **{
+        k: Quantity("acceleration", names, ACCEL_LIMIT, ACCEL_TYPICAL,
+                    meaning="a vehicle's accelerometer")
+        for k, names in (
+            ("ax", ("ax", "a_x", "acc_x", "accel_x")),
+            ("ay", ("ay", "a_y", "acc_y", "accel_y")),
+            ("az", ("az", "a_z", "acc_z", "accel_z")),
+        )
+    },
+}  # fmt: skip
 """Header names (before the unit suffix) that ``read_accel_csv`` maps without being told."""
 
 
@@ -72,10 +85,12 @@ def read_accel_csv(
         old = {"t": (t_col, time_scale), "ax": (ax_col, k * ax_sign), "ay": (ay_col, k)}
         columns = {key: cf for key, cf in {**old, "az": (az_col, k)}.items() if cf[0] is not None}
     df = read_table(path)
+    rejected: dict[str, np.ndarray] = {}
     v, spec = map_table(
-        df, path, ACCEL_QUANTITIES, columns, required=("t", "ax"), example="t=HEADER:s,ax=HEADER:g"
-    )
-    keep, acc = channel_rows(df, path, v, spec, needed=("ax",))
+        df, path, ACCEL_QUANTITIES, columns, required=("t", "ax"), example="t=HEADER:s,ax=HEADER:g",
+        rejected=rejected,
+    )  # fmt: skip
+    keep, acc = channel_rows(df, path, v, spec, needed=("ax",), rejected=rejected)
     nan = np.full(len(df), np.nan)
     res = pd.DataFrame(
         {"t_s": v["t"], "ax": v["ax"], "ay": v.get("ay", nan), "az": v.get("az", nan)}

@@ -41,7 +41,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.table import UNIT_DIMENSIONS, UNITS
+from gripsense.io.table import (
+    ROAD_WHEEL_LIMIT,
+    SPEED_LIMIT,
+    UNIT_DIMENSIONS,
+    UNITS,
+    YAW_RATE_LIMIT,
+)
 
 __all__ = [
     "CHANNEL_KEYS",
@@ -69,29 +75,41 @@ class ChannelKey:
         What it measures (a value of :data:`gripsense.io.table.UNIT_DIMENSIONS`).
     to_column : float
         Factor from SI to the column's unit (degrees for angles stored in degrees) [-].
+    limit : float, optional
+        The largest |value| a sample can plausibly have, in SI [SI]: a larger one says the
+        channel's unit is wrong (degrees stated or mapped as ``rad``) — an error naming the
+        channel and the unit that fits.
+    meaning : str
+        What it is, for messages.
     """
 
     column: str
     dimension: str
     to_column: float = 1.0
+    limit: float | None = None
+    meaning: str = ""
 
 
 _DEG = 180.0 / np.pi
 CHANNEL_KEYS = {
     "heading": ChannelKey("heading_deg", "angle", _DEG),
     "course": ChannelKey("course_deg", "angle", _DEG),
-    "speed": ChannelKey("speed_mps", "speed"),
+    "speed": ChannelKey("speed_mps", "speed", limit=SPEED_LIMIT, meaning="a vehicle's speed"),
     "lat": ChannelKey("lat_deg", "angle", _DEG),
     "lon": ChannelKey("lon_deg", "angle", _DEG),
     "alt": ChannelKey("alt_m", "length"),
-    "yaw_rate": ChannelKey("yaw_rate_rps", "angular rate"),
+    "yaw_rate": ChannelKey(
+        "yaw_rate_rps", "angular rate", limit=YAW_RATE_LIMIT, meaning="a vehicle's yaw rate"
+    ),
     "pitch": ChannelKey("pitch_deg", "angle", _DEG),
     "roll": ChannelKey("roll_deg", "angle", _DEG),
-    "steer": ChannelKey("steer_rad", "angle"),
-    "steering_wheel": ChannelKey("steering_wheel_rad", "angle"),
-    "torque": ChannelKey("torque_nm", "torque"),
-    "assist": ChannelKey("assist_nm", "torque"),
-    "rack": ChannelKey("rack_n", "force"),
+    "steer": ChannelKey("steer_rad", "angle", limit=ROAD_WHEEL_LIMIT, meaning="a road-wheel angle"),
+    "steering_wheel": ChannelKey(
+        "steering_wheel_rad", "angle", limit=20.0, meaning="a steering-wheel angle"
+    ),
+    "torque": ChannelKey("torque_nm", "torque", limit=200.0, meaning="a steering torque"),
+    "assist": ChannelKey("assist_nm", "torque", limit=200.0, meaning="a steering torque"),
+    "rack": ChannelKey("rack_n", "force", limit=1e5, meaning="a rack force"),
 }
 """``--columns`` key of a log -> the epoch-table column it fills."""
 
@@ -199,7 +217,9 @@ class ChannelSpec:
         Returns
         -------
         numpy.ndarray
-            Values [the column's unit].
+            Values [the column's unit]; a sample that is not a finite number is NaN. A value
+            beyond what the unit makes plausible (:attr:`ChannelKey.limit`) is an error naming
+            the channel, the unit and the unit that would fit.
         """
         ck = CHANNEL_KEYS[self.key]
         factor = self.factor
@@ -216,7 +236,43 @@ class ChannelSpec:
                 f"({self.key}={self.channel}:UNIT, e.g. "
                 f"{self.key}={self.channel}:{_EXAMPLE[ck.dimension]})"
             )
-        return np.asarray(raw, dtype=float) * (self.sign * factor * ck.to_column)
+        raw = np.asarray(raw, dtype=float)
+        raw = np.where(np.isfinite(raw), raw, np.nan)
+        self._check_plausible(raw, factor, file_unit, where)
+        return raw * (self.sign * factor * ck.to_column)
+
+    def _check_plausible(
+        self, raw: np.ndarray, factor: float, file_unit: str | None, where: str
+    ) -> None:
+        ck = CHANNEL_KEYS[self.key]
+        if ck.limit is None or not np.isfinite(raw).any():
+            return
+        big = float(np.nanmax(np.abs(raw)))
+        if big * factor <= ck.limit:
+            return
+        unit = file_unit
+        if self.factor is not None:
+            same = [
+                u for u, f in UNITS.items() if f == factor and UNIT_DIMENSIONS[u] == ck.dimension
+            ]
+            unit = same[0] if same else f"× {factor:g}"
+        told = "as mapped by --columns" if self.factor is not None else "as the file states"
+        fits = [
+            u
+            for u, d in UNIT_DIMENSIONS.items()
+            if d == ck.dimension and big * UNITS[u] <= ck.limit and "/" not in u
+        ]
+        how = (
+            f"if it is in {' or '.join(fits)}, map it with --columns "
+            f"{self.key}={self.channel}:{fits[0]}"
+            if fits
+            else "check the channel and its unit"
+        )
+        raise InputError(
+            f"{where}: channel {self.channel!r} ({self.key}): {big:.4g} [{unit}, {told}] is "
+            f"{big * factor:.4g} in SI, more than {ck.meaning} can be ({ck.limit:g}); the unit "
+            f"is wrong or the channel is; {how}"
+        )
 
 
 _EXAMPLE = {

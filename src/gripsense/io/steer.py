@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.table import Quantity, channel_rows, map_table, read_table
+from gripsense.io.table import ROAD_WHEEL_LIMIT, Quantity, channel_rows, map_table, read_table
 
 __all__ = [
     "STEERING_TORQUE",
@@ -21,19 +21,32 @@ __all__ = [
     "channel_mean_at",
     "read_steer_csv",
     "steer_at",
+    "steer_overlap",
     "with_torque",
 ]
 
 
+STEERING_WHEEL_LIMIT = 20.0
+"""The largest steering-wheel angle [rad] (1146°: more than 3 turns from the centre)."""
+TORQUE_LIMIT = 200.0
+"""The largest steering torque at the steering wheel, column or assist [N m]."""
+RACK_LIMIT = 1e5
+"""The largest rack force [N]."""
+
 STEER_QUANTITIES = {
     "t": Quantity("time", ("t", "time")),
-    "road_wheel": Quantity("angle", ("road_wheel", "steer", "delta")),
-    "steering_wheel": Quantity("angle", ("steering_wheel", "handwheel", "swa")),
-    "torque": Quantity("torque", ("torque", "column_torque", "steering_torque")),
-    "assist": Quantity("torque", ("assist", "assist_torque")),
-    "rack": Quantity("force", ("rack", "rack_force")),
-}
-"""The keys of a steering channel and the header names mapped without being told."""
+    "road_wheel": Quantity("angle", ("road_wheel", "steer", "delta"), ROAD_WHEEL_LIMIT,
+                           meaning="a road-wheel angle"),
+    "steering_wheel": Quantity("angle", ("steering_wheel", "handwheel", "swa"),
+                               STEERING_WHEEL_LIMIT, meaning="a steering-wheel angle"),
+    "torque": Quantity("torque", ("torque", "column_torque", "steering_torque"), TORQUE_LIMIT,
+                       meaning="a steering torque"),
+    "assist": Quantity("torque", ("assist", "assist_torque"), TORQUE_LIMIT,
+                       meaning="a steering torque"),
+    "rack": Quantity("force", ("rack", "rack_force"), RACK_LIMIT, meaning="a rack force"),
+}  # fmt: skip
+"""The keys of a steering channel, the header names mapped without being told, and the
+largest |value| each can plausibly have (:class:`gripsense.io.table.Quantity`)."""
 
 TORQUE_COLUMNS = {"torque": "torque_nm", "assist": "assist_nm", "rack": "rack_n"}
 """Steering-torque keys -> the columns they fill (the epoch table's names): column torque and
@@ -86,6 +99,7 @@ def read_steer_csv(
     """
     path = Path(path)
     df = read_table(path)
+    rejected: dict[str, np.ndarray] = {}
     v, spec = map_table(
         df,
         path,
@@ -93,6 +107,7 @@ def read_steer_csv(
         columns,
         required=("t", (("road_wheel",), ("steering_wheel",))),
         example="t=time:s,road_wheel=delta:deg",
+        rejected=rejected,
     )
     if "road_wheel" in v and "steering_wheel" in v:
         v.pop("steering_wheel")  # the road-wheel angle needs no ratio
@@ -106,7 +121,15 @@ def read_steer_csv(
                 "vehicle file (or give the road-wheel angle, e.g. road_wheel_deg)"
             )
         angle = v["steering_wheel"] / steering_ratio
-    keep, acc = channel_rows(df, path, v, spec, flag="--steer-columns")
+        if np.nanmax(np.abs(angle), initial=0.0) > ROAD_WHEEL_LIMIT:
+            raise InputError(
+                f"{path}: the steering-wheel angle {np.nanmax(np.abs(v['steering_wheel'])):.4g} "
+                f"rad over steering_ratio {steering_ratio:g} is a road-wheel angle of "
+                f"{np.nanmax(np.abs(angle)):.4g} rad, more than a road wheel turns "
+                f"({ROAD_WHEEL_LIMIT:g} rad); check [vehicle] steering_ratio and the column's unit"
+            )
+    rejected.pop("steering_wheel" if "road_wheel" in v else "road_wheel", None)
+    keep, acc = channel_rows(df, path, v, spec, flag="--steer-columns", rejected=rejected)
     extra = {col: v[key][keep] for key, col in TORQUE_COLUMNS.items() if key in v}
     out = pd.DataFrame({"t_s": v["t"][keep], "steer_rad": angle[keep], **extra})
     out = out.sort_values("t_s", kind="stable").reset_index(drop=True)
@@ -216,6 +239,64 @@ def steer_at(steer: pd.DataFrame, t_s: np.ndarray) -> np.ndarray:
         Times [s] on the channel's clock.
     """
     return channel_at(steer, "steer_rad", t_s)
+
+
+COVERAGE_NOTE = 0.95
+"""Share of the log's epochs a steering channel must cover to pass without a note [-]."""
+
+
+def steer_overlap(steer: pd.DataFrame, t_s: np.ndarray, path: str | Path = "steering CSV") -> str:
+    """Whether a steering channel covers the log it was given for.
+
+    A channel whose times never overlap the log's (another clock: seconds of the day against
+    seconds from the log's start) would leave the front axle without a steer angle and without
+    a word; it is an error that names both time spans and the shift that would align their
+    starts. A channel that covers less than :data:`COVERAGE_NOTE` of the epochs gives a note.
+
+    Parameters
+    ----------
+    steer : pandas.DataFrame
+        Table of :func:`read_steer_csv`.
+    t_s : array_like
+        The log's epoch times [s] (``t_s`` of the epoch table).
+    path : str or Path
+        The steering CSV, for messages.
+
+    Returns
+    -------
+    str
+        A note when the channel covers only part of the log, else ``""``.
+
+    Raises
+    ------
+    InputError
+        When no epoch of the log falls within the channel's time span.
+    """
+    t = np.asarray(t_s, dtype=float)
+    t = t[np.isfinite(t)]
+    tc = steer["t_s"].to_numpy(float)[np.isfinite(steer["steer_rad"].to_numpy(float))]
+    tc = tc[np.isfinite(tc)]
+    if t.size == 0 or tc.size == 0:
+        return ""
+    inside = (t >= tc.min()) & (t <= tc.max())
+    spans = (
+        f"its times {tc.min():.6g}–{tc.max():.6g} s, the log's t_s {t.min():.6g}–{t.max():.6g} s "
+        "(seconds from the log's first epoch)"
+    )
+    name = Path(path).name
+    if not inside.any():
+        raise InputError(
+            f"{path}: the steering channel never overlaps the log ({spans}); put its time "
+            f"column on the log's clock (adding {t.min() - tc.min():.6g} s to it aligns the "
+            "starts), or leave --steer-csv out to estimate the rear axle only"
+        )
+    share = float(inside.mean())
+    if share < COVERAGE_NOTE:
+        return (
+            f"{name} covers {100 * share:.0f} % of the log's epochs ({spans}): the front axle "
+            "has a steer angle only there"
+        )
+    return ""
 
 
 def with_torque(epochs: pd.DataFrame, steer: pd.DataFrame) -> pd.DataFrame:

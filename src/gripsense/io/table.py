@@ -124,10 +124,22 @@ class Quantity:
         ``"angle"`` …; a value without a unit word is in SI (s, m/s, rad …).
     names : tuple of str
         Header names (lower case, before the unit suffix) mapped without being told.
+    limit : float, optional
+        The largest |value| one sample can plausibly have, in SI [SI]: a larger one says the
+        column's declared unit is wrong (degrees declared as ``:rad``), an error that names the
+        file, line, column and the unit that would fit (:func:`map_table`).
+    typical : float, optional
+        The largest plausible median of |value| over the column [SI] (an accelerometer's
+        gravity read as 9.81 g).
+    meaning : str
+        What it is, for messages (``"a road-wheel angle"``).
     """
 
     dimension: str
     names: tuple[str, ...]
+    limit: float | None = None
+    typical: float | None = None
+    meaning: str = ""
 
 
 def auto_columns(headers, quantities: dict[str, Quantity]) -> dict[str, str]:
@@ -336,6 +348,7 @@ def map_table(
     required: tuple[str | tuple[str, ...], ...] = (),
     example: str = "",
     non_numeric: str = "error",
+    rejected: dict[str, np.ndarray] | None = None,
 ) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     """The one column-mapping convention: values in SI for the quantities a command reads.
 
@@ -358,6 +371,11 @@ def map_table(
     non_numeric : {"error", "nan"}
         A cell that is not a number: an error naming file, line and column, or NaN (for a
         caller that counts such rows as rejected).
+    rejected : dict, optional
+        A caller that counts rejected rows passes a dict: a cell that is ``inf`` or ``-inf``
+        becomes NaN and ``rejected[key]`` the boolean mask of such rows
+        (:func:`channel_rows` counts them). Without it such a cell is an error naming the
+        file, line and column. Either way it is never a number.
 
     Returns
     -------
@@ -369,7 +387,9 @@ def map_table(
     Raises
     ------
     InputError
-        Naming the file and the key, with how to map it.
+        Naming the file and the key, with how to map it; or naming the file, line, column and
+        the unit that would fit when a value is implausible for the unit the column declares
+        (:attr:`Quantity.limit`, :attr:`Quantity.typical`).
     """
     auto = columns is None or (isinstance(columns, str) and columns == "auto")
     spec = auto_columns(df.columns, quantities) if auto else columns
@@ -405,8 +425,100 @@ def map_table(
             col = pd.to_numeric(df[name], errors="coerce").to_numpy(float)
         else:
             col = numeric_column(df, name, path)
+        inf = np.isinf(col)
+        if inf.any():
+            if rejected is None:
+                row = int(np.flatnonzero(inf)[0])
+                raise InputError(
+                    f"{path}: {_where(df, row)}, column {name!r} ({key}): "
+                    f"{df[name].iloc[row]!r} is not a finite number; correct the value, or "
+                    "leave the cell empty or delete the row"
+                )
+            rejected[key] = inf
+            col = np.where(inf, np.nan, col)
+        _check_plausible(df, path, key, name, quantities[key], col, factor, spec)
         values[key] = col * factor
     return values, _spec_dict(spec)
+
+
+def _declared_unit(spec: str | dict, key: str, dimension: str) -> str:
+    """The unit the mapping declares for *key*, for messages."""
+    v = _spec_dict(spec).get(key) if not isinstance(spec, dict) else spec.get(key)
+    if isinstance(v, tuple):
+        return f"× {float(v[1]):g} to SI"
+    if isinstance(v, str) and ":" in v:
+        return v.rsplit(":", 1)[1].strip()
+    return f"no unit: {_SI[dimension]}"
+
+
+_SI = {
+    "angle": "rad",
+    "angular rate": "rps",
+    "speed": "m/s",
+    "acceleration": "mps2",
+    "time": "s",
+    "force": "N",
+    "length": "m",
+    "mass": "kg",
+    "torque": "Nm",
+}
+
+
+def _check_plausible(
+    df: pd.DataFrame,
+    path: str | Path,
+    key: str,
+    name: str,
+    q: Quantity,
+    raw: np.ndarray,
+    factor: float,
+    spec: str | dict,
+) -> None:
+    """An error naming file, line, column and the unit that would fit when a column's values
+    are implausible for the unit it declares (:attr:`Quantity.limit`, :attr:`Quantity.typical`).
+    """
+    if q.limit is None and q.typical is None:
+        return
+    a = np.abs(raw)
+    fin = np.isfinite(a)
+    if not fin.any():
+        return
+    si = a * abs(factor)
+    declared = _declared_unit(spec, key, q.dimension)
+    what = q.meaning or key
+    si_unit = UNIT_LABELS.get(_SI[q.dimension], _SI[q.dimension])
+    big = max_raw = float(np.max(a[fin]))
+    problem = ""
+    if q.limit is not None and np.nanmax(si) > q.limit:
+        row = int(np.flatnonzero(fin & (si > q.limit))[0])
+        problem = (
+            f"{_where(df, row)}, column {name!r} ({key}): {raw[row]:.6g} [{declared}] is "
+            f"{si[row]:.4g} {si_unit}, more than {what} can be ({q.limit:g} {si_unit})"
+        )
+    elif q.typical is not None and np.median(si[fin]) > q.typical:
+        big = float(np.median(a[fin]))
+        problem = (
+            f"column {name!r} ({key}): its median |value| {big:.4g} [{declared}] is "
+            f"{big * abs(factor):.4g} {si_unit}, more than {what} holds ({q.typical:g} {si_unit})"
+        )
+    if not problem:
+        return
+    fits = [
+        u
+        for u, d in UNIT_DIMENSIONS.items()
+        if d == q.dimension
+        and (q.limit is None or max_raw * UNITS[u] <= q.limit)
+        and (q.typical is None or np.median(a[fin]) * UNITS[u] <= q.typical)
+        and "/" not in u
+    ]
+    head = name if not isinstance(spec, str) or f"-{name}" not in spec else f"-{name}"
+    how = (
+        f"if the column is in {' or '.join(fits)}, map it as {key}={head}:{fits[0]}"
+        + "".join(f" (or :{u})" for u in fits[1:])
+        if fits
+        else "check the column and the unit it is mapped with"
+    )
+    raise InputError(f"{path}: {problem}; the unit is wrong or the value is; {how}")
 
 
 def _header(value) -> str:
@@ -431,6 +543,7 @@ def channel_rows(
     time_key: str = "t",
     needed: tuple[str, ...] = (),
     flag: str = "--columns",
+    rejected: dict[str, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, dict]:
     """The rows of a table of several channels at their own rates (a row carries the channels
     sampled at its time and leaves the others empty), with their accounting.
@@ -457,6 +570,9 @@ def channel_rows(
         without them are counted like rows without any channel.
     flag : str
         The option that maps the columns, for messages.
+    rejected : dict, optional
+        Key -> mask of the rows whose cell was not a finite number (``inf``; ``rejected`` of
+        :func:`map_table`): those rows are not used and are counted apart.
 
     Returns
     -------
@@ -464,15 +580,19 @@ def channel_rows(
         Boolean mask of the rows used.
     accounting : dict
         ``rows`` (data rows), ``rows_used``, ``rows_without_channel`` (counted, not used),
-        ``first_line_without_channel`` (its line or row, ``""`` when none) and ``note`` (one
-        line saying so, ``""`` when every row was used).
+        ``first_line_without_channel`` (its line or row, ``""`` when none),
+        ``rows_not_finite`` (rows with an ``inf`` cell: rejected) and ``note`` (one line saying
+        so, ``""`` when every row was used).
     """
     n = len(df)
     t = values[time_key]
     chans = [k for k in values if k != time_key]
+    bad = np.zeros(n, bool)
+    for mask in (rejected or {}).values():
+        bad |= mask
     some = np.zeros(n, bool)
     for k in chans:
-        if not np.isfinite(values[k]).any():
+        if not np.isfinite(values[k]).any() and not bad.any():
             head = _header(mapping.get(k, k))
             raise InputError(
                 f"{path}: column {head!r} ({k}) has no value on any row; map another column "
@@ -487,41 +607,78 @@ def channel_rows(
             f"{path}: {_where(df, row)}, column {head!r} ({time_key}): no time for the row's "
             "values; fill it or delete the row"
         )
-    keep = some.copy()
+    keep = some & ~bad
     for k in needed:
         keep &= np.isfinite(values[k])
-    n_without = int(n - keep.sum())
+    n_bad = int(bad.sum())
+    n_without = int(n - keep.sum()) - n_bad
+    if not keep.any() and n_bad:
+        first = _where(df, int(np.flatnonzero(bad)[0]))
+        raise InputError(
+            f"{path}: every row with a value has one that is not a finite number (inf; the "
+            f"first at {first}); correct the values"
+        )
     acc = {
         "rows": n,
         "rows_used": int(keep.sum()),
         "rows_without_channel": n_without,
         "first_line_without_channel": "",
+        "rows_not_finite": n_bad,
         "note": "",
     }
+    notes = []
+    if n_bad:
+        heads = ", ".join(
+            _header(mapping.get(k, k)) for k, m in (rejected or {}).items() if m.any()
+        )
+        first = _where(df, int(np.flatnonzero(bad)[0]))
+        notes.append(
+            f"{Path(path).name}: {n_bad} of {n} rows with a value that is not a finite number "
+            f"(inf) in {heads}: rejected, not used (the first at {first})"
+        )
     if n_without:
-        first = _where(df, int(np.flatnonzero(~keep)[0]))
+        first = _where(df, int(np.flatnonzero(~keep & ~bad)[0]))
         heads = ", ".join(_header(mapping.get(k, k)) for k in (needed or chans))
         acc["first_line_without_channel"] = first
-        acc["note"] = (
+        notes.append(
             f"{Path(path).name}: {n_without} of {n} rows carry none of the mapped channels "
             f"({heads}): not used (the first at {first})"
             if not needed
             else f"{Path(path).name}: {n_without} of {n} rows without {heads}: not used "
             f"(the first at {first})"
         )
+    acc["note"] = "; ".join(notes)
     return keep, acc
 
 
+ROAD_WHEEL_LIMIT = 1.0
+"""The largest road-wheel steer angle a road vehicle has [rad] (57°; full lock is 35–45°)."""
+SPEED_LIMIT = 120.0
+"""The largest speed a measured vehicle plausibly has [m/s] (432 km/h)."""
+YAW_RATE_LIMIT = 5.0
+"""The largest yaw rate a vehicle plausibly has [rad/s] (286°/s; a spin reaches ~3 rad/s)."""
+ACCEL_LIMIT = 16 * G0
+"""The largest acceleration one sample plausibly has [m/s²] (a MEMS sensor's ±16 g range)."""
+ACCEL_TYPICAL = 2 * G0
+"""The largest median |acceleration| of a drive [m/s²] (a vehicle holds well under 2 g; an
+accelerometer's z axis reads 1 g)."""
+
 MOTION_QUANTITIES = {
     "t": Quantity("time", ("t", "time")),
-    "vx": Quantity("speed", ("vx", "v_x", "vel_x", "velforward")),
-    "vy": Quantity("speed", ("vy", "v_y", "vel_y", "vellateral")),
-    "speed": Quantity("speed", ("speed", "v", "vel")),
-    "slip": Quantity("angle", ("slip", "beta", "sideslip", "slip_angle")),
-    "yaw_rate": Quantity("angular rate", ("yaw_rate", "yawrate")),
-    "ay": Quantity("acceleration", ("ay", "a_y", "acc_y", "accel_y")),
-    "steer": Quantity("angle", ("steer", "delta", "steer_angle", "road_wheel")),
-}
+    "vx": Quantity("speed", ("vx", "v_x", "vel_x", "velforward"), SPEED_LIMIT,
+                   meaning="a vehicle's speed"),
+    "vy": Quantity("speed", ("vy", "v_y", "vel_y", "vellateral"), SPEED_LIMIT,
+                   meaning="a vehicle's speed"),
+    "speed": Quantity("speed", ("speed", "v", "vel"), SPEED_LIMIT, meaning="a vehicle's speed"),
+    "slip": Quantity("angle", ("slip", "beta", "sideslip", "slip_angle"), np.pi,
+                     meaning="a body slip angle"),
+    "yaw_rate": Quantity("angular rate", ("yaw_rate", "yawrate"), YAW_RATE_LIMIT,
+                         meaning="a vehicle's yaw rate"),
+    "ay": Quantity("acceleration", ("ay", "a_y", "acc_y", "accel_y"), ACCEL_LIMIT,
+                   ACCEL_TYPICAL, meaning="a vehicle's acceleration"),
+    "steer": Quantity("angle", ("steer", "delta", "steer_angle", "road_wheel"), ROAD_WHEEL_LIMIT,
+                      meaning="a road-wheel angle"),
+}  # fmt: skip
 """The motion table's keys, and the header names ``read_motion_table`` maps without being told."""
 
 

@@ -50,7 +50,8 @@ def camber_from_lasers(
     Returns
     -------
     array_like
-        Camber [rad], positive = top of the wheel outward.
+        Camber [rad], positive = top of the wheel outward; NaN where a distance (or an
+        offset) is not finite — an ``inf`` reading is not a 90° camber.
 
     References
     ----------
@@ -58,9 +59,13 @@ def camber_from_lasers(
     """
     if not spacing_m > 0:
         raise InputError(f"spacing_m = {spacing_m}: must be > 0 [m]")
+    if not np.isfinite(spacing_m):
+        raise InputError(f"spacing_m = {spacing_m}: must be a finite number [m]")
     o = as_float_array(d_outer, "d_outer") - offset_outer
     i = as_float_array(d_inner, "d_inner") - offset_inner
-    return restore(np.arctan2(o - i, spacing_m) + reference_camber_rad, d_outer)
+    diff = o - i
+    gamma = np.arctan2(np.where(np.isfinite(diff), diff, np.nan), spacing_m)
+    return restore(gamma + reference_camber_rad, d_outer)
 
 
 def calibration_offsets(lasers: pd.DataFrame, seconds: float) -> tuple[float, float]:
