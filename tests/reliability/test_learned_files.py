@@ -188,3 +188,55 @@ def test_a_hand_edited_calibration_is_one_line(slalom, tmp_path, body, word):
     assert "bad.calibration.toml" in out and word in out, out
     with pytest.raises(InputError):
         read_calibration(bad)
+
+
+# ---- tyre fit: the file it writes is one tyre eval and a vehicle's tyre_file read ----------
+
+
+@pytest.fixture(scope="module")
+def road_csv(tmp_path_factory):
+    """Cornering samples of the PAC94 example tyre (seed 002's coefficients)."""
+    import pandas as pd
+
+    from gripsense.physics.magic_formula.pac94 import pac94_lateral
+    from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
+
+    d = cornering_samples(
+        lambda fz, a, g: pac94_lateral(PAC94_EXAMPLE, fz, a, g), 600, rng=np.random.default_rng(1)
+    )
+    path = tmp_path_factory.mktemp("tyre") / "road.csv"
+    pd.DataFrame(
+        {
+            "alpha_deg": np.rad2deg(d.alpha_rad),
+            "gamma_deg": np.rad2deg(d.gamma_rad),
+            "fz_N": d.fz_N,
+            "fy_N": d.fy_N,
+        }
+    ).to_csv(path, index=False)
+    return path
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["-o", "{d}/fit.txt"], ("fit.txt", ".json")),  # JSON under a name no reader knows
+        (["-o", "{d}/fit.csv"], ("fit.csv", ".json")),
+        (["--model", "mf61", "--fnomin", "-4000", "-o", "{d}/fit.tir"], ("--fnomin",)),
+        (["--model", "mf61", "--fnomin", "1e-300", "-o", "{d}/fit.tir"], ("--fnomin",)),
+    ],
+)
+def test_tyre_fit_never_writes_a_file_tyre_eval_refuses(road_csv, tmp_path, args, words):
+    out = invoke("tyre", "fit", road_csv, *[a.replace("{d}", str(tmp_path)) for a in args],
+                 code=2)  # fmt: skip
+    lines = [ln for ln in out.splitlines() if ln.startswith("error:")]
+    assert len(lines) == 1 and all(w in lines[0] for w in words), out
+    assert "internal error" not in out and list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["fit.json", "fit.tir"])
+def test_what_tyre_fit_writes_tyre_eval_reads(road_csv, tmp_path, name):
+    out = tmp_path / name
+    model = ["--model", "mf61"] if name.endswith(".tir") else []
+    invoke("tyre", "fit", road_csv, *model, "-o", out)
+    text = invoke("tyre", "eval", out, "--fz", "4000", "--alpha-deg", "-4,4")
+    assert "4000" in text

@@ -181,6 +181,13 @@ def tyre_fit(
             raise InputError(f"--model {model!r}: use pac94 or mf61")
         if output is not None and output.suffix.lower() == ".tir" and model != "mf61":
             raise InputError("-o .tir needs --model mf61; PAC94 coefficients are written as .json")
+        if output is not None and output.suffix.lower() not in (".json", ".tir"):
+            raise InputError(  # tyre eval and a vehicle's tyre_file know a model by its suffix
+                f"-o {output}: give a .json (or .tir with --model mf61) file name, the suffixes "
+                "tyre eval and a vehicle's tyre_file read"
+            )
+        if fnomin is not None and not 100.0 <= fnomin <= 1e6:
+            raise InputError(f"--fnomin {fnomin:g}: a nominal load is 100–1e6 N")
         ins = [data] + ([template] if template else [])
         for out in (output, plot):
             if out is not None:
@@ -213,10 +220,7 @@ def tyre_fit(
                 "rejected": fit.extra["rows_rejected"],
             }
         if output is not None:
-            if output.suffix.lower() == ".tir":
-                write_file_atomic(output, lambda tmp: fit.to_tir(tmp, template=template))
-            else:
-                write_file_atomic(output, fit.to_json)
+            write_file_atomic(output, lambda tmp: _write_fit(fit, tmp, output, template))
         if plot is not None:
             from gripsense.report.tyre_figures import fit_figure
 
@@ -245,6 +249,26 @@ def tyre_fit(
         say(f"wrote {output}")
     if plot is not None:
         say(f"wrote {plot}")
+
+
+def _write_fit(fit, tmp: Path, output: Path, template: Path | None) -> None:
+    """Write the fit to *tmp* and read it back with the reader ``tyre eval`` and a vehicle's
+    ``tyre_file`` use: a file that reader refuses is never installed.
+    """
+    from gripsense.config.tyre_files import TYRE_FILE_TYPES
+
+    suffix = output.suffix.lower()
+    if suffix == ".tir":
+        fit.to_tir(tmp, template=template)
+    else:
+        fit.to_json(tmp)
+    try:
+        TYRE_FILE_TYPES[suffix](Path(tmp), False)
+    except InputError as e:
+        raise InputError(
+            f"{output}: not written: the fit would not read back as a tyre model "
+            f"({str(e).replace(str(tmp), output.name)})"
+        ) from None
 
 
 def _check_usable(fit, data: Path) -> None:
