@@ -24,8 +24,8 @@ from gripsense.errors import GripsenseError
 from gripsense.io import NmeaLog
 from gripsense.io.nmea.align import align_channels
 from gripsense.io.nmea.epochs import EPOCH_COLUMNS
-from gripsense.io.nmea.reader import MAX_LINES
 from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
+from gripsense.io.text import MAX_BYTES, MAX_LINES
 
 __all__ = ["check_table_output", "ingest", "print_ingest", "write_table"]
 
@@ -160,6 +160,10 @@ def ingest(
     max_lines: Annotated[
         int, typer.Option(help="read at most this many lines; the rest are counted (memory)")
     ] = MAX_LINES,
+    max_bytes: Annotated[
+        int,
+        typer.Option(help="read at most this many bytes (decompressed); beyond: as --max-lines"),
+    ] = MAX_BYTES,
     columns: Annotated[str | None, typer.Option("--columns", help=LOG_COLUMNS_HELP)] = None,
     dbc: Dbc = None,
     time_offset: TimeOffset = None,
@@ -173,7 +177,9 @@ def ingest(
     try:
         if output is not None:
             check_table_output(output, "epochs", EPOCH_COLUMNS, overwrite=overwrite, inputs=[log])
-        opts = log_options(columns, dbc, time_offset, strict=strict, max_lines=max_lines)
+        opts = log_options(
+            columns, dbc, time_offset, strict=strict, max_lines=max_lines, max_bytes=max_bytes
+        )
         nlog = read_log(log, opts)
         print_ingest(nlog)
         if output is not None:

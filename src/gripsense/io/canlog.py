@@ -16,6 +16,8 @@ zero) makes them absolute. The signals are put on the heading signal's time base
 from __future__ import annotations
 
 import io
+import re
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +29,7 @@ from gripsense.io.formats import require
 from gripsense.io.measurement import log_from_channels, missing_channel
 from gripsense.io.nmea.accounting import RejectedLine
 from gripsense.io.nmea.reader import NmeaLog
-from gripsense.io.nmea.schema import MALFORMED
+from gripsense.io.nmea.schema import MALFORMED, TRUNCATED
 
 __all__ = ["CAN_SIGNALS", "load_dbc", "read_can", "write_can"]
 
@@ -55,13 +57,217 @@ def load_dbc(path: str | Path):
         raise InputError(f"{path}: not a readable DBC file ({type(e).__name__}: {e})") from None
 
 
-def _frames(path: Path, data: bytes, fmt: str):
+NOT_BLF = "not a BLF object"
+"""Reject reason of bytes of a BLF log that are not a log object (the walk resynchronises at
+the next ``LOBJ`` signature)."""
+NOT_ASC = "not ASC"
+"""Reject reason of an ASC line that is neither a frame, an event, a header nor a comment."""
+
+
+@dataclass
+class _Frames:
+    """The frames of a CAN log and what else its bytes or lines were."""
+
+    frames: list  # (position, can.Message): line number (ASC) or frame number (BLF)
+    ignored: dict[str, int] = field(default_factory=dict)
+    rejected: dict[str, int] = field(default_factory=dict)
+    firsts: list[RejectedLine] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    units: int = 0  # what the report counts beyond the frames (lines, rejected byte ranges)
+    unit: str = "frames"
+
+    def reject(self, where: int, reason: str, detail: str, name: str, strict: bool) -> None:
+        if strict:
+            raise InputError(f"{name}: {reason}: {detail} (strict mode)")
+        self.rejected[reason] = self.rejected.get(reason, 0) + 1
+        if len(self.firsts) < 20:
+            self.firsts.append(RejectedLine(where, reason, detail))
+
+
+def _blf_frames(name: str, data: bytes, strict: bool) -> _Frames:
+    """The frames of a BLF log, every byte range accounted for.
+
+    The outer object structure is walked here: the file header (its size must fit the file),
+    then ``LOBJ`` objects; bytes that are not an object are rejected (``not a BLF object``,
+    with their offset) and the walk resynchronises at the next ``LOBJ``; an object cut off by
+    the end of the file is rejected as ``truncated`` and said in the notes (as is a file
+    shorter than its header's file size) — the frames it holds up to the cut are read; a
+    container whose compressed data are damaged is rejected as ``malformed field``.
+    python-can then reads the frames of the good objects.
+    """
+    import zlib
+
     can = require("can", "reading CAN logs")
+    from can.io import blf
+
+    out = _Frames([])
+    n = len(data)
+    fh = blf.FILE_HEADER_STRUCT
+    ob = blf.OBJ_HEADER_BASE_STRUCT
+    if n < fh.size:
+        raise InputError(
+            f"{name}: not a readable BLF log: {n} bytes, shorter than a BLF file header "
+            f"({fh.size} bytes); the file is cut off"
+        )
+    header = fh.unpack_from(data)
+    hs, file_size = int(header[1]), int(header[10])
+    if hs < fh.size or hs > max(n, fh.size) or hs > 1 << 16:
+        raise InputError(
+            f"{name}: not a readable BLF log: its header says it is {hs} bytes long "
+            f"(a BLF header is {fh.size}–65536 bytes, within the file's {n}); the file is "
+            "damaged after its 'LOGG' signature"
+        )
+    if file_size > n:
+        out.notes.append(
+            f"the BLF log is cut off: its header says {file_size} bytes, the file has {n} "
+            "(a recording that stopped?): read up to the cut"
+        )
+    good = [data[:hs]]
+    pos = hs
+    while pos < n:
+        ok = data[pos : pos + 4] == b"LOBJ" and pos + ob.size <= n
+        size = ob.unpack_from(data, pos)[3] if ok else 0
+        if ok and size < ob.size:
+            ok = False
+        if not ok:
+            if data[pos:].strip(b"\x00") == b"":
+                out.ignored["(padding)"] = out.ignored.get("(padding)", 0) + 1
+                out.units += 1
+                break
+            j = data.find(b"LOBJ", pos + 1)
+            end = n if j < 0 else j
+            out.units += 1
+            out.reject(pos + 1, NOT_BLF, f"bytes {pos}–{end - 1}: not a BLF object "
+                       "(no 'LOBJ' signature or an impossible size)", name, strict)  # fmt: skip
+            pos = end
+            continue
+        if pos + size > n:
+            out.units += 1
+            out.reject(pos + 1, TRUNCATED, f"byte {pos}: a {size}-byte BLF object, the file "
+                       f"ends after {n - pos} of them", name, strict)  # fmt: skip
+            if not out.notes:
+                out.notes.append(
+                    f"the BLF log is cut off inside an object at byte {pos} (a recording that "
+                    "stopped?): read up to the cut"
+                )
+            good.append(data[pos:])  # python-can reads the frames it holds up to the cut
+            break
+        obj = data[pos : pos + size]
+        if ob.unpack_from(obj)[4] == blf.LOG_CONTAINER:
+            method = blf.LOG_CONTAINER_STRUCT.unpack_from(obj, ob.size)[0]
+            if method == blf.ZLIB_DEFLATE:
+                try:
+                    zlib.decompressobj().decompress(obj[ob.size + blf.LOG_CONTAINER_STRUCT.size :])
+                except zlib.error as e:
+                    out.units += 1
+                    out.reject(pos + 1, MALFORMED, f"byte {pos}: a BLF container whose "
+                               f"compressed data are damaged ({e})", name, strict)  # fmt: skip
+                    pos += size + size % 4
+                    continue
+        good.append(obj + data[pos + size : pos + size + size % 4])
+        pos += size + size % 4
     try:
-        if fmt == "blf":
-            return list(can.BLFReader(io.BytesIO(data)))
-        text = io.StringIO(data.decode("utf-8", errors="replace"))
-        return list(can.ASCReader(text, relative_timestamp=False))
+        for fr in can.BLFReader(io.BytesIO(b"".join(good))):
+            out.frames.append((len(out.frames) + 1, fr))
+    except Exception as e:
+        out.units += 1
+        out.reject(len(out.frames) + 1, MALFORMED, f"the frames after frame {len(out.frames)} "
+                   f"cannot be read ({type(e).__name__}: {e})", name, strict)  # fmt: skip
+        out.notes.append(
+            f"the BLF data are damaged after frame {len(out.frames)}: read up to there"
+        )
+    return out
+
+
+_ASC_HEADER = re.compile(
+    r"(date\s|base\s+(hex|dec)|(no\s+)?internal\s+events\s+logged|begin\s+triggerblock"
+    r"|end\s+triggerblock|//)",
+    re.IGNORECASE,
+)
+_ASC_EVENT = re.compile(r"\d+\.\d+\s+\S")
+
+
+class _Lines:
+    """The lines of an ASC log handed to python-can one at a time, remembering which."""
+
+    def __init__(self, head: list[str], lines: list[str], start: int) -> None:
+        self.head, self.lines, self.start = head, lines, start
+        self.at = -1
+
+    def close(self) -> None:
+        """Nothing to close (python-can calls it when done)."""
+
+    def __iter__(self):
+        yield from self.head
+        for i in range(self.start, len(self.lines)):
+            self.at = i
+            yield self.lines[i]
+
+
+def _asc_frames(name: str, data: bytes, strict: bool) -> _Frames:
+    """The frames of an ASC log, every line accounted for: a frame, an event or header line
+    (ignored), or rejected — a line python-can cannot read (``malformed field``), a last line
+    without its end (``truncated``: the log was cut off inside it, said in the notes) or a
+    line that is none of these (``not ASC``).
+    """
+    can = require("can", "reading CAN logs")
+    text = data.decode("utf-8", errors="replace")
+    lines = text.splitlines()
+    out = _Frames([], unit="lines")
+    head = [ln for ln in lines[:8] if re.match(r"\s*(date\s|base\s)", ln, re.IGNORECASE)]
+    head.append("internal events logged")
+    used: set[int] = set()
+    bad: set[int] = set()
+    n_read = len(lines)
+    if lines and lines[-1].strip() and not text.endswith(("\n", "\r")):
+        # the last line has no end: the log was cut inside it, and what is left of it (a data
+        # byte cut to one digit) would be read as a frame with other values
+        n_read -= 1
+        bad.add(n_read)
+        out.notes.append(f"the ASC log ends inside line {n_read + 1} (cut off?): not read")
+        out.reject(n_read + 1, TRUNCATED, f"line {n_read + 1}: the log ends inside it "
+                   f"({lines[-1].strip()[:40]!r})", name, strict)  # fmt: skip
+    start = 0
+    while start < n_read:
+        trig = [ln for ln in lines[:start] if re.match(r"\s*begin\s+triggerblock", ln, re.I)]
+        src = _Lines(head + trig[-1:], lines[:n_read], start)
+        try:
+            for fr in can.ASCReader(src, relative_timestamp=False):
+                out.frames.append((src.at + 1, fr))
+                used.add(src.at)
+            break
+        except Exception as e:
+            i = max(src.at, start)
+            bad.add(i)
+            out.reject(i + 1, MALFORMED, f"line {i + 1}: not a readable frame "
+                       f"({type(e).__name__}: {e})", name, strict)  # fmt: skip
+            start = i + 1
+    for i, ln in enumerate(lines):
+        if i in used or i in bad:
+            continue
+        s = ln.strip()
+        if not s:
+            key = "(blank)"
+        elif _ASC_HEADER.match(s):
+            key = "(ASC header or comment)"
+        elif _ASC_EVENT.match(s):
+            key = "(ASC event, not a CAN frame)"
+        else:
+            out.reject(i + 1, NOT_ASC, f"line {i + 1}: neither a frame, an event nor a header "
+                       f"({s[:40]!r})", name, strict)  # fmt: skip
+            continue
+        out.ignored[key] = out.ignored.get(key, 0) + 1
+    out.units = len(lines) - len(out.frames)
+    out.firsts.sort(key=lambda r: r.line)
+    return out
+
+
+def _frames(path: Path, data: bytes, fmt: str, strict: bool = False) -> _Frames:
+    name = str(path)
+    try:
+        return (_blf_frames if fmt == "blf" else _asc_frames)(name, data, strict)
+    except InputError:
+        raise
     except Exception as e:
         raise InputError(
             f"{path}: not a readable {fmt.upper()} log ({type(e).__name__}: {e})"
@@ -118,13 +324,13 @@ def read_can(
         mapped, list(where), lambda s: where[s].get_signal_by_name(s).unit
     )
     wanted = {where[s.channel].frame_id: where[s.channel] for s in mapped.values()}
-    frames = _frames(Path(path), data, fmt)
+    got = _frames(Path(path), data, fmt, strict)
     series: dict[str, tuple[list, list]] = {s.channel: ([], []) for s in mapped.values()}
     parsed: dict[str, int] = {}
-    ignored: dict[str, int] = {}
+    ignored: dict[str, int] = dict(got.ignored)
     n_bad = 0
     firsts: list[RejectedLine] = []
-    for k, fr in enumerate(frames):
+    for k, fr in got.frames:
         if getattr(fr, "is_error_frame", False) or getattr(fr, "is_remote_frame", False):
             ignored["(error/remote frame)"] = ignored.get("(error/remote frame)", 0) + 1
             continue
@@ -136,15 +342,16 @@ def read_can(
         try:
             dec = msg.decode(bytes(fr.data), decode_choices=False)
         except Exception as e:
+            at = "line" if got.unit == "lines" else "frame"
             detail = (
-                f"frame {k + 1} (id 0x{fr.arbitration_id:X}, t = {fr.timestamp:.3f} s): "
+                f"{at} {k} (id 0x{fr.arbitration_id:X}, t = {fr.timestamp:.3f} s): "
                 f"{msg.name} does not decode ({e})"
             )
             if strict:
                 raise InputError(f"{name}: {MALFORMED}: {detail} (strict mode)") from None
             n_bad += 1
             if len(firsts) < 20:
-                firsts.append(RejectedLine(k + 1, MALFORMED, detail))
+                firsts.append(RejectedLine(k, MALFORMED, detail))
             continue
         parsed[msg.name] = parsed.get(msg.name, 0) + 1
         for sig, (ts, vs) in series.items():
@@ -167,14 +374,17 @@ def read_can(
     log = log_from_channels(
         mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
         strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
-        unit="frames", notes=steer_notes,
+        unit=got.unit, notes=got.notes + steer_notes,
     )  # fmt: skip
     log.report.steering = steering
     # frames, not samples: the parsed count is per message
     rep = log.report
     rep.parsed = dict(sorted(parsed.items()))
-    rep.rejected[MALFORMED] = n_bad
-    rep.total_lines = len(frames)
+    for reason, v in got.rejected.items():
+        rep.rejected[reason] = rep.rejected.get(reason, 0) + v
+    rep.rejected[MALFORMED] = n_bad + got.rejected.get(MALFORMED, 0)
+    rep.first_rejects = sorted(got.firsts + firsts, key=lambda r: r.line)[:20]
+    rep.total_lines = len(got.frames) + got.units
     if absolute and time_offset is not None:
         rep.notes.append("the log's times are absolute: --time-offset not used")
     return log

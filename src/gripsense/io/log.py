@@ -28,8 +28,8 @@ from pathlib import Path
 
 from gripsense.errors import InputError
 from gripsense.io.epoch_table import channel_rates
-from gripsense.io.nmea.reader import MAX_BYTES, MAX_LINES, NmeaLog, read_log_bytes, read_nmea
-from gripsense.io.text import read_bytes
+from gripsense.io.nmea.reader import NmeaLog, read_nmea
+from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream
 
 __all__ = [
     "FORMATS",
@@ -64,7 +64,11 @@ class LogOptions:
     strict : bool
         Stop at the first rejected line, frame or record.
     max_lines : int
-        Largest number of NMEA lines read (the rest counted).
+        Largest number of lines read from a line-based log (NMEA, VBOX, ASC) [lines]: an NMEA
+        file's further lines are counted, not read; a VBOX or ASC log or a pipe with more is an
+        error naming the limit.
+    max_bytes : int
+        Largest (decompressed) size read [bytes], the same way.
     """
 
     columns: str | dict | None = None
@@ -72,6 +76,7 @@ class LogOptions:
     time_offset: float | None = None
     strict: bool = False
     max_lines: int = MAX_LINES
+    max_bytes: int = MAX_BYTES
 
 
 def detect_format(head: bytes) -> str:
@@ -104,24 +109,6 @@ def detect_format(head: bytes) -> str:
     return "nmea"
 
 
-def _head(path: Path, size: int = 65536) -> bytes:
-    """The first *size* bytes of a log, decompressed when it is gzip."""
-    import zlib
-
-    try:
-        with open(path, "rb") as f:
-            raw = f.read(size)
-    except OSError:
-        read_bytes(path, "file")  # raises the clear error
-        raise
-    if raw[:2] != b"\x1f\x8b":
-        return raw
-    try:
-        return zlib.decompressobj(16 + zlib.MAX_WBITS).decompress(raw, size)
-    except zlib.error:
-        return raw
-
-
 def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -> NmeaLog:
     """Read a GNSS-compass or measurement log of any supported format (see the module
     documentation) into the epoch table.
@@ -129,7 +116,8 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     Parameters
     ----------
     path : str or Path
-        The log (plain or gzip-compressed).
+        The log (plain or gzip-compressed): a regular file or a pipe (``<(zcat log.gz)``, a
+        FIFO, ``/dev/stdin``), read once; a device file is refused.
     options : LogOptions, optional
         Channel mapping, DBC, time offset, strict mode.
     **kw
@@ -151,21 +139,30 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     if options is not None and kw:
         raise TypeError("read_log: give options or keyword fields, not both")
     p = Path(path)
-    fmt = detect_format(_head(p))
-    data: bytes = b""
-    notes: list[str] = []
-    with open(p, "rb") as f:
-        packed = f.read(2) == b"\x1f\x8b"
-    if fmt != "nmea" and (fmt != "mf4" or packed):  # NMEA and MDF4 read the file themselves
-        data, notes = read_log_bytes(p, max_bytes=MAX_BYTES)
-    if fmt in ("mf4", "blf", "asc") and o.columns is None:
-        raise InputError(
-            f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
-            "course and speed with --columns (e.g. --columns heading=True_Head:deg,"
-            "course=Course:deg,speed=Speed:kmh; docs/ingest.md)"
-        )
+    # one read: the format is recognised from the first bytes, which the reader continues
+    # from (a pipe or FIFO is read once; a device is refused)
+    src = InputStream(p, "file")
+    try:
+        fmt = detect_format(src.peek(65536))
+        if fmt in ("mf4", "blf", "asc") and o.columns is None:
+            raise InputError(
+                f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
+                "course and speed with --columns (e.g. --columns heading=True_Head:deg,"
+                "course=Course:deg,speed=Speed:kmh; docs/ingest.md)"
+            )
+        if fmt in ("blf", "asc") and o.dbc is None:
+            raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
+        by_path = fmt == "mf4" and not src.gzip and not src.stream  # asammdf reads the file
+        inp = None
+        if not by_path:
+            lines = o.max_lines if fmt in ("nmea", "vbo", "asc") else None
+            inp = src.read(o.max_bytes, lines, count_rest=fmt == "nmea")
+    finally:
+        src.close()
+    notes = list(inp.notes) if inp is not None else []
+    data = inp.data if inp is not None else b""
     if fmt == "nmea":
-        log = read_nmea(p, strict=o.strict, max_lines=o.max_lines)
+        log = read_nmea(inp, strict=o.strict, max_lines=o.max_lines, max_bytes=o.max_bytes)
     elif fmt == "ubx":
         from gripsense.io.ubx import parse_ubx
 
@@ -180,15 +177,16 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     elif fmt == "mf4":
         from gripsense.io.mdf import read_mdf
 
-        log = read_mdf(p, data if packed else None, columns=o.columns,
+        log = read_mdf(p, None if by_path else data, columns=o.columns,
                        time_offset=o.time_offset, strict=o.strict)  # fmt: skip
+        log.report.notes[:0] = notes
     else:
         from gripsense.io.canlog import read_can
 
-        if o.dbc is None:
-            raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
+        assert o.dbc is not None
         log = read_can(p, data, fmt, dbc=o.dbc, columns=o.columns, time_offset=o.time_offset,
                        strict=o.strict)  # fmt: skip
+        log.report.notes[:0] = notes
     log.report.channels = channel_rates(log.epochs)
     unused = [
         flag

@@ -19,19 +19,22 @@ Magic Formula coefficients themselves are dimensionless by construction).
 from __future__ import annotations
 
 import difflib
-import gzip
 import math
 import re
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
 from gripsense.errors import InputError
-from gripsense.io.text import read_bytes
+from gripsense.io.text import InputStream
 from gripsense.io.tir_keys import CHECKED_KEYS
 
-__all__ = ["TirError", "TirFile", "read_tir", "write_tir"]
+__all__ = ["MAX_TIR_BYTES", "TirError", "TirFile", "read_tir", "write_tir"]
+
+MAX_TIR_BYTES = 16 << 20
+"""Largest (decompressed) ``.tir`` file read [bytes]: a tyre property file is a few tens of
+kilobytes, so a ``.gz`` that expands beyond this (a gzip bomb) is refused, not decompressed."""
+_TIR_LIMIT = "the most a .tir file may hold (a tyre property file is a few tens of kB)"
 
 
 class TirError(InputError):
@@ -585,7 +588,8 @@ def read_tir(source: str | Path | IO[str] | IO[bytes], *, lenient: bool = False)
     Parameters
     ----------
     source : path, or text/binary file object
-        A path (plain or ``.gz``) or an open file. Text is decoded as UTF-8, falling back to
+        A path (plain or ``.gz``; a regular file or a pipe; at most :data:`MAX_TIR_BYTES`
+        decompressed) or an open file. Text is decoded as UTF-8, falling back to
         Latin-1 (TNO files sometimes carry ``°`` in comments).
     lenient : bool
         Read unknown keys in the sections gripsense uses with a warning (``TirFile.warnings``)
@@ -597,12 +601,16 @@ def read_tir(source: str | Path | IO[str] | IO[bytes], *, lenient: bool = False)
     """
     if isinstance(source, (str, Path)):
         path = Path(source)
-        data = read_bytes(path, "file")
-        if data[:2] == b"\x1f\x8b":
-            try:
-                data = gzip.decompress(data)
-            except (OSError, EOFError, zlib.error) as e:
-                raise TirError(f"{path}: not a readable .gz file ({e})") from None
+        # read once (a pipe too), gzip decompressed on the fly and bounded: a .gz that expands
+        # beyond MAX_TIR_BYTES (a gzip bomb) is refused before it fills memory
+        src = InputStream(path, "file")
+        try:
+            inp = src.read(MAX_TIR_BYTES, count_rest=False, flags=(_TIR_LIMIT, ""))
+        except InputError as e:
+            raise TirError(str(e)) from None
+        if src.gzip and inp.notes:
+            raise TirError(f"{path}: not a readable .gz file ({inp.notes[0]})")
+        data = inp.data
         name = str(path)
     else:
         data = source.read()

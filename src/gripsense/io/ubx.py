@@ -21,7 +21,10 @@ Frames are grouped into epochs by ``iTOW`` (GPS time of week); UTC comes from NA
 offset of UTC from ``iTOW`` includes the leap seconds). Every frame is accounted for: read
 (``parsed``), a message gripsense does not use (``ignored``), or rejected: ``bad checksum``
 (the Fletcher checksum of the frame does not match), ``truncated`` (the stream ends inside the
-frame), ``malformed field`` (a known message with the wrong length). The bytes that are not
+frame), ``malformed field`` (a known message with the wrong length), ``bad length`` (a length
+field that does not fit what follows: impossible, past the stream's end, or a good frame or
+NMEA sentence starts inside the length it claims — the scan resynchronises there, so one
+corrupted length costs one frame). The bytes that are not
 UBX frames are read as NMEA (:func:`gripsense.io.read_nmea`), and the NMEA epochs fill what
 the UBX epochs lack at the same UTC time.
 
@@ -74,16 +77,107 @@ _NAMES = {
 }
 
 # frame status codes of the scan
-OK, BAD_CK, CUT = 0, 1, 2
+OK, BAD_CK, CUT, BAD_LEN = 0, 1, 2, 3
+BAD_LENGTH = "bad length"
+"""Reject reason of a frame whose length field does not fit what follows it (the scan
+resynchronises at the next good frame or NMEA sentence)."""
+
+
+@njit(cache=True, nogil=True)
+def _good_frame_at(d, j, max_payload):
+    """Whether a UBX frame with a good checksum starts at byte *j*."""
+    n = d.size
+    if j + 8 > n or d[j] != 0xB5 or d[j + 1] != 0x62:
+        return False
+    ln = np.int64(d[j + 4]) | (np.int64(d[j + 5]) << 8)
+    if ln > max_payload or j + 8 + ln > n:
+        return False
+    a = np.uint8(0)
+    b = np.uint8(0)
+    for k in range(j + 2, j + 6 + ln):
+        a = np.uint8(a + d[k])
+        b = np.uint8(b + a)
+    return a == d[j + 6 + ln] and b == d[j + 7 + ln]
+
+
+@njit(cache=True, nogil=True)
+def _sentence_at(d, j):
+    """Whether a whole NMEA sentence with a good checksum starts at byte *j* (``$`` or ``!``,
+    printable characters, ``*`` and two hex digits within 82 bytes): binary payload bytes
+    are never taken for one.
+    """
+    n = d.size
+    if d[j] != 0x24 and d[j] != 0x21:
+        return False
+    x = np.uint8(0)
+    k = j + 1
+    while k < n and k - j < 82:
+        c = d[k]
+        if c == 0x2A:
+            if k + 2 >= n:
+                return False
+            v = np.int64(0)
+            for h in (d[k + 1], d[k + 2]):
+                if 0x30 <= h <= 0x39:
+                    v = v * 16 + (h - 0x30)
+                elif 0x41 <= h <= 0x46:
+                    v = v * 16 + (h - 0x41 + 10)
+                elif 0x61 <= h <= 0x66:
+                    v = v * 16 + (h - 0x61 + 10)
+                else:
+                    return False
+            return v == x and k > j + 3
+        if c < 0x20 or c > 0x7E:
+            return False
+        x ^= c
+        k += 1
+    return False
+
+
+@njit(cache=True, nogil=True)
+def _fits(d, end, max_payload):
+    """Whether a frame can end at *end*: the stream ends there, or a sync pair, a good frame or
+    a whole NMEA sentence (after line ends) starts there.
+    """
+    n = d.size
+    j = end
+    while j < n and (d[j] == 0x0D or d[j] == 0x0A):
+        j += 1
+    if j >= n:
+        return True
+    if j == end and j + 1 < n and d[j] == 0xB5 and d[j + 1] == 0x62:
+        return True
+    return _good_frame_at(d, j, max_payload) or _sentence_at(d, j)
+
+
+@njit(cache=True, nogil=True)
+def _resync(d, i, stop, max_payload):
+    """The first byte after the frame header at *i* (before *stop*) where a good UBX frame or
+    an NMEA sentence starts; -1 when none does.
+    """
+    for j in range(i + 2, min(stop, d.size)):
+        if d[j] == 0xB5 and _good_frame_at(d, j, max_payload):
+            return j
+        if (d[j] == 0x24 or d[j] == 0x21) and _sentence_at(d, j):
+            return j
+    return -1
 
 
 @njit(cache=True, nogil=True)
 def _scan(d, max_payload):
-    """Find UBX frames: start, payload length and status (OK / BAD_CK / CUT) of each, and a
-    mask of the bytes that belong to frames.
+    """Find UBX frames: start, payload length and status (OK / BAD_CK / CUT / BAD_LEN) of
+    each, and a mask of the bytes that belong to frames (good or rejected).
+
+    A frame whose checksum fails is rejected as a bad length when a good frame or a whole NMEA
+    sentence starts inside the length it claims, or when its claimed end is not followed by
+    what can follow a frame (:func:`_fits`) and one starts soon after (or its length is
+    impossible, over *max_payload*); the scan resumes there: a corrupted length field costs
+    one frame, not the frames after it. Otherwise it is a bad checksum (or cut off by the
+    stream's end).
     """
     n = d.size
     starts = np.empty(n // 8 + 1, dtype=np.int64)
+    ends = np.empty(n // 8 + 1, dtype=np.int64)
     lengths = np.empty(n // 8 + 1, dtype=np.int64)
     status = np.empty(n // 8 + 1, dtype=np.int8)
     mask = np.zeros(n, dtype=np.bool_)
@@ -95,35 +189,50 @@ def _scan(d, max_payload):
             continue
         if i + 6 > n:  # header cut off
             starts[k] = i
+            ends[k] = n
             lengths[k] = -1
             status[k] = CUT
             mask[i:n] = True
             k += 1
             break
         ln = np.int64(d[i + 4]) | (np.int64(d[i + 5]) << 8)
-        if ln > max_payload:
-            i += 1
-            continue
         end = i + 8 + ln
-        if end > n:
-            starts[k] = i
-            lengths[k] = ln
-            status[k] = CUT
-            mask[i:n] = True
-            k += 1
-            break
-        a = np.uint8(0)
-        b = np.uint8(0)
-        for j in range(i + 2, i + 6 + ln):
-            a = np.uint8(a + d[j])
-            b = np.uint8(b + a)
+        ok = False
+        if ln <= max_payload and end <= n:
+            a = np.uint8(0)
+            b = np.uint8(0)
+            for j in range(i + 2, i + 6 + ln):
+                a = np.uint8(a + d[j])
+                b = np.uint8(b + a)
+            ok = a == d[end - 2] and b == d[end - 1]
         starts[k] = i
         lengths[k] = ln
-        status[k] = OK if (a == d[end - 2] and b == d[end - 1]) else BAD_CK
+        if ok:
+            status[k] = OK
+        else:
+            stop = n if ln > max_payload else min(n, end + max_payload + 8)
+            j = _resync(d, i, stop, max_payload)
+            if j >= 0 and j < end:  # a good frame or sentence inside it: the length is wrong
+                status[k] = BAD_LEN
+                end = j
+            elif ln <= max_payload and end <= n and _fits(d, end, max_payload):
+                status[k] = BAD_CK  # the length fits what follows: the payload is damaged
+            elif j >= 0:
+                status[k] = BAD_LEN
+                end = j
+            elif ln > max_payload:  # nothing to resynchronise on: the rest is this frame's
+                status[k] = BAD_LEN
+                end = n
+            elif end > n:
+                status[k] = CUT
+                end = n
+            else:
+                status[k] = BAD_CK
+        ends[k] = end
         mask[i:end] = True
         k += 1
         i = end
-    return starts[:k], lengths[:k], status[:k], mask
+    return starts[:k], ends[:k], lengths[:k], status[:k], mask
 
 
 def scan_frames(data: bytes | np.ndarray) -> pd.DataFrame:
@@ -138,15 +247,17 @@ def scan_frames(data: bytes | np.ndarray) -> pd.DataFrame:
     -------
     pandas.DataFrame
         One row per frame: ``start`` (byte offset), ``cls``, ``id``, ``length`` (payload
-        bytes; −1 when the header is cut off) and ``status`` (0 checksum good, 1 bad checksum,
-        2 cut off); ``attrs["mask"]`` marks the bytes that belong to frames.
+        bytes as the length field says; −1 when the header is cut off), ``status`` (0
+        checksum good, 1 bad checksum, 2 cut off, 3 bad length) and ``end`` (the byte after
+        the frame, or after the bytes a rejected frame spans up to where the scan
+        resynchronised); ``attrs["mask"]`` marks the bytes that belong to frames.
     """
     d = np.frombuffer(data, dtype=np.uint8) if isinstance(data, bytes | bytearray) else data
-    starts, lengths, status, mask = _scan(d, MAX_PAYLOAD)
+    starts, ends, lengths, status, mask = _scan(d, MAX_PAYLOAD)
     cls = np.where(starts + 2 < d.size, d[np.minimum(starts + 2, d.size - 1)], 0)
     mid = np.where(starts + 3 < d.size, d[np.minimum(starts + 3, d.size - 1)], 0)
     out = pd.DataFrame(
-        {"start": starts, "cls": cls, "id": mid, "length": lengths, "status": status}
+        {"start": starts, "cls": cls, "id": mid, "length": lengths, "status": status, "end": ends}
     )
     out.attrs["mask"] = mask
     return out
@@ -281,7 +392,7 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
     from gripsense.errors import InputError
 
     d = np.frombuffer(data, dtype=np.uint8)
-    starts, lengths, status, mask = _scan(d, MAX_PAYLOAD)
+    starts, ends, lengths, status, mask = _scan(d, MAX_PAYLOAD)
     cls = np.where(starts + 2 < d.size, d[np.minimum(starts + 2, max(d.size - 1, 0))], 0)
     mid = np.where(starts + 3 < d.size, d[np.minimum(starts + 3, max(d.size - 1, 0))], 0)
     parsed: dict[str, int] = {}
@@ -301,6 +412,10 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
         what = _msg_name(int(cls[k]), int(mid[k])) if ln >= 0 else "UBX frame"
         if status[k] == BAD_CK:
             reject(int(starts[k]), BAD_CHECKSUM, f"{what}, {ln}-byte payload")
+        elif status[k] == BAD_LEN:
+            reject(int(starts[k]), BAD_LENGTH, f"{what}: its length field says {ln} bytes, which "
+                   f"do not fit what follows; bytes {starts[k]}–{ends[k] - 1} skipped, read on "
+                   "from the next frame or sentence")  # fmt: skip
         else:
             reject(int(starts[k]), TRUNCATED, f"{what}: the stream ends inside the frame")
     good = status == OK

@@ -31,7 +31,6 @@ float64 (also ``fix_quality`` and ``n_sats``, so that missing stays NaN).
 from __future__ import annotations
 
 import os
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -48,14 +47,14 @@ from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
-from gripsense.io.text import read_bytes
+from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
 __all__ = ["MAX_BYTES", "MAX_LINES", "NmeaLog", "read_log_bytes", "read_nmea"]
 
 N_FIRST_REJECTS = 20
 _ENGINES = {"fast": tokenize_fast, "reference": tokenize_reference}
 
-NmeaSource = str | os.PathLike | bytes | list | IO
+NmeaSource = str | os.PathLike | bytes | list | IO | ReadInput
 
 
 @dataclass
@@ -78,89 +77,20 @@ class NmeaLog:
     sentences: dict[str, pd.DataFrame]
 
 
-MAX_LINES = 5_000_000
-"""Default largest number of lines read (≈ 0.5 GB of working memory: 14 h of a 10 Hz compass
-sending 6 sentences per epoch); more are counted only."""
-MAX_BYTES = 1 << 30
-"""Default largest decompressed size read [bytes]; more is counted only."""
-
-
-@dataclass
-class _Input:
-    data: bytes
-    name: str
-    extra_lines: int = 0  # lines beyond the limits: counted, not read
-    notes: list[str] | None = None
-
-
-def _gunzip(raw: bytes, name: str, max_bytes: int) -> _Input:
-    """Decompress gzip data up to *max_bytes*, counting the lines beyond.
-
-    A stream that ends early (a recording cut off) keeps what was decompressed and says so;
-    data that only starts with gzip's two magic bytes (a binary receiver stream can) is read as
-    it is, also said in the notes — unless its name says gzip, then it is an error.
+def _read_source(
+    source: NmeaSource, max_bytes: int, max_lines: int | None = None, decompress: bool = True
+) -> ReadInput:
+    """Turn any accepted source into bytes and a display name, read once and bounded
+    (:class:`~gripsense.io.text.InputStream`).
     """
-    d = zlib.decompressobj(16 + zlib.MAX_WBITS)
-    out: list[bytes] = []
-    size = 0
-    extra = 0
-    notes: list[str] = []
-    buf = raw
-    complete = False
-    try:
-        while buf:
-            chunk = d.decompress(buf, 1 << 24)
-            buf = d.unconsumed_tail
-            if size < max_bytes:
-                keep = chunk[: max_bytes - size]
-                out.append(keep)
-                size += len(keep)
-                chunk = chunk[len(keep) :]
-            extra += chunk.count(b"\n")
-            complete = d.eof
-            if d.eof:
-                rest = d.unused_data  # a further gzip member (concatenated files)
-                if rest.strip(b"\x00"):
-                    d = zlib.decompressobj(16 + zlib.MAX_WBITS)
-                    complete = False
-                buf = rest if not complete else b""
-        if not complete and size:
-            notes.append("the gzip stream ends early (file cut off?): read up to the cut")
-    except zlib.error as e:
-        if not size:
-            if name.endswith((".gz", ".gzip")):
-                raise InputError(
-                    f"{name}: named gzip but cannot be decompressed ({e}); check the file "
-                    "(damaged at its start?) or give the uncompressed log"
-                ) from None
-            # binary receiver output that happens to start with gzip's magic bytes
-            note = f"starts like gzip but is not a gzip stream ({e}): read as plain bytes"
-            return _Input(raw, name, 0, [note])
-        notes.append(f"the gzip stream is corrupt after {size} bytes ({e}): read up to there")
-    data = b"".join(out)
-    if extra and not data.endswith(b"\n"):
-        extra += 1  # the line cut at the limit
-        data = data[: data.rfind(b"\n") + 1]
-    if extra:
-        notes.append(f"decompressed size above {max_bytes} bytes: {extra} lines counted, not read")
-    return _Input(data, name, extra, notes)
-
-
-def _read_source(source: NmeaSource, max_bytes: int) -> _Input:
-    """Turn any accepted source into bytes and a display name (``max_bytes < 0``: no gzip
-    detection).
-    """
-    if isinstance(source, str | os.PathLike):
-        path = Path(source)
-        data = read_bytes(path, "file; give the path of an NMEA log")
-        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
-            return _gunzip(data, str(path), max_bytes)
-        return _Input(data, str(path))
-    if isinstance(source, bytes | bytearray | memoryview):
-        data = bytes(source)
-        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
-            return _gunzip(data, "<bytes>", max_bytes)
-        return _Input(data, "<bytes>")
+    if isinstance(source, ReadInput):
+        return source
+    if isinstance(source, str | os.PathLike | bytes | bytearray | memoryview):
+        what = (
+            "file; give the path of an NMEA log" if isinstance(source, str | os.PathLike) else "log"
+        )
+        src = InputStream(source, what, decompress=decompress)
+        return src.read(max_bytes, max_lines)
     if isinstance(source, list | tuple):
         out = []
         for i, ln in enumerate(source):
@@ -171,15 +101,9 @@ def _read_source(source: NmeaSource, max_bytes: int) -> _Input:
                     f"<lines>: item {i} is {type(ln).__name__}; give str or bytes lines"
                 )
             out.append(bytes(ln).rstrip(b"\r\n"))
-        return _Input(b"\n".join(out) + (b"\n" if out else b""), "<lines>")
+        return ReadInput(b"\n".join(out) + (b"\n" if out else b""), "<lines>")
     if hasattr(source, "read"):
-        data = source.read()
-        if isinstance(data, str):
-            data = data.encode("utf-8", "surrogateescape")
-        name = str(getattr(source, "name", "<stream>"))
-        if data[:2] == b"\x1f\x8b" and max_bytes >= 0:
-            return _gunzip(bytes(data), name, max_bytes)
-        return _Input(bytes(data), name)
+        return InputStream(source, "log", decompress=decompress).read(max_bytes, max_lines)
     raise InputError(
         f"read_nmea: source of type {type(source).__name__} is not supported; give a path, a list "
         "of lines or a file object"
@@ -194,9 +118,10 @@ def read_log_bytes(
     Parameters
     ----------
     path : str or Path
-        Log file.
+        Log file (a regular file or a pipe, read once).
     max_bytes : int
-        Largest decompressed size kept [bytes] (the rest is dropped and said in the notes).
+        Largest decompressed size kept [bytes] (beyond it, the lines of a file are counted
+        and said in the notes; a pipe is an error).
 
     Returns
     -------
@@ -205,11 +130,11 @@ def read_log_bytes(
     notes : list of str
         What happened on the way (a cut-off gzip stream, the size limit).
     """
-    inp = _read_source(Path(path), max_bytes)
-    return inp.data, list(inp.notes or [])
+    inp = InputStream(Path(path), "log").read(max_bytes)
+    return inp.data, list(inp.notes)
 
 
-def _cap_lines(inp: _Input, max_lines: int) -> None:
+def _cap_lines(inp: ReadInput, max_lines: int) -> None:
     """Keep the first *max_lines* lines; count the rest."""
     data = inp.data
     if len(data) <= max_lines:  # every line has at least one byte
@@ -239,19 +164,20 @@ def read_nmea(
     Parameters
     ----------
     source : path, list of str/bytes, bytes or file object
-        A log file (plain or gzip-compressed, detected from its content), its lines, or an open
-        text or binary file.
+        A log file (plain or gzip-compressed, detected from its content; a regular file or a
+        pipe, read once; a device is refused), its lines, or an open text or binary file.
     strict : bool
         Raise :class:`~gripsense.errors.InputError` naming the file, line and reason at the first
         rejected line, instead of counting it.
     engine : {"fast", "reference"}
         Tokenizer: the vectorised production path or the per-line reference (same results).
     max_lines : int
-        Largest number of lines read; further lines are counted as rejected
-        (``over the size limit``), so memory stays bounded whatever the input.
+        Largest number of lines read [lines]; further lines of a file are counted as rejected
+        (``over the size limit``), so memory stays bounded whatever the input; from a pipe
+        (whose rest may never end) more lines are an error naming the limit.
     max_bytes : int
-        Largest decompressed size read from a gzip input [bytes]; the lines beyond are counted
-        the same way (a small ``.gz`` can expand enormously).
+        Largest (decompressed) size read [bytes]; beyond it the same as *max_lines* (a small
+        ``.gz`` can expand enormously).
     decompress : bool
         Detect gzip input by its magic bytes and decompress it (off for a raw byte stream such
         as a receiver's, which may start with any bytes).
@@ -271,7 +197,7 @@ def read_nmea(
     """
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
-    inp = _read_source(source, max_bytes if decompress else -1)
+    inp = _read_source(source, max_bytes, max_lines, decompress)
     # the fast tokenizer counts its chunks' lines before anything else and stops over the
     # limit; then (rare) the size guard counts, cuts and the kept lines are read
     tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
