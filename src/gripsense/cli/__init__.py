@@ -13,133 +13,118 @@ sim             ``simulate``, ``demo``
 live            ``live``
 fleet           ``fleet``
 ==============  ==============================================================================
+
+The console script's :func:`main` is all this module holds at import time: it installs the
+signal handlers first and only then imports the commands (typer, rich, numpy, numba … take
+seconds), so a Ctrl-C or SIGTERM at any moment — during those imports too — is one line and
+exit 130 (SIGINT) or 143 (SIGTERM), never a traceback.
 """
 
 from __future__ import annotations
 
 import os
+import signal
 import sys
+from types import FrameType
+from typing import TYPE_CHECKING, Any, NoReturn
 
-import typer
-from rich.text import Text
-
-from gripsense.cli._common import err_console
-from gripsense.cli._numbers import FiniteGroup
-from gripsense.cli.calibrate import calibrate
-from gripsense.cli.fleet import fleet
-from gripsense.cli.friction import friction, report_cmd, stiffness
-from gripsense.cli.ingest import ingest
-from gripsense.cli.live import live
-from gripsense.cli.sensors import brake_mu, camber, camera_slip
-from gripsense.cli.sim import demo, simulate
-from gripsense.cli.steering import steering_app
-from gripsense.cli.tyre import fit_contact, tyre_app
-from gripsense.errors import GripsenseError
+if TYPE_CHECKING:
+    from gripsense.cli._app import app, usage_hint  # noqa: F401
 
 __all__ = ["app", "main"]
 
-app = typer.Typer(
-    cls=FiniteGroup,  # no command takes nan or inf for a number
-    add_completion=False,
-    no_args_is_help=True,
-    pretty_exceptions_enable=False,
-    rich_markup_mode=None,  # help as written: a unit such as [deg] is not markup
-    context_settings={"max_content_width": 100},
-    help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
-)
 
-app.command()(ingest)
-app.command()(friction)
-app.command("report")(report_cmd)
-app.command()(stiffness)
-app.command()(calibrate)
-app.command("brake-mu")(brake_mu)
-app.command()(camber)
-app.command("camera-slip")(camera_slip)
-app.command("fit-contact")(fit_contact)
-app.command()(simulate)
-app.command()(demo)
-app.command()(live)
-app.command()(fleet)
-tyre_app.command("fit-contact")(fit_contact)
-app.add_typer(tyre_app, name="tyre")
-app.add_typer(steering_app, name="steering")
-
-
-_FLAG_WORDS = {"true", "false", "yes", "no", "on", "off", "1", "0"}
-
-
-def usage_hint(error: Exception) -> str:
-    """The message of a command-line usage error, with what to type instead where it is clear
-    (a switch given a value: ``--strict true`` → ``--strict``; every other error: ``--help``).
+class Interrupted(BaseException):
+    """SIGTERM (or SIGINT) as an exception: a ``BaseException``, so no ``except Exception``
+    swallows it and every ``finally`` on the way out runs (temporary outputs removed).
 
     Parameters
     ----------
-    error : Exception
-        A click ``UsageError`` (typer's).
-
-    Returns
-    -------
-    str
-        One line.
+    signum : int
+        The signal's number [-].
     """
-    msg = " ".join(error.format_message().split())
-    words = [w.strip("'()") for w in msg.split()]
-    if "unexpected extra argument" in msg and any(w.lower() in _FLAG_WORDS for w in words):
-        return (
-            f"{msg} — switches take no value: write --flag or --no-flag, not --flag true "
-            f"(see {getattr(error.ctx, 'command_path', 'gripsense')} --help)"
-        )
-    return f"{msg} (see {getattr(error.ctx, 'command_path', 'gripsense')} --help)"
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _importing(frame: FrameType | None) -> bool:
+    """Whether the interrupted code runs inside an ``import`` (possibly a C extension's
+    initialisation, which an exception raised there can leave half-done).
+    """
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _on_signal(signum: int, frame: FrameType | None) -> None:
+    """SIGINT / SIGTERM: during an import, the line and the exit at once (nothing has been
+    written yet that a ``finally`` would clean); elsewhere an exception, so every ``finally``
+    on the way out runs.
+    """
+    if _importing(frame):
+        _say(signum)
+        os._exit(128 + signum)
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt
+    raise Interrupted(signum)
+
+
+def _leave(signum: int, _frame: object) -> None:
+    """A second signal while the program ends: end now, quietly (the line is printed)."""
+    os._exit(128 + signum)
+
+
+def _say(signum: int) -> None:
+    """The one line of a run stopped by a signal (written directly: nothing is imported)."""
+    name = signal.Signals(signum).name
+    try:
+        os.write(2, f"error: interrupted ({name})\n".encode())
+    except OSError:
+        pass
+
+
+def _stopped(signum: int) -> NoReturn:
+    """End a run stopped by a signal: its one line and exit status 128 + the signal."""
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, _leave)
+    try:
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        pass
+    _say(signum)
+    sys.exit(128 + signum)
 
 
 def main() -> None:
     """Console-script entry point (``gripsense``): every failure is one line on stderr and a
-    non-zero exit, never a traceback (set ``GRIPSENSE_DEBUG=1`` to see one).
+    non-zero exit, never a traceback (set ``GRIPSENSE_DEBUG=1`` to see one); SIGINT (Ctrl-C)
+    and SIGTERM at any moment end with one line and exit 130 or 143.
     """
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, _on_signal)
     try:
-        code = app(prog_name="gripsense", standalone_mode=False)
-        sys.exit(code if isinstance(code, int) else 0)
-    except Exception as e:  # typer's (vendored) click errors, known by their class names
-        names = {c.__name__ for c in type(e).__mro__}
-        if "NoArgsIsHelpError" in names:  # a bare group: its help
-            print(e.format_message())
-            sys.exit(0)
-        if "UsageError" in names or "ClickException" in names:
-            where = getattr(getattr(e, "ctx", None), "command_path", None) or "gripsense"
-            err_console.print(
-                Text.assemble(("error: ", "bold red"), f"{where}: {usage_hint(e)}"),
-                highlight=False,
-            )
-            sys.exit(2)
-        if "Abort" in names:
-            err_console.print("interrupted", highlight=False)
-            sys.exit(130)
-        _fail(e)
+        from gripsense.cli._app import run
+
+        run()
     except KeyboardInterrupt:
-        err_console.print("interrupted", highlight=False)
-        sys.exit(130)
+        _stopped(signal.SIGINT)
+    except Interrupted as e:
+        _stopped(e.signum)
 
 
-def _fail(e: Exception) -> None:
-    """The one place that turns any other failure into a one-line message and an exit code."""
-    if os.environ.get("GRIPSENSE_DEBUG"):
-        raise e
-    if isinstance(e, GripsenseError):
-        msg, code = str(e), 2
-    elif isinstance(e, OSError):
-        where = f"{e.filename}: " if e.filename else ""
-        msg, code = f"{where}{e.strerror or e}", 1
-    elif isinstance(e, MemoryError):
-        msg, code = "out of memory; read a smaller part of the input (--max-lines)", 1
-    else:
-        msg = (
-            f"internal error: {type(e).__name__}: {e} — this is a bug in gripsense; rerun "
-            "with GRIPSENSE_DEBUG=1 for the details and report them"
-        )
-        code = 1
-    err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
-    sys.exit(code)
+def __getattr__(name: str) -> Any:
+    """``app`` and ``usage_hint`` are imported when first asked for (they import every
+    command).
+    """
+    if name in ("app", "usage_hint"):
+        from gripsense.cli import _app
+
+        return getattr(_app, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from gripsense._arrays import sample_step
 from gripsense.constants import G0
 from gripsense.errors import InputError
 
@@ -100,7 +101,7 @@ def estimate_braking(
     ax = acc["ax"].to_numpy(float)
     if t.size < 20:
         raise InputError(f"{source}: {t.size} samples; a braking test needs a few seconds")
-    dt = float(np.median(np.diff(t)))
+    dt = sample_step(t, source=source)  # a clear error for repeated or backward times
     n02 = max(round(0.2 / dt), 1)
     # wrong units: a braking car does not exceed ~1.5 g; m/s² read as g looks like 9 g
     plausible = 2.0 * G0

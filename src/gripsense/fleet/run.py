@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import glob
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -26,12 +27,19 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
-from gripsense.fleet.tasks import STEER_SUFFIX, calibration_batch, process_batch, steer_csv_for
+from gripsense.fleet.tasks import (
+    STEER_SUFFIX,
+    calibration_batch,
+    not_a_log,
+    process_batch,
+    steer_csv_for,
+)
 from gripsense.io.output_folder import ResultWriter
 
 __all__ = [
     "STEER_SUFFIX",
     "FleetResult",
+    "account_inputs",
     "expand_logs",
     "read_vehicle_map",
     "run_fleet",
@@ -62,15 +70,74 @@ class FleetResult:
 def expand_logs(patterns: list[str]) -> list[str]:
     """Glob patterns (``**`` allowed) → sorted unique file paths; a file that is the steering
     CSV of another matched log (:func:`steer_csv_for`) is not a log.
+
+    Parameters
+    ----------
+    patterns : list of str
+        Log files or glob patterns.
+
+    Returns
+    -------
+    list of str
+        The logs that can be read (:func:`account_inputs` also says why the others cannot).
     """
-    out: set[str] = set()
+    return account_inputs(patterns)[0]
+
+
+def account_inputs(patterns: list[str]) -> tuple[list[str], list[tuple[str, str]]]:
+    """Every named or matched input, either a log to read or a problem with its reason.
+
+    A name without wildcards is an input whatever it is: a missing file, a dangling symbolic
+    link, a link loop, a named pipe, a device, a socket or a folder is a problem with that
+    reason. A wildcard pattern that matches nothing is a problem; what it matches is a log
+    when it is a regular file (a folder it matches is not an input: ``**`` reaches inside it),
+    a problem otherwise. A second name of the same file (a link to it, another spelling of
+    its path) is a problem ("the same file as …"): each file is read once. A file that is the
+    steering CSV of a matched log (:func:`steer_csv_for`) is that log's, not a log.
+
+    Parameters
+    ----------
+    patterns : list of str
+        Log files or glob patterns (``**`` allowed).
+
+    Returns
+    -------
+    logs : list of str
+        Regular files to read, sorted.
+    problems : list of tuple of str
+        ``(input, reason)`` for every input that cannot be read as a log.
+    """
+    named: dict[str, str | None] = {}  # path → reason it is not a log (None: a regular file)
+    problems: list[tuple[str, str]] = []
     for p in patterns:
+        if not glob.has_magic(p):
+            named.setdefault(p, not_a_log(p, named=True))
+            continue
         hits = glob.glob(p, recursive=True)
-        if not hits and Path(p).is_file():
-            hits = [p]
-        out.update(h for h in hits if Path(h).is_file())
-    steers = {steer_csv_for(h) for h in out}
-    return sorted(h for h in out if Path(h) not in steers)
+        if not hits:
+            problems.append((p, "no file matches this pattern"))
+        for h in hits:
+            if h not in named:
+                why = not_a_log(h, named=False)
+                if why != "":
+                    named[h] = why
+    steers = {steer_csv_for(h) for h, why in named.items() if why is None}
+    logs: list[str] = []
+    seen: dict[tuple[int, int], str] = {}
+    for h in sorted(named):
+        why = named[h]
+        if Path(h) in steers:
+            continue  # a log's steering CSV (read with it, and its problem if it cannot be)
+        if why is not None:
+            problems.append((h, why))
+            continue
+        st = os.stat(h)
+        first = seen.setdefault((st.st_dev, st.st_ino), h)
+        if first != h:
+            problems.append((h, f"the same file as {first} (read once)"))
+            continue
+        logs.append(h)
+    return logs, problems
 
 
 def read_vehicle_map(path: str | Path) -> list[tuple[str, str, str]]:
@@ -206,13 +273,19 @@ def run_fleet(
 
         receiver_from(receiver)  # a bad name or file fails here, before any work
     outdir = Path(outdir)
-    logs = expand_logs(list(patterns))
+    logs, unreadable = account_inputs(list(patterns))
     if not logs:
-        raise InputError(f"no log matches {patterns}")
+        if not unreadable:
+            raise InputError(f"no log matches {patterns}")
+        first = "; ".join(f"{p}: {why}" for p, why in unreadable[:3])
+        raise InputError(
+            f"none of the {len(unreadable)} logs could be used ({first}); "
+            f"the previous result in {outdir} (if any) is unchanged"
+        )
     vmap = read_vehicle_map(vehicle_map) if vehicle_map else []
     items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
     batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
-    steers = [str(p) for p in map(steer_csv_for, logs) if p.is_file()]
+    steers = [str(p) for p in map(steer_csv_for, logs) if not_a_log(str(p), named=True) is None]
     inputs = [*logs, *steers, *sorted({it[1] for it in items})]
     inputs += [vehicle_map] if vehicle_map else []
     if calibrate:
@@ -240,6 +313,10 @@ def run_fleet(
             log_options=log_options,
             steer_columns=steer_columns,
         )
+        records += [
+            {"log": p, "vehicle": "", "rows": 0, "problem": why, "steering": "", "front_axle": ""}
+            for p, why in unreadable
+        ]  # every named or matched input is in logs.csv, these in problems.csv too
         logs_df = pd.DataFrame(records).sort_values("log").reset_index(drop=True)
         problems = logs_df[logs_df["problem"] != ""][["log", "vehicle", "problem"]]
         if len(problems) == len(logs_df):

@@ -20,7 +20,10 @@ and the second pass (:func:`process_batch` with ``calibrations``) applies it.
 
 from __future__ import annotations
 
+import errno
 import hashlib
+import os
+import stat
 import traceback
 from pathlib import Path
 
@@ -35,6 +38,7 @@ __all__ = [
     "ROW_COLUMNS",
     "STEER_SUFFIX",
     "calibration_batch",
+    "not_a_log",
     "process_batch",
     "process_log",
     "steer_csv_for",
@@ -84,6 +88,62 @@ def steer_csv_for(log: str | Path) -> Path:
     name = p.name[:-3] if p.name.lower().endswith(".gz") else p.name
     stem = Path(name).stem if Path(name).suffix else name
     return p.with_name(stem + STEER_SUFFIX)
+
+
+_KINDS = {
+    stat.S_IFIFO: "a named pipe (FIFO), not a regular file: fleet workers read each file by "
+    "name (twice with --calibrate); copy it to a file",
+    stat.S_IFSOCK: "a socket, not a regular file",
+    stat.S_IFCHR: "a character device, not a regular file",
+    stat.S_IFBLK: "a block device, not a regular file",
+}
+
+
+def not_a_log(path: str, *, named: bool = True) -> str | None:
+    """Why *path* cannot be read as a fleet input.
+
+    Parameters
+    ----------
+    path : str
+        A log (or steering CSV) as named or matched.
+    named : bool
+        Named by the user (a folder is then a problem); else matched by a wildcard pattern (a
+        folder is then no input at all: ``**`` reaches inside it).
+
+    Returns
+    -------
+    str or None
+        ``None`` for a regular file; ``""`` for a folder a pattern matched; else the reason
+        (no such file, a dangling link, a link loop, a named pipe, a device …).
+    """
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        if os.path.islink(path):
+            return f"a dangling symbolic link (to {os.readlink(path)}, which does not exist)"
+        return "no such file"
+    except OSError as e:
+        if e.errno == errno.ELOOP:
+            return "a symbolic link loop (the link never reaches a file)"
+        return (e.strerror or str(e)).lower()
+    if stat.S_ISREG(st.st_mode):
+        return None
+    if stat.S_ISDIR(st.st_mode):
+        return "a folder, not a log (give a pattern such as DIR/**/*.nmea*)" if named else ""
+    return _KINDS.get(stat.S_IFMT(st.st_mode), "not a regular file")
+
+
+def _steer_csv(log: str | Path) -> Path | None:
+    """The log's steering CSV when there is one; one that is there but cannot be read (a
+    dangling link, a pipe …) makes the log a problem, with the reason.
+    """
+    steer = steer_csv_for(log)
+    if not os.path.lexists(steer):
+        return None
+    why = not_a_log(str(steer))
+    if why is not None:
+        raise GripsenseError(f"its steering CSV {steer}: {why}")
+    return steer
 
 
 def _cells(lat: np.ndarray, lon: np.ndarray, res: int) -> list[str]:
@@ -150,9 +210,8 @@ def process_log(
     from gripsense.pipeline import FrictionRun
 
     run = FrictionRun(vehicle, method=method, receiver=receiver)
-    steer = steer_csv_for(path)
     res = run.run_log(path, since=since, log_options=log_options,
-                      steer_csv=steer if steer.is_file() else None,
+                      steer_csv=_steer_csv(path),
                       steer_columns=steer_columns)  # fmt: skip
     steering = {
         "steering": str(res.meta.get("steering", "")),
@@ -256,9 +315,8 @@ def calibration_batch(
                 if vfile not in runs:
                     veh = dataclasses.replace(Vehicle.from_toml(vfile), calibration_file=None)
                     runs[vfile] = FrictionRun(veh, receiver=receiver)
-                steer = steer_csv_for(path)
                 rec["sums"] = log_drive_sums(path, runs[vfile], log_options=log_options,
-                                             steer_csv=steer if steer.is_file() else None,
+                                             steer_csv=_steer_csv(path),
                                              steer_columns=steer_columns)  # fmt: skip
             except Exception as e:  # the second pass reports it with its reason
                 rec["problem"] = f"{type(e).__name__}: {e}"

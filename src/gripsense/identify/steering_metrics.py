@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gripsense._arrays import sample_step
 from gripsense.errors import InputError
 
 __all__ = ["release_onset", "release_settling_time", "settling_time", "step_metrics", "yaw_gain"]
@@ -127,7 +128,7 @@ def yaw_gain(
                 f"yaw_gain: fewer than 3 samples in {window_s} s after onset {onset_s} s"
             )
         return float(np.polyfit(t[m], r[m], 1)[0])
-    dt = float(np.median(np.diff(t)))
+    dt = sample_step(t, source="yaw_gain: step trace")
     n = max(5, round(smooth_s / dt) | 1)
     if r.size < 2 * n + 2:
         raise InputError("yaw_gain: trace shorter than the smoothing window")
@@ -214,10 +215,10 @@ def release_settling_time(
     """
     t = np.asarray(t, float)
     y = np.asarray(angle, float)
+    dt = sample_step(t, source="release trace")
     if release_s is None:
         release_s = release_onset(t, y)
     # sensor noise near the band edge delays "the last time outside": smooth over ~50 ms first
-    dt = float(np.median(np.diff(t)))
     n = round(0.05 / dt) | 1
     if n >= 5 and y.size > 2 * n:
         from scipy.signal import savgol_filter
@@ -244,6 +245,7 @@ def step_metrics(t, steer_angle, yaw_rate, *, method: str = "rise") -> dict[str,
     t = np.asarray(t, float)
     a = np.asarray(steer_angle, float)
     r = np.asarray(yaw_rate, float)
+    sample_step(t, source="step trace")  # the ramp's rate divides by a time difference
     a0 = float(np.median(a[: max(3, a.size // 20)]))
     span = float(np.max(np.abs(a - a0)))
     if span <= 0:

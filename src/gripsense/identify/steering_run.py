@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gripsense._arrays import sample_step
 from gripsense.config import SteeringCar
 from gripsense.errors import InputError
 from gripsense.identify.steering import (
@@ -174,6 +175,7 @@ def identify_from_recordings(
     traces = []
     for p in release or []:
         df = read_recording(p, ("t", "steer"), columns, log)
+        sample_step(df["t"], source=str(p))  # the file named when its times cannot be used
         t, a = df["t"], np.rad2deg(df["steer"])
         ts = release_settling_time(t, a, reference=reference)
         times.append(ts)
@@ -187,6 +189,7 @@ def identify_from_recordings(
         rates, gains = [], []
         for p in step:
             df = read_recording(p, ("t", "steer", "yaw_rate"), columns, log)
+            sample_step(df["t"], source=str(p))
             m = step_metrics(
                 df["t"], np.rad2deg(df["steer"]), np.rad2deg(df["yaw_rate"]), method=method
             )

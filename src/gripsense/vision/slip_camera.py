@@ -167,6 +167,8 @@ def slip_from_frames(
         a scale), ``quality`` (block-matching peak × fraction of corners tracked),
         ``response`` (phase correlation), ``ok``.
     """
+    if not (np.isfinite(fps) and fps > 0):  # the frame interval 1/fps times every pair
+        raise InputError(f"fps = {fps}: give the camera's frame rate, > 0 [1/s]")
     cv2 = _cv2()
     imgs = list(_load(frames, cv2))
     if len(imgs) < 2:
