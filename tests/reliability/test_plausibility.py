@@ -272,3 +272,30 @@ def test_a_steering_csv_that_covers_part_of_the_log_gives_a_note(simulated, tmp_
     full = _cli("friction", sim.log, "--vehicle", sim.vehicle, "--steer-csv", sim.steer, "-o",
                 tmp_path / "r2")  # fmt: skip
     assert "covers" not in full
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--spacing-m", "1e-300"], ("spacing", "0.005–5 m")),
+        (["--spacing-m", "300"], ("spacing", "metres")),
+        (["--spacing-m", "0.3", "--reference-deg", "1e308"], ("reference camber", "±30°")),
+    ],
+)
+def test_camber_arguments_are_plausible(tmp_path, args, words):
+    """A spacing of 1e-300 m gave a −90° camber with exit 0."""
+    p = tmp_path / "laser.csv"
+    p.write_text("t_s,d_outer_mm,d_inner_mm\n0,250,251\n0.01,250,251\n", encoding="utf-8")
+    _one_error_line(_cli("camber", p, *args, code=2), *words)
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [(["--time-scale", "0"], ("--time-scale",)), (["--ax-sign", "0"], ("--ax-sign",))],
+)
+def test_brake_mu_arguments_are_plausible(tmp_path, args, words):
+    p = tmp_path / "acc.csv"
+    p.write_text("t_ms,ax_g\n0,0\n10,-0.8\n20,-0.8\n", encoding="utf-8")
+    out = _cli("brake-mu", p, "--t-col", "t_ms", "--ax-col", "ax_g", "--ay-col", "", "--az-col",
+               "", *args, code=2)  # fmt: skip
+    _one_error_line(out, *words)

@@ -81,6 +81,12 @@ def read_accel_csv(
     if columns is None:  # the old per-column arguments, as a mapping with factors to SI
         if units not in ("g", "mps2"):
             raise InputError(f"units={units!r}; use 'g' or 'mps2'")
+        if ax_sign not in (1.0, -1.0):
+            raise InputError(f"--ax-sign {ax_sign:g}: use 1 (x forward) or -1 (x backwards)")
+        if not 1e-9 <= time_scale <= 1e3:
+            raise InputError(
+                f"--time-scale {time_scale:g}: seconds per time unit, e.g. 1 (s) or 0.001 (ms)"
+            )
         k = G0 if units == "g" else 1.0
         old = {"t": (t_col, time_scale), "ax": (ax_col, k * ax_sign), "ay": (ay_col, k)}
         columns = {key: cf for key, cf in {**old, "az": (az_col, k)}.items() if cf[0] is not None}

@@ -21,6 +21,11 @@ from gripsense.errors import InputError
 
 __all__ = ["CAMBER_COLUMNS", "calibration_offsets", "camber_from_lasers"]
 
+SPACING_RANGE_M = (0.005, 5.0)
+"""Plausible spacing of the two sensors along the bar [m]."""
+REFERENCE_LIMIT_RAD = np.deg2rad(30.0)
+"""Largest |camber| of a calibration pose [rad]."""
+
 CAMBER_COLUMNS = ["t_s", "d_outer_m", "d_inner_m", "camber_deg"]
 """Columns of ``gripsense camber -o``: the laser readings [s], [m] and the camber [deg]."""
 
@@ -57,10 +62,16 @@ def camber_from_lasers(
     ----------
     Seed 002 (Mizuno et al. 1999) §2.1, Fig. 3: "二つのレーザー変位計の正接により計測".
     """
-    if not spacing_m > 0:
-        raise InputError(f"spacing_m = {spacing_m}: must be > 0 [m]")
-    if not np.isfinite(spacing_m):
-        raise InputError(f"spacing_m = {spacing_m}: must be a finite number [m]")
+    if not SPACING_RANGE_M[0] <= spacing_m <= SPACING_RANGE_M[1]:
+        raise InputError(
+            f"spacing_m = {spacing_m:g}: the sensors' spacing along the bar is "
+            f"{SPACING_RANGE_M[0]:g}–{SPACING_RANGE_M[1]:g} m; give it in metres"
+        )
+    if not abs(reference_camber_rad) <= REFERENCE_LIMIT_RAD:
+        raise InputError(
+            f"reference camber {np.rad2deg(reference_camber_rad):g}°: a calibration pose is "
+            f"within ±{np.rad2deg(REFERENCE_LIMIT_RAD):.0f}°; give it in degrees (--reference-deg)"
+        )
     o = as_float_array(d_outer, "d_outer") - offset_outer
     i = as_float_array(d_inner, "d_inner") - offset_inner
     diff = o - i
