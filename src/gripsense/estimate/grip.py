@@ -17,7 +17,14 @@ from gripsense.estimate.bins import AxleBins, axle_bins, axle_pairs
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 
-__all__ = ["axle_grip", "bin_bound", "drive_bound", "local_slope", "measured_grip"]
+__all__ = [
+    "axle_grip",
+    "bin_bound",
+    "drive_bound",
+    "local_slope",
+    "measured_grip",
+    "unseen_yaw_moment",
+]
 
 
 def local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
@@ -71,16 +78,92 @@ def _earth_frame_accel(t, speed, course, heading, r, cg) -> tuple[np.ndarray, np
     return ax_ant - rdot * cg[1] - r * r * cg[0], ay_ant + rdot * cg[0] - r * r * cg[1]
 
 
-def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None) -> tuple:
+UNSEEN_SLIP_RAD = 0.1
+"""Without a steering channel, the front wheels' steer is taken within this of the kinematic
+L r/U: the axles' slip difference (understeer beyond 0.1 rad is a front axle sliding far past
+its peak) [rad]."""
+ALIGNING_TRAIL_FACTOR = 1.0
+"""The tyres' aligning moments are bounded by this many times the declared zero-slip
+pneumatic trail (l/6 of the contact length at the static load) times each axle's force: the
+trail is largest near zero slip, and where the force is large it has fallen well below it [-]."""
+NEGATIVE_TRAIL_SHARE = 0.25
+"""Past the force's peak the pneumatic trail turns negative, to at most this share of the
+zero-slip one: the aligning moments then push the other way [-]."""
+
+
+def unseen_yaw_moment(
+    vehicle: Vehicle, f_front, f_rear, steer_lo, steer_hi, side
+) -> tuple[np.ndarray, np.ndarray]:
+    """The range of the yaw moment the axles' forces leave out of I_z ṙ = l_f F_f − l_r F_r
+    [N m].
+
+    Two moments the two-axle balance does not carry, bounded without a tyre model:
+
+    * the steered wheels' forces at half the front track: each front wheel's lateral force
+      F_i, turned by the steer δ, pushes along the car by −F_i sin δ at ±t_f/2, a moment
+      (t_f/2) sin δ (F_left − F_right). The outer wheel carries at least the inner's force
+      (it carries more load), so F_left − F_right lies between 0 and −|F_f| times the side of
+      the turn, whatever the share;
+    * the tyres' aligning moments, M_z,i = −t_i F_i: self-aligning, with the pneumatic trail t
+      at most :data:`ALIGNING_TRAIL_FACTOR` times the declared zero-slip one, and past the peak
+      at least −:data:`NEGATIVE_TRAIL_SHARE` of it.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Vehicle description (front track, tyres' contact lengths).
+    f_front, f_rear : numpy.ndarray
+        The axles' largest lateral forces in magnitude [N].
+    steer_lo, steer_hi : numpy.ndarray
+        The range of the front road-wheel angle, ISO (positive left) [rad].
+    side : numpy.ndarray
+        The side of the turn: the sign of the lateral acceleration (+1 left) [-].
+
+    Returns
+    -------
+    m_lo, m_hi : numpy.ndarray
+        The moment's range, ISO [N m].
+
+    References
+    ----------
+    docs/physics.md §14.1.
+    """
+    m_front, m_rear = vehicle.axle_masses_kg
+    t0 = [
+        float(np.max(vehicle.tyres[a].contact_length(m / 2.0))) / 6.0
+        for a, m in (("front", m_front), ("rear", m_rear))
+    ]
+    ff, fr = np.abs(f_front), np.abs(f_rear)
+    half = 0.5 * vehicle.track_front_m
+    # (t_f/2) sin δ (F_l − F_r) with (F_l − F_r) = −side q |F_f|, q in [0, 1]
+    ends = [
+        -half * np.sin(np.clip(d, -np.pi / 2, np.pi / 2)) * side * q * ff
+        for d in (steer_lo, steer_hi)
+        for q in (0.0, 1.0)
+    ]
+    st_lo, st_hi = np.minimum.reduce(ends), np.maximum.reduce(ends)
+    # Σ M_z = −side Σ t_i |F_i|, t_i in [−share, factor] t₀
+    align = t0[0] * ff + t0[1] * fr
+    al = -side * ALIGNING_TRAIL_FACTOR * align
+    ah = side * NEGATIVE_TRAIL_SHARE * align
+    return st_lo + np.minimum(al, ah), st_hi + np.maximum(al, ah)
+
+
+def axle_grip(
+    vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None, steer=None
+) -> tuple:
     """Per axle: the lateral force it carries (with the yaw-acceleration term), its nominal
     load, and the friction it used — model-free, ``docs/physics.md`` §14.
 
     F_front = (m a_y l_r + I_z ṙ)/L, F_rear = (m a_y l_f − I_z ṙ)/L, a_y of the CG from the
     earth-frame velocity (*earth* = (course, heading) known, :func:`_earth_frame_accel`), else
     U r + V̇;
-    the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the largest axle
-    load the longitudinal transfer allows over the declared CG-height range — a lower bound on
-    μ for any tyre and any lateral load transfer.
+    the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the yaw moment the
+    balance leaves out (:func:`unseen_yaw_moment`: the steered wheels' forces at half the track,
+    the tyres' aligning moments; with the front steer *steer* [rad], else the kinematic one
+    within :data:`UNSEEN_SLIP_RAD`), and the largest axle load the longitudinal transfer allows
+    over the declared CG-height range — a lower bound on μ for any tyre and any lateral load
+    transfer.
     """
     m = vehicle.mass_kg
     m_ax = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
@@ -99,6 +182,28 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
         ay_tot = ay
     rdot = np.nan_to_num(local_slope(r, t, 0.5)) if ok_t else np.zeros(t.size)
     wb = vehicle.wheelbase_m
+    m_lo = m_hi = np.zeros(t.size)
+    if wb is not None:
+        # the front steer's range: the channel's, else the kinematic one within the slip
+        speed = np.maximum(np.hypot(u_a, v_a), 1.0)
+        d_kin = wb * r / speed
+        lo, hi = d_kin - UNSEEN_SLIP_RAD, d_kin + UNSEEN_SLIP_RAD
+        if steer is not None:  # the channel's, within a 5 % scale error and 0.01 rad
+            d = np.asarray(steer, float)
+            e = 0.05 * np.abs(d) + 0.01
+            lo = np.where(np.isfinite(d), d - e, lo)
+            hi = np.where(np.isfinite(d), d + e, hi)
+        iz_hi = 1.3 * abs(vehicle.yaw_inertia) * np.abs(rdot) / wb
+        f_abs = {
+            a: np.abs(m * ay_tot * sh) + iz_hi
+            for a, sh in (
+                ("front", vehicle.front_weight_fraction),
+                ("rear", 1.0 - vehicle.front_weight_fraction),
+            )
+        }
+        m_lo, m_hi = unseen_yaw_moment(
+            vehicle, f_abs["front"], f_abs["rear"], lo, hi, np.sign(np.nan_to_num(ay_tot))
+        )
     force, load, grip = {}, {}, {}
     ax = np.zeros(t.size)
     if ok_t and cg is not None:
@@ -130,9 +235,14 @@ def axle_grip(vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth
             sgn = 1.0 if axle == "front" else -1.0
             base = m * ay_tot * share
             iz = vehicle.yaw_inertia
-            f_nom = base + sgn * iz * rdot / wb
-            f_lo = base + sgn * 0.7 * iz * rdot / wb
-            f_hi = base + sgn * 1.3 * iz * rdot / wb
+            # the nominal force takes the unseen moment's middle (the outer wheel carrying
+            # three quarters of the front's force, half the aligning moments' range)
+            f_nom = base + sgn * iz * rdot / wb - sgn * 0.5 * (m_lo + m_hi) / wb
+            f_a = base + sgn * 0.7 * iz * rdot / wb
+            f_b = base + sgn * 1.3 * iz * rdot / wb
+            # F_f = (m a_y l_r + I_z ṙ − M)/L, F_r = (m a_y l_f − I_z ṙ + M)/L
+            f_lo = np.minimum(f_a, f_b) + np.minimum(-sgn * m_lo, -sgn * m_hi) / wb
+            f_hi = np.maximum(f_a, f_b) + np.maximum(-sgn * m_lo, -sgn * m_hi) / wb
             crosses = np.sign(f_lo) != np.sign(f_hi)
             f_min = np.where(crosses, 0.0, np.minimum(np.abs(f_lo), np.abs(f_hi)))
             dfz = m * ax * vehicle.cg_height_m / wb

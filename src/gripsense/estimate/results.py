@@ -430,6 +430,8 @@ class AxleFriction(FrictionResult):
                 parts[-1] += f" [steering torque read: {read}]"
         if self.meta.get("front_axle"):  # the front axle never disappears without a word
             parts.append(str(self.meta["front_axle"]))
+        if self.meta.get("epochs_collapsed"):  # a logger's copies, counted once
+            parts.append(str(self.meta["epochs_collapsed"]))
         return "; ".join(parts)
 
     def estimates(self) -> pd.DataFrame:

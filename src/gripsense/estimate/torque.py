@@ -167,6 +167,8 @@ class TorqueBins:
         The channel's rate as read: its samples over the bins' time [Hz].
     slip, slip_sigma : numpy.ndarray or None
         The axle's measured slip angle (mean of its wheels) and its 1σ per sample [rad].
+    force_noise : numpy.ndarray or None
+        The white-noise part of *force_sigma* (without the transient's spread) [N].
     """
 
     t0: np.ndarray
@@ -189,6 +191,7 @@ class TorqueBins:
     rate_hz: float = float("nan")
     slip: np.ndarray | None = None
     slip_sigma: np.ndarray | None = None
+    force_noise: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -428,6 +431,7 @@ def torque_bins(
         rate_hz=float(samples[keep].sum() / span) if span > 0 else float("nan"),
         slip=mean(0.5 * (p["slip_angle_rad_L"] + p["slip_angle_rad_R"]))[keep],
         slip_sigma=mean(0.5 * (p["slip_sigma_rad_L"] + p["slip_sigma_rad_R"]))[keep],
+        force_noise=f_noise[keep],
     )
 
 
@@ -533,6 +537,7 @@ def merge_torque_bins(tb: TorqueBins, tol: float) -> TorqueBins:
         rate_hz=tb.rate_hz,
         slip=None if tb.slip is None else avg(tb.slip),
         slip_sigma=None if tb.slip_sigma is None else avg(tb.slip_sigma),
+        force_noise=None if tb.force_noise is None else rss(tb.force_noise),
     )
 
 
@@ -659,11 +664,12 @@ def past_peak(tb: TorqueBins) -> np.ndarray:
     point on the same side carries at least as much grip at less than half the slip.
 
     On the rising side the force grows with the slip, so a point whose slip is more than twice
-    another's (beyond both slips' 3σ) while its grip is not larger (beyond 2σ) has passed the
-    peak — a slide, a controller's overshoot into a corner. There the trail has fallen further
-    than the rising side's τ(u) at that grip says, towards zero and below, and the trail would
-    read the slide as a tyre at its limit on a lower μ; such a point is left out of the torque's
-    fit. No tyre model is used, only the measured slip and grip.
+    another's (beyond both slips' 3σ) while its grip is not larger (beyond 2σ of the grips'
+    white noise; a slide's spread would let a rising point near the peak pass as "as much
+    grip") has passed the peak — a slide, a controller's overshoot into a corner. There the
+    trail has fallen further than the rising side's τ(u) at that grip says, towards zero and
+    below, and the trail would read the slide as a tyre at its limit on a lower μ; such a point
+    is left out of the torque's fit. No tyre model is used, only the measured slip and grip.
 
     Parameters
     ----------
@@ -684,7 +690,8 @@ def past_peak(tb: TorqueBins) -> np.ndarray:
         return np.zeros(k, dtype=bool)
     a = np.abs(tb.slip)
     g = np.abs(tb.grip)
-    gs = np.abs(tb.force_sigma) / np.maximum(tb.fz_l + tb.fz_r, 1.0)
+    noise = tb.force_sigma if tb.force_noise is None else tb.force_noise
+    gs = np.abs(noise) / np.maximum(tb.fz_l + tb.fz_r, 1.0)
     side = np.sign(tb.force)
     sa = np.hypot(tb.slip_sigma[:, None], tb.slip_sigma[None, :])
     sg = np.hypot(gs[:, None], gs[None, :])

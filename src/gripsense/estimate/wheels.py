@@ -161,6 +161,8 @@ def motion_from_epochs(
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
     rows = np.flatnonzero(have)
+    keep, n_same_time, n_held = unique_epochs(epochs.iloc[rows])
+    rows = rows[keep]
     ep = epochs.iloc[rows]
     ts = ep["t_s"].to_numpy(float)
     ts = ts[np.isfinite(ts)]
@@ -181,7 +183,15 @@ def motion_from_epochs(
         "epochs_used": int(rows.size),
         "epochs_missing_inputs": int(len(epochs) - rows.size),
         "epochs_aligned": alignment.n_aligned,
+        "epochs_duplicate": n_same_time,
+        "epochs_held": n_held,
     }
+    if n_same_time or n_held:
+        meta["epochs_collapsed"] = (
+            f"{n_same_time + n_held} epochs collapsed: {n_same_time} repeat an earlier "
+            f"epoch's time stamp, {n_held} its measurements at a new one (a logger's "
+            "duplicates or resampling); each measurement counts once"
+        )
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"
     if o.calibrate_heading:
@@ -217,6 +227,49 @@ def motion_from_epochs(
         if c in ep.columns:
             motion[c] = ep[c].to_numpy(float)
     return motion, meta
+
+
+_HELD_COLUMNS = ("lat_deg", "lon_deg", "speed_mps", "course_deg", "heading_deg")
+"""The measurements that, all repeated bit for bit at a new time stamp, make a held epoch."""
+
+
+def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int]:
+    """The epochs that each carry a measurement of their own: a logger that writes an epoch
+    twice (or each sentence twice) or resamples its input by holding the last value makes
+    copies that are not new data — counted as independent they would shrink the measured
+    grip's noise and raise its bound (``docs/physics.md`` §14).
+
+    An epoch whose time stamp equals the previous kept epoch's is a copy; so is one whose
+    position, speed, course and heading all equal the previous kept epoch's bit for bit (a held
+    value: a moving receiver never repeats all five).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch rows in time order with ``t_s`` [s] and the columns of :data:`_HELD_COLUMNS`.
+
+    Returns
+    -------
+    keep : numpy.ndarray of bool
+        The epochs kept (the first of each run of copies).
+    same_time : int
+        Epochs dropped for repeating a time stamp.
+    held : int
+        Epochs dropped for repeating every measurement at a new time stamp.
+    """
+    n = len(epochs)
+    keep = np.ones(n, dtype=bool)
+    if n < 2:
+        return keep, 0, 0
+    t = epochs["t_s"].to_numpy(float)
+    same = np.zeros(n, dtype=bool)
+    same[1:] = t[1:] == t[:-1]
+    held = np.zeros(n, dtype=bool)
+    if all(c in epochs.columns for c in _HELD_COLUMNS):
+        vals = np.column_stack([epochs[c].to_numpy(float) for c in _HELD_COLUMNS])
+        held[1:] = np.all(vals[1:] == vals[:-1], axis=1) & ~same[1:]  # NaN never equal
+    keep = ~(same | held)
+    return keep, int(same.sum()), int(held.sum())
 
 
 _ESTIMATED = ("slide_point_m", "force_ratio", "mu", "kappa_beta", "mu_sigma")
@@ -296,8 +349,9 @@ def wheel_kinematics(
     if "course_rad" in motion.columns and "heading_rad" in motion.columns:
         earth = (motion["course_rad"].to_numpy(float), motion["heading_rad"].to_numpy(float))
     axle_force, axle_load, grip, grip_sig = axle_grip(
-        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth
-    )
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
+        steer=steer,
+    )  # fmt: skip
 
     nz = o.noise
     sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)

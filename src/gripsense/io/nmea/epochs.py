@@ -355,6 +355,27 @@ def yaw_from_heading(t: np.ndarray, hdg: np.ndarray, yaw: np.ndarray, src: np.nd
     _fill_yaw(t, hdg, max_gap, yaw, src)
 
 
+def _repeats(cols: dict[str, np.ndarray]) -> np.ndarray:
+    """Which sentences of one type repeat the sentence on the line before them exactly (every
+    decoded field equal, NaN equal to NaN)."""
+    line = np.asarray(cols["line"])
+    n = line.size
+    out = np.zeros(n, dtype=bool)
+    if n < 2:
+        return out
+    same = line[1:] == line[:-1] + 1
+    for name, a in cols.items():
+        if name == "line" or not same.any():
+            continue
+        a = np.asarray(a)
+        eq = a[1:] == a[:-1]
+        if a.dtype.kind == "f":
+            eq |= np.isnan(a[1:]) & np.isnan(a[:-1])
+        same &= eq
+    out[1:] = same
+    return out
+
+
 def assemble_epochs(
     tables: dict[str, dict[str, np.ndarray]],
 ) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
@@ -373,7 +394,8 @@ def assemble_epochs(
     epoch_of : dict
         Type key -> epoch index of each of its sentences.
     notes : dict
-        ``epochs_without_time``, ``has_date``.
+        ``epochs_without_time``, ``has_date``, ``repeated_sentences`` (sentences that repeat
+        the line before them exactly: joined to their original's epoch).
     """
     keys = list(SENTENCES)
     size = {k: tables[k]["line"].size for k in keys}
@@ -382,14 +404,19 @@ def assemble_epochs(
     kind_at = np.full(n_lines, -1, dtype=np.int64)
     tod_at = np.full(n_lines, np.nan)
     lines_of = {k: tables[k]["line"] for k in keys}
+    repeated = np.zeros(n_lines, dtype=bool)
     for code, k in enumerate(keys):
         kind_at[lines_of[k]] = code
         if "tod_s" in tables[k]:
             tod_at[lines_of[k]] = tables[k]["tod_s"]
+        repeated[lines_of[k][_repeats(tables[k])]] = True
+    # a sentence that repeats the line before it verbatim (a logger writing each sentence
+    # twice) is the same measurement: it joins its original's epoch instead of starting one
+    kind_at[repeated] = -1
     tod_e = np.empty(sum(size.values()))
     n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
     tod_e = tod_e[:n_ep]
-    eid_at = kind_at  # now: line -> epoch
+    eid_at = np.maximum.accumulate(kind_at) if n_lines else kind_at  # line -> epoch
 
     epoch_of: dict[str, np.ndarray] = {k: eid_at[lines_of[k]] for k in keys}
 
@@ -487,5 +514,9 @@ def assemble_epochs(
     ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 
     df = pd.DataFrame({c: ep[c] for c in EPOCH_COLUMNS}, copy=False)
-    notes = {"epochs_without_time": int((~timed).sum()), "has_date": has_date}
+    notes = {
+        "epochs_without_time": int((~timed).sum()),
+        "has_date": has_date,
+        "repeated_sentences": int(repeated.sum()),
+    }
     return df, epoch_of, notes
