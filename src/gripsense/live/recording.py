@@ -574,10 +574,10 @@ class Recorder:
 
 def _row_problem(line: bytes, ncols: int, cols: dict[str, int]) -> str:
     """Why a rows-file line cannot be a result row ("" when it can)."""
-    if not line.endswith(b"\n"):
-        return "no line end (cut off)"
     if b"\x00" in line:
         return "NUL bytes (a power loss?)"
+    if not line.endswith(b"\n"):
+        return "no line end (cut off)"
     try:
         text = line.decode("utf-8")
     except UnicodeDecodeError:
