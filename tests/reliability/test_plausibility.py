@@ -299,3 +299,23 @@ def test_brake_mu_arguments_are_plausible(tmp_path, args, words):
     out = _cli("brake-mu", p, "--t-col", "t_ms", "--ax-col", "ax_g", "--ay-col", "", "--az-col",
                "", *args, code=2)  # fmt: skip
     _one_error_line(out, *words)
+
+
+def test_a_log_channel_on_another_clock_is_one_line(tmp_path):
+    """An MDF4 whose steering channel's times never meet the heading's: one line naming the
+    channel and both spans (it vanished from every epoch without a word)."""
+    from gripsense.errors import InputError
+    from gripsense.io.log import read_log
+    from gripsense.io.mdf import mdf_columns, write_mdf
+    from tests.io.test_measurement_logs import _epochs, _steer
+
+    ep = _epochs()
+    st_ = _steer(ep)
+    st_["t_s"] += 5000.0
+    write_mdf(ep, tmp_path / "m.mf4", steer=st_)
+    with pytest.raises(InputError, match=r"'RoadWheelAngle' has values at 5000–5005\.9 s"):
+        read_log(tmp_path / "m.mf4", columns=mdf_columns(steering=True))
+    st_["t_s"] -= 5000.0
+    write_mdf(ep, tmp_path / "ok.mf4", steer=st_)
+    ok = read_log(tmp_path / "ok.mf4", columns=mdf_columns(steering=True))
+    assert ok.epochs["steer_rad"].notna().sum() >= len(ep) - 1  # the same channel on the clock

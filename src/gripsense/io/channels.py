@@ -445,9 +445,29 @@ def channels_to_epochs(
             values[col] = si[ok][order]  # sampled with the heading: nothing to interpolate
         else:
             values[col] = resample(t, ch.t[srt], si[srt], circular=key in _ANGLES)
+            _check_overlap(ch, si, base, t, values[col], where)
         if key in _ANGLES:
             values[col] = np.mod(values[col], 360.0)
     return t, values
+
+
+def _check_overlap(
+    ch: Channel, si: np.ndarray, base: Channel, t: np.ndarray, out: np.ndarray, where: str
+) -> None:
+    """An error when a channel with values lands on no epoch because its times never overlap
+    the base channel's (another clock): it would vanish without a word.
+    """
+    ok = np.isfinite(ch.t) & np.isfinite(si)
+    if not ok.any() or t.size == 0 or np.isfinite(out).any():
+        return
+    tc = ch.t[ok]
+    if tc.max() >= t.min() and tc.min() <= t.max():
+        return  # overlapping spans (a channel too sparse for its epochs is another matter)
+    raise InputError(
+        f"{where}: channel {ch.name!r} has values at {tc.min():.6g}–{tc.max():.6g} s, which "
+        f"never overlap the epochs of {base.name!r} ({t.min():.6g}–{t.max():.6g} s): the two "
+        "are on different clocks; map a channel on the log's clock or leave it out of --columns"
+    )
 
 
 STEERING_CHANNELS: dict[str, tuple[str, ...]] = {
