@@ -319,3 +319,25 @@ def test_a_log_channel_on_another_clock_is_one_line(tmp_path):
     write_mdf(ep, tmp_path / "ok.mf4", steer=st_)
     ok = read_log(tmp_path / "ok.mf4", columns=mdf_columns(steering=True))
     assert ok.epochs["steer_rad"].notna().sum() >= len(ep) - 1  # the same channel on the clock
+
+
+def test_an_inf_in_a_tyre_table_is_counted_not_fitted(tmp_path):
+    """A tyre table counts the rows it cannot use: an inf force is one of them (it was fitted)."""
+    import numpy as np
+    import pandas as pd
+
+    from gripsense.physics.magic_formula.pac94 import pac94_lateral
+    from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
+
+    d = cornering_samples(
+        lambda fz, a, g: pac94_lateral(PAC94_EXAMPLE, fz, a, g), 400, rng=np.random.default_rng(2)
+    )
+    df = pd.DataFrame(
+        {"alpha_deg": np.rad2deg(d.alpha_rad), "gamma_deg": np.rad2deg(d.gamma_rad),
+         "fz_N": d.fz_N, "fy_N": d.fy_N}
+    )  # fmt: skip
+    df.loc[7, "fy_N"] = np.inf
+    p = tmp_path / "road.csv"
+    df.to_csv(p, index=False)
+    out = _cli("tyre", "fit", p)
+    assert "399 of 400 rows used" in out and "fy_not_a_number 1" in out, out

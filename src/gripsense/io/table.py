@@ -374,8 +374,9 @@ def map_table(
     rejected : dict, optional
         A caller that counts rejected rows passes a dict: a cell that is ``inf`` or ``-inf``
         becomes NaN and ``rejected[key]`` the boolean mask of such rows
-        (:func:`channel_rows` counts them). Without it such a cell is an error naming the
-        file, line and column. Either way it is never a number.
+        (:func:`channel_rows` counts them). Without it such a cell is NaN with
+        ``non_numeric="nan"`` (counted by the caller like any cell that is not a number) and
+        otherwise an error naming the file, line and column. It is never a number.
 
     Returns
     -------
@@ -427,15 +428,18 @@ def map_table(
             col = numeric_column(df, name, path)
         inf = np.isinf(col)
         if inf.any():
-            if rejected is None:
+            if rejected is None and non_numeric == "nan":
+                col = np.where(inf, np.nan, col)  # counted by the caller as not a number
+            elif rejected is None:
                 row = int(np.flatnonzero(inf)[0])
                 raise InputError(
                     f"{path}: {_where(df, row)}, column {name!r} ({key}): "
-                    f"{df[name].iloc[row]!r} is not a finite number; correct the value, or "
+                    f"{col[row]:g} is not a finite number; correct the value, or "
                     "leave the cell empty or delete the row"
                 )
-            rejected[key] = inf
-            col = np.where(inf, np.nan, col)
+            else:
+                rejected[key] = inf
+                col = np.where(inf, np.nan, col)
         _check_plausible(df, path, key, name, quantities[key], col, factor, spec)
         values[key] = col * factor
     return values, _spec_dict(spec)
