@@ -406,6 +406,26 @@ def test_recovery_of_a_cut_last_row(tmp_path, rows_file):
     _check_recovered(out, data, 1)
 
 
+def test_recovery_of_a_csv_output_after_a_power_loss(tmp_path, short_log):
+    """A .csv output is written as it goes; a NUL tail and a cut row after a power loss made
+    wall_time_s text. --recover moves exactly those lines to .rejected, keeps the rest."""
+    out = tmp_path / "pl.csv"
+    run_live(open_replay(short_log, 0.0), VEHICLE, output=out, handle_signals=False)
+    clean = out.read_bytes()
+    assert recover(out)["rejected"] == []  # nothing to move: unchanged
+    assert out.read_bytes() == clean and not output_paths(out)["rejected"].exists()
+    tail = b"1795749927.7,41.2,2018-02-08 04:00:41.2\n" + b"\x00" * 3000  # cut row, NULs
+    with open(out, "ab") as fh:
+        fh.write(tail)
+    assert not pd.api.types.is_float_dtype(pd.read_csv(out)["wall_time_s"])  # the symptom
+    res = recover(out)
+    assert out.read_bytes() == clean
+    assert output_paths(out)["rejected"].read_bytes() == clean.split(b"\n", 1)[0] + b"\n" + tail
+    assert res["rows"] == clean.count(b"\n") - 1 and len(res["rejected"]) == 2
+    assert pd.api.types.is_float_dtype(pd.read_csv(out)["wall_time_s"])
+    check_live_outputs(out, overwrite=True)  # recovered files are proven gripsense's
+
+
 def test_recovery_refused_keeps_the_partial(tmp_path, rows_file):
     """A user's file where the result goes: the partial is kept, byte for byte."""
     out = _partial(tmp_path, rows_file + b"1,2,3\n")

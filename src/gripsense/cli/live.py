@@ -57,7 +57,10 @@ def live(
     quiet: Annotated[bool, typer.Option(help="No live display (headless)")] = False,
     recover: Annotated[
         Path | None,
-        typer.Option(help="Convert OUTPUT.parquet.partial.csv left by a killed run, then exit"),
+        typer.Option(
+            help="After a killed run: convert OUTPUT.parquet.partial.csv (or check OUTPUT.csv); "
+            "rows that cannot be read are kept in OUTPUT.rejected; then exit"
+        ),
     ] = None,
     columns: Annotated[
         str | None, typer.Option("--columns", help="for --replay: " + LOG_COLUMNS_HELP)
@@ -177,6 +180,8 @@ def _live(
                     f"note: {n} row{'s' if n > 1 else ''} could not be read (line {line}: {why}"
                     f"{' …' if n > 1 else ''}); kept byte for byte in {rec['rejected_path']}"
                 )
+            if state["signal"]:
+                say(f"note: {state['signal']} came during the recovery; it was completed first")
             return
         _check_numbers(speed, window_s, duration_s, baud)
         if sum(x is not None for x in (serial, tcp, replay)) != 1:

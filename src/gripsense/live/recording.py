@@ -687,19 +687,32 @@ def _put(tmp: Path, target: Path, replace: bool) -> None:
 
 def _install(paths: dict[str, Path], record: dict | None, meta: dict) -> dict:
     """Convert the rows file to the Parquet result and ``.rejected`` (the caller holds the
-    folder's lock and the rows file's run lock); the rows file is deleted last.
+    folder's lock and the rows file's run lock); the rows file is deleted last. A ``.csv``
+    result is its own rows file: its unreadable rows move to ``.rejected``, the rest stays.
     """
     from gripsense.io.output_folder import write_parquet
 
     part, out, rej = paths["rows"], paths["results"], paths["rejected"]
+    csv_out = part == out
     folder = out.parent
     data = part.read_bytes()
     header, good, bad = split_rows(data, str(part))
     assert len(header) + sum(map(len, good)) + sum(len(b[1]) for b in bad) == len(data)
     df = _table(header, good)
-    # re-check what is replaced: still what the record proves (never a file that appeared)
+    # re-check what is replaced: still what the record proves (never a file that appeared);
+    # a .csv result is rewritten with every byte kept (its rows here, the others in .rejected)
     now = {p: _fingerprint(p) for p in (out, rej)}
+    if csv_out and not bad:
+        sealed = {
+            p.name: [fp]
+            for p in (out, rej, paths["raw"])
+            if (fp := _fingerprint(p)) is not None and _owned(record, p, fp)
+        }
+        _write_record(paths["record"], {**meta, "state": "finished", "files": sealed})
+        return {"rows": len(good), "rejected": bad, "results": out, "rejected_path": rej}
     for p, fp in now.items():
+        if csv_out and p == out:
+            continue
         if fp is not None and not _owned(record, p, fp):
             raise InputError(
                 f"{p}: exists and is not what gripsense wrote there (it appeared or changed "
@@ -710,7 +723,11 @@ def _install(paths: dict[str, Path], record: dict | None, meta: dict) -> dict:
     raw_fp = _fingerprint(paths["raw"])
     if raw_fp is not None and _owned(record, paths["raw"], raw_fp):
         files[paths["raw"].name] = [raw_fp]
-    new_out = _tmp_write(folder, out.name, lambda t: write_parquet(df, t, LIVE_KIND))
+    if csv_out:
+        kept = header + b"".join(good)
+        new_out = _tmp_write(folder, out.name, lambda t: t.write_bytes(kept))
+    else:
+        new_out = _tmp_write(folder, out.name, lambda t: write_parquet(df, t, LIVE_KIND))
     new_rej = None
     if bad:
         blob = header + b"".join(b[1] for b in bad)
@@ -719,9 +736,9 @@ def _install(paths: dict[str, Path], record: dict | None, meta: dict) -> dict:
     fp_rej = None if new_rej is None else _fingerprint(new_rej)
     # before the renames: both the old and the new state are gripsense's
     pending = {
+        part.name: [s for s in (_fingerprint(part),) if s],
         out.name: [s for s in (now[out], fp_out) if s],
         rej.name: [s for s in (now[rej], fp_rej) if s],
-        part.name: [s for s in (_fingerprint(part),) if s],
     }
     installing = {**meta, "state": "installing", "files": {**files, **pending}}
     _write_record(paths["record"], installing)
@@ -740,12 +757,15 @@ def _install(paths: dict[str, Path], record: dict | None, meta: dict) -> dict:
     if fp_rej is not None:
         files[rej.name] = [fp_rej]
     # every line is accounted for: the recovered rows are in the result, the rest in .rejected
-    back = pd.read_parquet(out, columns=["t_s"])
-    if len(back) != len(good):  # pragma: no cover - the file just written
-        raise InputError(f"{out}: holds {len(back)} rows of {len(good)}; {part} kept")
+    n_back = (
+        out.read_bytes().count(b"\n") - 1 if csv_out else len(pd.read_parquet(out, columns=["t_s"]))
+    )
+    if n_back != len(good):  # pragma: no cover - the file just written
+        raise InputError(f"{out}: holds {n_back} rows of {len(good)}; {part} kept")
     _write_record(paths["record"], {**meta, "state": "finished", "files": files})
-    part.unlink()
-    _fsync_folder(folder)
+    if not csv_out:
+        part.unlink()
+        _fsync_folder(folder)
     return {"rows": len(good), "rejected": bad, "results": out, "rejected_path": rej}
 
 
@@ -761,12 +781,14 @@ def _fsync_folder(folder: Path) -> None:
 def recover(output: str | Path, *, overwrite: bool = False) -> dict:
     """Convert ``<output>.partial.csv`` left by a killed live run to ``output`` (.parquet); rows
     that cannot be read go verbatim to ``<output>.rejected``; the partial file is deleted only
-    when every line of it is in one of the two.
+    when every line of it is in one of the two. For a ``.csv`` output (written as it goes) the
+    rows that cannot be read (a NUL tail after a power loss, a cut last row) move to
+    ``<output>.rejected`` the same way.
 
     Parameters
     ----------
     output : str or Path
-        The ``.parquet`` output of the killed run [path].
+        The ``.parquet`` (or ``.csv``) output of the killed run [path].
     overwrite : bool
         Kept for the command line; an existing result is replaced only when the killed run's
         record proves gripsense wrote it (the run itself was started to replace it).
@@ -780,8 +802,6 @@ def recover(output: str | Path, *, overwrite: bool = False) -> dict:
     del overwrite  # ownership is proven by the record, not asserted by a flag
     paths = output_paths(output)
     part = paths["rows"]
-    if part == paths["results"]:
-        raise InputError(f"{output}: a .csv output needs no recovery (it is written as it goes)")
     if not part.exists():
         raise InputError(f"{part}: nothing to recover")
     with _folder_lock(part.parent):
