@@ -308,6 +308,19 @@ def test_many_recorders_at_once_one_wins(tmp_path):
         assert read_record(out)["state"] == "finished"
 
 
+def test_runs_on_different_outputs_in_one_folder_do_not_block_each_other(tmp_path):
+    """The folder's lock is held only while files are checked and created."""
+    a = Recorder(tmp_path / "a.csv")
+    b = Recorder(tmp_path / "b.parquet")
+    a.raw(b"$GPGGA,a\n")
+    b.raw(b"$GPGGA,b\n")
+    a.close()
+    b.close()
+    assert (tmp_path / "a.csv.raw.nmea").read_bytes() == b"$GPGGA,a\n"
+    assert (tmp_path / "b.parquet.raw.nmea").read_bytes() == b"$GPGGA,b\n"
+    assert read_record(tmp_path / "b.parquet")["state"] == "finished"
+
+
 # ---------------------------------------------------------------------------------------------
 # addresses at the door
 
