@@ -151,6 +151,7 @@ def test_overwrite_never_replaces_a_users_file(case, tmp_path, short_log):
     assert _hashes(tmp_path) == before
 
 
+@pytest.mark.slow  # subprocesses of the command
 def test_overwrite_of_a_users_raw_recording_is_one_line_on_the_command(tmp_path, short_log):
     """The issue's example: `live --overwrite` truncated a user's OUT.raw.nmea."""
     raw = tmp_path / "r.csv.raw.nmea"
@@ -189,6 +190,7 @@ def test_own_files_are_replaced_edited_ones_are_not(suffix, tmp_path, short_log)
         check_live_outputs(out, overwrite=True)
 
 
+@pytest.mark.slow  # subprocesses of the command
 def test_a_killed_runs_files_are_its_own_and_stay_so_until_edited(tmp_path, short_log):
     """SIGKILL between flushes: each file is in a state the record names, so --overwrite may
     replace it; a byte appended by someone else afterwards makes it the user's."""
@@ -221,6 +223,7 @@ def _long_log(tmp_path: Path) -> Path:
 # one run per output
 
 
+@pytest.mark.slow  # subprocesses of the command
 def test_a_second_run_on_the_same_output_is_refused(tmp_path):
     """The issue's example: two runs on one -o left 22 000 NUL bytes and the other run's frames
     in the recording. The second is refused (with or without --overwrite) while the first
@@ -248,6 +251,7 @@ def test_a_second_run_on_the_same_output_is_refused(tmp_path):
     _consistent(out, log.read_bytes())
 
 
+@pytest.mark.slow  # subprocesses of the command
 def test_two_runs_started_together_one_wins(tmp_path):
     """Stress: two processes started at the same moment on one new -o (both --overwrite),
     three rounds: every time exactly one runs, the other is refused in one line, and the
@@ -343,6 +347,7 @@ def test_tcp_source_checks_its_port():
     assert parse_host_port("gnss-base.local:2101") == ("gnss-base.local", 2101)
 
 
+@pytest.mark.slow  # subprocesses of the command
 @pytest.mark.parametrize("addr", ["localhost:99999", "a b:10110", "localhost:0"])
 def test_bad_tcp_address_on_the_command_is_one_line_and_exit_2(addr):
     """The issue's example: `live --tcp host:99999` exited 0 after "reconnecting"."""
@@ -352,6 +357,7 @@ def test_bad_tcp_address_on_the_command_is_one_line_and_exit_2(addr):
     assert "--tcp" in _one_line(r.stderr)
 
 
+@pytest.mark.slow  # subprocesses of the command
 @pytest.mark.parametrize(
     "opt", [("--speed", "-1"), ("--window-s", "0"), ("--duration-s", "-2"), ("--baud", "0")]
 )
@@ -499,6 +505,7 @@ def test_recovery_accounts_for_every_line_of_a_damaged_partial(tmp_path_factory,
     _check_recovered(out, data, len(res["rejected"]))
 
 
+@pytest.mark.slow  # subprocesses of the command
 def test_power_loss_after_a_kill_then_recover_on_the_command(tmp_path):
     """A real run killed, its partial file given a NUL tail (as a power loss leaves it): the
     command recovers the rows, names the rejected ones in one note, keeps them verbatim."""
