@@ -92,7 +92,7 @@ def read_laser_csv(
         row = int(np.flatnonzero(bad)[0])
         raise InputError(f"{path}: {where(row)}: a value is missing")
     n_bad = int(not_finite.sum())
-    if n_bad == len(out):
+    if n_bad and n_bad == len(out):
         raise InputError(
             f"{path}: no row with finite numbers (the first inf at {where(0)}); correct the values"
         )
