@@ -201,9 +201,8 @@ def axle_grip(
                 ("rear", 1.0 - vehicle.front_weight_fraction),
             )
         }
-        m_lo, m_hi = unseen_yaw_moment(
-            vehicle, f_abs["front"], f_abs["rear"], lo, hi, np.sign(np.nan_to_num(ay_tot))
-        )
+        side = np.sign(np.nan_to_num(ay_tot))
+        m_lo, m_hi = unseen_yaw_moment(vehicle, f_abs["front"], f_abs["rear"], lo, hi, side)
     force, load, grip = {}, {}, {}
     ax = np.zeros(t.size)
     if ok_t and cg is not None:
@@ -235,9 +234,7 @@ def axle_grip(
             sgn = 1.0 if axle == "front" else -1.0
             base = m * ay_tot * share
             iz = vehicle.yaw_inertia
-            # the nominal force takes the unseen moment's middle (the outer wheel carrying
-            # three quarters of the front's force, half the aligning moments' range)
-            f_nom = base + sgn * iz * rdot / wb - sgn * 0.5 * (m_lo + m_hi) / wb
+            f_nom = base + sgn * iz * rdot / wb  # the model's force: within its 3 % (§14.1)
             f_a = base + sgn * 0.7 * iz * rdot / wb
             f_b = base + sgn * 1.3 * iz * rdot / wb
             # F_f = (m a_y l_r + I_z ṙ − M)/L, F_r = (m a_y l_f − I_z ṙ + M)/L
