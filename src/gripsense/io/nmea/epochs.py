@@ -357,7 +357,8 @@ def yaw_from_heading(t: np.ndarray, hdg: np.ndarray, yaw: np.ndarray, src: np.nd
 
 def _repeats(cols: dict[str, np.ndarray]) -> np.ndarray:
     """Which sentences of one type repeat the sentence on the line before them exactly (every
-    decoded field equal, NaN equal to NaN)."""
+    decoded field equal, NaN equal to NaN).
+    """
     line = np.asarray(cols["line"])
     n = line.size
     out = np.zeros(n, dtype=bool)

@@ -255,10 +255,12 @@ def read_nmea(
         has_date=notes["has_date"],
         notes=list(inp.notes or [])
         + (
-            [f"{notes['repeated_sentences']} sentences repeat the line before them exactly "
-             "(a logger writing each twice): each counted once"]
+            [
+                f"{notes['repeated_sentences']} sentences repeat the line before them exactly "
+                "(a logger writing each twice): each counted once"
+            ]
             if notes.get("repeated_sentences")
             else []
-        ),  # fmt: skip
+        ),
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
