@@ -225,3 +225,22 @@ def test_a_cut_mdf4_is_one_line_not_a_short_log(simulated, tmp_path, frac):  # n
     p.write_bytes(data[: int(len(data) * frac)])
     with pytest.raises(InputError, match=r"cut\.mf4: "):
         read_log(p, columns=s.columns)
+
+
+# --- VBOX ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("cut", [3, 9, 20])
+def test_a_cut_vbox_row_is_not_read_as_data(simulated, tmp_path, cut):  # noqa: F811
+    """A VBOX file cut inside its last row: the row (whose last value may have lost digits
+    while keeping all its fields) is rejected as ``truncated`` and the notes say the file is
+    cut off — never read as a row with other values."""
+    s = simulated("vbo")
+    data = s.log.read_bytes()
+    ref = read_log(s.log).report
+    p = tmp_path / "cut.vbo"
+    p.write_bytes(data[:-cut])
+    rep = read_log(p).report
+    assert rep.balanced and rep.total_lines == ref.total_lines
+    assert rep.parsed["VBO data"] == ref.parsed["VBO data"] - 1
+    assert rep.rejected["truncated"] == 1 and any("cut off" in n for n in rep.notes)

@@ -154,12 +154,13 @@ def test_a_named_pipe_is_read_once_as_a_stream(simulated, tmp_path, fmt):  # noq
     _same(got, ref)
 
 
-def test_stdin_through_the_command(simulated, tmp_path):  # noqa: F811
-    """``… | gripsense ingest /dev/stdin``: the same accounting as the file."""
+@pytest.mark.parametrize("stdin", ["-", "/dev/stdin"])
+def test_stdin_through_the_command(simulated, tmp_path, stdin):  # noqa: F811
+    """``… | gripsense ingest -`` (or ``/dev/stdin``): the same accounting as the file."""
     path, _ = _log(simulated, "ubx")
     ref = read_log(path).report
     proc = subprocess.run(
-        [*GRIPSENSE, "ingest", "/dev/stdin"],
+        [*GRIPSENSE, "ingest", stdin],
         input=path.read_bytes(),
         capture_output=True,
         timeout=HANG_S,

@@ -149,7 +149,11 @@ def write_table(df, out: Path, kind: str = "epochs") -> None:
 
 def ingest(
     log: Annotated[
-        Path, typer.Argument(help="log: NMEA, VBOX .vbo, UBX, MDF4 or CAN BLF/ASC (plain or .gz)")
+        Path,
+        typer.Argument(
+            help="log: NMEA, VBOX .vbo, UBX, MDF4 or CAN BLF/ASC (plain or .gz); a pipe, or - "
+            "for standard input"
+        ),
     ],
     output: Annotated[
         Path | None, typer.Option("-o", "--output", help="write epochs to .parquet or .csv")

@@ -162,6 +162,7 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     notes = list(inp.notes) if inp is not None else []
     data = inp.data if inp is not None else b""
     if fmt == "nmea":
+        assert inp is not None
         log = read_nmea(inp, strict=o.strict, max_lines=o.max_lines, max_bytes=o.max_bytes)
     elif fmt == "ubx":
         from gripsense.io.ubx import parse_ubx

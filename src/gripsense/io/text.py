@@ -15,6 +15,7 @@ from __future__ import annotations
 import io
 import os
 import stat
+import sys
 import tomllib
 import zlib
 from collections.abc import Iterator
@@ -140,7 +141,8 @@ class InputStream:
     Parameters
     ----------
     source : str, Path, bytes or binary file object
-        The input. A path is checked first (:func:`input_kind`): a device is refused.
+        The input. A path is checked first (:func:`input_kind`): a device is refused; ``-``
+        is standard input (a pipe or a redirected file, not a terminal).
     what : str
         What the input is, for messages (``"log"``).
     decompress : bool
@@ -159,23 +161,31 @@ class InputStream:
     ) -> None:
         self.what = what
         self._close = False
+        self.path: Path | None = None
         if isinstance(source, bytes | bytearray | memoryview):
             self._f: IO[bytes] = io.BytesIO(bytes(source))
             self.name = name or "<bytes>"
             self.stream = False
+        elif str(source) == "-":  # standard input, read once as a stream
+            if sys.stdin is None or sys.stdin.isatty():
+                raise InputError(
+                    f"-: standard input is a terminal; pipe the {what} into it "
+                    "(… | gripsense ingest -) or give its path"
+                )
+            self._f = sys.stdin.buffer
+            self.name = name or "<stdin>"
+            self.stream = True
         elif isinstance(source, str | os.PathLike):
             path = Path(source)
             self.stream = input_kind(path, what) == "stream"
             self._f = _open(path, what)
             self._close = True
             self.name = name or str(path)
-            self.path: Path | None = path
+            self.path = path
         else:
             self._f = source
             self.name = name or str(getattr(source, "name", "<stream>"))
             self.stream = True
-        if not isinstance(source, str | os.PathLike):
-            self.path = None
         self._raw: list[bytes] = []  # raw chunks kept until the gzip stream gave output
         first = self._read_raw()
         self.gzip = decompress and first[:2] == _GZIP
@@ -343,6 +353,8 @@ class InputStream:
                     keep = max_bytes - size
                     c, tail = c[:keep], c[keep:] + tail
                     over, flag = f"more than {max_bytes} bytes{self._dec}", flags[0]
+                    if self.stream or not count_rest:
+                        break  # an error below: nothing more to keep
                     if max_lines is not None:  # keep whole lines: the one cut is counted
                         j = c.rfind(b"\n") + 1
                         if j:
@@ -358,9 +370,9 @@ class InputStream:
             extra = 0
             if over:
                 fix = (
-                    f"raise the limit ({flag}) or give a smaller {self.what}"
+                    f"raise the limit ({flag}) or give a smaller {self.what.split(';')[0]}"
                     if flag.startswith("--")
-                    else f"{flag}; check that this is the right {self.what}"
+                    else f"{flag}; check that this is the right {self.what.split(';')[0]}"
                 )
                 if self.stream:
                     raise InputError(

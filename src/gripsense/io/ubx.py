@@ -151,13 +151,18 @@ def _fits(d, end, max_payload):
 
 
 @njit(cache=True, nogil=True)
-def _resync(d, i, stop, max_payload):
+def _resync(d, i, stop, max_payload, weak):
     """The first byte after the frame header at *i* (before *stop*) where a good UBX frame or
-    an NMEA sentence starts; -1 when none does.
+    a whole NMEA sentence starts — or, when *weak*, any sync pair (a damaged frame is then
+    rejected on its own, not swallowed); -1 when none does.
     """
-    for j in range(i + 2, min(stop, d.size)):
-        if d[j] == 0xB5 and _good_frame_at(d, j, max_payload):
-            return j
+    n = d.size
+    for j in range(i + 2, min(stop, n)):
+        if d[j] == 0xB5:
+            if weak and j + 1 < n and d[j + 1] == 0x62:
+                return j
+            if _good_frame_at(d, j, max_payload):
+                return j
         if (d[j] == 0x24 or d[j] == 0x21) and _sentence_at(d, j):
             return j
     return -1
@@ -168,12 +173,13 @@ def _scan(d, max_payload):
     """Find UBX frames: start, payload length and status (OK / BAD_CK / CUT / BAD_LEN) of
     each, and a mask of the bytes that belong to frames (good or rejected).
 
-    A frame whose checksum fails is rejected as a bad length when a good frame or a whole NMEA
-    sentence starts inside the length it claims, or when its claimed end is not followed by
-    what can follow a frame (:func:`_fits`) and one starts soon after (or its length is
-    impossible, over *max_payload*); the scan resumes there: a corrupted length field costs
-    one frame, not the frames after it. Otherwise it is a bad checksum (or cut off by the
-    stream's end).
+    A frame whose checksum fails is rejected as a bad length when another frame (a sync pair)
+    or a whole NMEA sentence starts inside the length it claims, or when its claimed end is not
+    followed by what can follow a frame (:func:`_fits`) and one starts soon after (or its
+    length is impossible, over *max_payload*); the scan resumes there: a corrupted length field
+    costs one frame, not the frames after it. Otherwise it is a bad checksum, or cut off by the
+    stream's end (then only a good frame or sentence inside it says otherwise: a stream may
+    stop inside a frame).
     """
     n = d.size
     starts = np.empty(n // 8 + 1, dtype=np.int64)
@@ -210,24 +216,30 @@ def _scan(d, max_payload):
         if ok:
             status[k] = OK
         else:
-            stop = n if ln > max_payload else min(n, end + max_payload + 8)
-            j = _resync(d, i, stop, max_payload)
-            if j >= 0 and j < end:  # a good frame or sentence inside it: the length is wrong
+            # past the stream's end with a possible length, only a good frame or sentence
+            # says the length is wrong (the stream may just stop inside the frame); otherwise
+            # a sync pair does too (a damaged frame after it is then rejected on its own)
+            weak = not (ln <= max_payload and end > n)
+            j = _resync(d, i, min(end, n), max_payload, weak)
+            if j >= 0:  # a frame or sentence starts inside it: the length is wrong
                 status[k] = BAD_LEN
                 end = j
             elif ln <= max_payload and end <= n and _fits(d, end, max_payload):
                 status[k] = BAD_CK  # the length fits what follows: the payload is damaged
-            elif j >= 0:
-                status[k] = BAD_LEN
-                end = j
-            elif ln > max_payload:  # nothing to resynchronise on: the rest is this frame's
-                status[k] = BAD_LEN
-                end = n
-            elif end > n:
-                status[k] = CUT
-                end = n
             else:
-                status[k] = BAD_CK
+                stop = n if ln > max_payload else min(n, end + max_payload + 8)
+                j = _resync(d, i, stop, max_payload, weak)
+                if j >= 0:
+                    status[k] = BAD_LEN
+                    end = j
+                elif ln > max_payload:  # nothing to resynchronise on: the rest is this frame's
+                    status[k] = BAD_LEN
+                    end = n
+                elif end > n:
+                    status[k] = CUT
+                    end = n
+                else:
+                    status[k] = BAD_CK
         ends[k] = end
         mask[i:end] = True
         k += 1

@@ -220,10 +220,26 @@ def parse_vbo(
     good_text: list[str] = []
     rejects: list[RejectedLine] = []
     rej_count = dict.fromkeys(REASONS, 0)
+    # a last row without its line end and shorter than the rows before it: the file was cut
+    # inside it (a value cut to fewer digits still has all its fields), so it is rejected,
+    # and said
+    cut = -1
+    if rows and rows[-1].strip() and not text.endswith(("\n", "\r")):
+        before = [len(r.strip()) for r in rows[-11:-1] if r.strip()]
+        if before and len(rows[-1].strip()) < min(before):
+            cut = len(rows) - 1
     for k, ln in enumerate(rows):
         s = ln.strip()
         if not s:
             blank += 1
+            continue
+        if k == cut:
+            detail = "the file ends inside this row (cut off?)"
+            rej_count[TRUNCATED] += 1
+            if strict:
+                raise InputError(f"{name}:{d0 + k + 1}: {TRUNCATED}: {detail} (strict mode)")
+            if len(rejects) < 20:
+                rejects.append(RejectedLine(d0 + k + 1, TRUNCATED, detail))
             continue
         nf = s.count(" ") + 1 if "  " not in s and "\t" not in s else len(s.split())
         if nf != ncol:
@@ -332,7 +348,13 @@ def parse_vbo(
         epochs_without_time=0,
         has_date=has_date,
         format="VBOX VBO",
-        notes=([f"mapped by --columns: {', '.join(used)}"] if used else []) + steer_notes,
+        notes=([f"mapped by --columns: {', '.join(used)}"] if used else [])
+        + steer_notes
+        + (
+            [f"the file ends inside line {d0 + cut + 1} (cut off?): that row is not read"]
+            if cut >= 0
+            else []
+        ),
         steering=steering,
     )
     rows_t = pd.DataFrame({"line": np.asarray(good_idx, dtype=np.int64) + 1, "epoch": np.arange(n)})

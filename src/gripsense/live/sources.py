@@ -127,10 +127,9 @@ def _pieces(data: bytes) -> list[tuple[bytes, float | None]]:
         return [(ln, _tod(ln)) for ln in _split_lines(data)]
     out: list[tuple[bytes, float | None]] = []
     pos = 0
-    for start, length, status in zip(fr["start"], fr["length"], fr["status"], strict=True):
-        start = int(start)
+    for start, end in zip(fr["start"], fr["end"], strict=True):
+        start, end = int(start), int(end)  # a rejected frame ends where the scan resynchronised
         out += [(ln, _tod(ln)) for ln in _split_lines(data[pos:start])]
-        end = len(data) if status == 2 else start + 8 + int(length)
         frame = data[start:end]
         tod = None
         if frame[2:4] == b"\x01\x07" and len(frame) >= 6 + 11:  # NAV-PVT: hour, min, sec

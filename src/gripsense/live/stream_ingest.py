@@ -18,7 +18,7 @@ import pandas as pd
 
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.schema import OVER_LIMIT
-from gripsense.io.ubx import CUT, SYNC, parse_ubx, scan_frames
+from gripsense.io.ubx import SYNC, parse_ubx, scan_frames
 from gripsense.live.incremental import LiveIngest
 
 __all__ = ["AutoIngest", "LiveUbxIngest"]
@@ -115,14 +115,13 @@ class LiveUbxIngest:
         units: list[bytes] = []
         pos = 0
         rest = b""
-        for start, length, status in zip(fr["start"], fr["length"], fr["status"], strict=True):
-            start = int(start)
+        for start, status, end in zip(fr["start"], fr["status"], fr["end"], strict=True):
+            start, end = int(start), int(end)
             units += self._lines(buf[pos:start])
-            if status == CUT and not final:
+            if end >= len(buf) and status != 0 and not final:  # cut, or no resync yet: wait
                 rest = buf[start:]
                 pos = len(buf)
                 break
-            end = len(buf) if status == CUT else start + 8 + int(length)
             units.append(buf[start:end])
             pos = end
         tail = buf[pos:]
