@@ -582,7 +582,10 @@ def _row_problem(line: bytes, ncols: int, cols: dict[str, int]) -> str:
         text = line.decode("utf-8")
     except UnicodeDecodeError:
         return "not UTF-8 text"
-    fields = next(csv.reader([text.rstrip("\r\n")]), [])
+    try:
+        fields = next(csv.reader([text.rstrip("\r\n")], strict=True), [])
+    except csv.Error as e:
+        return f"not a CSV row ({e})"
     if len(fields) != ncols:
         return f"{len(fields)} fields where the header has {ncols}"
     for name, i in cols.items():
