@@ -9,6 +9,7 @@ exactly one installs and the other fails with one line; nothing is lost or half-
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import json
 import os
@@ -121,8 +122,6 @@ def test_an_output_the_user_edited_is_not_replaced(name, inputs, tmp_path, capsy
     target = _output(name, inputs, out)
     code, _, err = run_cli(args, capsys)
     assert code == 0, err
-    record = json.loads((target.parent / REGISTRY).read_text())["files"][target.name]
-    assert is_own_file(target, record["kind"])
     original = target.read_bytes()
     target.write_bytes(original + b"\n")  # the user's edit (one byte)
     edited = _snapshot(tmp_path)
@@ -131,6 +130,8 @@ def test_an_output_the_user_edited_is_not_replaced(name, inputs, tmp_path, capsy
     assert str(target) in err
     assert _snapshot(tmp_path) == edited
     target.write_bytes(original)  # the bytes gripsense recorded: its own again
+    record = json.loads((target.parent / REGISTRY).read_text())["files"][target.name]
+    assert is_own_file(target, record["kind"])
     code, _, err = run_cli([*args, "--overwrite"], capsys)
     assert code == 0, err
 
@@ -370,6 +371,18 @@ def _race_args(name: str, tmp_path: Path) -> tuple[list[str], Path, str]:
     raise AssertionError(name)
 
 
+def _lock_waiters(folder: Path, pids: set[int]) -> int:
+    """How many of *pids* wait for the ``flock`` on *folder* (``/proc/locks``)."""
+    ino = str(folder.stat().st_ino)
+    n = 0
+    for line in Path("/proc/locks").read_text().splitlines():
+        f = line.split()
+        if "->" in f:
+            f = f[f.index("->") + 1 :]  # FLOCK ADVISORY WRITE pid maj:min:inode start end
+            n += int(f[3]) in pids and f[4].rsplit(":", 1)[-1] == ino
+    return n
+
+
 def _wait_for(cond, timeout: float, what: str) -> None:
     deadline = time.monotonic() + timeout
     while not cond():
@@ -378,6 +391,7 @@ def _wait_for(cond, timeout: float, what: str) -> None:
         time.sleep(0.01)
 
 
+@pytest.mark.skipif(not Path("/proc/locks").exists(), reason="needs Linux's /proc/locks")
 @pytest.mark.parametrize("overwrite", [False, True], ids=["plain", "overwrite"])
 @pytest.mark.parametrize(
     "name",
@@ -407,7 +421,23 @@ def test_two_runs_racing_for_one_new_output(name, overwrite, tmp_path):
         )
     try:
         _wait_for(lambda: all(r.exists() for r in ready), TIMEOUT, "both runs to start")
-        go.touch()
+        # hold the output folder's lock until both runs have checked the output and wait to
+        # install (or one has ended: a run that takes no lock): so the runs truly overlap
+        # however the machine schedules them
+        lock = os.open(tmp_path, os.O_RDONLY)
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            go.touch()
+            pids = {p.pid for p in procs}
+            _wait_for(
+                lambda: (
+                    _lock_waiters(tmp_path, pids) == 2 or any(p.poll() is not None for p in procs)
+                ),
+                TIMEOUT,
+                "both runs to wait for the output's lock",
+            )
+        finally:
+            os.close(lock)
         results = [p.communicate(timeout=TIMEOUT) for p in procs]
     finally:
         for p in procs:

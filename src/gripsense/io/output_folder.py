@@ -564,8 +564,8 @@ def write_file_atomic(
         The file written.
     """
     path = Path(path)
+    claim = _CLAIMS.pop(_key(path), None)  # what this run's check found (used once)
     if os.path.lexists(path) and not stat.S_ISREG(os.lstat(path).st_mode):
-        _CLAIMS.pop(_key(path), None)
         if path.is_dir():
             raise InputError(f"{path}: is a folder; give a file name")
         raise _not_regular(path)
@@ -582,7 +582,6 @@ def write_file_atomic(
         user_mode(tmp)
         sha, size = file_sha256(tmp), os.path.getsize(tmp)
         with _locked(path.parent):
-            claim = _CLAIMS.pop(_key(path), None)
             current = _file_state(path)
             if claim is not None and current != claim.state:
                 raise _changed_meanwhile(path)
@@ -749,6 +748,7 @@ class ResultWriter:
             if exc_type is None:
                 self._finish()
         finally:
+            _CLAIMS.pop(_key(self.folder), None)  # a failed run's check is not the next run's
             if self.tmp is not None:
                 shutil.rmtree(self.tmp, ignore_errors=True)
 
