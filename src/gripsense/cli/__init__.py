@@ -25,6 +25,7 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import threading
 from types import FrameType
 from typing import TYPE_CHECKING, Any, NoReturn
 
@@ -35,7 +36,7 @@ __all__ = ["app", "main"]
 
 
 class Interrupted(BaseException):
-    """SIGTERM (or SIGINT) as an exception: a ``BaseException``, so no ``except Exception``
+    """SIGINT or SIGTERM as an exception: a ``BaseException``, so no ``except Exception``
     swallows it and every ``finally`` on the way out runs (temporary outputs removed).
 
     Parameters
@@ -61,16 +62,17 @@ def _importing(frame: FrameType | None) -> bool:
 
 
 def _on_signal(signum: int, frame: FrameType | None) -> None:
-    """SIGINT / SIGTERM: during an import, the line and the exit at once (nothing has been
-    written yet that a ``finally`` would clean); elsewhere an exception, so every ``finally``
-    on the way out runs.
+    """SIGINT / SIGTERM: an exception, so every ``finally`` on the way out runs (an unfinished
+    output removed). Inside an import (a C extension's initialisation that an exception would
+    leave half-done, and ``import`` turns into an ``ImportError``) the signal is sent again
+    50 ms later, until the import is over.
     """
     if _importing(frame):
-        _say(signum)
-        os._exit(128 + signum)
-    if signum == signal.SIGINT:
-        raise KeyboardInterrupt
-    raise Interrupted(signum)
+        again = threading.Timer(0.05, os.kill, (os.getpid(), signum))
+        again.daemon = True
+        again.start()
+        return
+    raise Interrupted(signum)  # not KeyboardInterrupt: typer turns that into a silent exit 130
 
 
 def _leave(signum: int, _frame: object) -> None:
@@ -89,13 +91,13 @@ def _say(signum: int) -> None:
 
 def _stopped(signum: int) -> NoReturn:
     """End a run stopped by a signal: its one line and exit status 128 + the signal."""
-    for s in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(s, _leave)
     try:
         sys.stderr.flush()
     except (OSError, ValueError):
         pass
     _say(signum)
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, _leave)
     sys.exit(128 + signum)
 
 

@@ -166,10 +166,12 @@ def report_cmd(
     """Write a self-contained HTML report (images embedded) of a friction result folder."""
     from gripsense.io.output_folder import add_to_folder
     from gripsense.report.html import render_report
+    from gripsense.report.summary_check import check_summary_file
 
     try:
         if output is not None:
             check_output_file(output, "report", overwrite=overwrite, inputs=[result_dir])
+        check_summary_file(result_dir)  # a hand-edited value: one line naming its key
         res = FrictionResult.from_files(result_dir)
         text = render_report(res, title=f"Friction — {result_dir.name}")
         if output is None:

@@ -17,8 +17,13 @@ from __future__ import annotations
 import contextlib
 import csv
 import glob
+import logging
 import os
 import re
+import signal
+import sys
+import threading
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -386,38 +391,113 @@ def _calibrate(
 
 
 @contextlib.contextmanager
-def _client(scheduler: str | None, workers: int):
-    """A Dask client on a LocalCluster (or an existing scheduler), closed afterwards."""
+def _signals_deferred():
+    """SIGINT and SIGTERM wait until the block is done (then they are raised as usual), so a
+    cluster is never left half started or half closed (Dask's exit handler would then fail on
+    it, and worker processes would outlive the run). Only in the main thread (where Python
+    runs signal handlers); elsewhere a plain block.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    got: list[int] = []
+    sigs = (signal.SIGINT, signal.SIGTERM)
+    old = {s: signal.signal(s, lambda signum, _frame: got.append(signum)) for s in sigs}
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+        if got:
+            signal.raise_signal(got[0])
+
+
+class _WorkerDeaths(logging.Handler):
+    """One line per worker process that dies during the run (the nanny's own message is at
+    INFO, then Dask's warnings and tracebacks, which are silenced).
+    """
+
+    def __init__(self, say) -> None:
+        super().__init__(logging.INFO)
+        self.say = say
+        self.active = True
+
+    def emit(self, record: logging.LogRecord) -> None:
+        msg = record.getMessage()
+        if (
+            self.active
+            and msg.startswith("Worker process")
+            and ("killed by" in msg or "exited with status" in msg)
+        ):
+            why = msg.split(" ", 3)[-1]
+            self.say(
+                f"note: a fleet worker process died ({why}); Dask reruns its unfinished tasks "
+                "on the other workers"
+            )
+
+
+def _stderr_line(text: str) -> None:
+    sys.stderr.write(text + "\n")
+    sys.stderr.flush()
+
+
+@contextlib.contextmanager
+def _client(scheduler: str | None, workers: int, say=_stderr_line):
+    """A Dask client on a LocalCluster (or an existing scheduler), closed afterwards; started
+    and closed whole even when a signal arrives meanwhile; Dask's own log lines silenced, a
+    worker that dies told in one line (*say*).
+    """
     from dask.distributed import Client, LocalCluster
 
-    cluster = None
-    if scheduler is None:
-        cluster = LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            host="127.0.0.1",
-        )
-        client = Client(cluster)
-    else:
-        client = Client(scheduler)
+    nanny = logging.getLogger("distributed.nanny")
+    deaths = _WorkerDeaths(say)
+    level = nanny.level
+    nanny.addHandler(deaths)
+    nanny.setLevel(logging.INFO)
+    cluster = client = None
     try:
+        with _signals_deferred(), warnings.catch_warnings():
+            # the scheduler's HTTP server moves off a taken port 8787 (another Dask) by itself
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            if scheduler is None:
+                cluster = LocalCluster(
+                    n_workers=workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    host="127.0.0.1",
+                    silence_logs=logging.CRITICAL,
+                )
+                client = Client(cluster)
+            else:
+                client = Client(scheduler)
         yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        deaths.active = False  # workers stopped by the close are not deaths
+        with _signals_deferred():
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+        nanny.removeHandler(deaths)
+        nanny.setLevel(level)
 
 
 def _map(client, fn, batches, progress, **kwargs) -> list[dict]:
     """Run *fn* on every batch; the records of all batches (in completion order)."""
     from dask.distributed import as_completed
+    from distributed import KilledWorker
 
     futs = [client.submit(fn, b, pure=False, **kwargs) for b in batches]
     records: list[dict] = []
     for done, f in enumerate(as_completed(futs), start=1):
-        records.extend(f.result())
+        try:
+            records.extend(f.result())
+        except KilledWorker as e:  # the system's failure, not the input's: exit 1
+            raise OSError(
+                f"a fleet task was given up after the workers running it died ({e}); the "
+                "previous result (if any) is unchanged"
+            ) from None
         if progress is not None:
             progress(done, len(futs))
     return records

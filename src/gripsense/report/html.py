@@ -16,6 +16,7 @@ from gripsense.estimate.estimators import estimator_of
 from gripsense.estimate.results import FrictionResult
 from gripsense.io.output_folder import write_file_atomic
 from gripsense.report import figures as F
+from gripsense.report.summary_check import check_summary
 
 __all__ = ["fig_to_data_uri", "html_table", "render_report", "write_report"]
 
@@ -257,6 +258,8 @@ def render_report(
     str
         The page.
     """
+    # a hand-edited summary.json: one line naming the key, not an error deep in the page
+    check_summary(result.meta, result.summary.to_dict("records"), unit=result.unit)
     epochs = epochs if epochs is not None else result.epochs
     ingest = ingest if ingest is not None else result.ingest
     vehicle = vehicle if vehicle is not None else result.vehicle
