@@ -32,9 +32,13 @@ def test_a_steering_csv_beside_the_replay_gives_the_front_axle(simulated):
     bare = _live(sim)
     assert list(bare["summary"]["unit"]) == ["rear"]
     assert bare["front_axle"] == NO_STEERING and bare["stats"].front_axle == NO_STEERING
-    pd.testing.assert_series_equal(
-        bare["summary"].set_index("unit").loc["rear"], res["summary"].set_index("unit").loc["rear"]
-    )
+    # the rear's estimate is the same; its measured grip knows the front's steer (the yaw
+    # moment the split leaves out, docs/physics.md §14.1) and never says less with it
+    rear_bare = bare["summary"].set_index("unit").loc["rear"]
+    rear = res["summary"].set_index("unit").loc["rear"]
+    grip = ["grip_used", "grip_used_lower"]
+    pd.testing.assert_series_equal(rear_bare.drop(grip), rear.drop(grip))
+    assert rear["grip_used_lower"] >= rear_bare["grip_used_lower"]
 
 
 def test_the_steering_channel_inside_a_replayed_vbo(simulated):
