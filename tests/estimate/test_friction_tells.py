@@ -200,22 +200,8 @@ def _recorded(tyre, mu, u, seeds, k):
 
 
 @pytest.mark.parametrize(
-    ("tyre", "mu", "u"),
-    [
-        ("mf-sedan", 0.45, 0.95),
-        ("mf61", 0.8, 0.9),
-        pytest.param(
-            "mf-book", 0.6, 0.93,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="the rear's model upper end is ~0.01 higher with the better receiver "
-                "(0.748 vs 0.742 before the measured grip's unseen yaw moment, when the bound "
-                "set the lower end and hid it): better data saying less, the open 'Know the "
-                "tyre' work",
-            ),
-        ),
-    ],
-)  # fmt: skip
+    ("tyre", "mu", "u"), [("mf-sedan", 0.45, 0.95), ("mf61", 0.8, 0.9), ("mf-book", 0.6, 0.93)]
+)
 def test_better_receiver_never_says_less_on_average(tyre, mu, u):
     """A near-limit drive recorded by a V100-class compass and by one with half its noise, each
     declared as it is, over several noise draws: on average the better receiver's range is not

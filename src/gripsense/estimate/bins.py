@@ -137,6 +137,8 @@ def axle_pairs(
         cols.append("steer_rad")
     if axle == "front":
         optional = [c for c in STEERING_TORQUE if c in wheels.columns]
+    if "grip_proven" in wheels.columns:  # the bound's grip (a table of an earlier version: none)
+        optional.append("grip_proven")
     wheel = wheels["wheel"]
     m_l = (wheel == f"{axle}_left").to_numpy()
     m_r = (wheel == f"{axle}_right").to_numpy()
@@ -190,6 +192,8 @@ def axle_bins(
     noise: NoiseModel,
     bin_s: float = 1.0,
     min_samples: int = 5,
+    *,
+    grip: str = "grip_used",
 ) -> AxleBins:
     """Bin the samples of one axle (both wheels present, cornering, positive loads).
 
@@ -208,6 +212,9 @@ def axle_bins(
         Bin length [s].
     min_samples : int
         Fewest samples in a bin.
+    grip : str
+        The column of the measured grip binned (column 9): ``grip_used`` (the model's) or
+        ``grip_proven`` (the bound's, :func:`gripsense.estimate.grip.axle_grip`).
 
     Returns
     -------
@@ -272,7 +279,7 @@ def axle_bins(
             # white force noise only: the systematic axle-force error is the nuisance ε
             rms_over_n(f_white),
             rms_over_n(white),
-            mean(b["grip_used_L"]),
+            mean(b[f"{grip}_L"] if f"{grip}_L" in b else b["grip_used_L"]),
             mean(ay),
             np.full(starts.size, fzs),
             mean(steer),

@@ -150,7 +150,18 @@ def unseen_yaw_moment(
 
 
 def axle_grip(
-    vehicle: Vehicle, t, u_a, v_a, r, ay, *, ay_measured, noise, earth=None, steer=None
+    vehicle: Vehicle,
+    t,
+    u_a,
+    v_a,
+    r,
+    ay,
+    *,
+    ay_measured,
+    noise,
+    earth=None,
+    steer=None,
+    unseen: bool = True,
 ) -> tuple:
     """Per axle: the lateral force it carries (with the yaw-acceleration term), its nominal
     load, and the friction it used — model-free, ``docs/physics.md`` §14.
@@ -161,7 +172,8 @@ def axle_grip(
     the grip used is |F| / Fz_axle with the smallest |F| over I_z ± 30 % and the yaw moment the
     balance leaves out (:func:`unseen_yaw_moment`: the steered wheels' forces at half the track,
     the tyres' aligning moments; with the front steer *steer* [rad], else the kinematic one
-    within :data:`UNSEEN_SLIP_RAD`), and the largest axle load the longitudinal transfer allows
+    within :data:`UNSEEN_SLIP_RAD`; *unseen* False leaves it out — the model-based estimate's
+    grip), and the largest axle load the longitudinal transfer allows
     over the declared CG-height range — a lower bound on μ for any tyre and any lateral load
     transfer.
     """
@@ -183,7 +195,7 @@ def axle_grip(
     rdot = np.nan_to_num(local_slope(r, t, 0.5)) if ok_t else np.zeros(t.size)
     wb = vehicle.wheelbase_m
     m_lo = m_hi = np.zeros(t.size)
-    if wb is not None:
+    if wb is not None and unseen:
         # the front steer's range: the channel's, else the kinematic one within the slip
         speed = np.maximum(np.hypot(u_a, v_a), 1.0)
         d_kin = wb * r / speed
@@ -283,7 +295,7 @@ def grip_bins(
     out). Only their measured grip (column 9) and its noise are meaningful.
     """
     pairs = axle_pairs(wheels, axle, keep_lifted=True)
-    return axle_bins(pairs, axle, vehicle, noise, o.bin_s, o.min_samples)
+    return axle_bins(pairs, axle, vehicle, noise, o.bin_s, o.min_samples, grip="grip_proven")
 
 
 def drive_bound(ab: AxleBins, level: float) -> tuple[float, float]:

@@ -94,6 +94,7 @@ WHEEL_COLUMNS = [
     "axle_force_N",
     "axle_load_N",
     "grip_used",
+    "grip_proven",
     "grip_sigma",
 ]
 
@@ -352,6 +353,13 @@ def wheel_kinematics(
         vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
         steer=steer,
     )  # fmt: skip
+    # the model's grip: the split without the yaw moment it leaves out (within the model's
+    # force error); the bound takes it (docs/physics.md §14.1)
+    grip_proven = grip
+    _, _, grip, _ = axle_grip(
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
+        unseen=False,
+    )  # fmt: skip
 
     nz = o.noise
     sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
@@ -421,6 +429,7 @@ def wheel_kinematics(
             "axle_force_N": axle_force[axle],
             "axle_load_N": axle_load[axle],
             "grip_used": grip[axle],
+            "grip_proven": grip_proven[axle],
             "grip_sigma": grip_sig,
             # for a per-sample estimator
             "_axle": axle,
