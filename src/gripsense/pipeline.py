@@ -467,11 +467,22 @@ def log_drive_sums(
         One per axle with usable bins, and the steering's with a steering-torque channel.
     """
     import hashlib
+    import tempfile
 
     from gripsense.estimate.calibration import drive_sums, steering_sums
+    from gripsense.io.text import read_bytes
 
-    digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
-    nlog = read_log(log, log_options or LogOptions())
+    lo = log_options or LogOptions()
+    if Path(log).is_file():
+        digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
+        nlog = read_log(log, lo)
+    else:  # a pipe or FIFO is read once: hashed, then read from a private copy
+        data = read_bytes(log, "log", max_bytes=lo.max_bytes)
+        digest = hashlib.sha256(data).hexdigest()
+        with tempfile.TemporaryDirectory(prefix="gripsense-") as tmp:
+            copy = Path(tmp) / (Path(log).name or "log")
+            copy.write_bytes(data)
+            nlog = read_log(copy, lo)
     st = log_steering(nlog.epochs, run.vehicle, log=log, steer_csv=steer_csv,
                       steer_columns=steer_columns, steering=nlog.report.steering)  # fmt: skip
     wheels, _ = run.wheel_table(st.epochs, steer_rad=st.steer_rad)

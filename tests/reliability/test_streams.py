@@ -127,6 +127,31 @@ def test_a_log_from_a_pipe_is_the_log_from_its_file(simulated, tmp_path, fmt):  
     _same(got, ref)
 
 
+def test_calibrate_reads_a_pipe_once(tmp_path):
+    """``gripsense calibrate <(cat log)``: the log is hashed and read from one read of the
+    pipe — the drive's sums and SHA-256 are those of its file (the old code hashed the pipe
+    first and then read an empty log)."""
+    from gripsense import FrictionRun
+    from gripsense.pipeline import log_drive_sums
+    from gripsense.sim import maneuvers as M
+    from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
+
+    d = simulate_drive("sedan", "mf-book", M.everyday(60 / 3.6, seed=100), 0.9, seed=100)
+    log = tmp_path / "everyday.nmea.gz"
+    log.write_bytes(gzip.compress(("\n".join(d.lines) + "\n").encode("ascii")))
+    run = FrictionRun(user_vehicle(truth_vehicle("sedan"), "mf-book"))
+    ref = log_drive_sums(log, run)
+    assert ref
+    r, w = os.pipe()
+    _writer(w, log.read_bytes())
+    try:
+        got = _in_thread(lambda: log_drive_sums(f"/dev/fd/{r}", run))
+    finally:
+        os.close(r)
+    assert got != "hung"
+    assert [(s.axle, s.sha256, s.bins) for s in got] == [(s.axle, s.sha256, s.bins) for s in ref]
+
+
 @pytest.mark.parametrize("fmt", ["nmea", "ubx"])
 def test_a_named_pipe_is_read_once_as_a_stream(simulated, tmp_path, fmt):  # noqa: F811
     """A FIFO (``mkfifo``) fed by a writer: read once, the same as its file — the old code
