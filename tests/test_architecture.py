@@ -15,6 +15,7 @@ ROOT = Path(gripsense.__file__).parent
 LAYERS = {
     "_version": 0,
     "_arrays": 0,
+    "_signals": 0,
     "constants": 0,
     "errors": 0,
     "data": 0,

@@ -113,9 +113,29 @@ def test_a_signal_while_friction_writes_is_one_line_and_no_half_result(sig, tmp_
                "--report")  # fmt: skip
     _wait(lambda: any(d.iterdir() for d in tmp_path.glob(".gripsense-o-*")), "output begun", p)
     p.send_signal(SIGNALS[sig])
-    _one_line(p, SIGNALS[sig])
     out = tmp_path / "o"
-    assert not out.exists() or (out / "manifest.json").is_file()  # never half a result
+    _out, err = p.communicate(timeout=120)
+    if p.returncode == 0:  # the signal came once the run was over: its result complete
+        assert err.strip() == "" and (out / "manifest.json").is_file(), err
+    else:
+        assert p.returncode == 128 + SIGNALS[sig], (p.returncode, err)
+        assert err.strip() == f"error: interrupted ({sig})", err
+        assert not out.exists() or (out / "manifest.json").is_file()  # never half a result
+    assert not list(tmp_path.glob(".gripsense-o-*"))  # no temporary folder left
+
+
+def test_a_signal_as_the_run_ends_changes_nothing(tmp_path):
+    """Once the result is installed, a signal as the command ends leaves the complete result:
+    one line and 130 while it still prints, exit 0 once it has returned — it used to kill the
+    process by the default action while Python ended (exit −2, no line)."""
+    p = _start("friction", str(DEMO), "--vehicle", str(VEHICLE), "-o", str(tmp_path / "o"))
+    _wait(lambda: (tmp_path / "o" / "manifest.json").is_file(), "result installed", p)
+    p.send_signal(signal.SIGINT)
+    _out, err = p.communicate(timeout=120)
+    # while the command still prints: one line and 130; once it has returned: nothing, 0
+    assert p.returncode in (0, 128 + signal.SIGINT), (p.returncode, err)
+    assert err.strip() == ("" if p.returncode == 0 else "error: interrupted (SIGINT)"), err
+    assert (tmp_path / "o" / "manifest.json").is_file()
 
 
 @pytest.fixture(scope="module")

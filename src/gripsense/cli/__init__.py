@@ -116,6 +116,12 @@ def main() -> None:
         _stopped(signal.SIGINT)
     except Interrupted as e:
         _stopped(e.signum)
+    finally:
+        # the run is over, its outputs installed or removed: a signal while Python ends changes
+        # nothing (it would kill the process by the default action, silently, at exit −2)
+        for s in (signal.SIGINT, signal.SIGTERM):
+            if signal.getsignal(s) is _on_signal:
+                signal.signal(s, signal.SIG_IGN)
 
 
 def __getattr__(name: str) -> Any:

@@ -20,15 +20,14 @@ import glob
 import logging
 import os
 import re
-import signal
 import sys
-import threading
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
 
+from gripsense._signals import signals_deferred
 from gripsense.errors import InputError
 from gripsense.fleet.aggregate import aggregate_cells, write_geojson
 from gripsense.fleet.mapping import write_map
@@ -390,28 +389,6 @@ def _calibrate(
     return out
 
 
-@contextlib.contextmanager
-def _signals_deferred():
-    """SIGINT and SIGTERM wait until the block is done (then they are raised as usual), so a
-    cluster is never left half started or half closed (Dask's exit handler would then fail on
-    it, and worker processes would outlive the run). Only in the main thread (where Python
-    runs signal handlers); elsewhere a plain block.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    got: list[int] = []
-    sigs = (signal.SIGINT, signal.SIGTERM)
-    old = {s: signal.signal(s, lambda signum, _frame: got.append(signum)) for s in sigs}
-    try:
-        yield
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-        if got:
-            signal.raise_signal(got[0])
-
-
 class _WorkerDeaths(logging.Handler):
     """One line per worker process that dies during the run (the nanny's own message is at
     INFO, then Dask's warnings and tracebacks, which are silenced).
@@ -456,7 +433,7 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
     nanny.setLevel(logging.INFO)
     cluster = client = None
     try:
-        with _signals_deferred(), warnings.catch_warnings():
+        with signals_deferred(), warnings.catch_warnings():
             # the scheduler's HTTP server moves off a taken port 8787 (another Dask) by itself
             warnings.filterwarnings("ignore", message="Port .* is already in use")
             if scheduler is None:
@@ -474,7 +451,7 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
         yield client
     finally:
         deaths.active = False  # workers stopped by the close are not deaths
-        with _signals_deferred():
+        with signals_deferred():
             if client is not None:
                 client.close()
             if cluster is not None:

@@ -45,6 +45,7 @@ from typing import Any
 
 import pandas as pd
 
+from gripsense._signals import signals_deferred
 from gripsense.errors import InputError
 
 __all__ = [
@@ -744,13 +745,15 @@ class ResultWriter:
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        try:
-            if exc_type is None:
-                self._finish()
-        finally:
-            _CLAIMS.pop(_key(self.folder), None)  # a failed run's check is not the next run's
-            if self.tmp is not None:
-                shutil.rmtree(self.tmp, ignore_errors=True)
+        # a signal waits until the result is installed (or its temporary folder removed)
+        with signals_deferred():
+            try:
+                if exc_type is None:
+                    self._finish()
+            finally:
+                _CLAIMS.pop(_key(self.folder), None)  # a failed run's check is not the next's
+                if self.tmp is not None:
+                    shutil.rmtree(self.tmp, ignore_errors=True)
 
     def _finish(self) -> None:
         from gripsense._version import __version__
