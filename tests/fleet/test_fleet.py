@@ -215,7 +215,7 @@ def test_cli(fleet_logs):
         "-o",
         str(out),
     )
-    assert r.returncode == 2 and "no log matches" in r.stderr
+    assert r.returncode == 2 and "no file matches this pattern" in r.stderr
 
 
 def test_a_batch_runs_numba_on_its_own_thread_and_restores_the_count(fleet_logs, tmp_path):

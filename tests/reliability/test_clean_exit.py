@@ -103,7 +103,18 @@ def test_a_signal_while_a_command_starts_is_one_line(command, lib, sig, tmp_path
     p = _start(*COMMANDS[command](tmp_path))
     _wait(lambda: _mapped(p, lib), f"{lib} mapped", p)
     p.send_signal(SIGNALS[sig])
-    _one_line(p, SIGNALS[sig])
+    if command == "brake-mu":  # its missing input may end it before the deferred signal
+        _out, err = p.communicate(timeout=120)
+        name = signal.Signals(SIGNALS[sig]).name
+        assert (p.returncode, err.strip()) == (
+            128 + SIGNALS[sig],
+            f"error: interrupted ({name})",
+        ) or (p.returncode == 2 and len(err.strip().splitlines()) == 1 and "no such file" in err), (
+            p.returncode,
+            err,
+        )
+    else:
+        _one_line(p, SIGNALS[sig])
     assert not (tmp_path / "o").exists()
 
 
