@@ -299,20 +299,38 @@ def _check_folder(
     folder: Path, kind: str, *, overwrite: bool, files: Sequence[str], keep_claim: bool
 ) -> None:
     _verify_result_folder(folder, kind, overwrite=overwrite, files=files)
-    if folder.is_dir():
-        parent = folder
-    else:
-        parent = folder.parent
-        while not parent.exists() and parent != parent.parent:
-            parent = parent.parent
-        if not parent.is_dir():
-            raise InputError(f"{folder}: {parent} is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{folder}: permission denied ({parent} is not writable)")
+    writable_parent(folder, folder if folder.is_dir() else None)
     claim = _Claim(kind, overwrite, _folder_state(folder))
     old = _CLAIMS.get(_key(folder))
     if not (keep_claim and old is not None and old.kind == kind):
         _CLAIMS[_key(folder)] = claim
+
+
+def writable_parent(path: Path, parent: Path | None = None) -> Path:
+    """The nearest existing folder above *path* (or *parent*), checked to be a folder gripsense
+    can write in; an :class:`InputError` naming *path* otherwise.
+
+    Parameters
+    ----------
+    path : Path
+        The output to be created.
+    parent : Path, optional
+        The folder to check instead of searching upwards from *path*.
+
+    Returns
+    -------
+    Path
+        That folder.
+    """
+    if parent is None:
+        parent = path.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            raise InputError(f"{path}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{path}: permission denied ({parent} is not writable)")
+    return parent
 
 
 def _same_file(a: Path, b: Path) -> bool:
@@ -350,17 +368,24 @@ def _read_registry(folder: Path) -> dict[str, dict]:
     return {str(k): v for k, v in doc["files"].items() if isinstance(v, dict)}
 
 
-def _write_registry(folder: Path, files: dict[str, dict]) -> None:
-    doc = {"gripsense_outputs": REGISTRY_FORMAT, "files": dict(sorted(files.items()))}
-    fd, tmp = tempfile.mkstemp(prefix=".gripsense-outputs.", suffix=".tmp", dir=folder)
+def _replace_json(path: Path, doc: dict, indent: int) -> None:
+    """Write *doc* as JSON to *path* through a temporary sibling renamed over it (the user's
+    umask).
+    """
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=".gripsense-tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(json.dumps(doc, indent=1) + "\n")
+            fh.write(json.dumps(doc, indent=indent) + "\n")
         user_mode(tmp)
-        os.replace(tmp, folder / REGISTRY)
+        os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _write_registry(folder: Path, files: dict[str, dict]) -> None:
+    doc = {"gripsense_outputs": REGISTRY_FORMAT, "files": dict(sorted(files.items()))}
+    _replace_json(folder / REGISTRY, doc, 1)
 
 
 def _record_file(path: Path, kind: str, sha: str, size: int) -> None:
@@ -922,15 +947,7 @@ def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool =
                     os.unlink(tmp)
             man["files"] = sorted({*listed, name})
             man["sha256"] = {**hashes, name: sha}
-            fd, tmp = tempfile.mkstemp(prefix=".manifest.", suffix=".gripsense-tmp", dir=folder)
-            try:
-                with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                    fh.write(json.dumps(man, indent=2) + "\n")
-                user_mode(tmp)
-                os.replace(tmp, folder / MANIFEST)
-            finally:
-                if os.path.exists(tmp):
-                    os.unlink(tmp)
+            _replace_json(folder / MANIFEST, man, 2)
     except OSError as e:
         raise InputError(f"{target}: cannot write ({e.strerror or e})") from None
     return target

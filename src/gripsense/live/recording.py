@@ -52,6 +52,7 @@ import pandas as pd
 
 from gripsense.errors import InputError
 from gripsense.estimate.results import UNIT_COLUMNS
+from gripsense.io.output_folder import writable_parent
 
 try:  # advisory locks (POSIX); elsewhere exclusive creation alone guards the outputs
     import fcntl
@@ -364,13 +365,7 @@ def check_live_outputs(
                     "written by gripsense); gripsense replaces only its own files — move it "
                     "away or give -o another name"
                 )
-    parent = paths["results"].parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise InputError(f"{paths['results']}: {parent} is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{paths['results']}: permission denied ({parent} is not writable)")
+    writable_parent(paths["results"])
     return record
 
 
