@@ -292,3 +292,34 @@ def test_numba_cache_left_alone_where_the_install_is_writable():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120,
                        env=env)  # fmt: skip
     assert r.stdout.strip() == "None", r.stdout + r.stderr
+
+
+_CALLBACK_RUN = """
+import ctypes, os, signal, sys, time
+import gripsense.cli as cli
+import gripsense.cli._app as app
+
+def run():
+    def inside():  # a Python callback called from C, as numba's compiler calls one
+        os.kill(os.getpid(), signal.SIGINT)
+        t = time.monotonic()
+        while time.monotonic() - t < 0.2:  # the handler runs here and its exception is lost
+            pass
+        return 0
+    ctypes.CFUNCTYPE(ctypes.c_int)(inside)()
+    t = time.monotonic()
+    while time.monotonic() - t < 20:  # the run goes on: the signal must still end it
+        pass
+    print("ran to the end")
+
+app.run = run
+cli.main()
+"""
+
+
+def test_a_signal_inside_a_callback_from_c_is_not_lost():
+    """A signal whose exception landed inside a ctypes callback (numba's compiler) was
+    "ignored" with a traceback, and the run went on to exit 0 — seen in a fresh-clone run."""
+    p = subprocess.run([sys.executable, "-c", _CALLBACK_RUN], capture_output=True, text=True,
+                       timeout=120)  # fmt: skip
+    assert (p.returncode, p.stderr.strip(), p.stdout) == (130, "error: interrupted (SIGINT)", "")

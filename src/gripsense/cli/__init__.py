@@ -75,6 +75,20 @@ def _on_signal(signum: int, frame: FrameType | None) -> None:
     raise Interrupted(signum)  # not KeyboardInterrupt: typer turns that into a silent exit 130
 
 
+def _lost(unraisable: Any) -> None:
+    """``sys.unraisablehook``: the :class:`Interrupted` of a signal that landed inside a
+    callback from C (numba's compiler calls Python through ctypes) cannot leave the callback and
+    would be lost — the run went on to the end, exit 0. The signal is sent again 50 ms later,
+    until it lands in Python code; anything else goes to the default hook.
+    """
+    if isinstance(unraisable.exc_value, Interrupted):
+        again = threading.Timer(0.05, os.kill, (os.getpid(), unraisable.exc_value.signum))
+        again.daemon = True
+        again.start()
+        return
+    sys.__unraisablehook__(unraisable)
+
+
 def _leave(signum: int, _frame: object) -> None:
     """A second signal while the program ends: end now, quietly (the line is printed)."""
     os._exit(128 + signum)
@@ -108,6 +122,7 @@ def main() -> None:
     """
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, _on_signal)
+    sys.unraisablehook = _lost
     try:
         from gripsense.cli._app import run
 
