@@ -3,6 +3,8 @@ file, rates resampled onto the epochs, time bases, and the errors."""
 
 from __future__ import annotations
 
+import tempfile
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -169,3 +171,21 @@ def test_fuzz_mdf_and_blf_never_a_traceback(tmp_path_factory, cut, flips):
         except InputError:
             continue
         assert log.report.balanced
+
+
+def test_an_unfinalised_mdf_leaves_nothing_in_the_temporary_folder(tmp_path, monkeypatch):
+    """asammdf copies an unfinalised MDF4 into the temporary folder; a read that failed left
+    the copy there (one per file, as large as the log)."""
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+    write_mdf(_epochs(20), tmp_path / "m.mf4")
+    b = bytearray((tmp_path / "m.mf4").read_bytes())
+    b[60] = 1  # id_unfin_flags: the recorder did not finalise the file
+    (tmp_path / "u.mf4").write_bytes(bytes(b))
+    (tmp_path / "cut.mf4").write_bytes(bytes(b[: len(b) // 2]))
+    log = read_log(tmp_path / "u.mf4", columns=mdf_columns())
+    assert len(log.epochs) == 20
+    with pytest.raises(InputError, match=r"cut\.mf4"):
+        read_log(tmp_path / "cut.mf4", columns=mdf_columns())
+    assert list(scratch.iterdir()) == []

@@ -15,7 +15,9 @@ import datetime as dt
 import gc
 import io
 import logging
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -76,7 +78,12 @@ def read_mdf(
     if not mapped:
         raise InputError(f"{name}: give the channels with --columns (heading=…,course=…,speed=…)")
     src = io.BytesIO(data) if data is not None else str(path)
-    mdf = _open(asammdf, src, name)
+    scratch = Path(tempfile.mkdtemp(prefix="gripsense-mdf-"))
+    try:
+        mdf = _open(asammdf, src, name, scratch)
+    except BaseException:
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
     try:
         _check_records(mdf, name)
         available = list(mdf.channels_db)
@@ -100,6 +107,7 @@ def read_mdf(
         start = mdf.header.start_time
     finally:
         mdf.close()
+        shutil.rmtree(scratch, ignore_errors=True)
     if start.tzinfo is None:
         start = start.replace(tzinfo=dt.UTC)
     start_s = start.timestamp()
@@ -113,9 +121,11 @@ def read_mdf(
     return log
 
 
-def _open(asammdf, src, name: str):
+def _open(asammdf, src, name: str, scratch: Path):
     """``asammdf.MDF(src)``, or one InputError: a damaged file makes asammdf raise many kinds
     of exception, and its half-built object complains when collected; that is kept quiet.
+    asammdf copies an unfinalised file into *scratch* (a private folder the caller removes:
+    left in the system's temporary folder, a failed read's copy stayed there).
     """
     err = ""
     hook = sys.unraisablehook
@@ -125,7 +135,7 @@ def _open(asammdf, src, name: str):
     logger.setLevel(logging.CRITICAL)
     try:
         try:
-            return asammdf.MDF(src)
+            return asammdf.MDF(src, temporary_folder=str(scratch))
         except Exception as e:
             err = f"{type(e).__name__}: {e}"
         gc.collect()  # the half-built object, while its complaint is silenced
