@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import tempfile
 from pathlib import Path
 
 import h3
@@ -122,12 +123,21 @@ def _with_external_cluster(tmp: Path, fn):
             p.wait(timeout=30)
 
 
-def test_same_results_with_1_worker_and_an_explicit_scheduler(fleet_logs, fleet_run):
+def test_same_results_with_1_worker_and_an_explicit_scheduler(
+    fleet_logs, fleet_run, tmp_path, monkeypatch
+):
     from dask.distributed import LocalCluster
 
     pattern = [str(fleet_logs / "logs" / "**" / "*.nmea*")]
     veh = fleet_logs / "vehicle.toml"
-    one = run_fleet(pattern, fleet_logs / "out1", vehicle=veh, receiver="rtk", workers=1)
+    system_tmp = tmp_path / "tmp"  # the system's temporary folder, as the run sees it
+    system_tmp.mkdir()
+    with monkeypatch.context() as m:
+        m.setattr(tempfile, "tempdir", str(system_tmp))
+        m.setenv("TMPDIR", str(system_tmp))
+        one = run_fleet(pattern, fleet_logs / "out1", vehicle=veh, receiver="rtk", workers=1)
+    # the cluster's spill folders went with it (Dask's default left "dask-scratch-space")
+    assert list(system_tmp.iterdir()) == []
     with LocalCluster(
         n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None
     ) as cl:

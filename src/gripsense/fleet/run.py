@@ -20,7 +20,9 @@ import glob
 import logging
 import os
 import re
+import shutil
 import sys
+import tempfile
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -424,6 +426,7 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
     and closed whole even when a signal arrives meanwhile; Dask's own log lines silenced, a
     worker that dies told in one line (*say*).
     """
+    import dask
     from dask.distributed import Client, LocalCluster
 
     nanny = logging.getLogger("distributed.nanny")
@@ -432,19 +435,25 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
     nanny.addHandler(deaths)
     nanny.setLevel(logging.INFO)
     cluster = client = None
+    scratch = None
     try:
         with signals_deferred(), warnings.catch_warnings():
             # the scheduler's HTTP server moves off a taken port 8787 (another Dask) by itself
             warnings.filterwarnings("ignore", message="Port .* is already in use")
             if scheduler is None:
-                cluster = LocalCluster(
-                    n_workers=workers,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    host="127.0.0.1",
-                    silence_logs=logging.CRITICAL,
-                )
+                # the workers' spill folder: private, removed with the cluster (Dask's default
+                # left a "dask-scratch-space" in the system's temporary folder)
+                scratch = tempfile.mkdtemp(prefix="gripsense-dask-")
+                with dask.config.set({"temporary-directory": scratch}):  # the scheduler's
+                    cluster = LocalCluster(
+                        n_workers=workers,
+                        threads_per_worker=1,
+                        processes=True,
+                        dashboard_address=None,
+                        host="127.0.0.1",
+                        silence_logs=logging.CRITICAL,
+                        local_directory=scratch,
+                    )
                 client = Client(cluster)
             else:
                 client = Client(scheduler)
@@ -456,6 +465,8 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
                 client.close()
             if cluster is not None:
                 cluster.close()
+            if scratch is not None:
+                shutil.rmtree(scratch, ignore_errors=True)
         nanny.removeHandler(deaths)
         nanny.setLevel(level)
 
