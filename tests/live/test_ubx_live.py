@@ -79,8 +79,10 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     master, slave = os.openpty()
     tty.setraw(slave)
 
+    src = SerialSource(os.ttyname(slave), 115200)
+
     def to_pty():
-        time.sleep(0.5)
+        _wait_for(lambda: src.state == "open", 60.0)  # pyserial flushes what came before
         for i in range(0, len(stream), 512):
             os.write(master, stream[i : i + 512])
             time.sleep(0.002)
@@ -88,8 +90,9 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     th = threading.Thread(target=to_pty, daemon=True)
     th.start()
     got: list = []
-    run_live(SerialSource(os.ttyname(slave), 115200), VEHICLE, duration_s=8.0,
-             on_epochs=got.append, handle_signals=False)  # fmt: skip
+    # 120 s is a guard: the run stops when every byte has arrived
+    run_live(src, VEHICLE, duration_s=120.0, on_epochs=got.append, handle_signals=False,
+             stop_when=lambda st: st.bytes >= len(stream))  # fmt: skip
     th.join()
     os.close(master)
     os.close(slave)
@@ -111,11 +114,20 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     th = threading.Thread(target=serve, daemon=True)
     th.start()
     got = []
-    res = run_live(TcpSource("127.0.0.1", srv.getsockname()[1]), VEHICLE, duration_s=6.0,
-                   on_epochs=got.append, handle_signals=False)  # fmt: skip
+    res = run_live(TcpSource("127.0.0.1", srv.getsockname()[1]), VEHICLE, duration_s=120.0,
+                   on_epochs=got.append, handle_signals=False,
+                   stop_when=lambda st: st.bytes >= len(stream))  # fmt: skip
     th.join()
     _same(pd.concat(got, ignore_index=True), batch)
     assert res["report"].format == "u-blox UBX + NMEA 0183"
+
+
+def _wait_for(cond, timeout: float) -> None:
+    """Poll *cond* until it holds (fails the test after *timeout* seconds)."""
+    deadline = time.monotonic() + timeout
+    while not cond():
+        assert time.monotonic() < deadline, "timed out waiting for a condition"
+        time.sleep(0.01)
 
 
 def test_a_vbox_log_replays_as_epochs(tmp_path):
