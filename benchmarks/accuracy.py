@@ -59,6 +59,7 @@ with the torque is wider than without.
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
        [--truth gripsense|commonroad|commonroad-mb] [--torque] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
+       --torque [--exits] [--shape known] [--calibrated] [--only tyre,vehicle,mu,kind,target_u]
 """
 
 from __future__ import annotations
@@ -387,6 +388,21 @@ def jobs_torque(
                             }
                         )
     return out
+
+
+def only_torque(todo: list[dict], spec: str) -> list[dict]:
+    """The torque drives whose (tyre, vehicle, μ, kind, target u) match *spec*, comma-separated
+    in that order; an empty field matches any (``--only``)."""
+    if not spec:
+        return todo
+    keys = ("tyre", "vehicle", "mu_road", "kind", "target_u")
+    want = [(k, v.strip()) for k, v in zip(keys, spec.split(","), strict=False) if v.strip()]
+
+    def match(job: dict, k: str, v: str) -> bool:
+        x = job[k]
+        return bool(np.isclose(x, float(v))) if isinstance(x, float) else str(x) == v
+
+    return [j for j in todo if all(match(j, k, v) for k, v in want)]
 
 
 def learned_lever(tv, tyre: str, uv, receiver: str, drives: int = 3) -> tuple[float, float]:
@@ -784,9 +800,17 @@ def main() -> None:
         "exit; on gripsense's simulator the truth's steering friction, assist and damping are "
         "drawn at random",
     )
+    ap.add_argument(
+        "--only",
+        default="",
+        help="--torque: the drives whose tyre,vehicle,mu,kind,target_u match (a field left "
+        "empty matches any), e.g. mf-sedan,sports,0.7,circle,1.0",
+    )
     args = ap.parse_args()
     if args.torque:
-        todo = jobs_torque(args.quick, args.shape, args.truth, args.exits)
+        todo = only_torque(jobs_torque(args.quick, args.shape, args.truth, args.exits), args.only)
+        if not todo:
+            ap.error(f"--only {args.only}: no torque drive matches (tyre,vehicle,mu,kind,target_u)")
         if args.calibrated:
             if args.truth != "gripsense":
                 ap.error("--calibrated drives gripsense's simulator (the everyday drives)")

@@ -119,6 +119,11 @@ FRICTION_TRAVEL_RAD = 0.002
 """Road-wheel steer travel over which the steering friction builds up (the Dahl travel of
 §16.3): the Dahl model's, and the least band of a confirmed reversal
 (:func:`~gripsense.physics.steering_balance.friction_state`) [rad]."""
+SIDE_SLIP_OFFSET_RAD = float(np.deg2rad(1.0))
+"""Largest common error of the measured slip that :func:`past_peak` allows for when it compares
+points on the two sides of the force: a common error adds to one side's |slip| and takes from
+the other's (a V100-class receiver's slow heading error, 0.4° 1σ, at 2.5σ, or the heading
+calibration's residual and a steering angle's zero offset) [rad]."""
 DAMPING_REL = 0.5
 """1σ of the declared kingpin damping, relative: the damping moment C_s δ̇ of a bin is taken
 out of the measured moment and this share of it stays as an error [-]."""
@@ -661,7 +666,7 @@ def _slip_apart(tb: TorqueBins, i: int, j: int) -> bool:
 
 def past_peak(tb: TorqueBins) -> np.ndarray:
     """The points at or past the peak of the axle's force, shown by the data alone: another
-    point on the same side carries at least as much grip at less than half the slip.
+    point carries at least as much grip at less than half the slip.
 
     On the rising side the force grows with the slip, so a point whose slip is more than twice
     another's (beyond both slips' 3σ) while its grip is not larger (beyond 2σ of the grips'
@@ -670,6 +675,14 @@ def past_peak(tb: TorqueBins) -> np.ndarray:
     trail has fallen further than the rising side's τ(u) at that grip says, towards zero and
     below, and the trail would read the slide as a tyre at its limit on a lower μ; such a point
     is left out of the torque's fit. No tyre model is used, only the measured slip and grip.
+
+    The other point may be on either side of the force: the axle's force is odd in its slip (a
+    tyre's is up to conicity and ply steer — a shift of a fraction of a degree and peaks a few
+    per cent apart, 7 % on the PAC2002 sedan file, while at half the slip the rising side holds
+    far less grip), and a car that spins slides on one side only — its turn-in, at less slip
+    and as much grip, was the other way. Across sides a common error of the slip
+    (:data:`SIDE_SLIP_OFFSET_RAD`) adds to one side's |slip| and takes from the other's: the
+    slip must be more than twice the other's beyond three times that error as well.
 
     Parameters
     ----------
@@ -695,11 +708,11 @@ def past_peak(tb: TorqueBins) -> np.ndarray:
     side = np.sign(tb.force)
     sa = np.hypot(tb.slip_sigma[:, None], tb.slip_sigma[None, :])
     sg = np.hypot(gs[:, None], gs[None, :])
-    # [i, j]: j, on i's side, holds at least i's grip at less than half i's slip
-    beaten = (
-        (side[:, None] == side[None, :])
-        & (a[:, None] > 2.0 * a[None, :] + 3.0 * sa)
-        & (g[None, :] >= g[:, None] - 2.0 * sg)
+    # across sides a common slip error δ counts twice against j and once against i
+    across = np.where(side[:, None] == side[None, :], 0.0, 3.0 * SIDE_SLIP_OFFSET_RAD)
+    # [i, j]: j holds at least i's grip at less than half i's slip
+    beaten = (a[:, None] > 2.0 * a[None, :] + 3.0 * sa + across) & (
+        g[None, :] >= g[:, None] - 2.0 * sg
     )
     return np.asarray(beaten.any(axis=1) & np.isfinite(a))
 
