@@ -96,9 +96,13 @@ COMMANDS = {
 }
 
 
+# matplotlib (ft2font) only where the command draws from the start: since issue 45 a command
+# imports what it uses when it runs (friction without --report, fleet draw with no matplotlib)
+STARTS = [(c, lib) for c in COMMANDS for lib in LIBS if lib != "ft2font" or c == "brake-mu"]
+
+
 @pytest.mark.parametrize("sig", SIGNALS)
-@pytest.mark.parametrize("lib", LIBS)
-@pytest.mark.parametrize("command", COMMANDS)
+@pytest.mark.parametrize(("command", "lib"), STARTS)
 def test_a_signal_while_a_command_starts_is_one_line(command, lib, sig, tmp_path):
     p = _start(*COMMANDS[command](tmp_path))
     _wait(lambda: _mapped(p, lib), f"{lib} mapped", p)

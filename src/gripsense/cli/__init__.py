@@ -15,9 +15,14 @@ fleet           ``fleet``
 ==============  ==============================================================================
 
 The console script's :func:`main` is all this module holds at import time: it installs the
-signal handlers first and only then imports the commands (typer, rich, numpy, numba … take
-seconds), so a Ctrl-C or SIGTERM at any moment — during those imports too — is one line and
-exit 130 (SIGINT) or 143 (SIGTERM), never a traceback.
+signal handlers first and only then imports the commands, so a Ctrl-C or SIGTERM at any
+moment — during those imports too — is one line and exit 130 (SIGINT) or 143 (SIGTERM), never
+a traceback.
+
+The command modules import only typer, rich and light gripsense modules at module level; each
+command imports the library (numpy, pandas, numba, matplotlib …, seconds) when it runs, so
+``gripsense --help``, ``gripsense COMMAND --help`` and ``--version`` start at once
+(``tests/cli/test_startup.py`` checks what they import, ``benchmarks/startup.py`` times them).
 """
 
 from __future__ import annotations

@@ -7,10 +7,9 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import Any
+from typing import Annotated, Any
 
 import typer
-from rich.text import Text
 
 from gripsense.cli._common import err_console
 from gripsense.cli._numbers import FiniteGroup
@@ -36,6 +35,32 @@ app = typer.Typer(
     context_settings={"max_content_width": 100},
     help="gripsense: tyre-road friction, tyre and steering parameters from how a vehicle moves.",
 )
+
+
+def _print_version(value: bool) -> None:
+    """``--version``: ``gripsense X.Y.Z`` (:mod:`gripsense._version`), then exit."""
+    if value:
+        from gripsense._version import __version__
+
+        print(f"gripsense {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _options(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            help="Show the version and exit.",
+            is_eager=True,
+            callback=_print_version,
+        ),
+    ] = False,
+) -> None:
+    # the options of gripsense itself, before a command (the help is the app's)
+    pass
+
 
 app.command()(ingest)
 app.command()(friction)
@@ -96,6 +121,8 @@ def run() -> None:
             print(e.format_message())  # type: ignore[attr-defined]
             sys.exit(0)
         if "UsageError" in names or "ClickException" in names:
+            from rich.text import Text
+
             where = getattr(getattr(e, "ctx", None), "command_path", None) or "gripsense"
             err_console.print(
                 Text.assemble(("error: ", "bold red"), f"{where}: {usage_hint(e)}"),
@@ -124,5 +151,7 @@ def _fail(e: Exception) -> None:
             "with GRIPSENSE_DEBUG=1 for the details and report them"
         )
         code = 1
+    from rich.text import Text
+
     err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
     sys.exit(code)

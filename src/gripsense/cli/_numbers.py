@@ -16,8 +16,8 @@ import re
 from typing import Any
 
 import typer
-from typer.core import TyperGroup
 
+from gripsense.cli._help import QuickGroup
 from gripsense.errors import InputError
 
 __all__ = ["FiniteGroup", "finite_numbers", "require_finite_params"]
@@ -61,9 +61,10 @@ def require_finite_params(command: Any) -> None:
         require_finite_params(sub)
 
 
-class FiniteGroup(TyperGroup):
+class FiniteGroup(QuickGroup):
     """The ``gripsense`` command group: no command takes ``nan`` or ``inf`` for a number
-    (:func:`require_finite_params` on every command when the group is built).
+    (:func:`require_finite_params` on every command when the group is built); its help as
+    :class:`~gripsense.cli._help.QuickGroup` writes it.
     """
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:

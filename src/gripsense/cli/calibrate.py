@@ -6,7 +6,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.table import Table
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
@@ -20,7 +19,6 @@ from gripsense.cli._common import (
 )
 from gripsense.cli.friction import RECEIVER_HELP
 from gripsense.errors import GripsenseError
-from gripsense.io.output_folder import check_output_file, write_file_atomic
 
 __all__ = ["calibrate"]
 
@@ -59,12 +57,16 @@ def calibrate(
     --calibration, every command (fleet too) when the vehicle file names it in a calibration
     table (file = "car.calibration.toml").
     """
+    from rich.table import Table
+
     from gripsense.config import Vehicle
     from gripsense.config.calibration import (
         calibration_toml,
         read_calibration,
+        stiffness_conflict,
         usable_calibration,
     )
+    from gripsense.io.output_folder import check_output_file, write_file_atomic
     from gripsense.pipeline import learn_calibration
 
     try:
@@ -108,6 +110,14 @@ def calibrate(
             str(n_drives),
         )
     console.print(table)
+    for axle, a in sorted(cal.axles.items()):  # conflicts said out loud, one line each
+        if a.drives_disagree:
+            say(a.drives_disagree)
+        if axle in veh.tyres:
+            c_d = float(veh.cornering_stiffness(axle, veh.static_load(axle)))
+            line = stiffness_conflict(axle, c_d, veh.tyres[axle].stiffness_uncertainty, a)
+            if line:
+                say(line)
     for why in cal.left_out.values():
         say(why)
     if cal.steering is not None:

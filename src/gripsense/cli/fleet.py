@@ -6,7 +6,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.progress import Progress
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
@@ -76,6 +75,8 @@ def fleet(
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
     bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
     """
+    from rich.progress import Progress
+
     from gripsense.fleet import run_fleet
     from gripsense.fleet.aggregate import STATUS_INCONSISTENT
 

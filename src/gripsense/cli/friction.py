@@ -2,14 +2,10 @@
 
 from __future__ import annotations
 
-from functools import singledispatch
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
-from rich.table import Table
-from rich.text import Text
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
@@ -23,8 +19,9 @@ from gripsense.cli._common import (
     say,
 )
 from gripsense.errors import GripsenseError
-from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
-from gripsense.io.output_folder import check_output_file, check_output_folder, write_file_atomic
+
+if TYPE_CHECKING:
+    from gripsense.estimate.results import AxleFriction, FrictionResult, WheelFriction
 
 __all__ = ["RECEIVER_HELP", "friction", "print_friction", "report_cmd", "stiffness"]
 
@@ -100,6 +97,7 @@ def friction(
     """Tyre-road friction per axle (or per wheel with a per-sample --method) during cornering:
     the grip the data prove (model-free) and an estimate of μ with its interval.
     """
+    from gripsense.io.output_folder import check_output_folder
     from gripsense.io.table import describe_columns, read_motion_table
     from gripsense.pipeline import FrictionRun
 
@@ -133,6 +131,8 @@ def friction(
     except GripsenseError as e:
         fail(e)
     print_friction(result)
+    for note in run.calibration_notes:  # a declaration the drives contradict, said out loud
+        say(note)
     if result.meta.get("front_axle"):  # the front axle never disappears without a word
         if result.meta["front_axle"] not in result.explain():  # (the axle methods' line says it)
             say(result.meta["front_axle"])
@@ -164,7 +164,8 @@ def report_cmd(
     overwrite: Overwrite = False,
 ) -> None:
     """Write a self-contained HTML report (images embedded) of a friction result folder."""
-    from gripsense.io.output_folder import add_to_folder
+    from gripsense.estimate.results import FrictionResult
+    from gripsense.io.output_folder import add_to_folder, check_output_file, write_file_atomic
     from gripsense.report.html import render_report
     from gripsense.report.summary_check import check_summary_file
 
@@ -184,6 +185,8 @@ def report_cmd(
 
 
 def _print_head(result: FrictionResult) -> None:
+    from rich.text import Text
+
     m = result.meta
     head = Text.assemble((str(m.get("vehicle", "")), "bold"), f" — method {m['method']}")
     if "epochs_total" in m:
@@ -194,25 +197,35 @@ def _print_head(result: FrictionResult) -> None:
     console.print(head)
 
 
-@singledispatch
 def print_friction(result: FrictionResult) -> None:
     """Print a friction result's summary table and its one-line explanation.
 
     Parameters
     ----------
     result : FrictionResult
-        The result (one printer per result type).
+        The result (one printer per result type: per axle, per wheel, else the head line).
     """
-    _print_head(result)
-    say(result.explain())
+    from gripsense.estimate.results import AxleFriction, WheelFriction
+
+    if isinstance(result, AxleFriction):
+        _print_axles(result)
+    elif isinstance(result, WheelFriction):
+        _print_wheels(result)
+    else:
+        _print_head(result)
+        say(result.explain())
 
 
 def _num(x, fmt: str = ".2f") -> str:
+    import numpy as np
+
     return "—" if x is None or not np.isfinite(x) else format(x, fmt)
 
 
-@print_friction.register
-def _(result: AxleFriction) -> None:
+def _print_axles(result: AxleFriction) -> None:
+    import numpy as np
+    from rich.table import Table
+
     _print_head(result)
     table = Table(
         title="Friction per axle — measured (model-free) and estimated (axle-window, tyre model)"
@@ -258,8 +271,10 @@ def _(result: AxleFriction) -> None:
     say(result.explain())
 
 
-@print_friction.register
-def _(result: WheelFriction) -> None:
+def _print_wheels(result: WheelFriction) -> None:
+    import numpy as np
+    from rich.table import Table
+
     _print_head(result)
     table = Table(title="Friction per wheel (steady cornering samples)")
     for col in (
@@ -312,9 +327,12 @@ def stiffness(
     thesis, ch. 9, like its Table 23).
     """
     import pandas as pd
+    from rich.table import Table
+    from rich.text import Text
 
     from gripsense.estimate.conditions import conditions
     from gripsense.estimate.stiffness import g_sweep, tread_stiffness
+    from gripsense.io.output_folder import check_output_folder
     from gripsense.pipeline import FrictionRun
     from gripsense.report.figures import g_sweep_figure
 

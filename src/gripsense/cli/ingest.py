@@ -3,12 +3,9 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
 import typer
-from rich.table import Table
-from rich.text import Text
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
@@ -21,13 +18,18 @@ from gripsense.cli._common import (
     say,
 )
 from gripsense.errors import GripsenseError
-from gripsense.io import NmeaLog
-from gripsense.io.nmea.align import align_channels
-from gripsense.io.nmea.epochs import EPOCH_COLUMNS
-from gripsense.io.output_folder import check_output_file, write_file_atomic, write_parquet
-from gripsense.io.text import MAX_BYTES, MAX_LINES
 
-__all__ = ["check_table_output", "ingest", "print_ingest", "write_table"]
+if TYPE_CHECKING:
+    from gripsense.io import NmeaLog
+
+__all__ = ["MAX_BYTES", "MAX_LINES", "check_table_output", "ingest", "print_ingest", "write_table"]
+
+# the defaults of --max-lines and --max-bytes: gripsense.io.text's (a test keeps them equal),
+# written here so that the help of the command line imports no reader (pandas, numba)
+MAX_BYTES = 1 << 30
+"""Default of ``--max-bytes``: :data:`gripsense.io.text.MAX_BYTES` [bytes]."""
+MAX_LINES = 5_000_000
+"""Default of ``--max-lines``: :data:`gripsense.io.text.MAX_LINES` [lines]."""
 
 
 def print_ingest(log: NmeaLog) -> None:
@@ -38,6 +40,12 @@ def print_ingest(log: NmeaLog) -> None:
     log : NmeaLog
         The ingested log.
     """
+    import numpy as np
+    from rich.table import Table
+    from rich.text import Text
+
+    from gripsense.io.nmea.align import align_channels
+
     rep = log.report
     unit = rep.unit
     title = f"Accounting ({rep.format}, {unit}) — {Path(rep.source).name}"
@@ -101,8 +109,14 @@ def print_ingest(log: NmeaLog) -> None:
         say(align_channels(ep)[1].describe())
 
 
+def _write_parquet(df, path: Path, kind: str) -> None:
+    from gripsense.io.output_folder import write_parquet
+
+    write_parquet(df, path, kind)
+
+
 TABLE_WRITERS = {
-    ".parquet": write_parquet,
+    ".parquet": _write_parquet,
     ".csv": lambda df, p, kind: df.to_csv(p, index=False),
 }
 """Output suffix → writer of a table."""
@@ -124,6 +138,8 @@ def check_table_output(out: Path, kind: str, columns: list[str], *, overwrite: b
     inputs : iterable of Path
         The command's inputs (never written).
     """
+    from gripsense.io.output_folder import check_output_file
+
     if out.suffix.lower() not in TABLE_WRITERS:
         raise GripsenseError(f"{out}: unknown output format {out.suffix!r}; use .parquet or .csv")
     check_output_file(out, kind, overwrite=overwrite, inputs=list(inputs), header=columns)
@@ -141,6 +157,8 @@ def write_table(df, out: Path, kind: str = "epochs") -> None:
     kind : str
         Output kind recorded in a Parquet file's metadata.
     """
+    from gripsense.io.output_folder import write_file_atomic
+
     writer = TABLE_WRITERS.get(out.suffix.lower())
     if writer is None:
         raise GripsenseError(f"{out}: unknown output format {out.suffix!r}; use .parquet or .csv")
@@ -177,6 +195,7 @@ def ingest(
     accounting: every line, frame or sample used, ignored or rejected with the reason.
     """
     from gripsense.io.log import read_log
+    from gripsense.io.nmea.epochs import EPOCH_COLUMNS
 
     try:
         if output is not None:

@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.text import Text
 
 from gripsense.cli._common import (
     LOG_COLUMNS_HELP,
@@ -107,6 +106,8 @@ def live(
             time_offset=time_offset, overwrite=overwrite, state=state,
         )  # fmt: skip
     except _Interrupted as e:
+        from rich.text import Text
+
         name = signal.Signals(e.signum).name
         err_console.print(
             Text.assemble(("error: ", "bold red"), f"interrupted ({name}) before the run "

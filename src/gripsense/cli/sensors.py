@@ -5,15 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
-from rich.table import Table
-from rich.text import Text
 
 from gripsense.cli._common import Columns, Overwrite, console, fail, old_column_flags, say
 from gripsense.errors import GripsenseError
-from gripsense.io.output_folder import check_output_file, write_file_atomic
-from gripsense.report.figures import save_png
 
 __all__ = ["brake_mu", "camber", "camera_slip"]
 
@@ -39,11 +34,16 @@ def brake_mu(
     """Friction from locked-wheel braking: μ = a/g per event (2018 Kochi University of Technology
     thesis, ch. 8).
     """
+    import numpy as np
     import pandas as pd
+    from rich.table import Table
+    from rich.text import Text
 
     from gripsense.estimate.braking import EVENT_COLUMNS, estimate_braking
     from gripsense.io.accel import read_accel_csv
+    from gripsense.io.output_folder import check_output_file, write_file_atomic
     from gripsense.io.table import describe_columns
+    from gripsense.report.figures import save_png
 
     frames = []
     header = [*EVENT_COLUMNS, "file"]
@@ -117,6 +117,8 @@ def brake_mu(
 
 
 def _write_csv(df, output: Path) -> None:
+    from gripsense.io.output_folder import write_file_atomic
+
     try:
         write_file_atomic(output, lambda tmp: df.to_csv(tmp, index=False))
     except GripsenseError as e:
@@ -151,7 +153,10 @@ def camber(
     """Camber to the ground from two laser displacement sensors (Toyota CRDL R&D Review
     34(3), 1999, Fig. 3).
     """
+    import numpy as np
+
     from gripsense.io.laser import read_laser_csv
+    from gripsense.io.output_folder import check_output_file
     from gripsense.io.table import describe_columns
     from gripsense.vision.camber_laser import (
         CAMBER_COLUMNS,
@@ -214,6 +219,8 @@ def camera_slip(
     """Slip angle from a downward camera on the wheel (Toyota CRDL R&D Review 34(3), 1999,
     §2.1); image top = forward.
     """
+    from gripsense.io.output_folder import check_output_file, write_file_atomic
+    from gripsense.report.figures import save_png
     from gripsense.report.sensor_figures import camera_slip_figure
     from gripsense.vision.slip_camera import SLIP_COLUMNS, slip_from_frames
 

@@ -5,14 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
-from rich.markup import escape
-from rich.table import Table
 
 from gripsense.cli._common import Overwrite, command_line, console, fail, say
 from gripsense.errors import GripsenseError
-from gripsense.io.output_folder import ResultWriter, check_output_folder
 
 __all__ = ["demo", "simulate"]
 
@@ -83,9 +79,13 @@ def demo(
     """Friction on the bundled simulated drives (brush and Magic Formula tyres, two receivers,
     dry μ 0.9 and wet μ 0.5): what the data prove and what is estimated, next to the truth.
     """
+    import numpy as np
+    from rich.markup import escape
     from rich.progress import Progress
+    from rich.table import Table
 
     from gripsense.demo import DEMO_METHOD, demo_description, demo_dir, demo_verdict, run_demo
+    from gripsense.io.output_folder import ResultWriter, check_output_folder
 
     folder = demo_dir()
     try:

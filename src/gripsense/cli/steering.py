@@ -8,15 +8,15 @@ import json
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from gripsense.cli._common import Columns, Overwrite, command_line, console, fail, say
+from gripsense.cli._help import QuickGroup
 from gripsense.cli._numbers import finite_numbers
 from gripsense.errors import GripsenseError
-from gripsense.io.output_folder import ResultWriter, check_output_folder
 
 steering_app = typer.Typer(
+    cls=QuickGroup,
     no_args_is_help=True,
     rich_markup_mode=None,
     help="Steering-system identification (Osaka University steering-stiffness report, 2019).",
@@ -73,6 +73,7 @@ def identify(
     """
     from gripsense.config import SteeringCar
     from gripsense.identify.steering_run import identify_from_recordings
+    from gripsense.io.output_folder import check_output_folder
 
     inputs = [config, *(release or []), *(step or [])]
     if tyre_deflection is not None:
@@ -103,6 +104,8 @@ def identify(
 
 def _print_result(run, reference: str) -> None:
     """The identification's numbers, one line each."""
+    import numpy as np
+
     res, car, times = run.result, run.car, run.times
     console.print(
         f"settling time {res.cs.t_mean_s:.3f} ± {res.cs.t_sd_s:.3f} s "
@@ -141,6 +144,9 @@ def _print_result(run, reference: str) -> None:
 
 def _write(output: Path, run, overwrite: bool, inputs: list[Path]) -> None:
     """steering.json and the figures, atomically."""
+    import numpy as np
+
+    from gripsense.io.output_folder import ResultWriter
     from gripsense.physics.steering_system import simulate_release
     from gripsense.report.steering_figures import release_figure, settling_figure, yaw_gain_figure
 

@@ -3,26 +3,26 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
-import numpy as np
-import pandas as pd
 import typer
-from rich.table import Table
-from rich.text import Text
 
 from gripsense.cli._common import Columns, Overwrite, console, fail, say
+from gripsense.cli._help import QuickGroup
 from gripsense.cli._numbers import finite_numbers
 from gripsense.errors import GripsenseError, InputError
-from gripsense.io.output_folder import check_output_file, write_file_atomic
-from gripsense.io.table import Quantity
-from gripsense.report.figures import save_png
+
+if TYPE_CHECKING:
+    import numpy as np
 
 EVAL_COLUMNS = ["fz_N", "kappa", "gamma_deg", "alpha_deg", "fx_N", "fy_N"]
 """Columns of ``gripsense tyre eval -o``."""
 
 tyre_app = typer.Typer(
-    no_args_is_help=True, rich_markup_mode=None, help="Magic Formula tyre models: evaluate and fit."
+    cls=QuickGroup,
+    no_args_is_help=True,
+    rich_markup_mode=None,
+    help="Magic Formula tyre models: evaluate and fit.",
 )
 
 
@@ -30,6 +30,8 @@ def parse_range(text: str, what: str) -> np.ndarray:
     """``"-12:12:0.5"`` (start:stop:step, stop included), ``"2000,4000"`` or ``"4000"``; every
     number finite.
     """
+    import numpy as np
+
     finite_numbers(text, f"--{what}", sep=",:")  # nan, inf: one line naming the option
     try:
         if ":" in text:
@@ -69,7 +71,13 @@ def tyre_eval(
     overwrite: Overwrite = False,
 ) -> None:
     """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
+    import numpy as np
+    import pandas as pd
+    from rich.table import Table
+    from rich.text import Text
+
     from gripsense.config.tyre_files import load_tyre_model
+    from gripsense.io.output_folder import check_output_file, write_file_atomic
 
     try:
         if output is not None:
@@ -172,9 +180,13 @@ def tyre_fit(
     """Fit Magic Formula lateral coefficients in one step (Toyota CRDL R&D Review 34(3),
     1999), with constraints.
     """
+    import pandas as pd
+
     from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
+    from gripsense.io.output_folder import check_output_file, write_file_atomic
     from gripsense.io.table import describe_columns
     from gripsense.io.tyre_table import read_tyre_table
+    from gripsense.report.figures import save_png
 
     try:
         if model not in FITTERS:
@@ -275,6 +287,8 @@ def _check_usable(fit, data: Path) -> None:
     """Refuse a fit that explains nothing (no coefficient determined, or a flat curve): it would
     otherwise be written and plotted as if it were a tyre.
     """
+    import numpy as np
+
     determined = any(fit.determined.values())
     lo, hi = fit.ranges["alpha_rad"]
     fz = float(np.mean(fit.ranges["fz_N"]))
@@ -290,6 +304,9 @@ def _check_usable(fit, data: Path) -> None:
 
 
 def _print_fit(fit, info, data, free_fit) -> None:
+    import numpy as np
+    from rich.table import Table
+
     rej = ", ".join(f"{k} {v}" for k, v in info.get("rejected", {}).items()) or "none"
     say(
         f"{data.name}: {info.get('rows_used', fit.n)} of {info['rows']} rows used (rejected: {rej})"
@@ -329,11 +346,20 @@ def _print_fit(fit, info, data, free_fit) -> None:
         )
 
 
-CONTACT_QUANTITIES = {
-    "mass": Quantity("mass", ("mass", "m", "wheel_mass")),
-    "length": Quantity("length", ("length", "l", "contact_length")),
-}
-"""Keys of a contact-length table (mass on the wheel, contact-patch length)."""
+def contact_quantities() -> dict:
+    """Keys of a contact-length table (mass on the wheel, contact-patch length).
+
+    Returns
+    -------
+    dict
+        Key → :class:`~gripsense.io.table.Quantity`.
+    """
+    from gripsense.io.table import Quantity
+
+    return {
+        "mass": Quantity("mass", ("mass", "m", "wheel_mass")),
+        "length": Quantity("length", ("length", "l", "contact_length")),
+    }
 
 
 def fit_contact(
@@ -345,6 +371,8 @@ def fit_contact(
     """Fit the contact-length model l = a·√m + b·m (2018 Kochi University of Technology thesis,
     eq. 6.23) to measurements.
     """
+    import numpy as np
+
     from gripsense.identify import fit_contact_length
     from gripsense.io.table import describe_columns, map_table, read_table
 
@@ -353,7 +381,7 @@ def fit_contact(
         v, used = map_table(
             df,
             table,
-            CONTACT_QUANTITIES,
+            contact_quantities(),
             columns,
             required=("mass", "length"),
             example="mass=Mass:kg,length=Length:cm",
