@@ -182,7 +182,8 @@ class FrictionRun:
     calibration : Calibration or str or Path, optional
         What the vehicle's own driving taught about its tyres (``gripsense calibrate``): each
         calibrated axle's stiffness and uncertainty replace the vehicle file's (default: the
-        vehicle file's ``[calibration] file``, if any).
+        vehicle file's ``[calibration] file``, if any). Where the declaration and the learned
+        stiffness conflict (or the drives disagreed), ``calibration_notes`` holds one line each.
     **options
         Fields of :class:`~gripsense.estimate.options.FrictionOptions`
         (e.g. ``min_speed_mps=4.0``, ``calibrate_heading=False``).
@@ -206,7 +207,8 @@ class FrictionRun:
         **options,
     ):
         self.estimator: Estimator = get_estimator(method, "FrictionRun")
-        self.vehicle = calibrated_vehicle(vehicle, calibration)
+        self.calibration_notes: list[str] = []  # conflicts said out loud (docs/physics.md §15.7)
+        self.vehicle = calibrated_vehicle(vehicle, calibration, self.calibration_notes)
         self.method = method
         known = {f.name for f in fields(FrictionOptions)}
         unknown = set(options) - known
@@ -536,7 +538,8 @@ def solve_calibration(
         if axle not in vehicle.tyres:
             continue
         declared = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
-        a = solve_sums([d for d in kept if d.axle == axle], declared)
+        earlier = {d.sha256 for d in previous.drives} if previous is not None else set()
+        a = solve_sums([d for d in kept if d.axle == axle], declared, earlier=earlier, axle=axle)
         if a is not None:
             axles[axle] = a
     steering = solve_steering_sums([d for d in kept if d.axle == "steering"])

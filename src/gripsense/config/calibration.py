@@ -70,10 +70,17 @@ __all__ = [
     "calibration_toml",
     "parse_calibration",
     "read_calibration",
+    "stiffness_conflict",
     "usable_calibration",
 ]
 
 AXLE_KEYS = ("cornering_stiffness_N_per_rad", "stiffness_uncertainty", "scale", "bins")
+AXLE_NOTE_KEY = "drives_disagree"
+"""Optional text key of ``[calibration.front|rear]``: the line ``calibrate`` said when the
+drives' learnings disagreed and the uncertainty was widened (``friction`` repeats it)."""
+CONFLICT_SIGMAS = 2.0
+"""A declaration and a learned value (or two learnings) conflict when they differ by more than
+this many combined standard deviations (in ln C) [-] (``docs/physics.md`` §15.7)."""
 DRIVE_KEYS = ("file", "sha256", "axle", "bins", "sums")
 STEERING_KEYS = ("lever_m", "lever_uncertainty", "bins")
 N_SUMS = {"front": 7, "rear": 7, "steering": 7}  # 2 × 2 + 2 + 1
@@ -143,12 +150,16 @@ class AxleCalibration:
         Learned over declared stiffness [-].
     bins : int
         Bins of all drives used.
+    drives_disagree : str
+        One line when the drives' learnings disagreed beyond 2σ and the uncertainty was widened
+        to cover them (``""``: they agree; :func:`gripsense.estimate.calibration.solve_sums`).
     """
 
     cornering_stiffness_N_per_rad: float
     stiffness_uncertainty: float
     scale: float
     bins: int
+    drives_disagree: str = ""
 
 
 @dataclass(frozen=True)
@@ -257,9 +268,12 @@ def _from_doc(doc: dict, src: str) -> Calibration:
         where = f"calibration.{axle}"
         if not isinstance(a, dict):
             raise InputError(f"{src}: [{where}] must be a table")
-        r.known(a, where, AXLE_KEYS)
+        r.known(a, where, (*AXLE_KEYS, AXLE_NOTE_KEY))
         c, u, s, n = _limited(r, a, where, AXLE_LIMITS)
-        axles[axle] = AxleCalibration(c, u, s, int(n))
+        note = a.get(AXLE_NOTE_KEY, "")
+        if not isinstance(note, str):
+            raise InputError(f"{src}: [{where}] {AXLE_NOTE_KEY}: a string is needed")
+        axles[axle] = AxleCalibration(c, u, s, int(n), note)
     steering = None
     st = t.get("steering")
     if st is not None:
@@ -429,6 +443,8 @@ def calibration_toml(cal: Calibration) -> str:
             f"scale = {a.scale:.4f}",
             f"bins = {a.bins}",
         ]
+        if a.drives_disagree:
+            out.append(f"{AXLE_NOTE_KEY} = {_q(_comment(a.drives_disagree))}")
     if cal.steering is not None:
         out += [
             "",
@@ -481,7 +497,9 @@ def _q(s: str) -> str:
     return '"' + "".join(out) + '"'
 
 
-def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
+def apply_calibration(
+    vehicle: Vehicle, cal: Calibration, notes: list[str] | None = None
+) -> Vehicle:
     """The vehicle with each calibrated axle's stiffness and its uncertainty taken from *cal*.
 
     Parameters
@@ -491,6 +509,10 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
     cal : Calibration
         A calibration of this vehicle.
 
+    notes : list of str, optional
+        Receives one line per conflict (:func:`stiffness_conflict`) and per axle whose drives
+        disagreed (its ``drives_disagree``), for the command to print.
+
     Returns
     -------
     Vehicle
@@ -498,8 +520,10 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
         combined by their uncertainties (in ln C: the vehicle file's value is the prior, the
         drives the data) — a calibration that knows less than the vehicle file (a receiver too
         noisy for the slips of everyday driving) leaves the declaration nearly as it is, never
-        widens it; the steering's learned lever, a constraint the torque estimator adds to its
-        trail priors (docs/physics.md §16.8).
+        widens it; where the two conflict (more than :data:`CONFLICT_SIGMAS` combined σ apart)
+        the learned stiffness and its uncertainty alone (the car's own data outrank a
+        datasheet; a blend would be a value neither supports); the steering's learned lever, a
+        constraint the torque estimator adds to its trail priors (docs/physics.md §16.8).
     """
     if cal.vehicle != vehicle.name:
         raise InputError(
@@ -511,13 +535,20 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
         if axle not in tyres:
             continue
         c_d = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
-        w_d = 1.0 / np.log1p(tyres[axle].stiffness_uncertainty) ** 2
-        w_l = 1.0 / np.log1p(a.stiffness_uncertainty) ** 2
-        ln_c = (w_d * np.log(c_d) + w_l * np.log(a.cornering_stiffness_N_per_rad)) / (w_d + w_l)
+        if notes is not None and a.drives_disagree:
+            notes.append(a.drives_disagree)
+        conflict = stiffness_conflict(axle, c_d, tyres[axle].stiffness_uncertainty, a)
+        if conflict:
+            if notes is not None:
+                notes.append(conflict)
+            c_n, u_n = a.cornering_stiffness_N_per_rad, a.stiffness_uncertainty
+        else:
+            w_d = 1.0 / np.log1p(tyres[axle].stiffness_uncertainty) ** 2
+            w_l = 1.0 / np.log1p(a.stiffness_uncertainty) ** 2
+            ln_c = (w_d * np.log(c_d) + w_l * np.log(a.cornering_stiffness_N_per_rad)) / (w_d + w_l)
+            c_n, u_n = float(np.exp(ln_c)), float(np.expm1(1.0 / np.sqrt(w_d + w_l)))
         tyres[axle] = dataclasses.replace(
-            tyres[axle],
-            cornering_stiffness_N_per_rad=float(np.exp(ln_c)),
-            stiffness_uncertainty=float(np.expm1(1.0 / np.sqrt(w_d + w_l))),
+            tyres[axle], cornering_stiffness_N_per_rad=c_n, stiffness_uncertainty=u_n
         )
     steering = vehicle.steering
     if cal.steering is not None and steering is not None:
@@ -530,7 +561,9 @@ def apply_calibration(vehicle: Vehicle, cal: Calibration) -> Vehicle:
 
 
 def calibrated_vehicle(
-    vehicle: Vehicle | str | Path, calibration: Calibration | str | Path | None = None
+    vehicle: Vehicle | str | Path,
+    calibration: Calibration | str | Path | None = None,
+    notes: list[str] | None = None,
 ) -> Vehicle:
     """A vehicle description with its calibration applied: *calibration* when given, else the
     file the vehicle file names (``[calibration] file``), else the declaration as it is.
@@ -541,6 +574,8 @@ def calibrated_vehicle(
         The vehicle or its file.
     calibration : Calibration or str or Path, optional
         A calibration of this vehicle or its file.
+    notes : list of str, optional
+        Receives the conflicts' lines (:func:`apply_calibration`).
 
     Returns
     -------
@@ -553,4 +588,49 @@ def calibrated_vehicle(
     if calibration is None:
         return veh
     cal = calibration if isinstance(calibration, Calibration) else read_calibration(calibration)
-    return dataclasses.replace(apply_calibration(veh, cal), calibration_file=None)
+    return dataclasses.replace(apply_calibration(veh, cal, notes), calibration_file=None)
+
+
+def stiffness_conflict(
+    axle: str, declared_N_per_rad: float, declared_uncertainty: float, learned: AxleCalibration
+) -> str:
+    """The line that says a declared and a learned stiffness conflict, or ``""``.
+
+    They conflict when their logarithms differ by more than :data:`CONFLICT_SIGMAS` times the
+    combined σ, √(ln²(1 + u_d) + ln²(1 + u_l)) (the relative uncertainties as
+    :func:`apply_calibration` combines them); the learned value is then used alone.
+
+    Parameters
+    ----------
+    axle : str
+        ``front`` or ``rear``.
+    declared_N_per_rad : float
+        The vehicle file's stiffness of one wheel at the static load [N/rad].
+    declared_uncertainty : float
+        Its relative 1σ [-].
+    learned : AxleCalibration
+        The learned stiffness.
+
+    Returns
+    -------
+    str
+        One line naming the axle, both values with their σ and which is used.
+    """
+    c_l, u_l = learned.cornering_stiffness_N_per_rad, learned.stiffness_uncertainty
+    sd = float(np.hypot(np.log1p(declared_uncertainty), np.log1p(u_l)))
+    if not (declared_N_per_rad > 0 and c_l > 0 and sd > 0):
+        return ""
+    z = abs(float(np.log(c_l / declared_N_per_rad))) / sd
+    if not z > CONFLICT_SIGMAS:
+        return ""
+    return (
+        f"{axle} axle: the vehicle file's cornering stiffness {_n(declared_N_per_rad)} N/rad "
+        f"± {100 * declared_uncertainty:.0f} % and the learned {_n(c_l)} N/rad "
+        f"± {100 * u_l:.1f} % disagree ({z:.1f}σ apart); used: the learned {_n(c_l)} N/rad "
+        f"± {100 * u_l:.1f} % (the car's own drives outrank the declaration, no blend)"
+    )
+
+
+def _n(x: float) -> str:
+    """A stiffness for a message: whole N/rad with a thin space between thousands."""
+    return f"{x:,.0f}".replace(",", " ")

@@ -30,12 +30,22 @@ With a steering-torque channel the same drives teach the steering's lever at low
 within each drive around its weighted means: S = k (t_c + t₀), the caster plus zero-slip
 pneumatic trail times the channel's scale, the sum the torque estimator's nuisances a + b share
 (:func:`gripsense.estimate.torque.torque_profile`).
+
+The drives must agree (§15.7, "Conflicts"): each drive's own slope, with the combined fit's
+curvature held, is tested against the combination (χ² over the drives, N − 1 degrees of
+freedom, failing beyond the 2σ level); where it fails the standard error of the drives' mean
+slope is scaled by the Birge ratio R = √(χ²/(N − 1)) (the slope's error grows by
+√(R² − 1) times it), and the learned stiffness's uncertainty is widened further where needed
+so that no drive lies more than 2 combined σ from it. With ``--update`` the file's
+earlier drives and the new ones are two learnings: where they differ beyond 2 combined σ the
+uncertainty grows until both lie within 2σ of the combination. Either way one line says so.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy.stats import chi2 as chi2_dist
 
 from gripsense.config import Vehicle
 from gripsense.config.calibration import AxleCalibration, DriveSums, SteeringCalibration
@@ -44,6 +54,7 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.torque import check_channel, torque_bins
 
 __all__ = [
+    "CONSISTENCY_P",
     "FORCE_SCALE_REL",
     "GRIP_RANGE",
     "TRAIL_GRIP_RANGE",
@@ -132,10 +143,18 @@ def _centred_sums(x: np.ndarray, y: np.ndarray, w: np.ndarray) -> np.ndarray:
     return np.concatenate([(xtw @ xc).ravel(), xtw @ yc, [float(np.sum(w * yc * yc))]])
 
 
-def _first_coefficient(sums: list[DriveSums], min_bins: int) -> tuple[float, float, int] | None:
+CONSISTENCY_P = 0.0455
+"""The drives disagree when their χ² across drives exceeds its quantile at 1 − this (the
+two-sided 2σ level of a normal variable) [-]."""
+
+
+def _first_coefficient(
+    sums: list[DriveSums], min_bins: int, second: list[float] | None = None
+) -> tuple[float, float, int] | None:
     """The first coefficient of the drives' combined two-regressor fit, its standard error
     relative to it (scaled by the reduced χ² when above 1) and the bins; None with fewer than
-    *min_bins* bins, a singular fit or a coefficient that is not positive.
+    *min_bins* bins, a singular fit or a coefficient that is not positive. *second*, when
+    given, receives the second coefficient.
     """
     if not sums:
         return None
@@ -151,10 +170,138 @@ def _first_coefficient(sums: list[DriveSums], min_bins: int) -> tuple[float, flo
     first = float(beta[0])
     if not first > 0:
         return None
+    if second is not None:
+        second.append(float(beta[1]))
     return first, float(np.sqrt(cov[0, 0] * red)) / first, n
 
 
-def solve_sums(sums: list[DriveSums], declared_N_per_rad: float) -> AxleCalibration | None:
+def _per_drive(sums: list[DriveSums], second: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each drive's own first coefficient with the combined fit's second held, and its standard
+    error (scaled by the drive's own reduced χ² when above 1): the same normal equations as the
+    combination, so the combination is their weighted mean.
+    """
+    val, sd = np.full(len(sums), np.nan), np.full(len(sums), np.nan)
+    for i, d in enumerate(sums):
+        a, b, yy = d.sums[:4].reshape(2, 2), d.sums[4:6], d.sums[6]
+        if not (np.isfinite(d.sums).all() and a[0, 0] > 0):
+            continue
+        v = (b[0] - a[0, 1] * second) / a[0, 0]
+        beta = np.array([v, second])
+        chi2 = float(yy - 2 * beta @ b + beta @ a @ beta)
+        red = max(chi2 / max(d.bins - 2, 1), 1.0)
+        val[i], sd[i] = v, np.sqrt(red / a[0, 0])
+    return val, sd
+
+
+def _mean(val: np.ndarray, sd: np.ndarray) -> tuple[float, float]:
+    """Weighted mean and its standard error."""
+    w = 1.0 / sd**2
+    return float(np.sum(w * val) / np.sum(w)), float(1.0 / np.sqrt(np.sum(w)))
+
+
+def _agreement(
+    sums: list[DriveSums],
+    second: float,
+    slope: float,
+    se: float,
+    other: float,
+    declared: float,
+    axle: str,
+    earlier: frozenset[str],
+) -> tuple[float, str]:
+    """Whether the drives (and, with *earlier*, the file's earlier drives and the new ones)
+    agree on the slope: the statistical relative error to use (*se*, Birge-scaled and widened
+    where they disagree) and the line that says so (``""`` when they agree).
+
+    *other* is the relative 1σ the learned stiffness has besides the statistical (the axle
+    force's scale and the fit's form), *declared* the vehicle file's stiffness (the reference of
+    the slopes) [N/rad].
+    """
+    val, sd = _per_drive(sums, second)
+    ok = np.isfinite(val) & np.isfinite(sd) & (sd > 0)
+    if ok.sum() < 2:
+        return se, ""
+    files = [d.file or d.sha256[:8] for d, k in zip(sums, ok, strict=True) if k]
+    val, sd = val[ok], sd[ok]
+    new = np.array([d.sha256 not in earlier for d, k in zip(sums, ok, strict=True) if k])
+    m, m_sd = _mean(val, sd)
+    chi2 = float(np.sum(((val - m) / sd) ** 2))
+    dof = val.size - 1
+    drives_fail = bool(chi2_dist.sf(chi2, dof) < CONSISTENCY_P)
+    groups = None
+    if earlier and new.any() and (~new).any():
+        (m_e, s_e), (m_n, s_n) = _mean(val[~new], sd[~new]), _mean(val[new], sd[new])
+        z = abs(m_e - m_n) / float(np.hypot(s_e, s_n))
+        if z > 2.0 and m_e > 0 and m_n > 0:
+            groups = (m_e, s_e, m_n, s_n, z)
+    if not drives_fail and groups is None:
+        return se, ""
+    birge = float(np.sqrt(chi2 / dof))
+    se_new = se
+    if drives_fail and m > 0:
+        # the Birge ratio scales the part of the error the drives' scatter measures (the mean
+        # of their slopes with the curvature held); the curvature's part stays as it is
+        se_new = float(np.sqrt(se**2 + (birge**2 - 1.0) * (m_sd / m) ** 2))
+    # cover (in ln C, as apply_calibration reads the relative 1σ): no drive more than 2
+    # combined σ from the combination, both learnings within its 2σ
+    need = 0.0
+    pos = val > 0
+    z_i = np.abs(val - slope) / sd
+    if pos.any():
+        d_ln = np.abs(np.log(val[pos] / slope))
+        s_ln = sd[pos] / val[pos]
+        need = float(np.sqrt(np.maximum(d_ln**2 / 4.0 - s_ln**2, 0.0)).max())
+    if groups is not None:
+        need = max(need, abs(np.log(groups[0] / slope)) / 2, abs(np.log(groups[2] / slope)) / 2)
+        for part in (
+            [d for d in sums if d.sha256 in earlier],
+            [d for d in sums if d.sha256 not in earlier],
+        ):  # and each learning as it stands alone (its own curvature)
+            alone = _first_coefficient(part, 6)
+            if alone is not None:
+                need = max(need, abs(np.log(alone[0] / slope)) / 2)
+    u_need = float(np.expm1(need))
+    if u_need**2 > se_new**2 + other**2:
+        se_new = float(np.sqrt(u_need**2 - other**2))
+    total = float(np.hypot(se_new, other))
+    c = declared / slope
+    odd = [f for f, zz in zip(files, z_i, strict=True) if zz > 2.0]
+    if not odd:
+        odd = [files[int(np.argmax(z_i))]]
+    used = f"used: the combined {_n(c)} N/rad with its uncertainty widened to ± {100 * total:.1f} %"
+    if groups is not None:
+        m_e, s_e, m_n, s_n, z = groups
+        return se_new, (
+            f"{axle} axle: the new drives' learning {_n(declared / m_n)} N/rad "
+            f"± {100 * s_n / m_n:.1f} % and the file's earlier drives' {_n(declared / m_e)} "
+            f"N/rad ± {100 * s_e / m_e:.1f} % disagree ({z:.1f}σ apart; a tyre change? a new "
+            f"calibration from the new drives alone keeps them apart); {used} so that both lie "
+            f"within its 2σ (drives that disagree most: {', '.join(odd[:4])})"
+        )
+    parts = [
+        f"{f} {_n(declared / v)} N/rad ± {100 * s / v:.0f} %" if v > 0 else f"{f} (no value)"
+        for f, v, s, zz in zip(files, val, sd, z_i, strict=True)
+        if f in odd[:4]
+    ]
+    return se_new, (
+        f"{axle} axle: the drives disagree (χ² {chi2:.1f} on {dof} degrees of freedom, Birge "
+        f"ratio {birge:.1f}): {'; '.join(parts)} against the combined {_n(c)} N/rad; {used} "
+        "so that every drive lies within 2 combined σ of it"
+    )
+
+
+def _n(x: float) -> str:
+    """A stiffness for a message: whole N/rad with a thin space between thousands."""
+    return f"{x:,.0f}".replace(",", " ")
+
+
+def solve_sums(
+    sums: list[DriveSums],
+    declared_N_per_rad: float,
+    *,
+    earlier: frozenset[str] | set[str] = frozenset(),
+    axle: str = "",
+) -> AxleCalibration | None:
     """The learned stiffness from the combined sums of one axle's drives.
 
     Parameters
@@ -163,22 +310,35 @@ def solve_sums(sums: list[DriveSums], declared_N_per_rad: float) -> AxleCalibrat
         The drives' sums (one axle).
     declared_N_per_rad : float
         The vehicle file's stiffness of one wheel at the static load [N/rad].
+    earlier : set of str
+        SHA-256 of the drives an earlier calibration was learned from (``--update``): they and
+        the new drives are two learnings, tested against each other.
+    axle : str
+        The axle's name, for the line that says the drives disagree (default: the sums').
 
     Returns
     -------
     AxleCalibration or None
-        The learned stiffness at the static load and its relative 1σ; None with fewer than
-        six bins or without a change of the lateral force within a drive.
+        The learned stiffness at the static load and its relative 1σ (widened where the drives
+        disagree, with ``drives_disagree`` saying so); None with fewer than six bins or
+        without a change of the lateral force within a drive.
     """
-    fit = _first_coefficient(sums, 6)
+    second: list[float] = []
+    fit = _first_coefficient(sums, 6, second)
     if fit is None:
         return None
     slope, se, n = fit  # slope = 1 / s
+    other = float(np.hypot(FORCE_SCALE_REL, FIT_FORM_REL))
+    se, note = _agreement(
+        sums, second[0], slope, se, other, declared_N_per_rad,
+        axle or (sums[0].axle if sums else ""), frozenset(earlier),
+    )  # fmt: skip
     return AxleCalibration(
         cornering_stiffness_N_per_rad=declared_N_per_rad / slope,
         stiffness_uncertainty=float(np.sqrt(se**2 + FORCE_SCALE_REL**2 + FIT_FORM_REL**2)),
         scale=1.0 / slope,
         bins=n,
+        drives_disagree=note,
     )
 
 
