@@ -265,28 +265,37 @@ def _agreement(
         se_new = float(np.sqrt(u_need**2 - other**2))
     total = float(np.hypot(se_new, other))
     c = declared / slope
-    odd = [f for f, zz in zip(files, z_i, strict=True) if zz > 2.0]
-    if not odd:
-        odd = [files[int(np.argmax(z_i))]]
-    used = f"used: the combined {_n(c)} N/rad with its uncertainty widened to ± {100 * total:.1f} %"
+    order = np.argsort(-z_i)  # the drives that disagree most first
+    odd = [files[i] for i in order if z_i[i] > 2.0] or [files[int(order[0])]]
+    plain = float(np.hypot(se, other))
+
+    def used(cover: str) -> str:
+        if total > plain + 5e-4:
+            return (
+                f"used: the combined {_n(c)} N/rad, its uncertainty widened from "
+                f"± {100 * plain:.1f} % to ± {100 * total:.1f} % so that {cover}"
+            )
+        return f"used: the combined {_n(c)} N/rad ± {100 * total:.1f} % ({cover} already)"
+
     if groups is not None:
         m_e, s_e, m_n, s_n, z = groups
         return se_new, (
             f"{axle} axle: the new drives' learning {_n(declared / m_n)} N/rad "
             f"± {100 * s_n / m_n:.1f} % and the file's earlier drives' {_n(declared / m_e)} "
             f"N/rad ± {100 * s_e / m_e:.1f} % disagree ({z:.1f}σ apart; a tyre change? a new "
-            f"calibration from the new drives alone keeps them apart); {used} so that both lie "
-            f"within its 2σ (drives that disagree most: {', '.join(odd[:4])})"
+            f"calibration from the new drives alone keeps them apart); "
+            f"{used('both lie within its 2σ')} (drives that disagree most: {', '.join(odd[:4])})"
         )
     parts = [
-        f"{f} {_n(declared / v)} N/rad ± {100 * s / v:.0f} %" if v > 0 else f"{f} (no value)"
-        for f, v, s, zz in zip(files, val, sd, z_i, strict=True)
-        if f in odd[:4]
+        f"{files[i]} {_n(declared / val[i])} N/rad ± {100 * sd[i] / val[i]:.0f} %"
+        if val[i] > 0
+        else f"{files[i]} (no value)"
+        for i in order[: min(len(odd), 4)]
     ]
     return se_new, (
         f"{axle} axle: the drives disagree (χ² {chi2:.1f} on {dof} degrees of freedom, Birge "
-        f"ratio {birge:.1f}): {'; '.join(parts)} against the combined {_n(c)} N/rad; {used} "
-        "so that every drive lies within 2 combined σ of it"
+        f"ratio {birge:.1f}): {'; '.join(parts)} against the combined {_n(c)} N/rad; "
+        f"{used('every drive lies within 2 combined σ of it')}"
     )
 
 
