@@ -209,6 +209,10 @@ class FrictionRun:
         self.estimator: Estimator = get_estimator(method, "FrictionRun")
         self.calibration_notes: list[str] = []  # conflicts said out loud (docs/physics.md §15.7)
         self.vehicle = calibrated_vehicle(vehicle, calibration, self.calibration_notes)
+        if self.vehicle.steering is not None and self.vehicle.steering.calibrated_lever_m:
+            from gripsense.estimate.calibration import use_learned_lever
+
+            self.vehicle = use_learned_lever(self.vehicle, self.calibration_notes)
         self.method = method
         known = {f.name for f in fields(FrictionOptions)}
         unknown = set(options) - known

@@ -300,3 +300,42 @@ def test_a_text_that_compares_says_what_the_rows_numbers_say(circles):
                 said += 1
                 assert not np.isfinite(r["mu_high"]), r
     assert said > 0
+
+
+def test_a_declared_steering_lever_the_drives_contradict(tmp_path):
+    """A [steering] table whose caster trail is 4 × the car's (80 mm for 20 mm): the learned
+    lever (three everyday drives with the column torque) is within 2σ of the simulator's own
+    lever, the declared one is not; `calibrate` and `friction` say so in one line, and the
+    lever friction's torque estimator is given is the learned one (its declared trails scaled
+    to meet it), not a blend."""
+    from gripsense import FrictionRun
+    from gripsense.estimate.calibration import declared_lever
+
+    from .test_calibration import simulated_lever
+
+    files = []
+    for i in range(3):
+        d = simulate_drive(
+            "sedan", TYRE, M.everyday(60 / 3.6, seed=i), 0.9, receiver=RECEIVER, seed=i,
+            torque=True,
+        )  # fmt: skip
+        files.append(_write(d, tmp_path, f"torque{i}"))
+    text = user_vehicle_toml(truth_vehicle("sedan"), truth_tyre(TYRE), stiffness_uncertainty=0.2)
+    assert "mechanical_trail_m = 0.020" in text
+    car = tmp_path / "car.toml"
+    car.write_text(text.replace("mechanical_trail_m = 0.020", "mechanical_trail_m = 0.080"))
+    out = tmp_path / "car.calibration.toml"
+    said = _calibrate(tmp_path, car, files, out)
+    assert len(_lines(said, r"^steering lever: the vehicle file's \[steering\] declares")) == 1
+    st = read_calibration(out).steering
+    truth = simulated_lever()
+    assert abs(np.log(st.lever_m / truth)) <= 2 * np.log1p(st.lever_uncertainty)
+    from gripsense.config import Vehicle
+
+    s_d, u_d = declared_lever(Vehicle.from_toml(car))
+    assert abs(np.log(s_d / truth)) > 2 * np.log1p(u_d)  # the declaration misses the truth
+    res = invoke("friction", files[0][0], "--vehicle", car, "--steer-csv", files[0][1],
+                 "--receiver", RECEIVER, "--calibration", out, "-o", tmp_path / "r")  # fmt: skip
+    assert len(_lines(res, r"^steering lever: the vehicle file's \[steering\] declares")) == 1
+    used = FrictionRun(car, receiver=RECEIVER, calibration=out).vehicle
+    assert declared_lever(used)[0] == pytest.approx(st.lever_m, rel=1e-9)

@@ -118,6 +118,12 @@ def calibrate(
             line = stiffness_conflict(axle, c_d, veh.tyres[axle].stiffness_uncertainty, a)
             if line:
                 say(line)
+    if cal.steering is not None:
+        from gripsense.estimate.calibration import lever_conflict
+
+        line = lever_conflict(veh, cal.steering)
+        if line:
+            say(line)
     for why in cal.left_out.values():
         say(why)
     if cal.steering is not None:

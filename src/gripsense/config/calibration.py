@@ -35,6 +35,11 @@ torque estimator then takes as a constraint of its trail nuisances::
 
 (its drives have ``axle = "steering"``, their sums those of the lever and the friction).
 
+Where the drives disagreed (``docs/calibration.md``) an axle's table also keeps the line
+``calibrate`` said, ``drives_disagree = "…"``, which ``friction`` repeats; a declaration more
+than 2 combined σ from the learned stiffness is not blended with it (:func:`apply_calibration`,
+:func:`stiffness_conflict`).
+
 Unknown keys are errors, like everywhere else. Every number has the range the reader accepts
 (:data:`AXLE_LIMITS`, :data:`STEERING_LIMITS`), and the writer keeps to it: a learned value
 outside it (a slalom's stiffness known to ±800 %) is not written — the file says why in a

@@ -39,9 +39,14 @@ slope is scaled by the Birge ratio R = √(χ²/(N − 1)) (the slope's error gr
 so that no drive lies more than 2 combined σ from it. With ``--update`` the file's
 earlier drives and the new ones are two learnings: where they differ beyond 2 combined σ the
 uncertainty grows until both lie within 2σ of the combination. Either way one line says so.
+A learned steering lever 2 combined σ from the one the vehicle file's ``[steering]`` declares
+(:func:`declared_lever`) is said the same way, and the learned one is used
+(:func:`use_learned_lever`; docs/calibration.md).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 import pandas as pd
@@ -49,19 +54,23 @@ from scipy.stats import chi2 as chi2_dist
 
 from gripsense.config import Vehicle
 from gripsense.config.calibration import AxleCalibration, DriveSums, SteeringCalibration
+from gripsense.constants import G0
 from gripsense.estimate.bins import axle_bins, force_and_linear
 from gripsense.estimate.noise import NoiseModel
-from gripsense.estimate.torque import check_channel, torque_bins
+from gripsense.estimate.torque import check_channel, torque_bins, trail_family
 
 __all__ = [
     "CONSISTENCY_P",
     "FORCE_SCALE_REL",
     "GRIP_RANGE",
     "TRAIL_GRIP_RANGE",
+    "declared_lever",
     "drive_sums",
+    "lever_conflict",
     "solve_steering_sums",
     "solve_sums",
     "steering_sums",
+    "use_learned_lever",
 ]
 
 GRIP_RANGE = (0.04, 0.3)
@@ -424,3 +433,117 @@ def solve_steering_sums(sums: list[DriveSums]) -> SteeringCalibration | None:
     return SteeringCalibration(
         lever_m=lever, lever_uncertainty=float(np.hypot(se, TRAIL_FIT_FORM_REL)), bins=n
     )
+
+
+def declared_lever(vehicle: Vehicle) -> tuple[float, float] | None:
+    """The steering lever the vehicle file declares, k (t_c + t₀) with k = 1, and its relative
+    1σ (docs/physics.md §16.8): the caster trail and its 1σ, the zero-slip pneumatic trail
+    (declared, the tyre file's, else a sixth of the contact length at the static load) with its
+    relative 1σ, and the channel's scale (the torque's scale and the assist gain's share) — the
+    priors the torque estimator gives a + b.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle (its ``[steering]``).
+
+    Returns
+    -------
+    (float, float) or None
+        The lever [m] and its relative 1σ [-]; None without a ``[steering]`` table.
+    """
+    s = vehicle.steering
+    if s is None or "front" not in vehicle.tyres:
+        return None
+    t0 = s.pneumatic_trail_m
+    if t0 is None and s.tyre_file:
+        t0 = trail_family(vehicle).t0_m
+    if t0 is None:
+        tyre = vehicle.tyres["front"]
+        t0 = float(tyre.contact_length(vehicle.static_load("front") / G0)) / 6.0
+    lever = s.mechanical_trail_m + t0
+    gain = s.assist_gain if s.assist == "linear" else 0.0
+    scale = float(
+        np.hypot(s.torque_scale_uncertainty, s.assist_gain_uncertainty * gain / (1 + gain))
+    )
+    sd = float(
+        np.sqrt(
+            s.mechanical_trail_uncertainty_m**2
+            + (t0 * s.pneumatic_trail_uncertainty) ** 2
+            + (lever * scale) ** 2
+        )
+    )
+    return (lever, sd / lever) if lever > 0 else None
+
+
+def lever_conflict(vehicle: Vehicle, learned: SteeringCalibration) -> str:
+    """The line that says a declared and a learned steering lever conflict, or ``""``: more
+    than 2 combined σ apart in ln S, as the stiffness
+    (:func:`gripsense.config.calibration.stiffness_conflict`).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle as its file declares it.
+    learned : SteeringCalibration
+        The learned lever.
+
+    Returns
+    -------
+    str
+        One line naming both values with their σ and which is used.
+    """
+    d = declared_lever(vehicle)
+    if d is None or not learned.lever_m > 0:
+        return ""
+    s_d, u_d = d
+    sd = float(np.hypot(np.log1p(u_d), np.log1p(learned.lever_uncertainty)))
+    z = abs(float(np.log(learned.lever_m / s_d))) / sd
+    if not z > 2.0:
+        return ""
+    return (
+        f"steering lever: the vehicle file's [steering] declares {1e3 * s_d:.1f} mm "
+        f"± {100 * u_d:.0f} % (caster + zero-slip pneumatic trail) and the learned "
+        f"{1e3 * learned.lever_m:.1f} mm ± {100 * learned.lever_uncertainty:.1f} % disagree "
+        f"({z:.1f}σ apart); used: the learned {1e3 * learned.lever_m:.1f} mm (the declared "
+        "trails scaled to meet it, no blend)"
+    )
+
+
+def use_learned_lever(vehicle: Vehicle, notes: list[str] | None = None) -> Vehicle:
+    """The vehicle whose declared trails meet its learned steering lever where the two
+    conflict (:func:`lever_conflict`): the caster trail, its 1σ and the zero-slip pneumatic
+    trail scaled by learned / declared, so that the torque estimator's trail priors and the
+    learned constraint agree and the lever used is the learned one, not their blend.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle with its calibration applied (``[steering]`` with ``calibrated_lever_m``).
+    notes : list of str, optional
+        Receives the conflict's line.
+
+    Returns
+    -------
+    Vehicle
+        As given where there is no learned lever or no conflict.
+    """
+    s = vehicle.steering
+    if s is None or s.calibrated_lever_m is None or s.calibrated_lever_uncertainty is None:
+        return vehicle
+    learned = SteeringCalibration(s.calibrated_lever_m, s.calibrated_lever_uncertainty, 0)
+    line = lever_conflict(vehicle, learned)
+    d = declared_lever(vehicle)
+    if not line or d is None:
+        return vehicle
+    if notes is not None:
+        notes.append(line)
+    r = learned.lever_m / d[0]
+    t0 = d[0] - s.mechanical_trail_m
+    steering = dataclasses.replace(
+        s,
+        mechanical_trail_m=s.mechanical_trail_m * r,
+        mechanical_trail_uncertainty_m=s.mechanical_trail_uncertainty_m * r,
+        pneumatic_trail_m=t0 * r,
+    )
+    return dataclasses.replace(vehicle, steering=steering)
