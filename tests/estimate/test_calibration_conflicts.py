@@ -339,3 +339,59 @@ def test_a_declared_steering_lever_the_drives_contradict(tmp_path):
     assert len(_lines(res, r"^steering lever: the vehicle file's \[steering\] declares")) == 1
     used = FrictionRun(car, receiver=RECEIVER, calibration=out).vehicle
     assert declared_lever(used)[0] == pytest.approx(st.lever_m, rel=1e-9)
+
+
+# -- closed forms ------------------------------------------------------------------------------
+
+
+def test_the_issues_example_is_no_longer_blended(tmp_path):
+    """Issue 41's numbers: declared 50 500 ± 20 %, learned 85 400 ± 11 % are 2.5σ apart in
+    ln C (|ln(85 400/50 500)| / √(ln²1.2 + ln²1.11) = 2.50): the learned value and its σ are
+    used, not their blend (75 400 ± 9 %), and one line says so."""
+    from gripsense.config import Vehicle
+    from gripsense.config.calibration import AxleCalibration, Calibration, apply_calibration
+
+    veh = Vehicle.from_toml(_car(tmp_path, 0.0, 0.20))
+    c0 = float(veh.cornering_stiffness("rear", veh.static_load("rear")))
+    learned = AxleCalibration(c0 * 85_400 / 50_500, 0.11, 85_400 / 50_500, 100)
+    notes: list[str] = []
+    t = apply_calibration(veh, Calibration(veh.name, {"rear": learned}), notes).tyres["rear"]
+    assert t.cornering_stiffness_N_per_rad == pytest.approx(learned.cornering_stiffness_N_per_rad)
+    assert t.stiffness_uncertainty == pytest.approx(0.11)
+    z = np.log(85_400 / 50_500) / np.hypot(np.log(1.2), np.log(1.11))
+    assert len(notes) == 1 and f"({z:.1f}σ apart)" in notes[0] and notes[0].startswith("rear")
+
+
+def _drive(name: str, slope: float, a: float = 400.0, bins: int = 50):
+    """Sums of a drive whose bins give the slope *slope* with standard error 1/√a (orthogonal
+    regressors, no curvature, reduced χ² 1)."""
+    from gripsense.config.calibration import DriveSums
+
+    sums = np.array([a, 0.0, 0.0, 100.0, a * slope, 0.0, a * slope**2 + (bins - 2)])
+    return DriveSums(name, name, "rear", bins, sums)
+
+
+@pytest.mark.parametrize(("delta", "disagree"), [(0.13, False), (0.16, True)])
+def test_two_drives_disagree_beyond_two_combined_sigma(delta, disagree):
+    """Two drives with slopes 1 and 1 + δ, each ± 0.05: they disagree exactly when
+    δ / √(0.05² + 0.05²) > 2 (δ 0.13: 1.84σ; 0.16: 2.26σ). Then the line names them and the
+    widened uncertainty holds each within 2 combined σ of the combination; as an --update
+    (the first drive earlier) both lie within the combination's 2σ."""
+    from gripsense.estimate.calibration import solve_sums
+
+    drives = [_drive("one", 1.0), _drive("two", 1.0 + delta)]
+    a = solve_sums(drives, 50_000.0, axle="rear")
+    assert bool(a.drives_disagree) is disagree
+    u = np.log1p(a.stiffness_uncertainty)
+    for d, s in zip(drives, (1.0, 1.0 + delta), strict=True):
+        c = 50_000.0 / s
+        assert abs(np.log(c / a.cornering_stiffness_N_per_rad)) <= 2 * np.hypot(u, 0.05 / s)
+        if disagree:
+            assert d.file in a.drives_disagree
+    upd = solve_sums(drives, 50_000.0, earlier={"one"}, axle="rear")
+    assert ("the file's earlier drives'" in upd.drives_disagree) is disagree
+    for s in (1.0, 1.0 + delta):
+        c = 50_000.0 / s
+        assert abs(np.log(c / upd.cornering_stiffness_N_per_rad)) <= 2 * np.log1p(
+            upd.stiffness_uncertainty
+        )

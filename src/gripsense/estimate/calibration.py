@@ -275,7 +275,8 @@ def _agreement(
     total = float(np.hypot(se_new, other))
     c = declared / slope
     order = np.argsort(-z_i)  # the drives that disagree most first
-    odd = [files[i] for i in order if z_i[i] > 2.0] or [files[int(order[0])]]
+    # the drives beyond 2σ of the combination; none alone: the two that disagree most
+    odd = [files[i] for i in order if z_i[i] > 2.0] or [files[i] for i in order[:2]]
     plain = float(np.hypot(se, other))
 
     def used(cover: str) -> str:
