@@ -8,6 +8,7 @@ here.
 from __future__ import annotations
 
 from gripsense.config.schema import REQUIRED, Key, Table
+from gripsense.physics.tyre_library import CATEGORIES as TYRE_CATEGORIES
 
 __all__ = [
     "ANTENNA",
@@ -26,7 +27,9 @@ __all__ = [
 
 TOP_KEYS = ("vehicle", "antenna", "tyre", "steering", "receiver", "calibration")
 ASSISTS = ("none", "linear")
-SHAPES = ("any", "brush", "magic-formula")
+SHAPES = ("any", "brush", "magic-formula", *TYRE_CATEGORIES)
+"""``shape``: any (the family made from real tyres and both brush shapes), brush, magic-formula
+(the real tyres' shapes) or a tyre category (its files' shapes; ``docs/physics.md`` §14.3)."""
 DRIVES = ("front", "rear", "all")
 PRESSURES = ("parabolic", "quartic")
 CG_HEIGHT_RANGE_FACTORS = (0.7, 1.4)
@@ -174,7 +177,8 @@ TYRE = Table(
         Key(
             "shape",
             "",
-            f"what is known of the curve's shape: {' | '.join(SHAPES)}",
+            "what is known of the curve's shape: any | brush | magic-formula, or the tyre's "
+            f"category ({' | '.join(TYRE_CATEGORIES)}: the shapes of its real tyres)",
             "any",
             kind="other",
         ),

@@ -24,7 +24,7 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.torque import TorqueProfile
 from gripsense.physics.friction_limit import linear_explains
-from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables
+from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables, shape_members
 
 __all__ = [
     "SHAPE_PRIOR_PEAK",
@@ -60,7 +60,8 @@ files of ``tests/data/tyre/tir`` peak at x = 2.2–3.6 (brush P2 at 3, brush P4 
 
 def shape_ids(prior: str) -> np.ndarray:
     """Indices of the shapes of :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY` a tyre's
-    ``shape`` allows (``any``, ``brush``, ``magic-formula``).
+    ``shape`` allows (``any``, ``brush``, ``magic-formula`` or a tyre category,
+    :func:`~gripsense.physics.tyre_curves.shape_members`; ``docs/physics.md`` §14.3).
 
     Parameters
     ----------
@@ -72,12 +73,7 @@ def shape_ids(prior: str) -> np.ndarray:
     numpy.ndarray
         Shape indices (int64).
     """
-    kinds = {"any": None, "brush": ("brush-2", "brush-4"), "magic-formula": ("magic-formula",)}
-    allowed = kinds.get(prior)
-    return np.array(
-        [i for i, s in enumerate(SHAPE_FAMILY) if allowed is None or s.kind in allowed],
-        dtype=np.int64,
-    )
+    return np.array(shape_members(prior), dtype=np.int64)
 
 
 @cache

@@ -25,6 +25,7 @@ CHECKED_KEYS: dict[str, frozenset[str]] = {
             "CONTACT_MODEL",
             "FE_METHOD",
             "FITTYP",
+            "FUNCTION_NAME",
             "HMAX_LOCAL",
             "LONGVL",
             "MESSAGES",

@@ -7,10 +7,15 @@ A lateral force curve written in normalised units is one function of one variabl
 (``docs/physics.md`` §14): C sets the slope at the origin, μ Fz the peak, and f is the *shape*. A
 brush tyre with parabolic pressure has f = x − x²/3 + x³/27 (x ≤ 3), one with quartic pressure
 the curve of §2.3; a Magic Formula tyre (seed 002 eq. 1 with B = 1/C_s so that f'(0) = 1) has
-f = sin(C_s atan(x/C_s − E (x/C_s − atan(x/C_s)))), shape factor C_s and curvature E. Real
-``.tir`` files span C_s ≈ 1.3–1.9 and E ≈ −0.6…0.8 at their nominal loads (the nine example
-files in ``tests/data/tyre/tir``); :data:`SHAPE_FAMILY` covers C_s 1.1–1.95 and E −1.5…0.8
-plus both brush shapes.
+f = sin(C_s atan(x/C_s − E (x/C_s − atan(x/C_s)))), shape factor C_s and curvature E.
+
+:data:`SHAPE_FAMILY` is made from real tyres (``docs/physics.md`` §14.3): the Magic Formula
+shapes of :data:`gripsense.physics.tyre_library.FAMILY_MEMBERS`, which cover every normalised
+curve of 15 published tyre property files at 0.5–1.5 × their nominal load and ±3° inclination
+(and of their low-grip sweeps), plus both brush shapes. A tyre's ``shape`` selects members
+(:func:`shape_members`): ``any``, ``brush``, ``magic-formula`` or a tyre category
+(``passenger``, ``suv``, ``performance``, ``racing``, ``truck``). :data:`BOX_FAMILY` is the
+earlier box of constants (C_s 1.1–1.95 × E −1.5…0.8), kept for comparison.
 
 Near the friction limit the members differ by a few per cent in x at a given f; at f = 0.5 by
 tens of per cent — which is why a μ estimate from moderate cornering depends on the shape
@@ -26,12 +31,14 @@ import numpy as np
 from gripsense._arrays import as_float_array, restore
 
 __all__ = [
+    "BOX_FAMILY",
     "PEAK_RANGE",
     "SHAPE_FAMILY",
     "CurveShape",
     "curve_tables",
     "magic_formula_normalised",
     "normalised_force",
+    "shape_members",
 ]
 
 
@@ -112,7 +119,7 @@ PEAK_RANGE = (1.5, 6.0)
 x = 2.4–3.6 between half and 1.5 × their nominal load, brush P2 at 3, brush P4 at 5."""
 
 
-def _family() -> tuple[CurveShape, ...]:
+def _box_family() -> tuple[CurveShape, ...]:
     out = [CurveShape("brush-2", "brush-2"), CurveShape("brush-4", "brush-4")]
     x = np.linspace(0.0, 40.0, 8001)
     for c in (1.1, 1.4, 1.7, 1.95):
@@ -123,10 +130,59 @@ def _family() -> tuple[CurveShape, ...]:
     return tuple(out)
 
 
-SHAPE_FAMILY: tuple[CurveShape, ...] = _family()
-"""The shapes ``axle-window`` considers: brush P2, brush P4 and the Magic Formula curves of the
-grid C_s ∈ {1.1, 1.4, 1.7, 1.95} × E ∈ {−1.5, −0.5, 0.3, 0.8} whose peak lies in
-:data:`PEAK_RANGE` (13 of the 16)."""
+BOX_FAMILY: tuple[CurveShape, ...] = _box_family()
+"""The earlier family, a box of constants: brush P2, brush P4 and the Magic Formula curves of
+the grid C_s ∈ {1.1, 1.4, 1.7, 1.95} × E ∈ {−1.5, −0.5, 0.3, 0.8} whose peak lies in
+:data:`PEAK_RANGE` (13 of the 16). Kept for comparison (``docs/physics.md`` §14.3)."""
+
+
+def _data_family() -> tuple[CurveShape, ...]:
+    from gripsense.physics.tyre_library import FAMILY_MEMBERS
+
+    out = [CurveShape("brush-2", "brush-2"), CurveShape("brush-4", "brush-4")]
+    out += [CurveShape(f"mf C{c:g} E{e:g}", "magic-formula", c, e) for c, e in FAMILY_MEMBERS]
+    return tuple(out)
+
+
+SHAPE_FAMILY: tuple[CurveShape, ...] = _data_family()
+"""The shapes ``axle-window`` considers: brush P2, brush P4 and the Magic Formula shapes made
+from real tyres (:data:`gripsense.physics.tyre_library.FAMILY_MEMBERS`, ``docs/physics.md``
+§14.3)."""
+
+
+def shape_members(prior: str) -> tuple[int, ...]:
+    """Indices of the members of :data:`SHAPE_FAMILY` a tyre's ``shape`` allows
+    (``docs/physics.md`` §14.3).
+
+    Parameters
+    ----------
+    prior : str
+        ``any`` (every member), ``brush`` (brush P2 and P4), ``magic-formula`` (the shapes made
+        from real tyres) or a tyre category of
+        :data:`gripsense.physics.tyre_library.CATEGORIES` (the members that cover that
+        category's files).
+
+    Returns
+    -------
+    tuple of int
+        The indices.
+    """
+    from gripsense.physics.tyre_library import CATEGORIES, category_members
+
+    if prior in CATEGORIES:
+        keep = set(category_members(prior))
+        return tuple(
+            i
+            for i, s in enumerate(SHAPE_FAMILY)
+            if s.kind == "magic-formula" and (s.c, s.e) in keep
+        )
+    kinds = {"any": None, "brush": ("brush-2", "brush-4"), "magic-formula": ("magic-formula",)}
+    if prior not in kinds:
+        raise ValueError(
+            f"shape {prior!r}: use one of {', '.join(kinds)} or {', '.join(CATEGORIES)}"
+        )
+    allowed = kinds[prior]
+    return tuple(i for i, s in enumerate(SHAPE_FAMILY) if allowed is None or s.kind in allowed)
 
 
 def curve_tables(
