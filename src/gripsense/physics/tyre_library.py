@@ -58,6 +58,7 @@ __all__ = [
     "low_grip_curves",
     "normalised_curves",
     "peak_x",
+    "plot_family",
 ]
 
 CATEGORIES = ("passenger", "suv", "performance", "racing", "truck")
@@ -626,3 +627,60 @@ def coverage_table(curves=None) -> list[dict]:
             }
         )
     return rows
+
+
+def plot_family(path) -> None:
+    """Draw every file's normalised curves, coloured by category, over the family's members
+    (``docs/physics.md`` §14.3; ``python -m gripsense.physics.tyre_library FILE.png``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The figure's file (PNG).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gripsense.physics.tyre_curves import BOX_FAMILY, normalised_force
+
+    colours = dict(zip(CATEGORIES, ("C0", "C1", "C2", "C3", "C7"), strict=True))
+    cat_of = {e.file: e.category for e in LIBRARY}
+    x = np.linspace(0.0, 8.0, 401)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), sharey=True)
+    for k in library_curves():
+        axes[0].plot(k.x, k.y, color=colours[cat_of[k.file]], lw=0.4, alpha=0.5)
+    for c in CATEGORIES:
+        axes[0].plot([], [], color=colours[c], label=c)
+    axes[0].set_title(f"{len(LIBRARY)} tyre files: 0.5–1.5 × load, ±3° inclination, both sides")
+    for s in BOX_FAMILY:
+        axes[1].plot(x, normalised_force(x, s), color="0.75", lw=0.8)
+    for c, e in FAMILY_MEMBERS:
+        axes[1].plot(x, _mf(x, c, e), color="C3", lw=1.0)
+    axes[1].plot([], [], color="C3", label=f"made from the files ({len(FAMILY_MEMBERS)})")
+    axes[1].plot([], [], color="0.75", label="the earlier box of constants")
+    axes[1].set_title(f"the family: within {COVER_MARGIN} of every curve")
+    for ax in axes:
+        ax.set_xlim(0, 8)
+        ax.set_ylim(0, 1.05)
+        ax.set_xlabel("x = K tan|α − α₀| / (μ Fz)")
+        ax.legend(loc="lower right", fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("F / (μ Fz)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _mf(x, c, e):
+    """:func:`gripsense.physics.tyre_curves.magic_formula_normalised` (imported late)."""
+    from gripsense.physics.tyre_curves import magic_formula_normalised
+
+    return magic_formula_normalised(x, c, e)
+
+
+if __name__ == "__main__":  # pragma: no cover - writes the docs' figure
+    import sys
+
+    plot_family(sys.argv[1] if len(sys.argv) > 1 else "docs/figures/tyre_family.png")
