@@ -56,7 +56,14 @@ utilisation the front axle reached: upper end given, median width over μ, value
 coverage, bias — against the compass-only estimate of the same drives, and how often the range
 with the torque is wider than without.
 
+``--slippery`` drives icy and snowy roads (issue 41): steady circles on μ 0.1, 0.2 and 0.3 (ice,
+packed snow, snow) and, as the control, 0.9, at 70, 80 and 90 % of the road's friction (quick:
+80 and 90 %), R 30 m or wider so that the car keeps 7 m/s (a compass's course needs speed);
+reported per road and receiver at u ≥ 0.8: analysed, ``slippery``, ranges holding the truth,
+measured-grip bounds above the truth.
+
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
+       [--slippery]
        [--truth gripsense|commonroad|commonroad-mb] [--torque] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
        --torque [--exits] [--shape known] [--calibrated] [--only tyre,vehicle,mu,kind,target_u]
@@ -81,6 +88,8 @@ IDEAL = {"heading_white_deg": 0.01, "heading_slow_deg": 0.0, "velocity_mps": 0.0
 estimator says with it is what the vehicle file's declared uncertainty alone allows: the
 model-form floor of the range, against which a real receiver's share is measured."""
 MUS = (0.3, 0.5, 0.7, 0.9, 1.1)
+SLIPPERY_MUS = (0.1, 0.2, 0.3, 0.9)
+"""``--slippery``: ice, packed snow, snow, and a dry road (no drive on it may read slippery)."""
 
 
 def manoeuvres(mu: float, quick: bool, kind: str = "circles") -> list[tuple[str, float, float]]:
@@ -94,6 +103,13 @@ def manoeuvres(mu: float, quick: bool, kind: str = "circles") -> list[tuple[str,
     if kind == "dwell":  # sine with dwell at 80 km/h, 1.3 × the steer of the road's limit
         amp = 1.3 * np.rad2deg(2.7 * mu * 9.81 / (80 / 3.6) ** 2)
         return [("sine with dwell 80 km/h", 80 / 3.6, -200.0 - amp)]
+    if kind == "slippery":  # steady circles near the limit, at 7 m/s or more (R ≥ 30 m)
+        us = (0.8, 0.9) if quick else (0.7, 0.8, 0.9)
+        out = []
+        for u in us:
+            r = max(30.0, 7.0**2 / (u * mu * 9.80665))
+            out.append((f"limit {u:.2f} R{r:.0f}", limit_speed(mu, r, u), r))
+        return out
     if kind == "transients":
         amps = (3.0, 7.0) if quick else (2.0, 4.0, 6.0, 8.0)
         return [(f"slalom {a:g}° 60 km/h", 60 / 3.6, -a) for a in amps]
@@ -115,7 +131,7 @@ def jobs(
 ) -> list[dict]:
     out = []
     rng = np.random.default_rng(14)
-    mus = MUS[::2] if quick else MUS
+    mus = SLIPPERY_MUS if kind == "slippery" else MUS[::2] if quick else MUS
     receivers = ("white-0.3",) if wrong_cg else receivers
     cg = (1.25, 0.75) if wrong_cg else (1.0,)
     for tyre in tyres:
@@ -685,6 +701,31 @@ def torque_plot(df: pd.DataFrame, path: str, what: str = "") -> None:
     fig.savefig(path, dpi=110)
 
 
+def slippery_report(df: pd.DataFrame) -> pd.DataFrame:
+    """``--slippery``: per road μ and receiver, at u ≥ 0.7 and ≥ 0.8, the axle-cases analysed
+    (a window passed the screen), called ``slippery``, with an upper end, whose range holds the
+    truth, and whose measured-grip bound is above the truth (+0.01)."""
+    rows = []
+    for (mu, rec), d in df.groupby(["mu_road", "receiver"]):
+        row: dict = {"mu_road": mu, "receiver": rec}
+        for u in (0.7, 0.8):
+            x = d[d["utilisation"] >= u]
+            n = len(x)
+            row[f"n_u{u}"] = n
+            row[f"analysed_u{u}"] = float((~x["fit"].isin(("screened", "no data"))).mean())
+            row[f"slippery_u{u}"] = float((x["slippery"] == "slippery").mean())
+        x = d[d["utilisation"] >= 0.8]
+        held = (x["mu_low"].fillna(-np.inf) <= x["mu_true"]) & (
+            x["mu_true"] <= x["mu_high"].fillna(np.inf)
+        )
+        row["upper_u0.8"] = float(np.isfinite(x["mu_high"]).mean())
+        row["range_holds_u0.8"] = float(held.mean())
+        row["slippery_any_u"] = int((d["slippery"] == "slippery").sum())
+        row["bound_above"] = int((d["grip_used_lower"] - d["mu_true"] > 0.01).sum())
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
 def scores(df: pd.DataFrame) -> pd.Series:
     """The issue's numbers for a set of axle-cases."""
     obs = df["observable"].astype(bool)
@@ -774,6 +815,11 @@ def main() -> None:
         "--kind", default="circles", choices=("circles", "transients", "sweeps", "dwell")
     )
     ap.add_argument(
+        "--slippery",
+        action="store_true",
+        help="circles near the limit on μ 0.1/0.2/0.3 (ice, packed snow, snow) and 0.9",
+    )
+    ap.add_argument(
         "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
     )
     ap.add_argument(
@@ -838,9 +884,17 @@ def main() -> None:
             tuple(args.tyres.split(",")),
             tuple(args.vehicles.split(",")),
             tuple(args.receivers.split(",")),
-            args.kind,
+            "slippery" if args.slippery else args.kind,
         )
     df = run_all(one, todo, args.workers, args.csv, chunksize=4)
+    if args.slippery:
+        fmt = {"float_format": lambda v: f"{v:.3f}"}
+        print("\nslippery roads (μ 0.1–0.3) and the control (0.9)\n"
+              + slippery_report(df).to_string(index=False, **fmt))  # fmt: skip
+        low = df[(df["mu_road"] <= 0.3) & (df["utilisation"] >= 0.8)]
+        print(f"\nμ 0.1–0.3, u ≥ 0.8: slippery {int((low['slippery'] == 'slippery').sum())}"
+              f"/{len(low)}; μ 0.9 drives slippery: "
+              f"{int((df[df['mu_road'] >= 0.8]['slippery'] == 'slippery').sum())}")  # fmt: skip
     fmt = {"float_format": lambda v: f"{v:.3f}"}
     by_rec = df.groupby("receiver").apply(scores, include_groups=False)
     print("\nper receiver\n" + by_rec.to_string(**fmt))

@@ -202,13 +202,14 @@ def test_online_equals_batch():
 def test_window_table_per_window():
     """The window table, computed for all windows at once, holds for every window what its
     bins say: the largest 1 s measured grip (as the drive's), the largest one-sided bound, the
-    sample count, screened exactly when no bin reaches the screening utilisation; its columns
-    are WINDOW_COLUMNS in order, with or without windows."""
+    sample count, screened exactly when the screen finds no cornering the compass resolves in
+    its bins; its columns are WINDOW_COLUMNS in order, with or without windows."""
     import pandas as pd
     from scipy.stats import norm
 
     from gripsense.estimate.axle_window import WINDOW_COLUMNS, estimate_windows
     from gripsense.estimate.bins import axle_bins
+    from gripsense.estimate.screen import resolvable
 
     mu = 0.5
     d = simulate_drive(
@@ -217,8 +218,12 @@ def test_window_table_per_window():
     uv = user_vehicle(truth_vehicle("sedan"), "mf-book")
     res = estimate(d, uv, "rtk")
     o = WindowOptions()
-    grip = axle_bins(res.wheels, "rear", uv, res.noise, o.bin_s, o.min_samples).data[:, 9]
-    o = WindowOptions(screen_utilisation=float(np.median(grip)))  # some windows screened
+    ab = axle_bins(res.wheels, "rear", uv, res.noise, o.bin_s, o.min_samples)
+    idx = np.arange(ab.t0.size - 2)[:, None] + np.arange(3)
+    # a screen that some windows pass and some not
+    passed = {z: resolvable(ab.data[idx], ab.grip_sigma[idx], res.noise, z).mean()
+              for z in np.geomspace(3.0, 3000.0, 61)}  # fmt: skip
+    o = WindowOptions(screen_z=float(min(passed, key=lambda z: abs(passed[z] - 0.5))))
     windows, _ = estimate_windows(res.wheels, uv, noise=res.noise, options=o)
     assert list(windows.columns) == list(WINDOW_COLUMNS)
     z = norm.ppf(o.bound_level)
@@ -232,7 +237,8 @@ def test_window_table_per_window():
             assert r.grip_used == pytest.approx(g.max(), rel=1e-12)  # the largest 1 s mean
             assert r.grip_used_lower == pytest.approx(max((g - z * s).max(), 0.0), rel=1e-12)
             assert r.n == ab.n[i0 : i0 + 3].sum()
-            assert (r.fit == "screened") == (g.max() < o.screen_utilisation)
+            passes = resolvable(ab.data[None, i0 : i0 + 3], s[None], res.noise, o.screen_z)[0]
+            assert (r.fit == "screened") == (not passes)
             kinds.add(r.fit == "screened")
     assert kinds == {True, False}
     none, _ = estimate_windows(res.wheels.iloc[:0], uv, noise=res.noise, options=o)

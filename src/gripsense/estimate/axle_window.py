@@ -16,11 +16,12 @@ Two kinds of statement (``docs/physics.md`` §14, §15):
   linearisation and are profiled (:mod:`gripsense.estimate.profile`).
 
 Data: bins of ``bin_s`` (:mod:`gripsense.estimate.bins`). A window is ``window_s`` of bins
-sharing their nuisances; a window whose measured grip stays below ``screen_utilisation`` carries
-no information on μ (its interval would be unbounded, ``docs/physics.md`` §1.4) and is not
-analysed. The per-axle summary uses every analysed bin of the drive, nuisances shared. A value
-is reported only when the ``point_level`` interval is bounded and narrower than ``max_width``;
-otherwise the interval [mu_low, ∞) and the measured grip.
+sharing their nuisances; a window without cornering the compass resolves — a slip angle and a
+lateral acceleration both ``screen_z`` σ above their noise
+(:func:`~gripsense.estimate.screen.resolvable`), whatever the grip — carries no information on
+μ and is not analysed. The per-axle summary uses every analysed bin of the drive, nuisances
+shared. A value is reported only when the ``point_level`` interval is bounded and narrower than
+``max_width``; otherwise the interval [mu_low, ∞) and the measured grip.
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from gripsense.estimate.profile import (
     shape_ids,
     torque_only,
 )
+from gripsense.estimate.screen import resolvable, resolvable_bins
 from gripsense.estimate.torque import check_channel, torque_bins, torque_profile, torque_read
 
 __all__ = ["WINDOW_COLUMNS", "estimate_windows"]
@@ -75,11 +77,12 @@ WINDOW_COLUMNS = {
 
 
 def _window_table(
-    ab: AxleBins, axle: str, o: WindowOptions, z_w: float
+    ab: AxleBins, axle: str, o: WindowOptions, z_w: float, noise: NoiseModel
 ) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The window table of one axle before any profile: every window of contiguous bins, its
-    measured grip and one-sided bound, whether it is analysed, and a screened window's answer
-    (the profile's columns NaN); returns the columns and each window's first bin.
+    measured grip and one-sided bound, whether it is analysed (resolved cornering,
+    :func:`~gripsense.estimate.screen.resolvable`), and a screened window's answer (the
+    profile's columns NaN); returns the columns and each window's first bin.
     """
     w = max(round(o.window_s / o.bin_s), 1)
     step = max(round(o.step_s / o.bin_s), 1)
@@ -100,13 +103,14 @@ def _window_table(
     cols["n"] = windows(ab.n).sum(axis=1).astype(np.int64)
     cols["grip_used"] = np.max(g, axis=1, initial=0.0)  # its largest bin, as the drive's
     cols["grip_used_lower"] = np.maximum(np.max(g - z_w * windows(ab.grip_sigma), axis=1), 0.0)
-    cols["analysed"] = np.max(g, axis=1, initial=-np.inf) >= o.screen_utilisation
+    idx = starts[:, None] + np.arange(w)  # each window's bins
+    cols["analysed"] = resolvable(ab.data[idx], ab.grip_sigma[idx], noise, o.screen_z)
     cols["mu_low"] = cols["grip_used_lower"].copy()
     cols["mu_high"] = np.full(k, np.inf)
     cols["observable"] = np.zeros(k, dtype=bool)
     cols["fit"] = np.full(k, "screened", dtype=object)
     cols["shape"] = np.full(k, np.nan, dtype=object)
-    cols["limited_by"] = np.full(k, "below the screening utilisation", dtype=object)
+    cols["limited_by"] = np.full(k, "no cornering the compass resolves", dtype=object)
     # the declared stiffness of the window (times the fitted scale once there is one)
     cols["cornering_stiffness_N_per_rad"] = 0.5 * np.mean(windows(ab.data[:, 4] + ab.data[:, 5]),
                                                           axis=1)  # fmt: skip
@@ -158,7 +162,7 @@ def estimate_windows(
         pri = axle_priors(vehicle, axle, noise)
         shapes = shape_ids(vehicle.tyres[axle].shape)
         n_b = ab.t0.size
-        cols, starts = _window_table(ab, axle, o, z_w)
+        cols, starts = _window_table(ab, axle, o, z_w, noise)
         n_win = starts.size
         analysed = cols["analysed"]
         n_screened = int(n_win - analysed.sum())
@@ -177,7 +181,7 @@ def estimate_windows(
         if not analysed_bins.any():
             # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
             # bins that pass the screen themselves rather than say it saw no cornering
-            analysed_bins = ab.data[:, 9] >= o.screen_utilisation
+            analysed_bins = resolvable_bins(ab.data, ab.grip_sigma, noise, o.screen_z)
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
         g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
         torque, read = None, ""
@@ -229,7 +233,7 @@ def estimate_windows(
                     "mu_high": np.inf if n_b else np.nan,
                     "observable": False,
                     "fit": "screened" if n_b else "no data",
-                    "limited_by": "no cornering above the screening utilisation"
+                    "limited_by": "no cornering the compass resolves"
                     if n_b
                     else "no steady or transient cornering",
                     "torque_note": UNCHANGED if torque is not None else "",

@@ -18,6 +18,7 @@ from gripsense.estimate.grip import bin_bound
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, shape_ids
+from gripsense.estimate.screen import resolvable
 
 __all__ = ["OnlineAxleWindow"]
 
@@ -123,7 +124,7 @@ class OnlineAxleWindow:
             "n": int(sum(b[2] for b in self._bins)),
             "grip_used": float(np.max(grip)),
             "grip_used_lower": lower,
-            "analysed": bool(np.max(grip) >= self.o.screen_utilisation),
+            "analysed": bool(resolvable(data[None], gsig[None], self.noise, self.o.screen_z)[0]),
         }
         if row["analysed"]:
             n = np.array([b[2] for b in self._bins])

@@ -68,8 +68,12 @@ class WindowOptions:
         Confidence level of the interval that decides abstention.
     min_samples : int
         Fewest usable samples in a bin.
-    screen_utilisation : float
-        Windows whose measured grip stays below this are not analysed (bound only) [-].
+    screen_z : float
+        The cornering screen (:func:`~gripsense.estimate.screen.resolvable`,
+        ``docs/physics.md`` §15.2): a window is analysed when its slip angle (the one its force
+        needs at the declared stiffness) and its lateral acceleration are both at least this
+        many 1σ of their noise, whatever its grip; other windows give the measured-grip bound
+        only [-].
     steady_tolerance : float
         Consecutive bins whose measured grip stays within this are merged into one point of the
         tyre curve (:func:`merge_steady`) [-].
@@ -96,7 +100,7 @@ class WindowOptions:
     max_width: float = 0.3
     point_level: float = 0.99
     min_samples: int = 5
-    screen_utilisation: float = 0.15
+    screen_z: float = 3.0
     steady_tolerance: float = 0.03
     steady_slip_z: float = 4.0
     mu_min: float = 0.05
