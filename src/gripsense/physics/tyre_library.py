@@ -651,8 +651,8 @@ def plot_family(path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5), sharey=True)
     for k in library_curves():
         axes[0].plot(k.x, k.y, color=colours[cat_of[k.file]], lw=0.4, alpha=0.5)
-    for c in CATEGORIES:
-        axes[0].plot([], [], color=colours[c], label=c)
+    for cat in CATEGORIES:
+        axes[0].plot([], [], color=colours[cat], label=cat)
     axes[0].set_title(f"{len(LIBRARY)} tyre files: 0.5–1.5 × load, ±3° inclination, both sides")
     for s in BOX_FAMILY:
         axes[1].plot(x, normalised_force(x, s), color="0.75", lw=0.8)
