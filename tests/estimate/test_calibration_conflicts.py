@@ -371,21 +371,25 @@ def _drive(name: str, slope: float, a: float = 400.0, bins: int = 50):
     return DriveSums(name, name, "rear", bins, sums)
 
 
-@pytest.mark.parametrize(("delta", "disagree"), [(0.13, False), (0.16, True)])
+@pytest.mark.parametrize(("delta", "disagree"), [(0.14, False), (0.155, False), (0.20, True)])
 def test_two_drives_disagree_beyond_two_combined_sigma(delta, disagree):
-    """Two drives with slopes 1 and 1 + δ, each ± 0.05: they disagree exactly when
-    δ / √(0.05² + 0.05²) > 2 (δ 0.13: 1.84σ; 0.16: 2.26σ). Then the line names them and the
-    widened uncertainty holds each within 2 combined σ of the combination; as an --update
-    (the first drive earlier) both lie within the combination's 2σ."""
-    from gripsense.estimate.calibration import solve_sums
+    """Two drives with slopes 1 and 1 + δ, each ± 0.05 from its bins and ± DRIVE_FORM_REL
+    (3 %) of its slope from the fit's form: they disagree exactly when δ > 2 √(σ₁² + σ₂²)
+    (δ 0.14: 1.66σ; 0.155: 1.84σ; 0.20: 2.36σ). Then the line names them and the widened
+    uncertainty holds each within 2 combined σ of the combination; as an --update (the first
+    drive earlier) both lie within the combination's 2σ."""
+    from gripsense.estimate.calibration import DRIVE_FORM_REL, solve_sums
 
-    drives = [_drive("one", 1.0), _drive("two", 1.0 + delta)]
+    slopes = (1.0, 1.0 + delta)
+    sig = [np.hypot(0.05, DRIVE_FORM_REL * s) for s in slopes]
+    assert bool(delta > 2 * np.hypot(*sig)) is disagree  # the closed form this case stands for
+    drives = [_drive("one", slopes[0]), _drive("two", slopes[1])]
     a = solve_sums(drives, 50_000.0, axle="rear")
     assert bool(a.drives_disagree) is disagree
     u = np.log1p(a.stiffness_uncertainty)
-    for d, s in zip(drives, (1.0, 1.0 + delta), strict=True):
+    for d, s, sd in zip(drives, slopes, sig, strict=True):
         c = 50_000.0 / s
-        assert abs(np.log(c / a.cornering_stiffness_N_per_rad)) <= 2 * np.hypot(u, 0.05 / s)
+        assert abs(np.log(c / a.cornering_stiffness_N_per_rad)) <= 2 * np.hypot(u, sd / s)
         if disagree:
             assert d.file in a.drives_disagree
     upd = solve_sums(drives, 50_000.0, earlier={"one"}, axle="rear")
