@@ -513,7 +513,6 @@ def apply_calibration(
         The vehicle file's description.
     cal : Calibration
         A calibration of this vehicle.
-
     notes : list of str, optional
         Receives one line per conflict (:func:`stiffness_conflict`) and per axle whose drives
         disagreed (its ``drives_disagree``), for the command to print.
