@@ -201,9 +201,10 @@ def test_online_equals_batch():
 
 def test_window_table_per_window():
     """The window table, computed for all windows at once, holds for every window what its
-    bins say: the largest 1 s measured grip (as the drive's), the largest one-sided bound, the
-    sample count, screened exactly when the screen finds no cornering the compass resolves in
-    its bins; its columns are WINDOW_COLUMNS in order, with or without windows."""
+    bins say: the largest 1 s measured grip and the largest one-sided bound of the bound's grip
+    (the split with the yaw moment it leaves out, as the drive's: ``grip_proven``), the sample
+    count, screened exactly when the screen finds no cornering the compass resolves in its
+    bins; its columns are WINDOW_COLUMNS in order, with or without windows."""
     import pandas as pd
     from scipy.stats import norm
 
@@ -233,9 +234,11 @@ def test_window_table_per_window():
         for r in w.itertuples():
             i0 = int(np.flatnonzero(ab.t0 == r.t_start)[0])
             g, s = ab.data[i0 : i0 + 3, 9], ab.grip_sigma[i0 : i0 + 3]
+            gp = ab.grip_proven[i0 : i0 + 3]
+            assert (gp <= g + 1e-12).all()  # the moment's range holds zero: never above
             assert r.t_end == ab.t1[i0 + 2]
-            assert r.grip_used == pytest.approx(g.max(), rel=1e-12)  # the largest 1 s mean
-            assert r.grip_used_lower == pytest.approx(max((g - z * s).max(), 0.0), rel=1e-12)
+            assert r.grip_used == pytest.approx(gp.max(), rel=1e-12)  # the largest 1 s mean
+            assert r.grip_used_lower == pytest.approx(max((gp - z * s).max(), 0.0), rel=1e-12)
             assert r.n == ab.n[i0 : i0 + 3].sum()
             passes = resolvable(ab.data[None, i0 : i0 + 3], s[None], res.noise, o.screen_z)[0]
             assert (r.fit == "screened") == (not passes)

@@ -94,15 +94,17 @@ def _window_table(
     def windows(x: np.ndarray) -> np.ndarray:
         return np.lib.stride_tricks.sliding_window_view(x, w)[starts] if k else np.zeros((0, w))
 
-    g = windows(ab.data[:, 9])
+    # the bound's grip: the split with the yaw moment it leaves out (docs/physics.md §14.1), as
+    # the drive's bound takes it
+    gp = windows(ab.grip_proven)
     cols: dict[str, np.ndarray] = {c: np.full(k, np.nan) for c, t in WINDOW_COLUMNS.items()
                                    if t is float}  # fmt: skip
     cols["axle"] = np.full(k, axle, dtype=object)
     cols["t_start"] = ab.t0[starts].astype(float)
     cols["t_end"] = ab.t1[starts + w - 1].astype(float)
     cols["n"] = windows(ab.n).sum(axis=1).astype(np.int64)
-    cols["grip_used"] = np.max(g, axis=1, initial=0.0)  # its largest bin, as the drive's
-    cols["grip_used_lower"] = np.maximum(np.max(g - z_w * windows(ab.grip_sigma), axis=1), 0.0)
+    cols["grip_used"] = np.max(gp, axis=1, initial=0.0)  # its largest bin, as the drive's
+    cols["grip_used_lower"] = np.maximum(np.max(gp - z_w * windows(ab.grip_sigma), axis=1), 0.0)
     idx = starts[:, None] + np.arange(w)  # each window's bins
     cols["analysed"] = resolvable(ab.data[idx], ab.grip_sigma[idx], noise, o.screen_z)
     cols["mu_low"] = cols["grip_used_lower"].copy()

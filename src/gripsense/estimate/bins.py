@@ -81,6 +81,9 @@ class AxleBins:
         1σ of the measured grip of each bin [-].
     p0 : float
         Local load-sensitivity exponent of the declared stiffness [-].
+    proven : numpy.ndarray or None
+        The bound's measured grip of each bin (the wheel table's ``grip_proven``: the split
+        with the yaw moment it leaves out, ``docs/physics.md`` §14.1) [-]; None: column 9.
     """
 
     axle: str
@@ -90,6 +93,12 @@ class AxleBins:
     data: np.ndarray
     grip_sigma: np.ndarray
     p0: float
+    proven: np.ndarray | None = None
+
+    @property
+    def grip_proven(self) -> np.ndarray:
+        """The bound's measured grip of each bin [-] (:attr:`proven`, else column 9)."""
+        return self.data[:, 9] if self.proven is None else self.proven
 
 
 _PAIR_COLUMNS = (
@@ -214,7 +223,8 @@ def axle_bins(
         Fewest samples in a bin.
     grip : str
         The column of the measured grip binned (column 9): ``grip_used`` (the model's) or
-        ``grip_proven`` (the bound's, :func:`gripsense.estimate.grip.axle_grip`).
+        ``grip_proven`` (the bound's, :func:`gripsense.estimate.grip.axle_grip`); the bins'
+        :attr:`AxleBins.grip_proven` is the bound's either way.
 
     Returns
     -------
@@ -241,6 +251,7 @@ def axle_bins(
             np.zeros((0, len(BIN_COLUMNS))),
             np.zeros(0),
             p0,
+            np.zeros(0),
         )
     # the tyre force lags the slip by σ/U: compare the force with the slip of σ/U earlier
     speed = b["speed_mps_L"]
@@ -298,9 +309,15 @@ def axle_bins(
         rms_over_n(b["grip_sigma_L"]),
         2.0 * sig_v_lat / (t_bin + 1.0) / np.sqrt(np.maximum(n / 2, 1)) / G0,
     )
+    # the bound's grip (a table of an earlier version has none: the model's), a sample without
+    # one counting as none used
+    proven = (
+        mean(np.nan_to_num(b["grip_proven_L"], nan=0.0)) if "grip_proven_L" in b else data[:, 9]
+    )
     keep = n >= min_samples
     t_end = np.maximum.reduceat(t, starts)
-    return AxleBins(axle, t[starts][keep], t_end[keep], n[keep], data[keep], grip_sigma[keep], p0)
+    return AxleBins(axle, t[starts][keep], t_end[keep], n[keep], data[keep], grip_sigma[keep], p0,
+                    proven[keep])  # fmt: skip
 
 
 _NOISE_COLS = np.array([7, 8], dtype=np.int64)  # white-noise σ of a bin's slip and force

@@ -98,7 +98,8 @@ class OnlineAxleWindow:
         mine = np.flatnonzero(np.floor(ab.t0 / self.o.bin_s) == k)
         if mine.size and ab.n[mine[-1]] >= self.o.min_samples:
             i = mine[-1]
-            self._bins.append((ab.t0[i], ab.t1[i], ab.n[i], ab.data[i], ab.grip_sigma[i], ab.p0))
+            self._bins.append((ab.t0[i], ab.t1[i], ab.n[i], ab.data[i], ab.grip_sigma[i], ab.p0,
+                               ab.grip_proven[i]))  # fmt: skip
 
     def estimate(self) -> dict | None:
         """The newest complete window (None until there is one).
@@ -114,15 +115,15 @@ class OnlineAxleWindow:
         t1 = np.array([b[1] for b in self._bins])
         data = np.array([b[3] for b in self._bins])
         gsig = np.array([b[4] for b in self._bins])
-        grip = data[:, 9]
+        proven = np.array([b[6] for b in self._bins])  # the bound's (docs/physics.md §14.1)
         z_w = float(norm.ppf(self.o.bound_level))
-        lower = bin_bound(grip, gsig, z_w)
+        lower = bin_bound(proven, gsig, z_w)
         row = {
             "axle": self.axle,
             "t_start": float(t0[0]),
             "t_end": float(t1[-1]),
             "n": int(sum(b[2] for b in self._bins)),
-            "grip_used": float(np.max(grip)),
+            "grip_used": float(np.max(proven)),
             "grip_used_lower": lower,
             "analysed": bool(resolvable(data[None], gsig[None], self.noise, self.o.screen_z)[0]),
         }

@@ -354,6 +354,9 @@ class WheelFriction(FrictionResult):
         w = wh[sc]
         ok = (w["flag"] == "ok").to_numpy()
         t = w["t_s"].to_numpy(float)
+        # the bound's grip: the split with the yaw moment it leaves out (docs/physics.md §14.1;
+        # a table of an earlier version has none: the model's)
+        grip = w["grip_proven" if "grip_proven" in w else "grip_used"].to_numpy(float)
         return pd.DataFrame(
             {
                 "unit": w["wheel"].astype(str).to_numpy(),
@@ -365,10 +368,8 @@ class WheelFriction(FrictionResult):
                 "mu_sigma": np.where(ok, w["mu_sigma"].to_numpy(float), np.nan),
                 "mu_low": np.where(ok, w["mu"] - Z90 * w["mu_sigma"], np.nan),
                 "mu_high": np.where(ok, w["mu"] + Z90 * w["mu_sigma"], np.nan),
-                "grip_used": w["grip_used"].to_numpy(float),
-                "grip_used_lower": np.maximum(
-                    w["grip_used"].to_numpy(float) - Z90 * w["grip_sigma"].to_numpy(float), 0.0
-                ),
+                "grip_used": grip,
+                "grip_used_lower": np.maximum(grip - Z90 * w["grip_sigma"].to_numpy(float), 0.0),
             },
             columns=ESTIMATE_COLUMNS,
         )

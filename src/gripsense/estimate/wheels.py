@@ -162,7 +162,7 @@ def motion_from_epochs(
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
     rows = np.flatnonzero(have)
-    keep, n_same_time, n_held = unique_epochs(epochs.iloc[rows])
+    keep, n_same_time, n_held, n_interp = unique_epochs(epochs.iloc[rows])
     rows = rows[keep]
     ep = epochs.iloc[rows]
     ts = ep["t_s"].to_numpy(float)
@@ -186,12 +186,14 @@ def motion_from_epochs(
         "epochs_aligned": alignment.n_aligned,
         "epochs_duplicate": n_same_time,
         "epochs_held": n_held,
+        "epochs_interpolated": n_interp,
     }
-    if n_same_time or n_held:
+    if n_same_time or n_held or n_interp:
         meta["epochs_collapsed"] = (
-            f"{n_same_time + n_held} epochs collapsed: {n_same_time} repeat an earlier "
-            f"epoch's time stamp, {n_held} its measurements at a new one (a logger's "
-            "duplicates or resampling); each measurement counts once"
+            f"{n_same_time + n_held + n_interp} epochs collapsed: {n_same_time} repeat an "
+            f"earlier epoch's time stamp, {n_held} its measurements at a new one, {n_interp} "
+            "lie on the line between their neighbours (a logger's duplicates or resampling); "
+            "each measurement counts once"
         )
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"
@@ -231,23 +233,158 @@ def motion_from_epochs(
 
 
 _HELD_COLUMNS = ("lat_deg", "lon_deg", "speed_mps", "course_deg", "heading_deg")
-"""The measurements that, all repeated bit for bit at a new time stamp, make a held epoch."""
+"""The measurements that, all repeated bit for bit at a new time stamp, make a held epoch; all
+on the straight line in time between their neighbours, an interpolated one."""
+_ANGLE_COLUMNS = ("course_deg", "heading_deg")
+"""Of :data:`_HELD_COLUMNS`, the angles (compared modulo 360°)."""
+_QUANTUM_CAP = {"lat_deg": 1e-6, "lon_deg": 1e-6, "speed_mps": 0.05, "course_deg": 0.1,
+                "heading_deg": 0.1}  # fmt: skip
+"""The coarsest output resolution taken from the data (a sparse column's smallest step is not
+its resolution): 0.1 m of position, 0.05 m/s, 0.1° [deg, m/s]."""
 
 
-def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int]:
-    """The epochs that each carry a measurement of their own: a logger that writes an epoch
-    twice (or each sentence twice) or resamples its input by holding the last value makes
-    copies that are not new data — counted as independent they would shrink the measured
-    grip's noise and raise its bound (``docs/physics.md`` §14).
+_UNIT_SCALES = (1.0, 60.0, 3600.0 / 1852.0, 3.6)
+"""The units a log may write a column in, per the table's: itself, minutes of a degree,
+knots and km/h of a m/s [-]."""
 
-    An epoch whose time stamp equals the previous kept epoch's is a copy; so is one whose
-    position, speed, course and heading all equal the previous kept epoch's bit for bit (a held
-    value: a moving receiver never repeats all five).
+
+def _quantum(x: np.ndarray, cap: float) -> float:
+    """The output resolution of a column: the coarsest decimal step (in one of the units of
+    :data:`_UNIT_SCALES`) whose multiples hold every value, at most *cap*; 0 for a column on no
+    such step (numbers at float precision: only an exact line counts) or without two distinct
+    values.
+    """
+    v = np.unique(x[np.isfinite(x)])
+    if v.size < 2:
+        return 0.0
+    grid = 0.0
+    for s in _UNIT_SCALES:
+        for k in range(13):
+            y = v * s * 10.0**k
+            tol = 64 * EPS * float(np.max(np.abs(y)))
+            if tol > 0.01:
+                break
+            if np.all(np.abs(y - np.round(y)) <= tol + 1e-12):
+                grid = max(grid, 10.0**-k / s)
+                break
+    return min(grid, cap)
+
+
+EPS = float(np.finfo(float).eps)
+LATE_COPY_S = 1.0
+"""How far behind the newest epoch a copy of an earlier one may be written (a logger's buffer)
+and still be a copy [s]."""
+MAX_RESAMPLE = 10
+"""The most epochs a resampling logger writes per receiver epoch (a 10 Hz compass at 100 Hz):
+more on one line are a stretch smoother than the output's resolution [-]."""
+STAMP_ERROR_S = 1e-6
+"""The time stamps' own rounding error: seconds since 1970 in float64 carry 2.4e-7 s [s]."""
+
+
+def _line_residual(t: np.ndarray, x: np.ndarray, a, i, b, angle: bool) -> tuple:
+    """x[i] minus the straight line in time through (t[a], x[a]) and (t[b], x[b]) (angles
+    modulo 360°: the shorter way round), and what the stamps' rounding error
+    (:data:`STAMP_ERROR_S`) moves the line by.
+    """
+    w = (t[i] - t[a]) / (t[b] - t[a])
+    d = x[b] - x[a]
+    if angle:
+        d = np.mod(d + 180.0, 360.0) - 180.0
+    r = x[i] - (x[a] + w * d)
+    slack = 2.0 * STAMP_ERROR_S * np.abs(d) / (t[b] - t[a])
+    return (np.mod(r + 180.0, 360.0) - 180.0 if angle else r), slack
+
+
+def interpolated_epochs(epochs: pd.DataFrame) -> np.ndarray:
+    """The epochs a logger made by linear interpolation between the receiver's: every
+    measurement (position, speed, course and heading, all five known) on the straight line in
+    time between the epochs kept before and after it, within its output resolution (the logger
+    rounds what it interpolates to the format's digits: half a resolution off the true line,
+    which the rounded ends move by at most as much). A receiver's own epochs carry noise far
+    above that resolution; the line is the longest from each kept epoch over which every epoch
+    between lies on it, so a ×5 resampling keeps the receiver's epochs; a line through
+    :data:`MAX_RESAMPLE` or more epochs is not a resampling (``docs/physics.md`` §14.2).
 
     Parameters
     ----------
     epochs : pandas.DataFrame
-        Epoch rows in time order with ``t_s`` [s] and the columns of :data:`_HELD_COLUMNS`.
+        Epoch rows in time order (increasing ``t_s`` [s]) with the columns of
+        :data:`_HELD_COLUMNS` (without one of them: none is interpolated).
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        The interpolated epochs (the first and the last epoch never are).
+    """
+    n = len(epochs)
+    drop = np.zeros(n, dtype=bool)
+    cols = list(_HELD_COLUMNS)
+    if n < 3 or not all(c in epochs.columns for c in cols):
+        return drop
+    t = epochs["t_s"].to_numpy(float)
+    if not np.all(np.diff(t) > 0):
+        return drop
+    xs = [epochs[c].to_numpy(float) for c in cols]
+    angle = [c in _ANGLE_COLUMNS for c in cols]
+    tol = []
+    for c, x in zip(cols, xs, strict=True):
+        scale = float(np.nanmax(np.abs(x))) if np.isfinite(x).any() else 1.0
+        tol.append(0.5 * _quantum(x, _QUANTUM_CAP[c]) * (1 + 1e-6) + 64 * EPS * max(scale, 1.0))
+
+    def on_line(a, i, b, k: float) -> np.ndarray:
+        """Whether every column of epochs *i* lies within k × its tolerance of the line a–b
+        (a column without a value there: not on it).
+        """
+        ok = np.ones(np.size(i), dtype=bool)
+        for x, ang, tl in zip(xs, angle, tol, strict=True):
+            with np.errstate(invalid="ignore"):
+                r, slack = _line_residual(t, x, a, i, b, ang)
+                ok &= np.abs(r) <= k * tl + slack  # NaN: False
+        return ok
+
+    # candidates: on the line between their neighbours within twice the lines' tolerance
+    # below (an epoch off it cannot lie between a kept epoch and a later one); a line's ends
+    # may be interpolated epochs themselves, rounded: an epoch within half a resolution of the
+    # true line is within a whole one of theirs
+    mid = np.arange(1, n - 1)
+    cand = np.zeros(n, dtype=bool)
+    cand[mid] = on_line(mid - 1, mid, mid + 1, 4.0)
+    if not cand.any():
+        return drop
+    idx = np.flatnonzero(cand)
+    breaks = np.flatnonzero(np.diff(idx) > 1)
+    for s, e in zip(idx[np.r_[0, breaks + 1]], idx[np.r_[breaks, idx.size - 1]], strict=True):
+        a, last = int(s) - 1, int(e) + 1  # the firm epochs around the run of candidates
+        while a < last:
+            b = a + 1
+            while b < last and on_line(a, np.arange(a + 1, b + 1), b + 1, 2.0).all():
+                b += 1
+            # more epochs on one line than a logger adds between two of the receiver's: a
+            # stretch smoother than the resolution (driving straight at a constant speed with no
+            # noise), not a resampling
+            drop[a + 1 : b] = b - a - 1 < MAX_RESAMPLE
+            a = b
+    return drop
+
+
+def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int, int]:
+    """The epochs that each carry a measurement of their own: a logger that writes an epoch
+    twice (or each sentence twice) or resamples its input — holding the last value or
+    interpolating between values — makes copies that are not new data; counted as independent
+    they would shrink the measured grip's noise and raise its bound (``docs/physics.md``
+    §14.2).
+
+    An epoch whose time stamp equals the previous epoch's is a copy, and so is one that repeats
+    an earlier epoch's time stamp and measurements up to :data:`LATE_COPY_S` behind the newest
+    (a copy written late; further back the log starts again: a second session); so is one whose
+    position, speed, course and heading all equal the previous kept epoch's bit for bit (a
+    held value: a moving receiver never repeats all five), and one whose measurements all lie
+    on the line between the kept epochs around it (:func:`interpolated_epochs`).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch rows with ``t_s`` [s] and the columns of :data:`_HELD_COLUMNS`.
 
     Returns
     -------
@@ -257,20 +394,32 @@ def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int]:
         Epochs dropped for repeating a time stamp.
     held : int
         Epochs dropped for repeating every measurement at a new time stamp.
+    interpolated : int
+        Epochs dropped for lying on the line between their neighbours.
     """
     n = len(epochs)
     keep = np.ones(n, dtype=bool)
     if n < 2:
-        return keep, 0, 0
+        return keep, 0, 0, 0
     t = epochs["t_s"].to_numpy(float)
     same = np.zeros(n, dtype=bool)
     same[1:] = t[1:] == t[:-1]
+    have = all(c in epochs.columns for c in _HELD_COLUMNS)
+    if have:  # a copy written late: an earlier epoch's time stamp and measurements, at most
+        # LATE_COPY_S behind the newest (a log that starts again is a second session)
+        newest = np.concatenate([[-np.inf], np.fmax.accumulate(t)[:-1]])
+        late = epochs.duplicated(subset=["t_s", *_HELD_COLUMNS]).to_numpy()
+        same |= late & (t >= newest - LATE_COPY_S)
     held = np.zeros(n, dtype=bool)
-    if all(c in epochs.columns for c in _HELD_COLUMNS):
-        vals = np.column_stack([epochs[c].to_numpy(float) for c in _HELD_COLUMNS])
-        held[1:] = np.all(vals[1:] == vals[:-1], axis=1) & ~same[1:]  # NaN never equal
-    keep = ~(same | held)
-    return keep, int(same.sum()), int(held.sum())
+    rest = np.flatnonzero(~same)
+    if have and rest.size > 1:
+        vals = np.column_stack([epochs[c].to_numpy(float)[rest] for c in _HELD_COLUMNS])
+        held[rest[1:]] = np.all(vals[1:] == vals[:-1], axis=1)  # NaN never equal
+    rest = np.flatnonzero(~(same | held))
+    interp = np.zeros(n, dtype=bool)
+    interp[rest] = interpolated_epochs(epochs.iloc[rest])
+    keep = ~(same | held | interp)
+    return keep, int(same.sum()), int(held.sum()), int(interp.sum())
 
 
 _ESTIMATED = ("slide_point_m", "force_ratio", "mu", "kappa_beta", "mu_sigma")

@@ -4,11 +4,13 @@ Rows (one per estimate; schema :data:`ROW_COLUMNS`):
 
 * ``axle-window`` (default): one row per axle window — the estimate μ, its 1σ and 90 %
   interval when observable (model-based), and always the measured grip and its model-free lower
-  bound ``grip_used_lower`` (one-sided 99 % per window, level road assumed); placed at the epoch
-  nearest the window's middle;
+  bound ``grip_used_lower`` (one-sided 99 % per window, level road assumed; the window's numbers
+  of ``friction``, the measured grip the drive's bound takes: ``docs/physics.md`` §14.1);
+  placed at the epoch nearest the window's middle;
 * per-sample methods (``brush-2`` …): one row per valid wheel sample (μ, σ_μ), plus per log and
-  cell one measured-grip row: ``grip_used`` the 95th percentile of the axle's measured grip over
-  the cell's cornering samples, ``grip_used_lower`` that minus 3 × the samples' median 1σ.
+  cell one measured-grip row: ``grip_used`` the 95th percentile of the axle's measured grip (the
+  bound's, ``grip_proven``) over the cell's cornering samples, ``grip_used_lower`` that minus
+  3 × the samples' median 1σ.
 
 A log that cannot be read or analysed never fails the batch: it is returned as a problem with
 its reason.

@@ -322,7 +322,7 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
     else:
         c = wheels[~wheels["flag"].isin(NOT_STEADY_CORNERING)]
         ok = c["flag"] == "ok"
-        ay = c["grip_used"]
+        ay = c["grip_proven" if "grip_proven" in c else "grip_used"]  # the bound's (§14.1)
         ax.errorbar(
             ay[ok],
             c.loc[ok, "mu"],
@@ -335,7 +335,7 @@ def mu_vs_utilisation(wheels: pd.DataFrame, windows: pd.DataFrame | None = None)
         )
         ax.plot(
             ay,
-            (c["grip_used"] - Z90 * c["grip_sigma"]).clip(lower=0),
+            (ay - Z90 * c["grip_sigma"]).clip(lower=0),
             "v",
             color="0.5",
             ms=2,
