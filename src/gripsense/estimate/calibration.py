@@ -53,7 +53,12 @@ import pandas as pd
 from scipy.stats import chi2 as chi2_dist
 
 from gripsense.config import Vehicle
-from gripsense.config.calibration import AxleCalibration, DriveSums, SteeringCalibration
+from gripsense.config.calibration import (
+    CONFLICT_SIGMAS,
+    AxleCalibration,
+    DriveSums,
+    SteeringCalibration,
+)
 from gripsense.constants import G0
 from gripsense.estimate.bins import axle_bins, force_and_linear
 from gripsense.estimate.noise import NoiseModel
@@ -249,7 +254,7 @@ def _agreement(
     if earlier and new.any() and (~new).any():
         (m_e, s_e), (m_n, s_n) = _mean(val[~new], sd[~new]), _mean(val[new], sd[new])
         z = abs(m_e - m_n) / float(np.hypot(s_e, s_n))
-        if z > 2.0 and m_e > 0 and m_n > 0:
+        if z > CONFLICT_SIGMAS and m_e > 0 and m_n > 0:
             groups = (m_e, s_e, m_n, s_n, z)
     if not drives_fail and groups is None:
         return se, ""
@@ -284,7 +289,7 @@ def _agreement(
     c = declared / slope
     order = np.argsort(-z_i)  # the drives that disagree most first
     # the drives beyond 2σ of the combination; none alone: the two that disagree most
-    odd = [files[i] for i in order if z_i[i] > 2.0] or [files[i] for i in order[:2]]
+    odd = [files[i] for i in order if z_i[i] > CONFLICT_SIGMAS] or [files[i] for i in order[:2]]
     plain = float(np.hypot(se, other))
 
     def used(cover: str) -> str:
@@ -508,7 +513,7 @@ def lever_conflict(vehicle: Vehicle, learned: SteeringCalibration) -> str:
     s_d, u_d = d
     sd = float(np.hypot(np.log1p(u_d), np.log1p(learned.lever_uncertainty)))
     z = abs(float(np.log(learned.lever_m / s_d))) / sd
-    if not z > 2.0:
+    if not z > CONFLICT_SIGMAS:
         return ""
     return (
         f"steering lever: the vehicle file's [steering] declares {1e3 * s_d:.1f} mm "
