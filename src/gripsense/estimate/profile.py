@@ -589,7 +589,7 @@ def torque_only(torque: TorqueProfile, o: WindowOptions, grip_lower: float) -> d
         "shape": torque.shape,
         "limited_by": f"steering torque: {torque.limited_by}"
         if np.isfinite(hi)
-        else "no cornering above the screening utilisation",
+        else "no cornering the compass resolves",
         "torque_note": _range_change((lower, np.inf, False), (mu_low, hi, observable)),
     }
 
