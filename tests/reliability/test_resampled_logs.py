@@ -216,3 +216,24 @@ def test_a_genuine_high_rate_receiver_is_not_collapsed(receiver, rate_hz):
     assert m["epochs_interpolated"] == m["epochs_held"] == m["epochs_duplicate"] == 0, m
     assert m["epochs_used"] == len(ep)
     assert "epochs_collapsed" not in m
+
+
+def test_live_collapses_an_interpolating_logger_and_says_so(tmp_path):
+    """``live`` on a ×2 interpolated replay: its rows' measured grip and bounds are those of the
+    clean replay (float rounding only), and the run's notes count the collapsed epochs."""
+    from gripsense.live.runner import run_live
+    from gripsense.live.sources import ReplaySource
+
+    ep, vehicle = _drive(0.9, 1.05)
+    out = {}
+    for name, epochs in (("clean", ep), ("faulty", _resample(ep, 2, "linear"))):
+        log = tmp_path / f"{name}.nmea"
+        log.write_text("\r\n".join(x for b in _write_nmea(epochs) for x in b) + "\r\n")
+        res = run_live(ReplaySource(log, speed=0), vehicle, receiver="v100",
+                       output=tmp_path / f"{name}.csv", handle_signals=False)  # fmt: skip
+        rows = pd.read_csv(tmp_path / f"{name}.csv")
+        out[name] = (rows.groupby("unit")[["grip_used", "grip_used_lower"]].max(), res["notes"])
+    (clean, clean_notes), (faulty, notes) = out["clean"], out["faulty"]
+    assert len(clean) and (faulty <= clean + 1e-9).all().all(), (clean, faulty)
+    assert not any("collapsed" in n for n in clean_notes)
+    assert any("lie on the line between their neighbours" in n for n in notes), notes

@@ -127,6 +127,9 @@ class LiveFriction:
         self._epochs: deque[pd.DataFrame] = deque()
         self.last_t: float = float("nan")
         self.resets = 0  #: times the data's clock went backwards (window restarted)
+        #: the newest window's logger copies (duplicated, held or interpolated epochs,
+        #: collapsed: each measurement counts once), "" when it had none
+        self.collapsed = ""
         self.last_time_utc = pd.NaT
 
     def add(self, epochs: pd.DataFrame) -> None:
@@ -193,6 +196,8 @@ class LiveFriction:
             res = self.run.run(ep, steer_rad=steer)
         except GripsenseError:
             return pd.DataFrame()  # e.g. too little data in the window yet
+        if res.meta.get("epochs_collapsed"):
+            self.collapsed = f"in the last {self.window_s:g} s: {res.meta['epochs_collapsed']}"
         return res.unit_table()
 
     def _online_estimate(self, ep: pd.DataFrame, steer: np.ndarray | None) -> pd.DataFrame:
@@ -200,9 +205,11 @@ class LiveFriction:
         from gripsense.physics.surface import slippery_call, surface_class_interval
 
         try:
-            wheels, _ = self.run.wheel_table(ep, steer_rad=steer)
+            wheels, meta = self.run.wheel_table(ep, steer_rad=steer)
         except GripsenseError:
             return pd.DataFrame()
+        if meta.get("epochs_collapsed"):
+            self.collapsed = f"in the last {self.window_s:g} s: {meta['epochs_collapsed']}"
         if wheels.empty:
             return pd.DataFrame()
         # a sample is final once the ±0.5 s slopes around it are complete
@@ -341,8 +348,9 @@ def run_live(
     -------
     dict
         ``report`` (line accounting), ``stats``, ``summary`` (last), ``stopped_by``, ``notes``
-        (what reading the steering CSV noted), ``front_axle`` (why the front axle was not
-        estimated, ``""`` when it had a steering channel) and ``steering`` (the channel read).
+        (what reading the steering CSV noted; the last window's logger copies, collapsed),
+        ``front_axle`` (why the front axle was not estimated, ``""`` when it had a steering
+        channel) and ``steering`` (the channel read).
     """
     stop: dict = {"why": None}
 
@@ -481,7 +489,7 @@ def _loop(source, ingest, est, rec, stop, *, update_s, stale_s, duration_s, disp
         "stats": stats,
         "summary": summary,
         "stopped_by": stop["why"],
-        "notes": est.notes,
+        "notes": [*est.notes, *([est.collapsed] if est.collapsed else [])],
         "front_axle": est.front_axle,
         "steering": est.steering_source,
     }
