@@ -16,9 +16,12 @@ from __future__ import annotations
 import importlib
 import os
 import sys
-from typing import TYPE_CHECKING, Any
 
 from gripsense._version import __version__
+
+# not ``typing.TYPE_CHECKING``: importing typing (20–50 ms) would lengthen the start of the
+# command line before its signal handlers are in place (gripsense.cli.main)
+TYPE_CHECKING = False
 
 
 def _writable(folder: str) -> bool:
@@ -91,6 +94,8 @@ def _numba_cache_fallback() -> str | None:
 _numba_cache_fallback()
 
 if TYPE_CHECKING:
+    from typing import Any
+
     from gripsense.config import SteeringCar, Tyre, Vehicle
     from gripsense.errors import GripsenseError, InputError, NotObservableError
     from gripsense.estimate.noise import NoiseModel

@@ -31,13 +31,15 @@ import os
 import signal
 import sys
 import threading
-from types import FrameType
-from typing import TYPE_CHECKING, Any, NoReturn
 
+TYPE_CHECKING = False  # not typing's: nothing that takes time before the handlers are in place
 if TYPE_CHECKING:
+    from types import FrameType
+    from typing import Any, NoReturn
+
     from gripsense.cli._app import app, usage_hint  # noqa: F401
 
-__all__ = ["app", "main"]
+__all__ = ["app", "finishing", "main"]
 
 
 class Interrupted(BaseException):
@@ -139,9 +141,18 @@ def main() -> None:
     finally:
         # the run is over, its outputs installed or removed: a signal while Python ends changes
         # nothing (it would kill the process by the default action, silently, at exit −2)
-        for s in (signal.SIGINT, signal.SIGTERM):
-            if signal.getsignal(s) is _on_signal:
-                signal.signal(s, signal.SIG_IGN)
+        finishing()
+
+
+def finishing() -> None:
+    """The run's outcome is decided — it returned, or its one error line is being printed: a
+    SIGINT or SIGTERM from now on changes nothing (no second line after the error's, which a
+    signal deferred during an import could add as the command failed at once). Only where
+    :func:`main` installed its handlers (not in a test's process).
+    """
+    for s in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(s) is _on_signal:
+            signal.signal(s, signal.SIG_IGN)
 
 
 def __getattr__(name: str) -> Any:

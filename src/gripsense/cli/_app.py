@@ -123,6 +123,10 @@ def run() -> None:
         if "UsageError" in names or "ClickException" in names:
             from rich.text import Text
 
+            from gripsense.cli import finishing
+
+            finishing()  # the outcome is this line: a signal now adds no second one
+
             where = getattr(getattr(e, "ctx", None), "command_path", None) or "gripsense"
             err_console.print(
                 Text.assemble(("error: ", "bold red"), f"{where}: {usage_hint(e)}"),
@@ -153,5 +157,8 @@ def _fail(e: Exception) -> None:
         code = 1
     from rich.text import Text
 
+    from gripsense.cli import finishing
+
+    finishing()  # the outcome is this line: a signal now adds no second one
     err_console.print(Text.assemble(("error: ", "bold red"), msg), highlight=False)
     sys.exit(code)

@@ -96,6 +96,9 @@ def fail(err: Exception | str) -> NoReturn:
     err : Exception or str
         The error; its text is printed literally (``[vehicle] mass_kg`` stays as it is).
     """
+    from gripsense.cli import finishing
+
+    finishing()  # the outcome is this line: a signal now adds no second one
     err_console.print(Text.assemble(("error: ", "bold red"), str(err)), highlight=False)
     raise typer.Exit(2)
 
