@@ -221,11 +221,13 @@ def test_profile_interval_equals_the_converged_profile(which, demo_window, windo
 
 def test_a_coarse_mu_pass_misses_the_demo_windows_interval(demo_window):
     """The demo window discriminates: a pass over every third μ (warm-started along it, no
-    refinement) misses its converged interval by more than 0.05."""
+    refinement) misses its converged interval by more than twice the 0.01 the production
+    profile is held to (0.037 with the family made from real tyres, ~0.1 with the earlier box
+    of shapes, whose stretched members made the profile rougher)."""
     shapes = shape_ids("any")
     lo, hi = _interval(*_converged_profile(demo_window, shapes))
     lo_c, hi_c = _interval(*_full_grid(demo_window, shapes, step=3))
-    assert max(abs(lo_c - lo), abs(hi_c - hi)) > 0.05, (lo, hi, lo_c, hi_c)
+    assert max(abs(lo_c - lo), abs(hi_c - hi)) > 0.02, (lo, hi, lo_c, hi_c)
 
 
 @pytest.mark.parametrize("which", ["demo", "several bins", "one bin"])
