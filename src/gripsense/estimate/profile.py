@@ -458,9 +458,10 @@ def _far_text(min_utilisation: float) -> str:
     1 / *min_utilisation* times the measured-grip bound: the comparison the rule makes, not a
     claim that the data were far from the limit (at their utilisation the range cannot say).
     """
+    times = f"over {1.0 / min_utilisation:g} ×" if min_utilisation > 0 else "above"
     return (
-        f"no value: the range's upper end is over {1.0 / min_utilisation:g} × what the data "
-        "prove (they do not show how near the limit they were)"
+        f"no value: the range's upper end is {times} what the data prove (they do not show "
+        "how near the limit they were)"
     )
 
 
