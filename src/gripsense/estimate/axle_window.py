@@ -106,7 +106,9 @@ def _window_table(
     cols["grip_used"] = np.max(gp, axis=1, initial=0.0)  # its largest bin, as the drive's
     cols["grip_used_lower"] = np.maximum(np.max(gp - z_w * windows(ab.grip_sigma), axis=1), 0.0)
     idx = starts[:, None] + np.arange(w)  # each window's bins
-    cols["analysed"] = resolvable(ab.data[idx], ab.grip_sigma[idx], noise, o.screen_z)
+    cols["analysed"] = resolvable(
+        ab.data[idx], ab.grip_sigma[idx], noise, o.screen_z, o.screen_utilisation
+    )
     cols["mu_low"] = cols["grip_used_lower"].copy()
     cols["mu_high"] = np.full(k, np.inf)
     cols["observable"] = np.zeros(k, dtype=bool)
@@ -183,7 +185,9 @@ def estimate_windows(
         if not analysed_bins.any():
             # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
             # bins that pass the screen themselves rather than say it saw no cornering
-            analysed_bins = resolvable_bins(ab.data, ab.grip_sigma, noise, o.screen_z)
+            analysed_bins = resolvable_bins(
+                ab.data, ab.grip_sigma, noise, o.screen_z, o.screen_utilisation
+            )
         # the drive: every analysed bin, nuisances shared, the slip offset a slow process
         g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
         torque, read = None, ""

@@ -101,6 +101,12 @@ class OnlineAxleWindow:
             self._bins.append((ab.t0[i], ab.t1[i], ab.n[i], ab.data[i], ab.grip_sigma[i], ab.p0,
                                ab.grip_proven[i]))  # fmt: skip
 
+    def _screen(self, data: np.ndarray, gsig: np.ndarray) -> bool:
+        """Whether the window of bins *data* passes the screen (``docs/physics.md`` §15.2)."""
+        o = self.o
+        return bool(resolvable(data[None], gsig[None], self.noise, o.screen_z,
+                               o.screen_utilisation)[0])  # fmt: skip
+
     def estimate(self) -> dict | None:
         """The newest complete window (None until there is one).
 
@@ -125,7 +131,7 @@ class OnlineAxleWindow:
             "n": int(sum(b[2] for b in self._bins)),
             "grip_used": float(np.max(proven)),
             "grip_used_lower": lower,
-            "analysed": bool(resolvable(data[None], gsig[None], self.noise, self.o.screen_z)[0]),
+            "analysed": bool(self._screen(data, gsig)),
         }
         if row["analysed"]:
             n = np.array([b[2] for b in self._bins])

@@ -74,6 +74,10 @@ class WindowOptions:
         needs at the declared stiffness) and its lateral acceleration are both at least this
         many 1σ of their noise, whatever its grip; other windows give the measured-grip bound
         only [-].
+    screen_utilisation : float
+        A window whose measured grip reaches this is analysed too, even where the screen does
+        not resolve its slip (stiff tyres at a moderate grip: the profile's nuisances carry
+        them, as before issue 41); ``inf``: the compass's screen alone [-].
     steady_tolerance : float
         Consecutive bins whose measured grip stays within this are merged into one point of the
         tyre curve (:func:`merge_steady`) [-].
@@ -101,6 +105,7 @@ class WindowOptions:
     point_level: float = 0.99
     min_samples: int = 5
     screen_z: float = 3.0
+    screen_utilisation: float = 0.15
     steady_tolerance: float = 0.03
     steady_slip_z: float = 4.0
     mu_min: float = 0.05

@@ -39,7 +39,13 @@ def offset_residual_rad(noise: NoiseModel) -> float:
     return float(np.deg2rad(np.hypot(cal, 0.03)))
 
 
-def resolvable(data: np.ndarray, grip_sigma: np.ndarray, noise: NoiseModel, z: float) -> np.ndarray:
+def resolvable(
+    data: np.ndarray,
+    grip_sigma: np.ndarray,
+    noise: NoiseModel,
+    z: float,
+    grip_floor: float = np.inf,
+) -> np.ndarray:
     """Windows of bins whose cornering the compass resolves, whatever the grip.
 
     The screen (``docs/physics.md`` §15.2):
@@ -67,6 +73,9 @@ def resolvable(data: np.ndarray, grip_sigma: np.ndarray, noise: NoiseModel, z: f
         The run's noise model.
     z : float
         How many 1σ the slip and the lateral acceleration must clear [-].
+    grip_floor : float
+        A window whose largest measured grip reaches this passes too
+        (``WindowOptions.screen_utilisation``) [-].
 
     Returns
     -------
@@ -80,11 +89,16 @@ def resolvable(data: np.ndarray, grip_sigma: np.ndarray, noise: NoiseModel, z: f
     slip = np.mean(np.abs(data[..., 6]) / (data[..., 4] + data[..., 5]), axis=1)
     sig_slip = np.hypot(np.sqrt(np.sum(data[..., 8] ** 2, axis=1)) / m, offset_residual_rad(noise))
     sig_ay = np.sqrt(np.sum(np.asarray(grip_sigma, dtype=float) ** 2, axis=1)) / m
-    return (slip >= z * sig_slip) & (np.abs(np.mean(data[..., 10], axis=1)) >= z * sig_ay)
+    ok = (slip >= z * sig_slip) & (np.abs(np.mean(data[..., 10], axis=1)) >= z * sig_ay)
+    return ok | (np.max(data[..., 9], axis=1) >= grip_floor)
 
 
 def resolvable_bins(
-    data: np.ndarray, grip_sigma: np.ndarray, noise: NoiseModel, z: float
+    data: np.ndarray,
+    grip_sigma: np.ndarray,
+    noise: NoiseModel,
+    z: float,
+    grip_floor: float = np.inf,
 ) -> np.ndarray:
     """:func:`resolvable` of each bin on its own (a window of one bin).
 
@@ -98,6 +112,8 @@ def resolvable_bins(
         The run's noise model.
     z : float
         How many 1σ the slip and the lateral acceleration must clear [-].
+    grip_floor : float
+        A bin whose measured grip reaches this passes too [-].
 
     Returns
     -------
@@ -105,4 +121,5 @@ def resolvable_bins(
         bool per bin.
     """
     data = np.asarray(data, dtype=float)
-    return resolvable(data[:, None, :], np.asarray(grip_sigma, dtype=float)[:, None], noise, z)
+    gs = np.asarray(grip_sigma, dtype=float)[:, None]
+    return resolvable(data[:, None, :], gs, noise, z, grip_floor)
