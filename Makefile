@@ -31,12 +31,13 @@ browser:
 	  fi; \
 	fi
 
+# one worker per CPU; a file's tests stay on one worker (its fixtures are built once)
 test: $(VENV)/.installed-test browser
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto --dist loadfile
 
 # the inner loop: everything but the end-to-end tests (`make test` is the full suite CI runs)
 test-fast: $(VENV)/.installed-test
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/python -m pytest -q -n auto --dist loadfile -m "not slow"
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check src tests benchmarks examples

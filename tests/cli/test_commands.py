@@ -18,7 +18,7 @@ EXE = shutil.which("gripsense") or str(Path(sys.executable).with_name("gripsense
 
 
 def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    return subprocess.run([EXE, *args], capture_output=True, text=True, cwd=cwd, timeout=120)
+    return subprocess.run([EXE, *args], capture_output=True, text=True, cwd=cwd, timeout=600)
 
 
 def test_ingest_writes_table(tmp_path):

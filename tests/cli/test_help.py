@@ -65,7 +65,7 @@ def test_a_usage_error_is_one_line(args, want, tmp_path):
         [sys.executable, "-c", "from gripsense.cli import main; main()", *args],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=600,
     )
     assert r.returncode == 2, r
     lines = [x for x in (r.stdout + r.stderr).splitlines() if x.strip()]

@@ -43,7 +43,7 @@ def _run_importtime(*args: str) -> tuple[subprocess.CompletedProcess, set[str]]:
         [sys.executable, "-X", "importtime", EXE, *args],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=600,
         env={**os.environ, "COLUMNS": "100"},
     )
     names = re.findall(r"^import time:\s*\d+ \|\s*\d+ \|\s*(\S+)$", r.stderr, flags=re.M)

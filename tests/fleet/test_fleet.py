@@ -113,14 +113,14 @@ def _with_external_cluster(tmp: Path, fn):
             )  # fmt: skip
         from dask.distributed import Client
 
-        with Client(address, timeout=60) as c:
-            c.wait_for_workers(2, timeout=60)
+        with Client(address, timeout=600) as c:
+            c.wait_for_workers(2, timeout=600)
         return fn(address)
     finally:
         for p in procs[::-1]:
             p.terminate()
         for p in procs:
-            p.wait(timeout=30)
+            p.wait(timeout=120)
 
 
 def test_same_results_with_1_worker_and_an_explicit_scheduler(

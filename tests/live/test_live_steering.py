@@ -54,16 +54,16 @@ def test_the_command_line(simulated, tmp_path):
             "--quiet"]  # fmt: skip
     r = subprocess.run([*base, "--steer-csv", str(sim.steer), "--steer-columns", ANGLE_ONLY,
                         "-o", str(tmp_path / "live.csv")], capture_output=True, text=True,
-                       timeout=120)  # fmt: skip
+                       timeout=600)  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "steering: --steer-csv" in r.stdout and "no steering channel" not in r.stdout
     rows = pd.read_csv(tmp_path / "live.csv")
     assert {"front", "rear"} <= set(rows["unit"])
-    r = subprocess.run(base, capture_output=True, text=True, timeout=120)
+    r = subprocess.run(base, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     assert " ".join(NO_STEERING.split()) in " ".join(r.stdout.split())  # the display wraps it
     r = subprocess.run([EXE, "live", "--tcp", "localhost:1", "--vehicle", str(sim.vehicle),
                         "--steer-csv", str(sim.steer)], capture_output=True, text=True,
-                       timeout=60)  # fmt: skip
+                       timeout=600)  # fmt: skip
     assert r.returncode == 2 and "--steer-csv is replayed beside --replay LOG" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1

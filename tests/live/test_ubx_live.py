@@ -82,7 +82,7 @@ def test_ubx_over_a_pty_and_a_socket_equals_batch(stream):
     src = SerialSource(os.ttyname(slave), 115200)
 
     def to_pty():
-        _wait_for(lambda: src.state == "open", 60.0)  # pyserial flushes what came before
+        _wait_for(lambda: src.state == "open", 600.0)  # pyserial flushes what came before
         for i in range(0, len(stream), 512):
             os.write(master, stream[i : i + 512])
             time.sleep(0.002)

@@ -64,7 +64,7 @@ def test_live_rerun_after_sigkill_keeps_the_partial_and_the_raw_recording(tmp_pa
             break
         time.sleep(0.2)
     p.send_signal(signal.SIGKILL)
-    p.wait(timeout=30)
+    p.wait(timeout=120)
     assert part.exists() and raw.stat().st_size > 0
     before = _hashes(tmp_path)
     # the natural next step — the same command again — must not truncate anything
@@ -86,7 +86,7 @@ def test_live_rerun_after_sigkill_keeps_the_partial_and_the_raw_recording(tmp_pa
             ],
             capture_output=True,
             text=True,
-            timeout=60,
+            timeout=600,
         )
         assert r.returncode == 2 and "recover it first" in r.stderr, r.stderr
         assert _hashes(tmp_path) == before
@@ -118,7 +118,7 @@ def test_live_never_writes_its_input(tmp_path):
         ],
         capture_output=True,
         text=True,
-        timeout=120,
+        timeout=600,
     )
     assert r.returncode == 0, r.stderr
     after = _hashes(tmp_path)
@@ -141,7 +141,7 @@ def test_live_never_writes_its_input(tmp_path):
         ],
         capture_output=True,
         text=True,
-        timeout=60,
+        timeout=600,
     )
     assert r.returncode == 2
 
@@ -215,7 +215,7 @@ def test_fleet_sigkill_keeps_the_previous_result_and_ids_cannot_escape(fleet_dir
         time.sleep(0.05)
     assert p.poll() is None, "the run finished before it could be killed"
     p.send_signal(signal.SIGKILL)
-    p.wait(timeout=30)
+    p.wait(timeout=120)
     assert _hashes(out) == before
     # a vehicle map whose id tries to leave the output folder
     vmap = tmp_path / "map.csv"

@@ -53,7 +53,7 @@ SCENARIO = (
 )
 FILE_COMMANDS = sorted(n for n, (_, k) in COMMANDS.items() if k == "file" and n != "live")
 FOLDER_COMMANDS = sorted(n for n, (_, k) in COMMANDS.items() if k == "folder")
-TIMEOUT = 300  # [s] a command on a loaded two-core machine
+TIMEOUT = 600  # [s] a command on a loaded two-core machine
 
 
 def _sha(p: Path) -> str:

@@ -34,7 +34,7 @@ GRIPSENSE = [str(Path(sys.executable).parent / "gripsense")]
 TIR = DATA / "tyre" / "tir" / "MagicFormula61_Paramerters.tir"
 # a bound on a read that must end: far above the time it takes, and a thread that does not
 # finish by then has hung (the old code's FIFO)
-HANG_S = 120.0
+HANG_S = 600.0
 
 
 def _writer(fd: int, data: bytes | None = None, *, endless: bytes = b"", cap: int = 0):
