@@ -15,11 +15,11 @@ import pytest
 
 from gripsense import data
 from gripsense.config import Vehicle
+from gripsense.config import tyre_library as L
 from gripsense.config.tyre_files import load_tyre_model
 from gripsense.errors import InputError
 from gripsense.estimate.profile import shape_ids
 from gripsense.io.tir import read_tir
-from gripsense.physics import tyre_library as L
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, magic_formula_normalised, shape_members
 
 

@@ -8,7 +8,7 @@ here.
 from __future__ import annotations
 
 from gripsense.config.schema import REQUIRED, Key, Table
-from gripsense.physics.tyre_library import CATEGORIES as TYRE_CATEGORIES
+from gripsense.physics.tyre_family import CATEGORIES as TYRE_CATEGORIES
 
 __all__ = [
     "ANTENNA",

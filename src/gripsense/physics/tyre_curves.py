@@ -10,7 +10,7 @@ the curve of §2.3; a Magic Formula tyre (seed 002 eq. 1 with B = 1/C_s so that 
 f = sin(C_s atan(x/C_s − E (x/C_s − atan(x/C_s)))), shape factor C_s and curvature E.
 
 :data:`SHAPE_FAMILY` is made from real tyres (``docs/physics.md`` §14.3): the Magic Formula
-shapes of :data:`gripsense.physics.tyre_library.FAMILY_MEMBERS`, which cover every normalised
+shapes of :data:`gripsense.physics.tyre_family.FAMILY_MEMBERS`, which cover every normalised
 curve of 15 published tyre property files at 0.5–1.5 × their nominal load and ±3° inclination
 (and of their low-grip sweeps), plus both brush shapes. A tyre's ``shape`` selects members
 (:func:`shape_members`): ``any``, ``brush``, ``magic-formula`` or a tyre category
@@ -137,7 +137,7 @@ the grid C_s ∈ {1.1, 1.4, 1.7, 1.95} × E ∈ {−1.5, −0.5, 0.3, 0.8} whose
 
 
 def _data_family() -> tuple[CurveShape, ...]:
-    from gripsense.physics.tyre_library import FAMILY_MEMBERS
+    from gripsense.physics.tyre_family import FAMILY_MEMBERS
 
     out = [CurveShape("brush-2", "brush-2"), CurveShape("brush-4", "brush-4")]
     out += [CurveShape(f"mf C{c:g} E{e:g}", "magic-formula", c, e) for c, e in FAMILY_MEMBERS]
@@ -146,7 +146,7 @@ def _data_family() -> tuple[CurveShape, ...]:
 
 SHAPE_FAMILY: tuple[CurveShape, ...] = _data_family()
 """The shapes ``axle-window`` considers: brush P2, brush P4 and the Magic Formula shapes made
-from real tyres (:data:`gripsense.physics.tyre_library.FAMILY_MEMBERS`, ``docs/physics.md``
+from real tyres (:data:`gripsense.physics.tyre_family.FAMILY_MEMBERS`, ``docs/physics.md``
 §14.3)."""
 
 
@@ -159,7 +159,7 @@ def shape_members(prior: str) -> tuple[int, ...]:
     prior : str
         ``any`` (every member), ``brush`` (brush P2 and P4), ``magic-formula`` (the shapes made
         from real tyres) or a tyre category of
-        :data:`gripsense.physics.tyre_library.CATEGORIES` (the members that cover that
+        :data:`gripsense.physics.tyre_family.CATEGORIES` (the members that cover that
         category's files).
 
     Returns
@@ -167,7 +167,7 @@ def shape_members(prior: str) -> tuple[int, ...]:
     tuple of int
         The indices.
     """
-    from gripsense.physics.tyre_library import CATEGORIES, category_members
+    from gripsense.physics.tyre_family import CATEGORIES, category_members
 
     if prior in CATEGORIES:
         keep = set(category_members(prior))

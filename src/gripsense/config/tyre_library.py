@@ -34,6 +34,13 @@ from functools import cache
 
 import numpy as np
 
+from gripsense.physics.tyre_family import (
+    CATEGORIES,
+    CATEGORY_MEMBERS,
+    FAMILY_MEMBERS,
+    category_members,
+)
+
 __all__ = [
     "CAMBERS_DEG",
     "CATEGORIES",
@@ -61,8 +68,6 @@ __all__ = [
     "plot_family",
 ]
 
-CATEGORIES = ("passenger", "suv", "performance", "racing", "truck")
-"""Tyre categories a vehicle file may name (``tyre_category``)."""
 
 LOAD_FACTORS = (0.5, 0.75, 1.0, 1.25, 1.5)
 """Loads of the sweeps, as multiples of each file's nominal load FNOMIN [-]."""
@@ -167,12 +172,12 @@ class NormalisedCurve:
 
 def _force_function(entry: LibraryTyre, lmuy: float = 1.0):
     """(F(fz, α, γ) with positive force for positive slip [N], nominal load [N])."""
-    from gripsense import data
     from gripsense.config.tyre_files import load_tyre_model
+    from gripsense.data import path as data_path
     from gripsense.io.tir import read_tir
     from gripsense.physics.magic_formula import MFTyre
 
-    path = data.path(entry.file)
+    path = data_path(entry.file)
     if path.suffix == ".tir":
         tir = read_tir(path)
         params: dict = dict(tir.parameters())
@@ -519,74 +524,6 @@ def build_family(
     return tuple(members), categories
 
 
-FAMILY_MEMBERS: tuple[tuple[float, float], ...] = (
-    (1.14, -0.76),
-    (1.18, -0.18),
-    (1.2, 0.52),
-    (1.24, 0.22),
-    (1.28, -0.32),
-    (1.3, -1.06),
-    (1.38, -0.4),
-    (1.38, 0.14),
-    (1.42, -1.26),
-    (1.46, -0.2),
-    (1.48, -0.6),
-    (1.5, -2.08),
-    (1.5, -0.76),
-    (1.72, 0.24),
-    (1.76, -0.2),
-    (1.82, 0.22),
-)
-"""The data-made family's (C_s, E): :func:`build_family` on :data:`LIBRARY` (16 shapes)."""
-
-CATEGORY_MEMBERS: dict[str, tuple[tuple[float, float], ...]] = {
-    "passenger": ((1.24, 0.22), (1.28, -0.32), (1.3, -1.06), (1.38, -0.4), (1.46, -0.2)),
-    "suv": (
-        (1.24, 0.22),
-        (1.28, -0.32),
-        (1.3, -1.06),
-        (1.46, -0.2),
-        (1.48, -0.6),
-        (1.72, 0.24),
-        (1.76, -0.2),
-        (1.82, 0.22),
-    ),
-    "performance": ((1.38, 0.14), (1.46, -0.2), (1.48, -0.6), (1.5, -2.08), (1.5, -0.76)),
-    "racing": ((1.24, 0.22),),
-    "truck": (
-        (1.14, -0.76),
-        (1.18, -0.18),
-        (1.2, 0.52),
-        (1.24, 0.22),
-        (1.28, -0.32),
-        (1.3, -1.06),
-        (1.38, -0.4),
-        (1.38, 0.14),
-        (1.42, -1.26),
-        (1.46, -0.2),
-    ),
-}
-"""Each category's members (C_s, E): :func:`build_family` on :data:`LIBRARY`."""
-
-
-def category_members(category: str) -> tuple[tuple[float, float], ...]:
-    """The members of :data:`FAMILY_MEMBERS` that cover one category's files.
-
-    Parameters
-    ----------
-    category : str
-        One of :data:`CATEGORIES`.
-
-    Returns
-    -------
-    tuple of (float, float)
-        (C_s, E) of the members.
-    """
-    if category not in CATEGORIES:
-        raise ValueError(f"tyre category {category!r}: use one of {', '.join(CATEGORIES)}")
-    return CATEGORY_MEMBERS[category]
-
-
 def coverage_table(curves=None) -> list[dict]:
     """Per file: category, load range, the fitted (C_s, E) ranges, the largest fit error and
     the largest distance of its curves to the nearest family member (``docs/physics.md`` §14.3).
@@ -631,7 +568,7 @@ def coverage_table(curves=None) -> list[dict]:
 
 def plot_family(path) -> None:
     """Draw every file's normalised curves, coloured by category, over the family's members
-    (``docs/physics.md`` §14.3; ``python -m gripsense.physics.tyre_library FILE.png``).
+    (``docs/physics.md`` §14.3; ``python -m gripsense.config.tyre_library FILE.png``).
 
     Parameters
     ----------
