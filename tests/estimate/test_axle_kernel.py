@@ -23,12 +23,12 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.profile import (
     _crossing,
-    _rho,
     _shape_penalty,
     axle_priors,
     curve_lookup,
     profile_mu,
     shape_ids,
+    slow_correlation,
 )
 from gripsense.io import read_nmea
 from gripsense.io.steer import steer_at
@@ -47,7 +47,7 @@ def _full_grid(w, shapes, step=1):
     nll, th, dl = np.empty(grid.size), np.empty((grid.size, K.NG)), np.zeros((grid.size, n))
     shp = np.empty(grid.size, dtype=np.int64)
     # no probe, no stopping: every minimisation runs its course
-    K.profile_grid(grid, shapes, pen, b, _rho(w["mid"], pri.tau_s), pri.mean, pri.sd,
+    K.profile_grid(grid, shapes, pen, b, slow_correlation(w["mid"], pri.tau_s), pri.mean, pri.sd,
                    pri.delta, f, df, inv_dx, w["p0"], o.iterations, nll, th, dl, shp, np.inf,
                    -1.0, np.inf)  # fmt: skip
     return grid, nll
@@ -101,7 +101,7 @@ def _reference_nll(mu, shape, w):
     f, df, inv_dx = curve_lookup()
     b, pri = w["bins"], w["pri"]
     n = b.shape[0]
-    rho = _rho(w["mid"], pri.tau_s)
+    rho = slow_correlation(w["mid"], pri.tau_s)
     pd_, pe = np.zeros(n), np.zeros(n)
     K._prior_delta(rho, pri.delta, pd_, pe)
     ctx = (int(shape), f, df, inv_dx, b, w["p0"], pri.mean, pri.sd, pd_, pe)
@@ -162,7 +162,7 @@ def _converged_profile(w, shapes):
     n = b.shape[0]
     grid = _grid(o)
     pen = _shape_penalty()[shapes]
-    rho = _rho(w["mid"], pri.tau_s)
+    rho = slow_correlation(w["mid"], pri.tau_s)
     ws, wm, wj = K.workspace(n)
     th, dl = np.empty(K.NG), np.zeros(n)
     best = np.full(grid.size, np.inf)
@@ -247,7 +247,8 @@ def test_stopping_far_above_the_minimum_keeps_the_profile(which, demo_window, wi
         n = b.shape[0]
         nll, th, dl = np.empty(grid.size), np.empty((grid.size, K.NG)), np.zeros((grid.size, n))
         shp = np.empty(grid.size, dtype=np.int64)
-        K.profile_grid(grid, shapes, pen, b, _rho(w["mid"], pri.tau_s), pri.mean, pri.sd,
+        rho = slow_correlation(w["mid"], pri.tau_s)
+        K.profile_grid(grid, shapes, pen, b, rho, pri.mean, pri.sd,
                        pri.delta, f, df, inv_dx, w["p0"], o.iterations, nll, th, dl, shp,
                        np.inf, probe, margin)  # fmt: skip
         out.append(nll)
@@ -271,7 +272,7 @@ def test_stop_above_ends_a_minimisation_after_one_step(demo_window):
     w = demo_window
     f, df, inv_dx = curve_lookup()
     pri, b = w["pri"], w["bins"]
-    rho = _rho(w["mid"], pri.tau_s)
+    rho = slow_correlation(w["mid"], pri.tau_s)
     ws, wm, wj = K.workspace(1)
     th, dl = np.empty(K.NG), np.zeros(1)
     mu = 0.6 * float(b[0, 9])  # too small for the measured force: a long minimisation

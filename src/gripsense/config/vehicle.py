@@ -132,6 +132,10 @@ class Tyre:
         it (default 0.2).
     friction_load_sensitivity_uncertainty : float
         1σ of η [-] (default 0.15).
+    shape_evidence : tuple of float, optional
+        What a calibration learned of the normalised curve's shape: the deviance of each shape
+        of :data:`gripsense.physics.shape_grid.LEARN_GRID` (``docs/physics.md`` §15.10) [-];
+        None: nothing learned (the ``shape`` prior alone).
     """
 
     width_m: float
@@ -151,6 +155,7 @@ class Tyre:
     friction_load_sensitivity_uncertainty: float = TYRE[
         "friction_load_sensitivity_uncertainty"
     ].default  # 0.15
+    shape_evidence: tuple[float, ...] | None = None
 
     def contact_length(self, mass_kg) -> np.ndarray:
         """Contact length [m] for the mass the wheel carries [kg].

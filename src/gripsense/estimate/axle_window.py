@@ -42,8 +42,8 @@ from gripsense.estimate.profile import (
     merge_bins,
     mu_grid,
     profile_mu,
-    shape_ids,
     torque_only,
+    tyre_family,
 )
 from gripsense.estimate.screen import resolvable, resolvable_bins
 from gripsense.estimate.torque import check_channel, torque_bins, torque_profile, torque_read
@@ -164,7 +164,7 @@ def estimate_windows(
     for axle in axles:
         ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
         pri = axle_priors(vehicle, axle, noise)
-        shapes = shape_ids(vehicle.tyres[axle].shape)
+        shapes = tyre_family(vehicle.tyres[axle])
         n_b = ab.t0.size
         cols, starts = _window_table(ab, axle, o, z_w, noise)
         n_win = starts.size

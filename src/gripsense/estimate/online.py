@@ -17,7 +17,7 @@ from gripsense.estimate.bins import axle_bins, axle_pairs
 from gripsense.estimate.grip import bin_bound
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, shape_ids
+from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, tyre_family
 from gripsense.estimate.screen import resolvable
 
 __all__ = ["OnlineAxleWindow"]
@@ -61,7 +61,7 @@ class OnlineAxleWindow:
         self._pri = axle_priors(vehicle, axle, self.noise)
         self._reuse = ProfileCache()
         self._tail: dict[str, np.ndarray] | None = None
-        self._shapes = shape_ids(vehicle.tyres[axle].shape)
+        self._shapes = tyre_family(vehicle.tyres[axle])
 
     def push(self, rows: pd.DataFrame) -> None:
         """Add final wheel-table rows (both wheels of this axle, any number of epochs).

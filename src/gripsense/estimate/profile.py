@@ -16,7 +16,7 @@ from functools import cache
 import numpy as np
 from scipy.stats import chi2
 
-from gripsense.config import Vehicle
+from gripsense.config import Tyre, Vehicle
 from gripsense.constants import CHI2_1_90
 from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.bins import force_and_linear, merge_steady
@@ -24,20 +24,27 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.torque import TorqueProfile
 from gripsense.physics.friction_limit import linear_explains
-from gripsense.physics.tyre_curves import SHAPE_FAMILY, curve_tables, shape_members
+from gripsense.physics.shape_grid import LEARN_GRID, learn_tables
+from gripsense.physics.tyre_curves import SHAPE_FAMILY, CurveShape, curve_tables, shape_members
 
 __all__ = [
     "SHAPE_PRIOR_PEAK",
+    "SIMILARITY_TEMPER",
     "STRAINED_REL",
     "Priors",
     "ProfileCache",
+    "ShapeFamily",
     "axle_priors",
     "curve_lookup",
+    "learned_family",
     "merge_bins",
     "mu_grid",
+    "prior_family",
     "profile_mu",
     "shape_ids",
+    "slow_correlation",
     "torque_only",
+    "tyre_family",
 ]
 
 STRAINED_REL = 0.02
@@ -80,9 +87,122 @@ def shape_ids(prior: str) -> np.ndarray:
 def _shape_penalty() -> np.ndarray:
     """−log prior weight of every shape of the family (:data:`SHAPE_PRIOR_PEAK`)."""
     x, f, _ = curve_tables()
+    return _peak_penalty(f, x)
+
+
+@dataclass(frozen=True)
+class ShapeFamily:
+    """The curve shapes an axle's μ is profiled over (``docs/physics.md`` §15, §15.10): their
+    force tables, each shape's prior weight and the shapes allowed.
+
+    Attributes
+    ----------
+    shapes : tuple of CurveShape
+        Every shape of the tables.
+    f, df : numpy.ndarray
+        F/(μ Fz) and its slope per shape on the table grid [-].
+    inv_dx : float
+        1 / the table grid's step [-].
+    penalty : numpy.ndarray
+        −log prior weight of each shape [-].
+    ids : numpy.ndarray
+        Indices of the shapes allowed (int64).
+    learned : bool
+        Whether the weights include a calibration's learned evidence.
+    """
+
+    shapes: tuple[CurveShape, ...]
+    f: np.ndarray
+    df: np.ndarray
+    inv_dx: float
+    penalty: np.ndarray
+    ids: np.ndarray
+    learned: bool = False
+
+
+@cache
+def prior_family(prior: str = "any") -> ShapeFamily:
+    """The prior family's shapes that a tyre's ``shape`` allows, with the peak position's prior
+    weight (:func:`shape_ids`, :data:`SHAPE_PRIOR_PEAK`).
+
+    Parameters
+    ----------
+    prior : str
+        The tyre description's shape prior.
+
+    Returns
+    -------
+    ShapeFamily
+        Tables of :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY`.
+    """
+    f, df, inv_dx = curve_lookup()
+    return ShapeFamily(SHAPE_FAMILY, f, df, inv_dx, _shape_penalty(), shape_ids(prior))
+
+
+def _peak_penalty(f: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """−log prior weight of each tabulated shape's peak position (:data:`SHAPE_PRIOR_PEAK`)."""
     x_peak = x[np.argmax(f, axis=1)]
     z = (np.log(x_peak) - np.log(SHAPE_PRIOR_PEAK[0])) / SHAPE_PRIOR_PEAK[1]
     return 0.5 * z * z
+
+
+SIMILARITY_TEMPER = 2.0
+"""A calibration's learned shape evidence counts 1/T as much on another road: real tyres keep
+their normalised shape across surfaces only approximately (flatter peaks on wet and snow) [-]."""
+
+
+def tyre_family(tyre: Tyre) -> np.ndarray | ShapeFamily:
+    """The shapes an axle's μ is profiled over: the learnable grid weighted by what a
+    calibration learned of this tyre (``docs/physics.md`` §15.10), else the prior family's
+    shapes its ``shape`` allows.
+
+    Parameters
+    ----------
+    tyre : Tyre
+        The axle's tyre description (``shape``, ``shape_evidence``).
+
+    Returns
+    -------
+    numpy.ndarray or ShapeFamily
+        Indices into the prior family (:func:`shape_ids`), or a learned family.
+    """
+    if tyre.shape_evidence is None:
+        return shape_ids(tyre.shape)
+    return learned_family(np.asarray(tyre.shape_evidence, dtype=float), SIMILARITY_TEMPER)
+
+
+LEARNED_CAP = 30.0
+"""Shapes whose learned weight exceeds this (−log L units) are not profiled at all: far beyond
+every interval level, they cannot change a range [-]."""
+
+
+def learned_family(deviance: np.ndarray, temper: float) -> ShapeFamily:
+    """The grid of learnable shapes weighted by a calibration's evidence (``docs/physics.md``
+    §15.10): −log weight ½ D_k / T plus the peak position's prior.
+
+    Parameters
+    ----------
+    deviance : numpy.ndarray
+        The learned deviance per shape of :data:`~gripsense.physics.shape_grid.LEARN_GRID`
+        (:func:`gripsense.estimate.shape_learning.combine_evidence`) [-].
+    temper : float
+        How much less the evidence counts on another road, T ≥ 1 [-].
+
+    Returns
+    -------
+    ShapeFamily
+        Tables of the learnable grid; the shapes within :data:`LEARNED_CAP` allowed.
+    """
+    f, df, inv_dx = learn_tables()
+    d = np.asarray(deviance, dtype=float)
+    if d.shape != (len(LEARN_GRID),):
+        raise ValueError(f"{d.size} learned weights for a grid of {len(LEARN_GRID)} shapes")
+    x = np.arange(f.shape[1]) / inv_dx
+    pen = 0.5 * d / max(float(temper), 1.0) + _peak_penalty(f, x)
+    pen = pen - np.min(pen[np.isfinite(pen)])
+    ids = np.flatnonzero(np.isfinite(pen) & (pen <= LEARNED_CAP)).astype(np.int64)
+    return ShapeFamily(LEARN_GRID, f, df, inv_dx, np.where(np.isfinite(pen), pen, 1e9), ids,
+                       learned=True)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -183,8 +303,21 @@ def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int
     return float("inf") if step > 0 else float(x[0])
 
 
-def _rho(t0: np.ndarray, tau_s: float) -> np.ndarray:
-    """Correlation of the slow heading error between consecutive bins (0 after the last)."""
+def slow_correlation(t0: np.ndarray, tau_s: float) -> np.ndarray:
+    """Correlation of the slow heading error between consecutive bins (0 after the last).
+
+    Parameters
+    ----------
+    t0 : numpy.ndarray
+        The bins' mid times [s].
+    tau_s : float
+        The slow error's correlation time [s].
+
+    Returns
+    -------
+    numpy.ndarray
+        exp(−Δt/τ) to the next bin, 0 after the last [-].
+    """
     rho = np.zeros(t0.size)
     if t0.size > 1:
         rho[:-1] = np.exp(-np.maximum(np.diff(t0), 1e-3) / tau_s)
@@ -241,7 +374,7 @@ def profile_mu(
     bins: np.ndarray,
     t0: np.ndarray,
     pri: Priors,
-    shapes: np.ndarray,
+    shapes: np.ndarray | ShapeFamily,
     p0: float,
     o: WindowOptions,
     grip_lower: float,
@@ -258,8 +391,9 @@ def profile_mu(
         Their mid times [s] (the slow slip offset's correlation).
     pri : Priors
         The nuisances' priors (:func:`axle_priors`).
-    shapes : numpy.ndarray
-        Shapes of the family to profile over (:func:`shape_ids`).
+    shapes : numpy.ndarray or ShapeFamily
+        Shapes of the prior family to profile over (:func:`shape_ids`), or a family with its
+        own tables and weights (:func:`learned_family`).
     p0 : float
         Local load-sensitivity exponent of the declared stiffness [-].
     o : WindowOptions
@@ -282,9 +416,14 @@ def profile_mu(
         it did to the range — :data:`UNCHANGED`, the ends it moved, or why it was not used;
         empty without).
     """
-    f, df, inv_dx = curve_lookup()
+    if isinstance(shapes, ShapeFamily):
+        f, df, inv_dx, members = shapes.f, shapes.df, shapes.inv_dx, shapes.shapes
+        ids, weight = shapes.ids, shapes.penalty
+    else:
+        f, df, inv_dx = curve_lookup()
+        members, ids, weight = SHAPE_FAMILY, shapes, _shape_penalty()
+    pen = np.ascontiguousarray(weight[ids])
     fine = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
-    pen = np.ascontiguousarray(_shape_penalty()[shapes])
     b = np.ascontiguousarray(bins)
     n, m = b.shape[0], fine.size
     nll_f, th_f, dl_f = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
@@ -292,8 +431,9 @@ def profile_mu(
     # every μ of the grid, warm-started upwards (a coarser pass lets the nuisances fall behind:
     # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
     probe = float(np.clip(1.1 * b[:, 9].max(), fine[0], fine[-1])) if n else -1.0
+    rho = slow_correlation(t0, pri.tau_s)
     K.profile_grid(
-        fine, shapes, pen, b, _rho(t0, pri.tau_s), pri.mean, pri.sd, pri.delta, f, df, inv_dx,
+        fine, ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx,
         p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe, K.STOP_ABOVE,
     )  # fmt: skip
     level = _chi2_ppf(float(o.point_level), 1)
@@ -438,7 +578,7 @@ def profile_mu(
         "heading_bias_deg": float(np.rad2deg(np.mean(dl[im]))),
         "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
         "load_transfer_error": float(th[im, 2]),
-        "shape": SHAPE_FAMILY[int(shp[im])].name,
+        "shape": members[int(shp[im])].name,
         "limited_by": limited,
         "torque_note": torque_note,
     }
