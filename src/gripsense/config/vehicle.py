@@ -120,8 +120,10 @@ class Tyre:
     load_sensitivity_uncertainty : float
         1σ of p [-] (default 0.5).
     shape : str
-        What is known of the curve's shape: ``any`` (brush or Magic Formula, the default),
-        ``brush`` or ``magic-formula`` (``docs/physics.md`` §14).
+        What is known of the curve's shape: ``any`` (the family made from real tyres and both
+        brush shapes, the default), ``brush``, ``magic-formula`` or a tyre category —
+        ``passenger``, ``suv``, ``performance``, ``racing``, ``truck`` (``docs/physics.md``
+        §14.3).
     relaxation_length_m : float
         Relaxation length of the lateral force [m] (force lags slip by σ/U).
     camber_thrust_ratio : float
