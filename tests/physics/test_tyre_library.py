@@ -96,7 +96,7 @@ def test_every_files_curves_lie_within_the_stated_margin_of_the_family():
     assert {s.kind for s in SHAPE_FAMILY} == {"brush-2", "brush-4", "magic-formula"}
 
 
-@pytest.mark.slow  # ~1–3 min: every curve fitted and the cover solved again
+@pytest.mark.slow  # ~20 s: every curve fitted and the cover solved again
 def test_family_is_rebuilt_from_the_bundled_files():
     members, categories = L.build_family()
     assert members == L.FAMILY_MEMBERS
