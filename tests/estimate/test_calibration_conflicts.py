@@ -10,14 +10,11 @@ stiffer: the same curve at 1/1.3 of the slip), never numbers the estimator produ
 from __future__ import annotations
 
 import dataclasses
-import gzip
 import re
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
 
-from gripsense.cli import app
 from gripsense.config.calibration import read_calibration
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import (
@@ -29,26 +26,11 @@ from gripsense.sim.drives import (
     user_vehicle_toml,
 )
 from gripsense.sim.vehicle import SimParams
+from tests.estimate.test_calibration import _write, invoke
 
-RUNNER = CliRunner()
 TYRE = "mf-sedan"
 RECEIVER = "white-0.3"
 STIFFER = 1.3  # the second set of tyres: 30 % stiffer, same grip
-
-
-def invoke(*args, code: int = 0) -> str:
-    r = RUNNER.invoke(app, [str(a) for a in args])
-    assert r.exit_code == code, (r.output, r.exception)
-    return r.output
-
-
-def _write(drive, folder, name):
-    log = folder / f"{name}.nmea.gz"
-    with gzip.open(log, "wt", encoding="ascii") as fh:
-        fh.write("\n".join(drive.lines) + "\n")
-    steer = folder / f"{name}_steer.csv"
-    drive.steer.to_csv(steer, index=False)
-    return log, steer
 
 
 def _everyday(folder, name, seed, stiffness=1.0):

@@ -13,7 +13,7 @@ import pytest
 from gripsense import FrictionRun
 from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.estimate.noise import NoiseModel
-from gripsense.estimate.profile import learned_family, prior_family, tyre_family
+from gripsense.estimate.profile import learned_family, shape_ids, tyre_family
 from gripsense.estimate.shape_learning import combine_evidence, shape_evidence
 from gripsense.io import read_nmea
 from gripsense.io.steer import steer_at
@@ -74,8 +74,9 @@ def _truth_shape() -> tuple[float, float]:
 
 
 def test_without_learning_the_tyre_keeps_its_prior_family():
-    assert isinstance(tyre_family(_vehicle().tyres["front"]), np.ndarray)
-    assert np.array_equal(tyre_family(_vehicle().tyres["front"]), prior_family("any").ids)
+    tyre = _vehicle().tyres["front"]
+    assert tyre.shape_evidence is None
+    assert np.array_equal(tyre_family(tyre), shape_ids(tyre.shape))
 
 
 def test_combined_evidence_adds_drives_and_is_zero_at_its_best():

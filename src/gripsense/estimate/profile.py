@@ -39,7 +39,6 @@ __all__ = [
     "learned_family",
     "merge_bins",
     "mu_grid",
-    "prior_family",
     "profile_mu",
     "shape_ids",
     "slow_correlation",
@@ -118,25 +117,6 @@ class ShapeFamily:
     penalty: np.ndarray
     ids: np.ndarray
     learned: bool = False
-
-
-@cache
-def prior_family(prior: str = "any") -> ShapeFamily:
-    """The prior family's shapes that a tyre's ``shape`` allows, with the peak position's prior
-    weight (:func:`shape_ids`, :data:`SHAPE_PRIOR_PEAK`).
-
-    Parameters
-    ----------
-    prior : str
-        The tyre description's shape prior.
-
-    Returns
-    -------
-    ShapeFamily
-        Tables of :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY`.
-    """
-    f, df, inv_dx = curve_lookup()
-    return ShapeFamily(SHAPE_FAMILY, f, df, inv_dx, _shape_penalty(), shape_ids(prior))
 
 
 def _peak_penalty(f: np.ndarray, x: np.ndarray) -> np.ndarray:

@@ -524,13 +524,7 @@ def check_output_file(
                 f"{path}: holds a gripsense {owner} output, not {kind}; give another name"
             )
         state = file_sha256(path)
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise InputError(f"{path}: {parent} is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"{path}: permission denied ({parent} is not writable)")
+    writable_parent(path)
     _CLAIMS[_key(path)] = _Claim(kind, overwrite, state)
 
 
