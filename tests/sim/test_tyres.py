@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from gripsense.config import Vehicle
+from gripsense.config import RECEIVERS, Vehicle
 from gripsense.config.tyre_files import load_mf_tyre, load_tyre_model
 from gripsense.constants import G0
 from gripsense.data import sample_path
@@ -107,9 +107,21 @@ laps = 0.5
     )
     cases = run_scenario(sc, tmp_path / "out")
     assert list(cases["receiver"]) == ["v100", "v100", "rtk", "rtk"]
-    assert set(cases["vehicle_file"]) == {"vehicle.toml", "vehicle_Sedan_Pac02Tire.toml"}
-    v = Vehicle.from_toml(tmp_path / "out" / "vehicle_Sedan_Pac02Tire.toml")
+    # issue 45: the vehicle file of each case names the receiver that recorded it (RTK logs
+    # were read as v100): one file per tyre and receiver, each with its [receiver]
+    assert set(cases["vehicle_file"]) == {
+        "vehicle_v100.toml",
+        "vehicle_rtk.toml",
+        "vehicle_Sedan_Pac02Tire_v100.toml",
+        "vehicle_Sedan_Pac02Tire_rtk.toml",
+    }
+    for c in cases.to_dict("records"):
+        v = Vehicle.from_toml(tmp_path / "out" / c["vehicle_file"])
+        assert v.receiver is not None and v.receiver.name == c["receiver"]
+        assert v.receiver == RECEIVERS[c["receiver"]]
+    v = Vehicle.from_toml(tmp_path / "out" / "vehicle_Sedan_Pac02Tire_rtk.toml")
     assert v.tyres["rear"].cornering_stiffness_N_per_rad is not None
+    assert Vehicle.from_toml(tmp_path / "out" / "vehicle.toml").receiver is None  # the truth
     steer = pd.read_csv(tmp_path / "out" / cases["steer"].iloc[0])
     truth = pd.read_parquet(tmp_path / "out" / cases["truth"].iloc[0])
     assert {"t_s", "road_wheel_deg"} <= set(steer.columns)

@@ -36,6 +36,7 @@ def simulate(
 ) -> None:
     """Simulate drives with known friction and emulate the receiver (logs, truth, vehicle)."""
     from rich.progress import Progress
+    from rich.text import Text
 
     from gripsense.sim.scenario import run_scenario
 
@@ -54,6 +55,7 @@ def simulate(
                 command=command_line(),
                 receiver=receiver,
                 fmt=fmt,
+                warn=lambda msg: prog.console.print(Text(f"warning: {msg}"), soft_wrap=True),
             )
     except GripsenseError as e:
         fail(e)

@@ -50,9 +50,70 @@ def parse_range(text: str, what: str) -> np.ndarray:
         ) from None
 
 
+def resolve_model(model: Path) -> Path:
+    """A tyre model file: the path given, else a bundled tyre of that name (the names
+    ``gripsense simulate`` takes, e.g. ``PacejkaBook_Defaults.tir``).
+
+    Parameters
+    ----------
+    model : Path
+        Path or bundled file name.
+
+    Returns
+    -------
+    Path
+        The file.
+    """
+    if model.exists() or model.parent != Path("."):
+        return model
+    from gripsense.data import path as data_path
+
+    bundled = data_path("tyres")
+    if (bundled / model.name).is_file():
+        return bundled / model.name
+    names = sorted(p.name for p in bundled.iterdir() if p.suffix.lower() in (".tir", ".json"))
+    raise InputError(
+        f"{model}: no such file, nor a bundled tyre; bundled: {', '.join(names)} (or give a path)"
+    )
+
+
+def _clipped(tm, grids: dict[str, np.ndarray]) -> str | None:
+    """One line saying which grid values lie outside the file's limits (clipped to them)."""
+    import numpy as np
+
+    units = {
+        "fz": ("Fz", 1.0, " N", "{:.0f}"),
+        "alpha": ("α", 180 / np.pi, "°", "{:.1f}"),
+        "gamma": ("γ", 180 / np.pi, "°", "{:.1f}"),
+        "kappa": ("κ", 1.0, "", "{:.2f}"),
+    }
+    parts, n_out = [], np.zeros(next(iter(grids.values())).shape, bool)
+    for key, (lo, hi) in tm.limits.items():
+        v = grids[key]
+        out = (v < lo) | (v > hi)
+        if out.any():
+            sym, scale, unit, fmt = units[key]
+            rng = "…".join(fmt.format(x * scale) if np.isfinite(x) else "∞" for x in (lo, hi))
+            parts.append(f"{sym} {rng}{unit} ({int(np.unique(v[out]).size)} value(s) beyond)")
+            n_out |= out
+    if not parts:
+        return None
+    return (
+        f"note: {n_out.sum()} of {n_out.size} points lie outside the file's limits "
+        f"({'; '.join(parts)}) and are evaluated at the limit, as MFeval does; "
+        "--no-limits evaluates the formula beyond them"
+    )
+
+
 @tyre_app.command("eval")
 def tyre_eval(
-    model: Annotated[Path, typer.Argument(help=".tir (MF 5.2/6.1/6.2), PAC89 .json or fit .json")],
+    model: Annotated[
+        Path,
+        typer.Argument(
+            help=".tir (MF 5.2/6.1/6.2), PAC89 .json or fit .json; or a bundled tyre's name "
+            "(PacejkaBook_Defaults.tir …)"
+        ),
+    ],
     fz: Annotated[
         str, typer.Option("--fz", help="Load(s) [N]: 4000 or 2000,4000 or 2000:6000:1000")
     ],
@@ -65,12 +126,28 @@ def tyre_eval(
         str | None, typer.Option(help="Mounting side left/right (mirrors by TYRESIDE)")
     ] = None,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Write CSV here")] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="PNG of Fy (and Fx) against slip angle per load/camber")
+    ] = None,
+    limits: Annotated[
+        bool,
+        typer.Option(
+            "--limits/--no-limits",
+            help="Clip load, slip and camber to the .tir file's limits (FZMAX, ALPMIN/ALPMAX, "
+            "CAMMIN/CAMMAX, KPUMIN/KPUMAX) as MFeval does, saying so when a value lies "
+            "outside; --no-limits evaluates the formula beyond them",
+        ),
+    ] = True,
     lenient: Annotated[
         bool, typer.Option(help="Read unknown .tir keys with a warning (vendor files)")
     ] = False,
     overwrite: Overwrite = False,
 ) -> None:
-    """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI)."""
+    """Evaluate a tyre model on a grid of load, slip angle, camber and slip ratio (ISO-W, SI).
+
+    The model's version is the file's (a .tir's FITTYP: 61 is MF 6.1). A value outside a
+    .tir file's limits is clipped to them as MFeval does, with one line saying so.
+    """
     import numpy as np
     import pandas as pd
     from rich.table import Table
@@ -80,10 +157,15 @@ def tyre_eval(
     from gripsense.io.output_folder import check_output_file, write_file_atomic
 
     try:
+        model = resolve_model(model)
         if output is not None:
             check_output_file(
                 output, "tyre-eval", overwrite=overwrite, inputs=[model], header=EVAL_COLUMNS
             )
+        if plot is not None:
+            if plot.suffix.lower() != ".png":
+                raise InputError(f"--plot {plot}: give a .png file name")
+            check_output_file(plot, "tyre-eval", overwrite=overwrite, inputs=[model])
         tm = load_tyre_model(model, lenient=lenient)
         for w in tm.warnings:
             say(f"warning: {w}")
@@ -96,7 +178,14 @@ def tyre_eval(
             indexing="ij",
         )
         fzv, kv, gv, av = (x.ravel() for x in grids)
-        kwargs = {"side": side} if side else {}
+        kwargs: dict = {"side": side} if side else {}
+        if tm.limits:
+            kwargs["limits"] = limits
+            note = _clipped(
+                tm, {"fz": fzv, "kappa": kv, "gamma": np.deg2rad(gv), "alpha": np.deg2rad(av)}
+            )
+            if note and limits:
+                say(note)
         fx, fy = f(fzv, kv, np.deg2rad(av), np.deg2rad(gv), **kwargs)
     except (GripsenseError, ValueError) as e:
         fail(e)
@@ -110,6 +199,16 @@ def tyre_eval(
             "fy_N": fy,
         }
     )
+    if plot is not None:
+        from gripsense.report.figures import save_png
+        from gripsense.report.tyre_figures import eval_figure
+
+        fig = eval_figure(out, title=desc + ("" if limits else ", no limits"))
+        try:
+            write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-eval", dpi=110))
+        except GripsenseError as e:
+            fail(e)
+        say(f"wrote {plot}")
     if output is not None:
 
         def write(tmp):
@@ -122,6 +221,8 @@ def tyre_eval(
         except GripsenseError as e:
             fail(e)
         say(f"{desc}: {len(out)} points written to {output}")
+        return
+    if plot is not None:
         return
     table = Table(title=Text(desc))
     for c in out.columns:
@@ -175,14 +276,26 @@ def tyre_fit(
     compare: Annotated[
         bool, typer.Option(help="Also fit without constraints and show both")
     ] = False,
+    max_iter: Annotated[
+        int, typer.Option("--max-iter", help="Iterations of the solver at most", min=1)
+    ] = 200,
+    force: Annotated[
+        bool,
+        typer.Option(
+            "--force",
+            help="Write and plot a fit that did not converge (it is refused otherwise, exit 2)",
+        ),
+    ] = False,
     overwrite: Overwrite = False,
 ) -> None:
     """Fit Magic Formula lateral coefficients in one step (Toyota CRDL R&D Review 34(3),
     1999), with constraints.
-    """
-    import pandas as pd
 
+    A fit that stops before converging (the iteration limit, a constraint it cannot meet) is
+    not written: one line says why and how to go on (--max-iter, --force).
+    """
     from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
+    from gripsense.identify.tyre_fit.from_wheels import wheel_fit_points
     from gripsense.io.output_folder import check_output_file, write_file_atomic
     from gripsense.io.table import describe_columns
     from gripsense.io.tyre_table import read_tyre_table
@@ -209,7 +322,7 @@ def tyre_fit(
             say(f"{data.name}: columns {describe_columns(info['columns'])}")
         if loss is None:
             loss = "soft_l1" if info["source"] == "wheels" else "linear"
-        kw = {"constraints": constraints, "loss": loss}
+        kw = {"constraints": constraints, "loss": loss, "max_iter": max_iter}
         if model == "pac94":
             kw["variant"] = variant
         elif fnomin is not None:
@@ -223,6 +336,7 @@ def tyre_fit(
             )
 
         fit = run(kw)
+        unconverged = _check_converged(fit, data, force, written=output or plot)
         _check_usable(fit, data)
         free_fit = run({**kw, "constraints": "none"}) if compare else None
         if info["source"] == "wheels":
@@ -236,17 +350,9 @@ def tyre_fit(
         if plot is not None:
             from gripsense.report.tyre_figures import fit_figure
 
-            if info.get("rows_used") and "alpha_rad" not in table.columns:
-                pts = pd.DataFrame(
-                    {
-                        "alpha_rad": table["slip_angle_rad"],
-                        "gamma_rad": 0.0,
-                        "fz_N": table["load_N"],
-                        "fy_N": table["force_N"],
-                    }
-                ).dropna()
-            else:
-                pts = table
+            # the points the fit used (a wheels table's other wheels and unsteady rows are
+            # not: their loads lie outside the range the fit is valid for)
+            pts = wheel_fit_points(table, wheel) if "alpha_rad" not in table.columns else table
             fig = fit_figure(
                 fit,
                 pts,
@@ -257,6 +363,8 @@ def tyre_fit(
     except GripsenseError as e:
         fail(e)
     _print_fit(fit, info, data, free_fit)
+    if unconverged:
+        say(f"warning: {unconverged}; written anyway (--force)")
     if output is not None:
         say(f"wrote {output}")
     if plot is not None:
@@ -301,6 +409,25 @@ def _check_usable(fit, data: Path) -> None:
             "angles on both sides, one axle of a wheels table (--wheel front|rear), or fewer "
             "free coefficients (--constraints all)"
         )
+
+
+def _check_converged(fit, data: Path, force: bool, written) -> str | None:
+    """Refuse a fit that did not converge (unless *force*): its coefficients are where the
+    solver stopped, not a least-squares answer. Returns the reason when forced.
+    """
+    if fit.success:
+        return None
+    why = (
+        f"{data.name}: the fit did not converge ({fit.message}; {fit.nfev} evaluations, rms "
+        f"residual {fit.residual_rms_N:.0f} N)"
+    )
+    if force:
+        return why
+    raise InputError(
+        f"{why}; {'not written' if written else 'its coefficients are not an answer'}: give "
+        "more iterations (--max-iter 1000), fewer free coefficients (--constraints all), or "
+        "--force to keep it anyway"
+    )
 
 
 def _print_fit(fit, info, data, free_fit) -> None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +53,11 @@ class TyreModel:
     aligning_iso : callable or None
         ``aligning_iso(fz, alpha, gamma) -> mz``: the aligning moment at zero slip ratio [N m]
         in ISO-W axes (None: the model has no aligning moment).
+    limits : dict
+        The file's validity limits that ``forces`` clips its inputs to, as MFeval does:
+        ``"fz"`` [N], ``"alpha"`` [rad], ``"gamma"`` [rad], ``"kappa"`` [-] → (min, max) (±inf
+        where the file gives none; empty: the model clips nothing). ``forces(..., limits=False)``
+        evaluates the formula beyond them.
     """
 
     forces: Callable
@@ -61,6 +66,7 @@ class TyreModel:
     fy_iso: Callable | None = None
     fz_nominal: float = 4000.0
     aligning_iso: Callable | None = None
+    limits: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 def load_mf_tyre(source: str | Path | TirFile, *, lenient: bool = False) -> MFTyre:
@@ -86,9 +92,18 @@ def _tir(path: Path, lenient: bool) -> TyreModel:
     tir = read_tir(path, lenient=lenient)
     tyre = load_mf_tyre(tir)
 
-    def forces(fz, kappa, alpha, gamma, side=None):
-        r = tyre.forces(fz, kappa, alpha, gamma, side=side)
+    def forces(fz, kappa, alpha, gamma, side=None, limits=True):
+        r = tyre.forces(fz, kappa, alpha, gamma, side=side, limits=limits)
         return r.fx, r.fy
+
+    par = tyre.params
+    inf = float("inf")
+    bounds = {
+        "fz": (0.0, float(par.get("FZMAX", inf))),
+        "alpha": (float(par.get("ALPMIN", -inf)), float(par.get("ALPMAX", inf))),
+        "gamma": (float(par.get("CAMMIN", -inf)), float(par.get("CAMMAX", inf))),
+        "kappa": (float(par.get("KPUMIN", -inf)), float(par.get("KPUMAX", inf))),
+    }
 
     def fy_iso(fz, alpha, gamma):
         return tyre.forces(fz, np.zeros_like(fz), alpha, gamma).fy
@@ -103,6 +118,7 @@ def _tir(path: Path, lenient: bool) -> TyreModel:
         fy_iso=fy_iso,
         fz_nominal=float(tyre.params["FNOMIN"]),
         aligning_iso=aligning_iso,
+        limits=bounds,
     )
 
 

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-__all__ = ["fit_figure"]
+__all__ = ["eval_figure", "fit_figure"]
 
 
 def fit_figure(
@@ -115,4 +115,50 @@ def fit_figure(
         + f"{fit.model}, constraints {fit.constraints}; "
         + ("physically plausible" if not bad else "UNPHYSICAL: " + ", ".join(bad))
     )
+    return fig
+
+
+def eval_figure(table: pd.DataFrame, *, title: str = "", max_curves: int = 12) -> Figure:
+    """Fy (and Fx where the model gives it) against slip angle, one curve per load, camber and
+    slip ratio of a ``gripsense tyre eval`` grid.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The grid as ``tyre eval -o`` writes it: ``fz_N`` [N], ``kappa`` [-], ``gamma_deg``
+        [deg], ``alpha_deg`` [deg], ``fx_N`` [N], ``fy_N`` [N].
+    title : str
+        Figure title (the model's description).
+    max_curves : int
+        Curves drawn at most (the first by load, camber, slip ratio); the legend says how many
+        were left out.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    has_fx = bool(np.isfinite(table["fx_N"]).any())
+    fig, axes = plt.subplots(
+        1, 2 if has_fx else 1, figsize=(12 if has_fx else 7, 4.6), constrained_layout=True,
+        squeeze=False,
+    )  # fmt: skip
+    groups = list(table.groupby(["fz_N", "gamma_deg", "kappa"], sort=True))
+    for i, ((fz, g, k), t) in enumerate(groups[:max_curves]):
+        t = t.sort_values("alpha_deg")
+        label = f"Fz {fz / 1000:g} kN, γ {g:+g}°" + (f", κ {k:g}" if k else "")
+        style = "-" if len(t) > 1 else "o"
+        axes[0, 0].plot(t["alpha_deg"], t["fy_N"], style, color=f"C{i % 10}", label=label)
+        if has_fx:
+            axes[0, 1].plot(t["alpha_deg"], t["fx_N"], style, color=f"C{i % 10}", label=label)
+    for ax, what in zip(
+        axes[0], ("lateral force Fy [N]", "longitudinal force Fx [N]"), strict=False
+    ):
+        ax.set(xlabel="slip angle α [deg]", ylabel=what)
+        ax.axhline(0, color="k", lw=0.6)
+        ax.grid(alpha=0.3)
+    more = len(groups) - max_curves
+    axes[0, 0].legend(
+        fontsize=8, title=f"{more} more curve(s) not drawn" if more > 0 else None, title_fontsize=8
+    )
+    fig.suptitle(title)
     return fig

@@ -223,13 +223,21 @@ def everyday(
     v.append(0.0)
     ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     return Maneuver(
-        f"everyday v={speed_mps * 3.6:.0f}km/h",
+        f"everyday v={speed_mps * 3.6:.0f}km/h seed={seed} {curves}x{hold_s:g}s "
+        f"≤{max_steer_deg:.1f}deg",
         ctrl,
         t[-1],
         {"u_mps": speed_mps},
         (np.array(t), np.array(v)),
         lead_s,
-        {"maneuver": "everyday", "speed_mps": speed_mps, "seed": seed},
+        {
+            "maneuver": "everyday",
+            "speed_mps": speed_mps,
+            "seed": seed,
+            "curves": curves,
+            "hold_s": hold_s,
+            "max_steer_deg": max_steer_deg,
+        },
     )
 
 
@@ -394,20 +402,44 @@ def ramp_steer(
     max_steer_rad: float = np.deg2rad(25.0),
     hold_s: float = 3.0,
 ) -> Maneuver:
-    """Straight, then the steering angle ramps up slowly at constant speed: to the limit."""
+    """ISO 4138 ramp steer: straight for *hold_s*, then the road-wheel angle ramps up slowly at
+    constant speed to *max_steer_rad* — through the linear range to the limit.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    rate_rad_s : float
+        Road-wheel steering rate [rad/s].
+    max_steer_rad : float
+        Road-wheel angle at the end [rad].
+    hold_s : float
+        Straight before the ramp (heading calibration) [s].
+
+    Returns
+    -------
+    Maneuver
+        The manoeuvre.
+    """
     t_end = hold_s + max_steer_rad / rate_rad_s
     table = (np.array([0.0, hold_s, t_end]), np.array([0.0, 0.0, max_steer_rad]))
     ctrl = _ctrl(
         C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps, C_FXMAX=8000.0
     )
     return Maneuver(
-        f"ramp steer v={speed_mps * 3.6:.0f}km/h",
+        f"ramp steer v={speed_mps * 3.6:.0f}km/h {np.rad2deg(rate_rad_s):.1f}deg/s to "
+        f"{np.rad2deg(max_steer_rad):.1f}deg",
         ctrl,
         t_end,
         {"u_mps": speed_mps},
         table,
         hold_s,
-        {"maneuver": "ramp_steer", "speed_mps": speed_mps},
+        {
+            "maneuver": "ramp_steer",
+            "speed_mps": speed_mps,
+            "rate_rad_s": rate_rad_s,
+            "max_steer_rad": max_steer_rad,
+        },
     )
 
 
@@ -418,18 +450,42 @@ def slalom(
     period_s: float = 3.0,
     cycles: int = 5,
 ) -> Maneuver:
-    """Sinusoidal steering at constant speed."""
+    """Sinusoidal steering at constant speed.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    amplitude_rad : float
+        Road-wheel angle amplitude [rad].
+    period_s : float
+        Period of the sine [s].
+    cycles : int
+        Number of periods.
+
+    Returns
+    -------
+    Maneuver
+        The manoeuvre.
+    """
     t = np.linspace(0.0, cycles * period_s, 50 * cycles + 1)
     table = (t, amplitude_rad * np.sin(2 * np.pi * t / period_s))
     ctrl = _ctrl(C_STEER_MODE=C.STEER_TABLE, C_SPEED_MODE=C.SPEED_HOLD, C_V=speed_mps)
     return Maneuver(
-        f"slalom v={speed_mps * 3.6:.0f}km/h",
+        f"slalom v={speed_mps * 3.6:.0f}km/h {np.rad2deg(amplitude_rad):.1f}deg T={period_s:g}s "
+        f"x{cycles}",
         ctrl,
         cycles * period_s,
         {"u_mps": speed_mps},
         table,
         0.0,
-        {"maneuver": "slalom"},
+        {
+            "maneuver": "slalom",
+            "speed_mps": speed_mps,
+            "amplitude_rad": amplitude_rad,
+            "period_s": period_s,
+            "cycles": cycles,
+        },
     )
 
 

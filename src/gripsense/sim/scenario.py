@@ -35,7 +35,8 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
 
     [[case]]                        # one drive ...
     maneuver = "circle"             # circle | constant_radius | fixed_steer | ramp_steer |
-                                    # sine_with_dwell | slalom | braking
+                                    # sine_with_dwell | everyday | slalom | braking (their
+                                    # keys: MANEUVER_KEYS, docs/simulation.md)
     speed_kmh = 30
     radius_m = 25
     laps = 2
@@ -53,9 +54,12 @@ Layout (see ``gripsense/data/demo_scenario.toml``)::
 Output folder: ``vehicle.toml`` (the vehicle used), for cases with tyres from files
 ``vehicle_<tyre>.toml`` (the vehicle file a user would write for them: the tyre's cornering
 stiffness at the static load instead of the brush parameters, :func:`gripsense.sim.drives.
-user_vehicle_toml`), ``cases.csv`` (one row per case with its parameters, road μ, receiver,
-the vehicle file to estimate with and file names: ``log``, and ``columns`` when reading it
-needs a channel mapping), and per case the emulated receiver's log: ``<id>.nmea.gz`` (NMEA),
+user_vehicle_toml`); every vehicle file a case names carries the ``[receiver]`` that recorded
+it (several receivers in one scenario: one file per receiver, ``vehicle_<receiver>.toml``,
+``vehicle_<tyre>_<receiver>.toml``); ``cases.csv`` (one row per case with its parameters, road
+μ, receiver, the vehicle file to estimate with, a ``warning`` when the case cannot be driven as
+asked, and file names: ``log``, and ``columns`` when reading it needs a channel mapping), and
+per case the emulated receiver's log: ``<id>.nmea.gz`` (NMEA),
 or with ``--format`` ``<id>.vbo`` (VBOX, with the steering channel inside), ``<id>.ubx`` (UBX
 frames interleaved with the NMEA sentences) or ``<id>.mf4`` (MDF4, with the steering channel),
 ``<id>_truth.parquet`` (per epoch and wheel: true μ — the wheel's peak friction at its load and
@@ -66,8 +70,10 @@ inclination —, road μ, inclination, slip angle, load, lateral force), with ``
 from __future__ import annotations
 
 import itertools
-import shutil
+import json
+import re
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -94,7 +100,7 @@ from gripsense.sim.sensors import emulate_accelerometer, emulate_steering
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
 from gripsense.sim.vehicle import SimParams
 
-__all__ = ["run_scenario"]
+__all__ = ["MANEUVER_KEYS", "demand_warning", "run_scenario"]
 
 SCENARIO_TABLES = (*(t.name for t in TABLES), "case", "grid")
 CASE_KEYS = ("maneuver", "mu", "name", "tyre", "receiver")  # besides the manoeuvre's own
@@ -123,6 +129,18 @@ _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
             "speed_kmh": ("speed_mps", 1 / 3.6),
             "rate_deg_s": ("rate_rad_s", np.pi / 180),
             "max_steer_deg": ("max_steer_rad", np.pi / 180),
+            "hold_s": ("hold_s", 1.0),
+        },
+    ),
+    "everyday": (
+        M.everyday,
+        {
+            "speed_kmh": ("speed_mps", 1 / 3.6),
+            "seed": ("seed", 1.0),
+            "curves": ("curves", 1.0),
+            "hold_s": ("hold_s", 1.0),
+            "max_steer_deg": ("max_steer_deg", 1.0),
+            "lead_s": ("lead_s", 1.0),
         },
     ),
     "constant_radius": (
@@ -154,10 +172,64 @@ _ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
     ),
     "braking": (M.braking, {"speed_kmh": ("speed_mps", 1 / 3.6), "cruise_s": ("cruise_s", 1.0)}),
 }
+"""Manoeuvre → (builder, {scenario key: (builder argument, scale)}): the keys a ``[[case]]`` or
+``[[grid]]`` of that manoeuvre takes (docs/simulation.md lists them)."""
+
+_COUNTS = ("cycles", "seed", "curves")  # builder arguments that are whole numbers
+
+MANEUVER_KEYS = {kind: tuple(keys) for kind, (_, keys) in _ARGS.items()}
+"""Manoeuvre → the scenario keys it takes (besides ``maneuver``, ``mu``, ``name``, ``tyre``,
+``receiver``)."""
 
 
 def _fail(src: str, where: str, msg: str):
     raise InputError(f"{src}: {where}: {msg}")
+
+
+_POSITIVE = (
+    "speed_kmh", "speed_start_kmh", "speed_end_kmh", "radius_m", "laps", "period_s",
+    "frequency_hz", "rate_deg_s", "accel_mps2", "max_steer_deg",
+)  # fmt: skip
+
+DEMAND_LIMIT = 1.25
+"""A circle asking for more lateral acceleration than this times μ g (the most grip anywhere on
+the road) is beyond any tyre: the scenario is simulated with a warning."""
+
+
+def demand_warning(m: M.Maneuver, mu_max: float) -> str | None:
+    """What a steady-circle manoeuvre asks of the road, when it is far beyond what it gives.
+
+    A circle of radius R at speed v needs the lateral acceleration a_y = v²/R (thesis eq. 4.5,
+    docs/physics.md §4.4); no tyre gives much more than μ g (§14), so a demand above
+    :data:`DEMAND_LIMIT` μ g cannot be driven: the car runs wide.
+
+    Parameters
+    ----------
+    m : Maneuver
+        The manoeuvre (its ``info``: ``circle`` or ``constant_radius``).
+    mu_max : float
+        The largest road μ of the drive (outside and inside patches) [-].
+
+    Returns
+    -------
+    str or None
+        One sentence, or None when the demand is within reach (or not a circle).
+    """
+    info = m.info
+    if info.get("maneuver") == "circle":
+        v = float(info["speed_mps"])
+    elif info.get("maneuver") == "constant_radius":
+        v = float(info["speed_end_mps"])
+    else:
+        return None
+    a_g = v**2 / float(info["radius_m"]) / 9.80665
+    if a_g <= DEMAND_LIMIT * mu_max:
+        return None
+    return (
+        f"{m.name} asks for a lateral acceleration v²/R = {a_g:.2g} g on a road of μ ≤ "
+        f"{mu_max:g}: far beyond the limit (about μ g), the car cannot follow the circle and "
+        "runs wide — simulated as asked, but it is no steady circle"
+    )
 
 
 def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver:
@@ -173,8 +245,14 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
             _fail(src, where, f"unknown key {k!r} for {kind}; known: {sorted(keys)}")
         if isinstance(v, bool) or not isinstance(v, int | float):
             _fail(src, where, f"{k} = {v!r} must be a number")
+        if k in _POSITIVE and not v > 0:
+            _fail(src, where, f"{k} = {v!r} must be > 0")
         arg, scale = keys[k]
-        kw[arg] = int(v) if arg == "cycles" else v * scale
+        if arg in _COUNTS and (float(v) != int(v) or v < (0 if arg == "seed" else 1)):
+            _fail(
+                src, where, f"{k} = {v!r} must be a whole number{'' if arg == 'seed' else ' ≥ 1'}"
+            )
+        kw[arg] = int(v) if arg in _COUNTS else v * scale
     if kind in ("circle", "constant_radius"):
         kw["params"] = params
     try:
@@ -193,6 +271,7 @@ def run_scenario(
     command: str = "",
     receiver: str | Path | None = None,
     fmt: str = "nmea",
+    warn: Callable[[str], None] | None = None,
 ) -> pd.DataFrame:
     """Simulate every case of a scenario file and write the outputs (see module docs).
 
@@ -216,6 +295,10 @@ def run_scenario(
     fmt : {"nmea", "vbo", "ubx", "mf4"}
         Format of the emulated logs (``gripsense simulate --format``;
         :func:`gripsense.io.log.write_log`).
+    warn : callable, optional
+        Called with one sentence per case that does not simulate what it says (a circle far
+        beyond the road's grip, a diverged integration); the sentence is also the case's
+        ``warning`` in ``cases.csv``. Default: :func:`warnings.warn` (``UserWarning``).
 
     Returns
     -------
@@ -298,13 +381,66 @@ def run_scenario(
         if "receiver" not in spec and receiver is None:
             noise = CompassNoise(**{**noise.__dict__, **over})
         setups.append((params, _maneuver(spec, src, where, params), noise, rec))
+    if warn is None:
+
+        def warn(msg: str) -> None:
+            warnings.warn(msg, UserWarning, stacklevel=3)
+
+    mu_max = max([mu for _, mu in specs] + [pt[4] for pt in patches])
+    receivers = {str(rec) for *_, rec in setups}
     inputs = [path, vpath, *(t for t in tyre_cache if isinstance(t, Path))]
     with ResultWriter(
         outdir, "simulation", overwrite=overwrite, command=command, inputs=inputs
     ) as out:
         return _simulate_cases(
-            out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt
+            out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt,
+            warn=lambda cid, msg: warn(f"{src}: {cid}: {msg}"),
+            receiver_files={
+                r: _receiver_toml(path, r, over if r == str(default_receiver) else {})
+                for r in receivers
+            },
+            mu_max=mu_max,
+        )  # fmt: skip
+
+
+def _receiver_toml(base: Path, rec: str | Path, over: dict) -> str:
+    """The ``[receiver]`` table of the vehicle file a user of this receiver would write (empty
+    for ``none``: exact values are no receiver an estimate can be made for).
+    """
+    from gripsense.config.receiver import RECEIVER, receiver_from
+
+    if str(rec) == EXACT.name:
+        return (
+            "\n# receiver: none (the simulation's exact values); give gripsense friction "
+            "--receiver for the receiver to assume\n"
         )
+    if str(rec) not in RECEIVERS:
+        rec = Path(rec) if Path(rec).is_file() else base.parent / rec
+    r = receiver_from(rec)
+    r = type(r)(**{**r.__dict__, **{k: v for k, v in over.items() if hasattr(r, k)}})
+    lines = ["", "[receiver]  # the receiver that recorded the drives (gripsense simulate)"]
+    lines.append(f"name = {json.dumps(r.name, ensure_ascii=False)}")
+    lines += [f"{k.name} = {getattr(r, k.name)!r}" for k in RECEIVER.keys if k.kind == "number"]
+    return "\n".join(lines) + "\n"
+
+
+def _slug(rec: str | Path) -> str:
+    """A receiver's part of a file name: its class, or its file's stem."""
+    return re.sub(r"[^\w.-]+", "-", Path(str(rec)).stem if str(rec).endswith(".toml") else str(rec))
+
+
+def _without_receiver(text: str) -> str:
+    """A vehicle file's text without its ``[receiver]`` table (the simulation's receiver takes
+    its place).
+    """
+    out, skip = [], False
+    for line in text.splitlines():
+        head = line.strip()
+        if head.startswith("["):
+            skip = re.match(r"\[\s*receiver\s*[].]", head) is not None
+        if not skip:
+            out.append(line)
+    return "\n".join(out).rstrip() + "\n"
 
 
 def _compass(base: Path, rec: str | Path, src: str, where: str) -> CompassNoise:
@@ -374,9 +510,14 @@ def _with_torque(st, res, vehicle, steer: dict, seed: int):
 
 
 def _simulate_cases(
-    out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt="nmea"
-):
-    shutil.copyfile(vpath, out / "vehicle.toml")
+    out, specs, setups, vehicle, vpath, patches, rate, acc, steer, seed, progress, fmt="nmea",
+    *, warn, receiver_files, mu_max,
+):  # fmt: skip
+    # the vehicle file(s) a user would write: the truth vehicle, or for tyres from files the
+    # declared stiffness (user_vehicle_toml), each with the [receiver] that recorded its drives
+    # — one receiver: vehicle.toml / vehicle_<tyre>.toml; several: ..._<receiver>.toml each
+    truth_text = _without_receiver(vpath.read_text(encoding="utf-8"))
+    many = len(receiver_files) > 1
     antenna = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     rows = []
     user_files: dict = {}
@@ -400,15 +541,19 @@ def _simulate_cases(
             st = _with_torque(st, res, vehicle, steer, seed + 104729 + i)
         log_name = f"{cid}{SUFFIXES[fmt]}"
         log_columns = write_log(log.epochs, out / log_name, fmt, nmea_lines=log.lines, steer=st)
-        key = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
-        if key and key not in user_files:
+        tyres = tuple(sorted((a, t.name) for a, t in params.sim_tyres.items()))
+        key = (tyres, str(rec))
+        if key not in user_files:
             from gripsense.sim.drives import user_vehicle_toml
 
-            stem = "_".join(dict.fromkeys(Path(n).stem for _, n in key))
-            user_files[key] = f"vehicle_{stem}.toml"
-            (out / user_files[key]).write_text(
-                user_vehicle_toml(vehicle, params.sim_tyres), encoding="utf-8"
+            stem = "_".join(
+                [*dict.fromkeys(Path(n).stem for _, n in tyres), *([_slug(rec)] if many else [])]
             )
+            user_files[key] = f"vehicle_{stem}.toml" if stem else "vehicle.toml"
+            text = truth_text
+            if tyres:
+                text = _without_receiver(user_vehicle_toml(vehicle, params.sim_tyres))
+            (out / user_files[key]).write_text(text + receiver_files[str(rec)], encoding="utf-8")
         truth = log.truth.copy()
         truth["wheel"] = truth["wheel"].astype(str)
         truth.to_parquet(out / f"{cid}_truth.parquet", index=False)
@@ -418,7 +563,7 @@ def _simulate_cases(
             "maneuver": spec["maneuver"],
             "mu_road": mu,
             "receiver": rec,
-            "vehicle_file": user_files.get(key, "vehicle.toml"),
+            "vehicle_file": user_files[key],
             **{
                 k: (v if not isinstance(v, dict) else " / ".join(f"{a}: {t}" for a, t in v.items()))
                 for k, v in spec.items()
@@ -432,7 +577,14 @@ def _simulate_cases(
             "sim_s": float(res.body["t_s"].iloc[-1]),
             "realtime_factor": res.realtime_factor,
             "diverged": res.meta["diverged"],
+            "warning": "",
         }
+        notes = [demand_warning(m, mu_max)]
+        if res.meta["diverged"]:
+            notes.append(f"{m.name}: the integration diverged; the drive ends where it did")
+        row["warning"] = "; ".join(n for n in notes if n)
+        if row["warning"]:
+            warn(cid, row["warning"])
         if acc is not None:
             a = emulate_accelerometer(
                 res,
@@ -448,6 +600,8 @@ def _simulate_cases(
             st.to_csv(out / f"{cid}_steer.csv", index=False, float_format="%.5f")
             row["steer"] = f"{cid}_steer.csv"
         rows.append(row)
+    if "vehicle.toml" not in {f for f in user_files.values()}:
+        (out / "vehicle.toml").write_text(truth_text, encoding="utf-8")  # the vehicle used
     cases = pd.DataFrame(rows)
     cases.to_csv(out / "cases.csv", index=False)
     return cases

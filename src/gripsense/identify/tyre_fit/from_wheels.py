@@ -10,10 +10,79 @@ from gripsense.errors import InputError
 from gripsense.identify.tyre_fit.mf61_fit import fit_mf61_lateral
 from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
-__all__ = ["FITTERS", "fit_from_wheel_table"]
+__all__ = ["FITTERS", "fit_from_wheel_table", "wheel_fit_points"]
 
 FITTERS = {"pac94": fit_pac94, "mf61": fit_mf61_lateral}
 """Model name → fitter of scattered (α, γ, Fz, Fy) points."""
+
+
+def wheel_fit_points(wheels: pd.DataFrame, wheel: str | None = None) -> pd.DataFrame:
+    """The points of a per-wheel table a fit uses (:func:`fit_from_wheel_table`'s selection):
+    the rows of *wheel* that are steady, finite and loaded, as a tyre table.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        :attr:`gripsense.estimate.results.FrictionResult.wheels`.
+    wheel : str, optional
+        One wheel or an axle, as :func:`fit_from_wheel_table` takes it.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``alpha_rad`` [rad], ``gamma_rad`` (0) [rad], ``fz_N`` [N], ``fy_N`` [N].
+    """
+    t, ok, _ = _select(wheels, wheel)
+    v = t.loc[ok]
+    return pd.DataFrame(
+        {
+            "alpha_rad": v["slip_angle_rad"].to_numpy(float),
+            "gamma_rad": 0.0,
+            "fz_N": v["load_N"].to_numpy(float),
+            "fy_N": v["force_N"].to_numpy(float),
+        }
+    )
+
+
+def _select(wheels: pd.DataFrame, wheel: str | None):
+    """The rows of *wheel*, which of them a fit uses, and why the others are not used."""
+    need = ("slip_angle_rad", "load_N", "force_N")
+    missing = [c for c in need if c not in wheels.columns]
+    if missing:
+        raise InputError(
+            f"wheel table: missing column {missing[0]!r}; give the wheels table "
+            "of `gripsense friction -o DIR` (wheels.parquet)"
+        )
+    t = wheels
+    rejected: dict[str, int] = {}
+    if wheel is not None:
+        sel = t["wheel"].astype(str)
+        t = t[(sel == wheel) | sel.str.startswith(wheel + "_")]
+        if t.empty:
+            have = ", ".join(sorted(set(sel)))
+            raise InputError(f"wheel table: no rows for wheel/axle {wheel!r} (it has {have})")
+        rejected["other_wheels"] = len(wheels) - len(t)
+    elif "wheel" in t.columns:
+        axles = sorted({w.split("_")[0] for w in t["wheel"].astype(str)})
+        if len(axles) > 1:
+            raise InputError(
+                f"wheel table: it holds the {' and '.join(axles)} wheels — different tyres and "
+                "different slip errors, not one curve; give --wheel front or --wheel rear "
+                "(or one wheel, e.g. --wheel rear_left)"
+            )
+    ok = np.ones(len(t), bool)
+    if "steady" in t.columns:
+        m = ~t["steady"].fillna(False).to_numpy(bool)
+        rejected["not_steady"] = int(m.sum())
+        ok &= ~m
+    vals = t[list(need)].to_numpy(float)
+    m = ~np.all(np.isfinite(vals), axis=1) & ok
+    rejected["not_finite"] = int(m.sum())
+    ok &= ~m
+    m = (vals[:, 1] <= 0) & ok
+    rejected["no_load"] = int(m.sum())
+    ok &= ~m
+    return t, ok, rejected
 
 
 def fit_from_wheel_table(
@@ -53,42 +122,8 @@ def fit_from_wheel_table(
     TyreFit
         ``extra["rows_used"]`` and ``extra["rows_rejected"]`` (reason → count).
     """
-    need = ("slip_angle_rad", "load_N", "force_N")
-    missing = [c for c in need if c not in wheels.columns]
-    if missing:
-        raise InputError(
-            f"wheel table: missing column {missing[0]!r}; give the wheels table "
-            "of `gripsense friction -o DIR` (wheels.parquet)"
-        )
-    t = wheels
-    rejected: dict[str, int] = {}
-    if wheel is not None:
-        sel = t["wheel"].astype(str)
-        t = t[(sel == wheel) | sel.str.startswith(wheel + "_")]
-        if t.empty:
-            have = ", ".join(sorted(set(sel)))
-            raise InputError(f"wheel table: no rows for wheel/axle {wheel!r} (it has {have})")
-        rejected["other_wheels"] = len(wheels) - len(t)
-    elif "wheel" in t.columns:
-        axles = sorted({w.split("_")[0] for w in t["wheel"].astype(str)})
-        if len(axles) > 1:
-            raise InputError(
-                f"wheel table: it holds the {' and '.join(axles)} wheels — different tyres and "
-                "different slip errors, not one curve; give --wheel front or --wheel rear "
-                "(or one wheel, e.g. --wheel rear_left)"
-            )
-    ok = np.ones(len(t), bool)
-    if "steady" in t.columns:
-        m = ~t["steady"].fillna(False).to_numpy(bool)
-        rejected["not_steady"] = int(m.sum())
-        ok &= ~m
-    vals = t[list(need)].to_numpy(float)
-    m = ~np.all(np.isfinite(vals), axis=1) & ok
-    rejected["not_finite"] = int(m.sum())
-    ok &= ~m
-    m = (vals[:, 1] <= 0) & ok
-    rejected["no_load"] = int(m.sum())
-    ok &= ~m
+    t, ok, rejected = _select(wheels, wheel)
+    vals = t[["slip_angle_rad", "load_N", "force_N"]].to_numpy(float)
     weights = None
     if "force_sigma_N" in t.columns:
         s = t["force_sigma_N"].to_numpy(float)[ok]
