@@ -10,9 +10,20 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.pipeline import FrictionRun
 
-__all__ = ["DEMO_METHOD", "demo_description", "demo_verdict", "run_demo"]
+__all__ = ["DEMO_COLUMNS", "DEMO_METHOD", "demo_description", "demo_verdict", "run_demo"]
 
 DEMO_METHOD = "axle-window"
+
+DEMO_COLUMNS = {
+    "mu_true": "μ true (simulator)",
+    "grip_used_lower": "measured: data prove μ ≥",
+    "share_proven": "share of μ true proven (μ ≥ ÷ μ true)",
+    "mu": "estimate μ",
+    "mu_low": "estimate: 90 % low",
+    "mu_high": "estimate: 90 % high",
+    "limited_by": "what limits the estimate",
+}
+"""The demo report's table headers: each number's name and kind."""
 
 
 def demo_dir() -> Path:
@@ -44,7 +55,8 @@ def run_demo(
     -------
     pandas.DataFrame
         One row per case and axle: case parameters (``tyre``, ``receiver`` …), ``mu_true`` (the
-        axle's load-weighted peak friction), ``utilisation_true``, the measured grip
+        axle's load-weighted peak friction), ``utilisation_true`` (mean over the drive), the
+        measured grip
         ``grip_used_lower`` (model-free), the estimate ``mu``, ``mu_low``, ``mu_high``,
         ``observable``, ``surface``, ``limited_by``, ``covered`` (truth inside the interval,
         for values) and ``bound_holds`` (measured-grip bound ≤ truth + 0.01).
@@ -194,12 +206,12 @@ def write_demo_report(
         label="measured: data prove μ ≥ (model-free)",
     )
     ax.axhline(0, color="k", lw=0.8)
-    ax.set_xlabel("true utilisation of the axle |F|/(μ Fz)")
+    ax.set_xlabel("true utilisation of the axle |F|/(μ Fz), mean over the drive")
     ax.set_ylabel("statement − true μ")
     ax.set_title("Demo set: estimates and measured bounds against the truth")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    show = df[
+    show = df.assign(share_proven=df["grip_used_lower"] / df["mu_true"])[
         [
             "case",
             "name",
@@ -207,20 +219,23 @@ def write_demo_report(
             "receiver",
             "axle",
             "mu_true",
-            "utilisation_true",
             "grip_used_lower",
+            "share_proven",
             "mu",
             "mu_low",
             "mu_high",
             "limited_by",
         ]
-    ].copy()
+    ].rename(columns=DEMO_COLUMNS)
     intro = (
         f"<h2>Demo set</h2><p>Simulated drives (gripsense's vehicle simulator, known μ): "
         f"{html.escape(demo_description(folder))}; recorded by an emulated V100-like compass "
         "(heading ≈ 0.5° rms) or an RTK-class compass (0.05°), 0.5° mounting offset, read back "
-        "from NMEA with the steering channel. <code>utilisation_true</code> is the share of its "
-        "grip the axle used, |F|/(μ F<sub>z</sub>). "
+        "from NMEA with the steering channel. <i>measured: data prove μ ≥</i> is the friction "
+        "the axle used in its best 1 s, measured from the log less its uncertainty: at most "
+        "μ true on every row, and its share of μ true is a lower bound of how near the limit "
+        "the drive went (the figure's axis: the true utilisation |F|/(μ F<sub>z</sub>), a mean "
+        "over the drive, is lower than its peak). "
         "Method: <code>axle-window</code> per axle. Two kinds of statement: the measured grip "
         "(model-free: <i>the data prove μ ≥ …</i>) for every axle, and an estimate of μ with "
         "its 90 % interval (tyre model, shape uncertainty included) only where the data can "
@@ -238,4 +253,10 @@ def write_demo_report(
     steer = c.get("steer")
     steer_csv = folder / steer if isinstance(steer, str) and steer else None
     res = run.run_log(folder / c["nmea"], steer_csv=steer_csv)  # as in the table above
-    return write_report(res, path, title="gripsense demo report", intro_html=intro)
+    return write_report(
+        res,
+        path,
+        title="gripsense demo report",
+        intro_html=intro,
+        receivers=sorted({str(r) for r in df["receiver"]}),
+    )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import tempfile
 from pathlib import Path
 
@@ -216,6 +217,10 @@ def test_cli(fleet_logs):
     )
     assert r.returncode == 0, r.stderr
     assert "4 logs: 3 used, 1 with problems" in r.stdout
+    # piped (a log file, a CI job): progress as plain lines, the last one saying all is done
+    done = re.findall(r"tasks: (\d+) of (\d+) done", r.stdout)
+    assert done and done[-1][0] == done[-1][1], r.stdout
+    assert "killing" not in r.stdout + r.stderr and "Worker process" not in r.stderr
     assert (out / "map.html").exists() and (out / "cells.parquet").exists()
     r = run(
         "fleet",

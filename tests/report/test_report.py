@@ -136,6 +136,35 @@ def test_demo_report_in_browser(tmp_path):
     from gripsense.demo import demo_description
 
     assert demo_description().replace("'", "&#x27;") in head
+    # the header names every receiver of the set, and the one of the drive in detail
+    meta = re.search(r"<p class='meta'>gripsense ·(.*?)</p>", text).group(1)
+    for rx in df["receiver"].unique():
+        assert f"<code>{rx}</code>" in meta, meta
+    assert "receivers" in meta and "the drive in detail" in meta, meta
+    # columns a reader can check against each other: what the data prove, the true μ and
+    # the share proven (their ratio) — not a mean utilisation beside a best-second bound
+    table = head[head.index("<table>") :]
+    cols = [h for h in re.findall(r"<th[^>]*>(.*?)</th>", table)]
+    for c in ("μ true (simulator)", "measured: data prove μ ≥", "share of μ true proven"):
+        assert any(x.startswith(c) for x in cols), cols
+    assert "utilisation_true" not in cols and "util" not in cols, cols
+    # no table wider than the page; "what limits the estimate" visible without scrolling
+    drv = _open(p)
+    try:
+        widths = drv.execute_script(
+            "const w = document.body.clientWidth;"
+            "return Array.from(document.querySelectorAll('table'))"
+            ".map(t => [t.getBoundingClientRect().right, w, window.innerWidth]);"
+        )
+        limited = drv.execute_script(
+            "return Array.from(document.querySelectorAll('th'))"
+            ".filter(h => h.textContent.includes('what limits the estimate'))"
+            ".map(h => h.getBoundingClientRect().right);"
+        )
+    finally:
+        drv.quit()
+    assert widths and all(right <= inner for right, _, inner in widths), widths
+    assert limited and all(r <= widths[0][2] for r in limited), limited
 
 
 def test_report_command_round_trip(tmp_path):

@@ -81,11 +81,17 @@ def fleet(
     from gripsense.fleet.aggregate import STATUS_INCONSISTENT
 
     try:
-        with Progress(console=console, transient=True) as prog:
+        with Progress(console=console, transient=True, disable=not console.is_terminal) as prog:
             task = prog.add_task("tasks", total=None)
+            said = [-1]
 
             def progress(done, total):
                 prog.update(task, completed=done, total=total)
+                if not console.is_terminal:  # piped: a line per tenth of the tasks instead
+                    tenth = 10 * done // max(total, 1)
+                    if tenth > said[0] or done == total:
+                        said[0] = tenth
+                        say(f"tasks: {done} of {total} done")
 
             res = run_fleet(
                 logs,

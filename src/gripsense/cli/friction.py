@@ -101,6 +101,7 @@ def friction(
     from gripsense.io.table import describe_columns, read_motion_table
     from gripsense.pipeline import FrictionRun
 
+    cal = None
     try:
         if vehicle is None:
             raise GripsenseError("--vehicle car.toml is required")
@@ -128,31 +129,75 @@ def friction(
             )
             for note in (result.ingest or {}).get("notes", []):
                 say(f"note: {note}")
+        cal = _calibration_record(veh, vehicle, calibration, run.calibration_notes)
+        if cal is not None:  # the calibration in use, named in every rendering of the result
+            result = result.replace(meta={**result.meta, "calibration": cal})
     except GripsenseError as e:
         fail(e)
     print_friction(result)
     for note in run.calibration_notes:  # a declaration the drives contradict, said out loud
         say(note)
+    if cal is not None:
+        from gripsense.estimate.results import stiffness_lines
+
+        for line in stiffness_lines(result.record()):
+            say(line)
     if result.meta.get("front_axle"):  # the front axle never disappears without a word
         if result.meta["front_axle"] not in result.explain():  # (the axle methods' line says it)
             say(result.meta["front_axle"])
     elif result.meta.get("steering"):
         say(f"steering: {result.meta['steering']}")
     try:
-        texts = {}
-        if report:
-            from gripsense.report.html import render_report
-
-            texts["report.html"] = render_report(result, title=f"Friction — {(log or table).name}")
         inputs = [p for p in (log, table, vehicle, steer_csv, calibration, dbc) if p is not None]
-        paths = result.to_files(
-            outdir, overwrite=overwrite, command=command_line(), inputs=inputs, texts=texts
-        )
+        paths = result.to_files(outdir, overwrite=overwrite, command=command_line(), inputs=inputs)
         say("wrote " + ", ".join(str(p) for k, p in paths.items() if k != "manifest"))
-        if report:
-            say(f"report: {paths['report.html']}")
+        if report:  # from the folder as written: the same story as `gripsense report` tells
+            say(f"report: {_report_of_folder(outdir, overwrite=False)}")
     except GripsenseError as e:
         fail(e)
+
+
+def _calibration_record(
+    veh, vehicle_file: Path, calibration: Path | None, notes: list[str]
+) -> dict | None:
+    """The calibration a run used, for its result (``meta["calibration"]``): the file, what it
+    learned per axle (``[C, relative 1σ]`` [N/rad, -]), its drives and the conflicts said.
+    """
+    from gripsense.config import Vehicle
+    from gripsense.config.calibration import read_calibration
+
+    path = (
+        calibration if calibration is not None else Vehicle.from_toml(vehicle_file).calibration_file
+    )
+    if path is None:
+        return None
+    cal = read_calibration(path)
+    return {
+        "file": Path(path).name,
+        "learned": {
+            axle: [float(a.cornering_stiffness_N_per_rad), float(a.stiffness_uncertainty)]
+            for axle, a in cal.axles.items()
+            if axle in veh.tyres
+        },
+        "drives": len({d.sha256 for d in cal.drives}),
+        "notes": list(notes),
+    }
+
+
+def _report_of_folder(folder: Path, output: Path | None = None, *, overwrite: bool) -> Path:
+    """Render a friction result folder's report from the folder alone (its recorded run) and
+    add it to the folder (or write *output*).
+    """
+    from gripsense.estimate.results import FrictionResult
+    from gripsense.io.output_folder import add_to_folder, write_file_atomic
+    from gripsense.report.html import render_report
+    from gripsense.report.summary_check import check_summary_file
+
+    check_summary_file(folder)  # a hand-edited value: one line naming its key
+    text = render_report(FrictionResult.from_files(folder))
+    if output is None:
+        return add_to_folder(folder, "report.html", text, overwrite=overwrite)
+    return write_file_atomic(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def report_cmd(
@@ -164,21 +209,12 @@ def report_cmd(
     overwrite: Overwrite = False,
 ) -> None:
     """Write a self-contained HTML report (images embedded) of a friction result folder."""
-    from gripsense.estimate.results import FrictionResult
-    from gripsense.io.output_folder import add_to_folder, check_output_file, write_file_atomic
-    from gripsense.report.html import render_report
-    from gripsense.report.summary_check import check_summary_file
+    from gripsense.io.output_folder import check_output_file
 
     try:
         if output is not None:
             check_output_file(output, "report", overwrite=overwrite, inputs=[result_dir])
-        check_summary_file(result_dir)  # a hand-edited value: one line naming its key
-        res = FrictionResult.from_files(result_dir)
-        text = render_report(res, title=f"Friction — {result_dir.name}")
-        if output is None:
-            out = add_to_folder(result_dir, "report.html", text, overwrite=overwrite)
-        else:
-            out = write_file_atomic(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        out = _report_of_folder(result_dir, output, overwrite=overwrite)
     except GripsenseError as e:
         fail(e)
     say(f"report: {out}")
@@ -189,6 +225,8 @@ def _print_head(result: FrictionResult) -> None:
 
     m = result.meta
     head = Text.assemble((str(m.get("vehicle", "")), "bold"), f" — method {m['method']}")
+    if m.get("receiver"):
+        head.append(f", receiver {m['receiver']}")
     if "epochs_total" in m:
         head.append(
             f"; {m['epochs_used']} of {m['epochs_total']} epochs usable; heading offset "

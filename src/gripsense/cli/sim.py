@@ -121,8 +121,8 @@ def demo(
         "km/h",
         "axle",
         "μ true",
-        "util",
         "μ ≥",
+        "share",
         "estimate [90%]",
         "",
     ):
@@ -143,17 +143,18 @@ def demo(
             v[2:-4],
             rec["axle"],
             f"{rec['mu_true']:.2f}",
-            f"{rec['utilisation_true']:.2f}",
             f"{rec['grip_used_lower']:.2f}" + ("" if rec["bound_holds"] else " ✗"),
+            f"{rec['grip_used_lower'] / rec['mu_true']:.0%}",
             est,
             mark,
         )
     console.print(table)
     console.print(
-        "util: the share of its grip the axle used, |F|/(μ Fz), from the simulator's truth; "
-        "μ ≥: the friction the axle used — the data prove μ ≥ this (model-free, level road "
-        "assumed); estimate: μ under a tyre model whose shape is uncertain, given only where "
-        "the data carry it (—: no value; ≤: the estimate's upper end)."
+        "μ ≥: the friction the axle used in its best 1 s, measured from the log less its "
+        "uncertainty — the data prove μ ≥ this (model-free, level road assumed), so μ ≥ ≤ μ "
+        "true on every row (✗ where not); share: μ ≥ ÷ μ true, a lower bound of how near its "
+        "limit the axle went; estimate: μ under a tyre model whose shape is uncertain, given "
+        "only where the data carry it (—: no value; ≤: the estimate's upper end)."
     )
     console.print(f"[bold]verdict:[/] {demo_verdict(df)}.")
     from gripsense.demo import write_demo_report

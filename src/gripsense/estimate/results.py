@@ -14,6 +14,7 @@ know which method ran.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
@@ -38,6 +39,7 @@ __all__ = [
     "WheelFriction",
     "read_result",
     "slippery_from_range",
+    "stiffness_lines",
     "summarize_axles",
     "summarize_wheels",
 ]
@@ -192,6 +194,47 @@ class FrictionResult:
         """
         return replace(self, **changes)
 
+    def record(self) -> dict[str, Any]:
+        """What the run used, as every rendering of the result states it: ``source`` (the log
+        or table), ``receiver``, ``noise`` (the priors: :class:`~gripsense.estimate.noise.
+        NoiseModel`'s fields), ``stiffness`` per axle — ``declared`` in the vehicle file and
+        ``used`` as the estimator's prior (after a calibration), each ``[C, relative 1σ]``
+        [N/rad, -] — and ``calibration`` (the file, what it learned, its notes) when the run
+        recorded one in ``meta``. A result read back from its folder returns the recorded one.
+
+        Returns
+        -------
+        dict
+            JSON-ready.
+        """
+        if isinstance(self.meta.get("record"), dict):
+            return self.meta["record"]
+        ingest = self.ingest or {}
+        rec: dict[str, Any] = {
+            "source": Path(str(ingest.get("source") or self.meta.get("source") or "")).name,
+            "receiver": str(self.meta.get("receiver", "")),
+            "noise": dataclasses.asdict(self.noise) if self.noise is not None else None,
+        }
+        veh = self.vehicle
+        if veh is not None:
+            declared = None
+            if veh.source and Path(veh.source).is_file():
+                try:
+                    declared = Vehicle.from_toml(veh.source)
+                except (InputError, OSError):  # changed since the run: not stated
+                    declared = None
+            width = self.noise.tread_stiffness_rel if self.noise is not None else None
+            rec["stiffness"] = {
+                axle: {
+                    "declared": _stiffness(declared, axle),
+                    "used": _stiffness(veh, axle, width),
+                }
+                for axle in veh.tyres
+            }
+        if isinstance(self.meta.get("calibration"), dict):
+            rec["calibration"] = self.meta["calibration"]
+        return rec
+
     # ------------------------------------------------------------------ files
     def _tables(self) -> dict[str, pd.DataFrame]:
         out = {"wheels": self.wheels}
@@ -231,9 +274,16 @@ class FrictionResult:
             Name → path of each file written.
         """
         recs = _records(self.summary)
-        docs: dict[str, object] = {
-            "summary": {"meta": self.meta, f"{self.unit}s": recs, "explain": self.explain()}
+        meta = {k: v for k, v in self.meta.items() if k not in ("record", "calibration")}
+        summary: dict[str, object] = {
+            "meta": meta,
+            f"{self.unit}s": recs,
+            "explain": self.explain(),
+            # what the run used (priors, stiffness, calibration): a report written later from
+            # the folder states the same as one written with the run
+            "record": self.record(),
         }
+        docs: dict[str, object] = {"summary": summary}
         if self.ingest is not None:
             docs["ingest"] = self.ingest
         copies = {}
@@ -268,6 +318,88 @@ class FrictionResult:
             The kind recorded in the folder.
         """
         return read_result(folder)
+
+
+def _stiffness(
+    vehicle: Vehicle | None, axle: str, width: float | None = None
+) -> list[float] | None:
+    """One wheel's cornering stiffness at its static load and its relative 1σ [N/rad, -]
+    (*width*: the one the estimator's prior has, else the tyre's).
+    """
+    if vehicle is None or axle not in vehicle.tyres:
+        return None
+    c = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
+    u = width if width is not None else vehicle.tyres[axle].stiffness_uncertainty
+    return [c, float(u)]
+
+
+def _c(x: list | None) -> str:
+    """``[C, u]`` as "44 287 N/rad ± 20 %" (— when not known)."""
+    if not (isinstance(x, list | tuple) and len(x) == 2):
+        return "—"
+    c, u = x
+    return f"{c:,.0f} N/rad ± {100 * u:.0f} %".replace(",", " ")
+
+
+def stiffness_lines(record: dict) -> list[str]:
+    """The tyre stiffness a run used, one line per axle, every number named with its kind:
+    *declared* (the vehicle file), *learned* (the calibration file, from the car's own drives)
+    and *used* (the estimator's prior: both combined, ``docs/calibration.md``); and which
+    calibration file changed it, or that none did.
+
+    Parameters
+    ----------
+    record : dict
+        :meth:`FrictionResult.record`.
+
+    Returns
+    -------
+    list of str
+        Plain text lines (empty when the run recorded no vehicle).
+    """
+    stiff = record.get("stiffness") or {}
+    cal = record.get("calibration") if isinstance(record.get("calibration"), dict) else None
+    learned = (cal or {}).get("learned") or {}
+    lines = []
+    if cal:
+        n = cal.get("drives")
+        lines.append(
+            f"calibration in use: {cal.get('file', '?')}"
+            + (f" (learned from {n} drive{'s' if n != 1 else ''})" if n else "")
+        )
+    for axle, st in stiff.items():
+        st = st if isinstance(st, dict) else {}
+        parts = [f"declared (vehicle file) {_c(st.get('declared'))}"]
+        if axle in learned:
+            parts.append(f"learned (calibration) {_c(learned[axle])}")
+        parts.append(f"used (the estimator's prior) {_c(st.get('used'))}")
+        if cal and len(stiff) > 1:
+            parts[-1] += " (its width: the larger of the axles')"
+        lines.append(f"{axle} tyre cornering stiffness at the static load: " + "; ".join(parts))
+    if (
+        stiff
+        and not cal
+        and any(
+            not (isinstance(v, dict) and isinstance(v.get("declared"), list))
+            for v in stiff.values()
+        )
+    ):
+        lines.append("no calibration recorded; the vehicle was not read from a file")
+    elif stiff and not cal:
+        same = all(
+            isinstance(v, dict)
+            and isinstance(v.get("declared"), list)
+            and isinstance(v.get("used"), list)
+            and np.isclose(v["declared"][0], v["used"][0], rtol=1e-9)
+            for v in stiff.values()
+        )
+        lines.append(
+            "no calibration file: the vehicle file's stiffness is used as declared"
+            if same
+            else "the stiffness used differs from the vehicle file's (a calibration the run "
+            "did not record)"
+        )
+    return lines
 
 
 def _proven(rec: dict) -> str:
@@ -404,8 +536,9 @@ class AxleFriction(FrictionResult):
                 parts.append(f"{ax}: no cornering to analyse")
                 continue
             proven = _proven(rec)
-            call = rec.get("slippery", "unknown")
-            said = f" — {call}" if call in ("slippery", "not slippery") else ""
+            call = rec.get("slippery") or "unknown"
+            # the answer to "is it slippery?" is said also when it is "unknown"
+            said = f" — {call}" if call in ("slippery", "not slippery") else " — slippery: unknown"
             if rec.get("fit") == "inconsistent":
                 parts.append(
                     f"{ax}: no estimate — the data contradict the tyre model (heading offset, "
@@ -636,15 +769,48 @@ def read_result(folder: str | Path) -> FrictionResult:
     kw = {}
     if kind == AxleFriction.unit:
         kw["windows"] = rf.tables.get("windows", pd.DataFrame())
+    meta = dict(doc.get("meta", {}))
+    record = doc.get("record")
+    noise = None
+    if isinstance(record, dict):  # a folder of an earlier version has none
+        meta["record"] = record
+        noise = _noise(record.get("noise"), folder)
     return RESULT_TYPES[kind](
         wheels=rf.tables["wheels"],
         summary=_summary_frame(doc.get(f"{kind}s", [])),
-        meta=doc.get("meta", {}),
+        meta=meta,
         epochs=rf.tables.get("epochs"),
         ingest=rf.documents.get("ingest"),
         vehicle=vehicle,
+        noise=noise,
         **kw,
     )
+
+
+def _noise(doc: object, folder: str | Path) -> NoiseModel | None:
+    """The noise model a result folder records (None: a folder of an earlier version)."""
+    if doc is None:
+        return None
+    known = {f.name for f in dataclasses.fields(NoiseModel)}
+    bad = (
+        "is not a table"
+        if not isinstance(doc, dict)
+        else next(
+            (
+                f"has {k!r} = {v!r}"
+                for k, v in doc.items()
+                if k not in known
+                or not (v is None or (isinstance(v, int | float) and not isinstance(v, bool)))
+            ),
+            "",
+        )
+    )
+    if bad:
+        raise InputError(
+            f"{folder}/summary.json: record.noise {bad}, not what gripsense wrote (a number "
+            "per known key); restore it or run gripsense friction again"
+        )
+    return NoiseModel(**doc)  # type: ignore[arg-type]
 
 
 def _summary_frame(records: list[dict]) -> pd.DataFrame:

@@ -431,9 +431,13 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
 
     nanny = logging.getLogger("distributed.nanny")
     deaths = _WorkerDeaths(say)
-    level = nanny.level
+    level, propagate = nanny.level, nanny.propagate
     nanny.addHandler(deaths)
     nanny.setLevel(logging.INFO)
+    # the nanny's lines reach only *deaths*: at INFO they would pass Dask's own handler, whose
+    # silence the cluster's close lifts while a slow worker is still being stopped ("Worker
+    # process still alive after 4.0 seconds, killing" on a busy machine)
+    nanny.propagate = False
     cluster = client = None
     scratch = None
     try:
@@ -469,6 +473,7 @@ def _client(scheduler: str | None, workers: int, say=_stderr_line):
                 shutil.rmtree(scratch, ignore_errors=True)
         nanny.removeHandler(deaths)
         nanny.setLevel(level)
+        nanny.propagate = propagate
 
 
 def _map(client, fn, batches, progress, **kwargs) -> list[dict]:

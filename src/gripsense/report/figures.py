@@ -226,13 +226,16 @@ def _speed_groups(ct: pd.DataFrame) -> pd.Series:
     return (ct["speed_kmh"] / 5).round() * 5
 
 
-def mu_vs_radius(ct: pd.DataFrame) -> Figure:
+def mu_vs_radius(ct: pd.DataFrame, *, what: str = "μ (median of valid samples)") -> Figure:
     """μ per condition vs turn radius, per speed group, with least-squares lines (figs 82, 138).
 
     Parameters
     ----------
     ct : pandas.DataFrame
         Condition table (:func:`gripsense.estimate.conditions.condition_table`).
+    what : str
+        What the condition's μ is (the y label): the median of the valid samples of a
+        per-sample method, or of the condition's own windows (``axle-window``).
     """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
@@ -248,20 +251,22 @@ def mu_vs_radius(ct: pd.DataFrame) -> Figure:
                 ax.plot(x, a * x + b, "-", lw=1, color=ax.lines[-1].get_color())
         _legend_outside(ax)
     ax.set_xlabel("turn radius [m]")
-    ax.set_ylabel("μ (median of valid samples)")
+    ax.set_ylabel(what)
     ax.set_ylim(0, 1.5)
     ax.set_title("μ vs turn radius, per speed (least-squares lines)")
     fig.tight_layout()
     return fig
 
 
-def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
+def mu_vs_yaw_rate(ct: pd.DataFrame, *, what: str = "μ") -> Figure:
     """μ per condition vs yaw rate (fig 139).
 
     Parameters
     ----------
     ct : pandas.DataFrame
         Condition table.
+    what : str
+        What the condition's μ is (the y label; :func:`mu_vs_radius`).
     """
     fig, ax = plt.subplots(figsize=(7, 4.5))
     _bands(ax, 1.5)
@@ -273,7 +278,7 @@ def mu_vs_yaw_rate(ct: pd.DataFrame) -> Figure:
     else:
         _legend_outside(ax)
     ax.set_xlabel("yaw rate [deg/s]")
-    ax.set_ylabel("μ")
+    ax.set_ylabel(what)
     ax.set_ylim(0, 1.5)
     ax.set_title("μ vs yaw rate")
     fig.tight_layout()
@@ -364,20 +369,40 @@ def trajectory(epochs: pd.DataFrame, conds: list[tuple[float, float]] | None = N
     """
     fig, ax = plt.subplots(figsize=(6, 6))
     e = epochs.dropna(subset=["lat_deg", "lon_deg"]) if "lat_deg" in epochs else epochs.iloc[:0]
+    conds = list(conds or [])
     if e.empty:
         ax.text(0.5, 0.5, "no position in the log", transform=ax.transAxes, ha="center")
     else:
         lat0 = np.deg2rad(e["lat_deg"].mean())
-        x = np.deg2rad(e["lon_deg"] - e["lon_deg"].iloc[0]) * 6371000.0 * np.cos(lat0)
-        y = np.deg2rad(e["lat_deg"] - e["lat_deg"].iloc[0]) * 6371000.0
-        ax.plot(x, y, color="0.4", lw=1, label="path")
-        for t0, t1 in conds or []:
-            sel = (e["t_s"] >= t0) & (e["t_s"] <= t1)
-            ax.plot(x[sel], y[sel], lw=2.5)
+        x = (np.deg2rad(e["lon_deg"] - e["lon_deg"].iloc[0]) * 6371000.0 * np.cos(lat0)).to_numpy()
+        y = (np.deg2rad(e["lat_deg"] - e["lat_deg"].iloc[0]) * 6371000.0).to_numpy()
+        t = e["t_s"].to_numpy(float)
+        steady = np.zeros(len(e), bool)
+        for t0, t1 in conds:
+            steady |= (t >= t0) & (t <= t1)
+        # the path outside the conditions in grey (dashed under them): never one colour alone
+        ax.plot(x, y, color="0.55", lw=1, ls=":", zorder=1)
+        ax.plot(np.where(steady, np.nan, x), np.where(steady, np.nan, y), color="0.35", lw=1.2,
+                label="not a steady condition", zorder=2)  # fmt: skip
+        colours = [plt.get_cmap("tab10")(k) for k in range(10)]
+        for i, (t0, t1) in enumerate(conds):
+            sel = (t >= t0) & (t <= t1)
+            lab = (
+                f"condition {i + 1}: {t0:.0f}–{t1:.0f} s"
+                if i < 9 or len(conds) == 10
+                else (f"conditions 10–{len(conds)} (colours repeat)" if i == 9 else None)
+            )
+            ax.plot(x[sel], y[sel], lw=2.8, color=colours[i % len(colours)], zorder=3, label=lab)
+        ax.plot(x[:1], y[:1], "o", color="k", ms=5, label="start", zorder=4)
         ax.set_aspect("equal", adjustable="datalim")
+        ax.legend(fontsize=7, loc="best")
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
-    ax.set_title("trajectory (steady conditions in colour)")
+    ax.set_title(
+        "trajectory: steady conditions in colour (see legend)"
+        if conds
+        else "trajectory (no steady condition of 3 s or more)"
+    )
     fig.tight_layout()
     return fig
 

@@ -25,7 +25,8 @@ body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;mar
 max-width:1100px;color:#222;line-height:1.45;padding:0 1em}
 h1{font-size:1.6em;margin-bottom:.2em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
 margin-top:1.6em} table{border-collapse:collapse;margin:.6em 0;font-size:.92em}
-th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right} th{background:#f3f3f3}
+th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right;overflow-wrap:anywhere}
+th{background:#f3f3f3} table{max-width:100%}
 td.l,th.l{text-align:left} .note{background:#fff8e1;border-left:4px solid #f0b400;padding:.6em 1em}
 .ok{background:#eaf6ea;border-left:4px solid #3a9a3a;padding:.6em 1em} img{max-width:100%}
 .meta{color:#666;font-size:.9em} code{background:#f5f5f5;padding:0 .2em}
@@ -88,6 +89,42 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
         for r in df.itertuples(index=False)
     )
     return f"<table><tr>{head}</tr>{rows}</table>"
+
+
+KINDS: dict[str, str] = {
+    "mu": "estimated",
+    "mu_low": "estimated",
+    "mu_high": "estimated",
+    "mu_best": "estimated",
+    "surface": "estimated",
+    "slippery": "measured and estimated",
+    "observable": "estimated",
+    "grip_used": "measured",
+    "grip_used_lower": "measured",
+    "utilisation_p95": "measured, load-transfer model",
+    "valid_fraction": "count",
+    "fit": "estimated",
+    "shape": "estimated",
+    "stiffness_scale": "estimated",
+    "cornering_stiffness_N_per_rad": "estimated",
+    "heading_bias_deg": "estimated",
+    "camber_slip_deg_per_g": "estimated",
+    "load_transfer_error": "estimated",
+    "limited_by": "why",
+    "steering_torque": "input",
+    "note": "why",
+}
+"""The kind of each summary column as the report names it (``n…`` columns are counts):
+*measured* (model-free), *estimated* (under a tyre model), counts and reasons."""
+
+
+def _named(columns) -> dict[str, str]:
+    """Column → "column (kind)" for a table header."""
+    out = {}
+    for c in columns:
+        kind = KINDS.get(str(c), "count" if str(c).startswith("n") else "")
+        out[c] = f"{c} ({kind})" if kind else str(c)
+    return out
 
 
 def _compact(summary: pd.DataFrame, unit: str) -> str:
@@ -177,26 +214,94 @@ def _vehicle(vehicle) -> str:
             f"{vehicle.roll_stiffness_front_fraction}",
         )
     )
-    for axle, t in vehicle.tyres.items():
-        stiff = (
-            f"G = {t.tread_stiffness_N_per_m3:.3g} N/m³"
-            if t.tread_stiffness_N_per_m3
-            else f"C = {t.cornering_stiffness_N_per_rad:.3g} N/rad"
-        )
+    for axle, t in vehicle.tyres.items():  # the stiffness: the table below, each kind named
         length = (
             f"l = {t.contact_a}·√m + ({t.contact_b})·m"
             if t.contact_length_m is None
             else f"l = {t.contact_length_m} m"
         )
         rows.append(
-            (
-                f"tyre {axle}",
-                f"w = {t.width_m * 1000:.0f} mm, {stiff}, {length}, {t.pressure} pressure",
-            )
+            (f"tyre {axle}", f"w = {t.width_m * 1000:.0f} mm, {length}, {t.pressure} pressure")
         )
     for w, (x, y) in vehicle.wheel_offsets.items():
         rows.append((f"{w} from antenna", f"x {x:+.3f} m, y {y:+.3f} m"))
     return html_table(pd.DataFrame(rows, columns=["", "value"]))
+
+
+def _stiffness_table(record: dict, summary: pd.DataFrame, unit: str) -> str:
+    """Per axle the tyre stiffness, every number with its kind: declared (vehicle file),
+    learned (calibration file), used (the estimator's prior) and estimated (this drive).
+    """
+    from gripsense.estimate.results import stiffness_lines
+
+    stiff = record.get("stiffness") or {}
+    if not stiff:
+        return ""
+    cal = record.get("calibration") if isinstance(record.get("calibration"), dict) else {}
+    learned = (cal or {}).get("learned") or {}
+    est = (
+        summary.set_index(unit)["cornering_stiffness_N_per_rad"]
+        if unit == "axle" and "cornering_stiffness_N_per_rad" in summary and len(summary)
+        else pd.Series(dtype=float)
+    )
+
+    def c(x) -> str:
+        if not (isinstance(x, list | tuple) and len(x) == 2):
+            return "—"
+        return f"{x[0]:,.0f} ± {100 * x[1]:.0f} %".replace(",", " ")
+
+    rows = []
+    for axle, st in stiff.items():
+        st = st if isinstance(st, dict) else {}
+        e = est.get(axle, np.nan) if len(est) else np.nan
+        rows.append(
+            {
+                "axle": axle,
+                "declared (vehicle file)": c(st.get("declared")),
+                "learned (calibration file)": c(learned.get(axle)) if cal else "no calibration",
+                "used (the estimator's prior)": c(st.get("used")),
+                "estimated from this drive": f"{e:,.0f}".replace(",", " ")
+                if e is not None and np.isfinite(e)
+                else "—",
+            }
+        )
+    lines = "".join(f"<li>{html.escape(t)}</li>" for t in stiffness_lines(record))
+    return (
+        "<h3>Tyre cornering stiffness [N/rad per wheel, ± relative 1σ]</h3>"
+        + html_table(pd.DataFrame(rows))
+        + f"<ul class='meta'>{lines}</ul>"
+        + "<p class='meta'>declared, learned and used: at the static load; estimated: the "
+        "drive's fit (stiffness scale × the prior) at the loads of the windows analysed.</p>"
+    )
+
+
+def _window_ranges(ct: pd.DataFrame, windows: pd.DataFrame | None) -> tuple[list, list]:
+    """Per row of a condition table, the median 90 % range ends of the observable windows of
+    the wheel's axle inside the condition (the windows whose values the row's μ is the median
+    of; NaN where there are none).
+    """
+    lo, hi = [], []
+    for r in ct.to_dict("records"):
+        win = (
+            windows[
+                (windows["axle"] == str(r["wheel"]).split("_")[0])
+                & (windows["t_start"] >= r["t_start"])
+                & (windows["t_end"] <= r["t_end"] + 1e-9)
+                & windows["observable"].astype(bool)
+            ]
+            if windows is not None and len(windows)
+            else pd.DataFrame()
+        )
+        lo.append(float(win["mu_low"].median()) if len(win) else np.nan)
+        hi.append(float(win["mu_high"].median()) if len(win) else np.nan)
+    return lo, hi
+
+
+class _NotRecorded:
+    """A prior the result does not record: formatted as "?" whatever the format."""
+
+    def __format__(self, spec: str) -> str:
+        return "?"
 
 
 def write_report(
@@ -233,6 +338,7 @@ def render_report(
     title: str | None = None,
     max_conditions: int = 6,
     intro_html: str = "",
+    receivers: list[str] | None = None,
 ) -> str:
     """A self-contained HTML report of a :class:`~gripsense.estimate.results.FrictionResult`.
 
@@ -252,6 +358,9 @@ def render_report(
         Most steady conditions given their own four-panel figure.
     intro_html : str
         HTML inserted before the result (used by the demo).
+    receivers : list of str, optional
+        Every receiver of a set the page describes (the demo's): the header names them all,
+        and the one of the drive in detail.
 
     Returns
     -------
@@ -268,17 +377,32 @@ def render_report(
     conds = result.conditions()
     ct = result.condition_table(conds)
     m = result.meta
+    record = result.record()  # what the run used: the same read back from its folder
     method = m.get("method", "")
     s = result.summary
+    source = str(record.get("source") or "")
+    title = title or (f"Friction — {source}" if source else "Tyre-road friction report")
+    rx = html.escape(str(m.get("receiver", "not stated")))
+    if receivers and sorted(set(receivers)) != [str(m.get("receiver"))]:
+        rx_text = (
+            "receivers "
+            + ", ".join(f"<code>{html.escape(r)}</code>" for r in sorted(set(receivers)))
+            + f" (the drive in detail: <code>{rx}</code>)"
+        )
+    else:
+        rx_text = f"receiver <code>{rx}</code>"
+    cal = record.get("calibration") if isinstance(record.get("calibration"), dict) else None
+    cal_text = (
+        f" · calibration <code>{html.escape(str(cal.get('file', '?')))}</code>" if cal else ""
+    )
     out = [
         f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
         "<meta name='generator' content='gripsense report'>"
-        f"<title>{html.escape(title or 'gripsense report')}</title><style>{CSS}</style>"
+        f"<title>{html.escape(title)}</title><style>{CSS}</style>"
         "</head><body>",
-        f"<h1>{html.escape(title or 'Tyre-road friction report')}</h1>",
+        f"<h1>{html.escape(title)}</h1>",
         f"<p class='meta'>gripsense · {html.escape(str(m.get('vehicle', '')))} · method "
-        f"<code>{html.escape(method)}</code> · receiver "
-        f"<code>{html.escape(str(m.get('receiver', 'not stated')))}</code> · written "
+        f"<code>{html.escape(method)}</code> · {rx_text}{cal_text} · written "
         f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC</p>",
     ]
     out.append(intro_html)
@@ -332,24 +456,64 @@ def render_report(
             if c in s.columns
         ]
         out.append(
-            "<details><summary>All columns of the summary</summary>"
-            + html_table(s[cols])
+            "<details><summary>All columns of the summary (each with its kind)</summary>"
+            + html_table(s[cols].rename(columns=_named(cols)))
             + "</details>"
         )
+    if cal:
+        out.append(
+            f"<p class='meta'>Calibration in use: <code>{html.escape(str(cal.get('file')))}</code>"
+            " — it changed the tyre stiffness the estimator starts from; the section <i>Vehicle "
+            "and method</i> gives the declared, learned and used values.</p>"
+        )
+    # the per-condition μ is another statement than the headline's: it says which
+    per_window = result.unit == "axle"
+    mu_what = (
+        "μ per condition: median of the condition's own window estimates (axle-window, each "
+        "3 s window alone: wider and not the headline value, which combines all windows)"
+        if per_window
+        else "μ per condition: median of the valid samples (per-sample method)"
+    )
+    mu_col = "μ, window estimates (median)" if per_window else "μ, valid samples (median)"
+    n_col = "windows with a value" if per_window else "valid samples"
+    has_mu = len(ct) and ct["mu"].notna().any()
     out.append("<h2>Figures</h2>")
     if epochs is not None:
         out.append(_img(F.trajectory(epochs, conds), "trajectory"))
     out.append(_img(F.mu_vs_utilisation(w, windows), "mu vs utilisation"))
+    if has_mu:
+        out.append(f"<p class='meta'>{html.escape(mu_what)}.</p>")
+        out.append(_img(F.mu_vs_radius(ct, what=mu_col), "mu vs radius"))
+        out.append(_img(F.mu_vs_yaw_rate(ct, what=mu_col), "mu vs yaw rate"))
+    elif len(ct):  # an empty figure beside a headline value would say "nothing" next to it
+        out.append(
+            "<p class='meta'>μ vs turn radius and vs yaw rate: not drawn — no steady condition "
+            + (
+                "has a window with a value of its own (a value of the summary above combines "
+                "the windows of the whole drive)."
+                if per_window
+                else "has a valid μ."
+            )
+            + "</p>"
+        )
     if len(ct):
-        out.append(_img(F.mu_vs_radius(ct), "mu vs radius"))
-        out.append(_img(F.mu_vs_yaw_rate(ct), "mu vs yaw rate"))
         out.append("<h2>Steady conditions</h2>")
         out.append(f"<details><summary>{len(conds)} steady conditions: table and figures</summary>")
-        out.append(
-            html_table(
-                ct[["condition", "wheel", "speed_kmh", "radius_m", "ay_g", "mu", "n_valid", "n"]]
-            )
-        )
+        out.append(f"<p class='meta'>{html.escape(mu_what)}.</p>")
+        shown = ct[["condition", "wheel", "speed_kmh", "radius_m", "ay_g", "mu", "n_valid", "n"]]
+        names = {
+            "speed_kmh": "speed [km/h]",
+            "radius_m": "radius [m]",
+            "ay_g": "|a_y| [g] (measured)",
+            "mu": mu_col,
+            "n_valid": n_col,
+            "n": "samples",
+        }
+        if per_window:  # each window's own range beside its value: a reader can compare
+            lo, hi = _window_ranges(ct, windows)
+            shown = shown.assign(range_lo=lo, range_hi=hi)
+            names |= {"range_lo": "their 90 % low (median)", "range_hi": "their 90 % high (median)"}
+        out.append(html_table(shown.rename(columns=names)))
         for i, (t0, t1) in enumerate(conds[:max_conditions]):
             sub = ct[ct["condition"] == i + 1]
             ttl = (
@@ -374,13 +538,19 @@ def render_report(
         )
     out.append("<h2>Vehicle and method</h2>")
     out.append(_vehicle(vehicle))
+    out.append(_stiffness_table(record, s, result.unit))
     nm = result.noise
     est = estimator_of(result)
     text = est.description.format(
-        G=getattr(nm, "tread_stiffness_rel", 0.2),
-        B=getattr(nm, "heading_bias_deg", 0.6),
+        G=nm.tread_stiffness_rel if nm is not None else _NotRecorded(),
+        B=nm.heading_bias_deg if nm is not None else _NotRecorded(),
         method=html.escape(method),
     )
+    if nm is None:  # never a default stated as if the run had used it
+        text += (
+            " (?: the priors' widths are not recorded in this result; run gripsense friction "
+            "again to have them stated)"
+        )
     out.append(f"<p>{text}</p>")
     out.append(
         f"<p class='meta'>Assumptions: {est.assumptions}; level road without downforce for "

@@ -13,7 +13,7 @@ from typing import Any
 
 from gripsense.errors import InputError
 
-__all__ = ["check_summary", "check_summary_file"]
+__all__ = ["check_record", "check_summary", "check_summary_file"]
 
 NUMBER, WHOLE, TEXT, FLAG, TEXTS = "a number", "a whole number", "text", "true or false", "a list"
 
@@ -133,6 +133,7 @@ def check_summary(
             f"{source}: meta.method is {method!r}, not a friction method "
             f"({', '.join(sorted(ESTIMATORS))})"
         )
+    check_record(meta.get("record"), source)
     for i, row in enumerate(rows):
         if not isinstance(row, Mapping):
             raise InputError(f"{source}: {unit}s[{i}] is {row!r}, but must be a table")
@@ -145,6 +146,72 @@ def check_summary(
                     f"{source}: {unit}s[{i}].{key} is {value!r}, but must be a single value; "
                     "restore the value gripsense wrote (or run gripsense friction again)"
                 )
+
+
+def _pair(value: Any) -> bool:
+    """``[C, u]``: two numbers (or null: not known)."""
+    return value is None or (
+        isinstance(value, list | tuple)
+        and len(value) == 2
+        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+    )
+
+
+def check_record(record: Any, source: str = "summary.json") -> None:
+    """Check the kind of every value of a result's record of its run
+    (:meth:`gripsense.estimate.results.FrictionResult.record`): the report states it.
+
+    Parameters
+    ----------
+    record : Any
+        The ``record`` table (None: a result of an earlier version, nothing to check) [-].
+    source : str
+        The file named in the message [-].
+
+    Raises
+    ------
+    InputError
+        Naming the first entry whose value has the wrong kind.
+    """
+    if record is None:
+        return
+    fix = "restore the value gripsense wrote (or run gripsense friction again)"
+    if not isinstance(record, Mapping):
+        raise InputError(f"{source}: record is {record!r}, but must be a table; {fix}")
+    for key in ("source", "receiver"):
+        if key in record:
+            _check(record[key], TEXT, f"record.{key}", source)
+    noise = record.get("noise")
+    if noise is not None and not isinstance(noise, Mapping):
+        raise InputError(f"{source}: record.noise is {noise!r}, but must be a table; {fix}")
+    for key, value in (noise or {}).items():
+        _check(value, NUMBER, f"record.noise.{key}", source)
+    stiff = record.get("stiffness") or {}
+    if not isinstance(stiff, Mapping):
+        raise InputError(f"{source}: record.stiffness is {stiff!r}, but must be a table; {fix}")
+    for axle, st in stiff.items():
+        for kind in ("declared", "used"):
+            v = st.get(kind) if isinstance(st, Mapping) else st
+            if not _pair(v):
+                raise InputError(
+                    f"{source}: record.stiffness.{axle}.{kind} is {v!r}, but must be two "
+                    f"numbers [N/rad, relative 1σ]; {fix}"
+                )
+    cal = record.get("calibration")
+    if cal is None:
+        return
+    if not isinstance(cal, Mapping):
+        raise InputError(f"{source}: record.calibration is {cal!r}, but must be a table; {fix}")
+    _check(cal.get("file"), TEXT, "record.calibration.file", source)
+    _check(cal.get("drives"), WHOLE, "record.calibration.drives", source)
+    _check(cal.get("notes"), TEXTS, "record.calibration.notes", source)
+    learned = cal.get("learned") or {}
+    for axle, v in learned.items() if isinstance(learned, Mapping) else [("", learned)]:
+        if not _pair(v) or v is None:
+            raise InputError(
+                f"{source}: record.calibration.learned.{axle} is {v!r}, but must be two numbers "
+                f"[N/rad, relative 1σ]; {fix}"
+            )
 
 
 def check_summary_file(folder: str | Path) -> None:
@@ -175,3 +242,4 @@ def check_summary_file(folder: str | Path) -> None:
     if not isinstance(rows, list):
         raise InputError(f"{path}: {unit}s is {rows!r}, but must be a list of rows")
     check_summary(doc.get("meta", {}), rows, unit=unit, source=str(path))
+    check_record(doc.get("record"), source=str(path))
