@@ -39,7 +39,8 @@ nmea = d / case["nmea"]
 steer = pd.read_csv(d / case["steer"])
 epochs = read_nmea(nmea).epochs
 lines = gzip.decompress(nmea.read_bytes()).decode().splitlines()
-work = Path(tempfile.mkdtemp())
+scratch = tempfile.TemporaryDirectory()  # the five logs; removed at the end
+work = Path(scratch.name)
 logs = {"NMEA": (nmea, LogOptions(), True)}
 for fmt, name, suffix in (("vbo", "VBOX", ".vbo"), ("ubx", "UBX + NMEA", ".ubx"),
                           ("mf4", "MDF4", ".mf4")):  # fmt: skip
@@ -88,6 +89,7 @@ spread = (
     - front[["mu", "mu_low", "mu_high", "grip_used_lower"]].min()
 )
 print("largest difference between formats:", spread.round(4).to_dict())
+scratch.cleanup()
 REPRODUCED: dict = {}
 CHECKS = {
     "every format gives the same front-axle result (within 0.01)": bool((spread <= 0.01).all()),

@@ -69,7 +69,7 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
     )
     cells = res.cells
     shutil.copy(work / "out" / "map.html", OUT / "fleet_map.html")
-    print(f"{len(truth)} logs → {len(cells)} cells; map page: {OUT / 'fleet_map.html'}")
+    print(f"{len(truth)} logs → {len(cells)} cells; map page: fleet_map.html beside the figures")
 
     cells = cells.assign(mu_road=[site_of(c).mu for c in cells["cell"]])
     est = cells.dropna(subset=["mu"])

@@ -27,6 +27,7 @@ table = pd.read_csv(sample_path("thesis_table18.csv"), comment="#")
 params, stats = fit_contact_length(table["mass_kg"], table["length_m"])
 print(f"a = {params['a']:.6f} m/kg^0.5, b = {params['b']:.4e} m/kg, R² = {stats['r2']:.4f}")
 print(f"RMSE = {stats['rmse_m'] * 100:.3f} cm (the thesis prints 0.29, its unit '%' is cm)")
+print(f"the model stops growing at m = {stats['m_peak_kg']:.0f} kg")
 
 # ours, the source's printed value, and the tolerance of its printed digits
 REPRODUCED = {

@@ -57,11 +57,14 @@ res = identify_steering(
     stop_rad=np.deg2rad(car.step_stop_deg) / N,
 )
 fp = res.first_pass
-print(f"first pass (the seed's one step): C_s = {fp['cs_rigid']:.1f} N·m·s/rad with k_s = k_s1")
+print(
+    f"first pass (the seed's one step): C_s = {fp['cs_rigid']:.1f} N·m·s/rad with k_s = k_s1 "
+    "(seed: 76)"
+)
 print(
     f"fixed point after {len(res.history)} steps: C_s = {res.cs.cs:.1f} "
     f"[{res.cs.low:.1f}, {res.cs.high:.1f}], k_s = {res.ks.ks:.0f} N·m/rad, "
-    f"k_s2 = {res.ks.ks2:.4g} N·m/rad"
+    f"k_s2 = {res.ks.ks2:.4g} N·m/rad (seed: C_s 80, k_s2 1.03e4)"
 )
 CHECKS = {
     "alternation converged": bool(res.converged),
