@@ -162,3 +162,12 @@ def test_one_receiver_keeps_the_names_and_declares_it(tmp_path):
     v = Vehicle.from_toml(tmp_path / "out" / "vehicle.toml")
     assert v.receiver is not None and v.receiver.name == "rtk"
     assert v.receiver.heading_white_deg == 0.05  # RECEIVERS["rtk"] (config/receiver.py)
+
+
+def test_python_errors_name_the_python_argument(tmp_path):
+    """The Python API's errors talked in command-line flags only (`add --overwrite`)."""
+    sc = _scenario(tmp_path, '[[case]]\nmaneuver = "braking"\nspeed_kmh = 20\n')
+    run_scenario(sc, tmp_path / "out")
+    with pytest.raises(InputError, match=re.escape("overwrite=True")):
+        run_scenario(sc, tmp_path / "out")
+    assert len(run_scenario(sc, tmp_path / "out", overwrite=True)) == 1

@@ -168,7 +168,8 @@ def _locked(folder: Path) -> Iterator[None]:
 def _changed_meanwhile(path: Path) -> InputError:
     return InputError(
         f"{path}: changed while this run worked (another run wrote it); this run's output was "
-        "not installed — check that output, then run again (with --overwrite to replace it)"
+        "not installed — check that output, then run again (with --overwrite, in Python "
+        "overwrite=True, to replace it)"
     )
 
 
@@ -231,8 +232,8 @@ def _verify_result_folder(
         )
     if not overwrite:
         raise InputError(
-            f"{folder}: holds an earlier {kind} result; add --overwrite to replace it "
-            "or give -o another folder"
+            f"{folder}: holds an earlier {kind} result; add --overwrite (in Python: "
+            "overwrite=True) to replace it, or give -o another folder"
         )
     listed = [str(n) for n in man.get("files", [])]
     hashes = man.get("sha256")
@@ -511,7 +512,10 @@ def check_output_file(
         if not stat.S_ISREG(os.lstat(path).st_mode):
             raise _not_regular(path)
         if not overwrite:
-            raise InputError(f"{path}: exists; add --overwrite to replace it, or give another name")
+            raise InputError(
+                f"{path}: exists; add --overwrite (in Python: overwrite=True) to replace it, or "
+                "give another name"
+            )
         owner = _file_owner(path)
         if owner is None:
             raise InputError(
@@ -925,7 +929,10 @@ def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool =
                         "another file"
                     )
                 if not overwrite:
-                    raise InputError(f"{target}: exists; add --overwrite to replace it")
+                    raise InputError(
+                        f"{target}: exists; add --overwrite (in Python: overwrite=True) to "
+                        "replace it"
+                    )
             fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".gripsense-tmp", dir=folder)
             try:
                 with os.fdopen(fd, "w", encoding="utf-8") as fh:
