@@ -109,6 +109,20 @@ def detect_format(head: bytes) -> str:
     return "nmea"
 
 
+def _own_columns(fmt: str) -> str:
+    """The ``--columns`` that read gripsense's own logs of *fmt*, as an example a user can try."""
+    keys = ("heading", "course", "speed")
+    if fmt == "mf4":
+        from gripsense.io.mdf import MDF_CHANNELS
+
+        cols = ",".join(f"{k}={MDF_CHANNELS[k][0]}" for k in keys)
+        return f"--columns {cols} (the channels of gripsense simulate --format mf4)"
+    from gripsense.io.canlog import CAN_SIGNALS
+
+    cols = ",".join(f"{k}={CAN_SIGNALS[k]}" for k in keys)
+    return f"--columns {cols} (the signals of gripsense's example DBC, docs/ingest.md)"
+
+
 def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -> NmeaLog:
     """Read a GNSS-compass or measurement log of any supported format (see the module
     documentation) into the epoch table.
@@ -147,8 +161,8 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         if fmt in ("mf4", "blf", "asc") and o.columns is None:
             raise InputError(
                 f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
-                "course and speed with --columns (e.g. --columns heading=True_Head:deg,"
-                "course=Course:deg,speed=Speed:kmh; docs/ingest.md)"
+                f"course and speed with --columns (in Python: columns=), e.g. {_own_columns(fmt)}"
+                "; docs/ingest.md"
             )
         if fmt in ("blf", "asc") and o.dbc is None:
             raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
