@@ -47,7 +47,7 @@ lint: $(VENV)/.installed-test
 # the examples gallery in full: figures into docs/examples/, notebooks regenerated from the
 # scripts (the tests run both in a reduced form; tests/test_docs_numbers.py checks that a full
 # run draws the tracked figures again and prints what docs/examples.md quotes). The figures
-# carry no date (SOURCE_DATE_EPOCH) nor hash salt: the same run gives the same bytes
+# carry no date (PNG; SOURCE_DATE_EPOCH for a format that embeds one): same run, same bytes
 examples: $(VENV)/.installed-test
 	@for f in examples/*.py; do echo "== $$f"; SOURCE_DATE_EPOCH=0 GRIPSENSE_EXAMPLES_OUT=docs/examples $(BIN)/python $$f || exit 1; done
 	$(BIN)/jupytext --quiet --update --to ipynb examples/*.py

@@ -164,3 +164,13 @@ def test_figures_are_the_tracked_ones_and_nothing_is_left_behind(script, run_exa
             f"docs/examples/{png.name} is not what {script.name} draws (rms {rms:.4f}, "
             f"{changed:.2%} of pixels): run `make examples` and commit the figures"
         )
+
+
+def test_every_quoted_run_in_the_docs_is_checked():
+    """A fenced block that quotes a run (``$ …``) is one of the blocks checked above: a quoted
+    command whose output nothing checks would drift again."""
+    for doc in [*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md"]:
+        text = doc.read_text(encoding="utf-8")
+        runs = re.findall(r"```\w*\n\$ ", text)
+        checked = BLOCK.findall(text)
+        assert len(runs) == len(checked), f"{doc.name} quotes a run no test checks"
