@@ -162,6 +162,10 @@ def test_one_receiver_keeps_the_names_and_declares_it(tmp_path):
     v = Vehicle.from_toml(tmp_path / "out" / "vehicle.toml")
     assert v.receiver is not None and v.receiver.name == "rtk"
     assert v.receiver.heading_white_deg == 0.05  # RECEIVERS["rtk"] (config/receiver.py)
+    # and friction, given only that file, assumes the receiver that recorded the drive
+    from gripsense import FrictionRun
+
+    assert FrictionRun(tmp_path / "out" / "vehicle.toml").receiver == "rtk"
 
 
 def test_python_errors_name_the_python_argument(tmp_path):
