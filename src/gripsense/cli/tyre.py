@@ -470,6 +470,7 @@ def _print_fit(fit, info, data, free_fit) -> None:
         console.print(
             f"without constraints: rms {free_fit.residual_rms_N:.1f} N; "
             + ", ".join(f"{k} {'ok' if v else 'FAILED'}" for k, v in fc.items())
+            + ("" if free_fit.success else f" (did not converge: {free_fit.message})")
         )
 
 
