@@ -46,7 +46,7 @@ bins = 40
 
 def _text(page: str) -> str:
     """The words of a page, without its images and the minute it was written."""
-    page = re.sub(r"<img[^>]*>", "", page)
+    page = re.sub(r"<img[^>]*>|<wbr>", "", page)
     page = re.sub(r"written \d{4}-\d\d-\d\d \d\d:\d\d UTC", "written …", page)
     return H.unescape(re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", page)))
 
@@ -104,7 +104,10 @@ def test_the_calibration_in_use_is_named_with_what_it_changed(calibrated_run):
         assert f"learned (calibration) {n(C_REAR_LEARNED)} N/rad ± 14 %" in line, line
         assert f"used (the estimator's prior) {n(used)} N/rad" in line, line
         assert "calibration in use: car.calibration.toml" in where
-    # summary.json's stiffness is named with its kind in the report: estimated by the drive
+    # summary.json names each number's kind; its stiffness is the drive's estimate
+    kinds = json.loads((again.parent / "run" / "summary.json").read_text())["kinds"]
+    assert kinds["grip_used_lower"] == "measured" and kinds["mu"] == "estimated", kinds
+    assert kinds["cornering_stiffness_N_per_rad"] == "estimated", kinds
     assert "estimated from this drive" in text
     assert (
         "cornering_stiffness_N_per_rad (estimated)" in text or "stiffness_scale (estimated)" in text

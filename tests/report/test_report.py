@@ -111,12 +111,19 @@ def test_summary_first_words_not_booleans_in_browser(tmp_path, method):
         )
         header = drv.execute_script("return document.querySelector('p.meta').textContent")
         folded = drv.execute_script("return document.querySelectorAll('details').length")
+        wide = drv.execute_script(  # with the folded tables open: none wider than the window
+            "document.querySelectorAll('details').forEach(d => d.open = true);"
+            "return Array.from(document.querySelectorAll('table'))"
+            ".map(t => t.getBoundingClientRect().right)"
+            ".filter(r => r > window.innerWidth);"
+        )
     finally:
         drv.quit()
     assert any("estimate" in h for h in first) and any("measured" in h for h in first), first
     assert "True" not in cells and "False" not in cells
     assert f"method {method}" in header and "receiver" in header, header
     assert folded >= 1
+    assert wide == [], wide
 
 
 def test_demo_report_in_browser(tmp_path):

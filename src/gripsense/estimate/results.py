@@ -32,6 +32,7 @@ from gripsense.io.output_folder import read_result_folder, write_result_folder
 from gripsense.physics.surface import slippery_call, surface_class_interval
 
 __all__ = [
+    "COLUMN_KINDS",
     "ESTIMATE_COLUMNS",
     "UNIT_COLUMNS",
     "AxleFriction",
@@ -77,6 +78,33 @@ UNIT_COLUMNS = [
 """Columns of :meth:`FrictionResult.unit_table` (same for every method)."""
 
 RESULT_KIND = "friction"
+
+COLUMN_KINDS: dict[str, str] = {
+    "mu": "estimated",
+    "mu_low": "estimated",
+    "mu_high": "estimated",
+    "mu_best": "estimated",
+    "surface": "estimated",
+    "slippery": "measured and estimated",
+    "observable": "estimated",
+    "grip_used": "measured",
+    "grip_used_lower": "measured",
+    "utilisation_p95": "measured, load-transfer model",
+    "valid_fraction": "count",
+    "fit": "estimated",
+    "shape": "estimated",
+    "stiffness_scale": "estimated",
+    "cornering_stiffness_N_per_rad": "estimated",
+    "heading_bias_deg": "estimated",
+    "camber_slip_deg_per_g": "estimated",
+    "load_transfer_error": "estimated",
+    "limited_by": "why",
+    "steering_torque": "input",
+    "note": "why",
+}
+"""The kind of each summary column (``n…`` columns are counts): *measured* (model-free, level
+road assumed: ``docs/physics.md`` §14), *estimated* (under a tyre model), counts and reasons.
+``summary.json`` lists them under ``kinds``; the report's headers name them."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -279,6 +307,11 @@ class FrictionResult:
             "meta": meta,
             f"{self.unit}s": recs,
             "explain": self.explain(),
+            "kinds": {
+                str(c): COLUMN_KINDS.get(str(c), "count" if str(c).startswith("n") else "")
+                for c in self.summary.columns
+                if str(c) != self.unit
+            },
             # what the run used (priors, stiffness, calibration): a report written later from
             # the folder states the same as one written with the run
             "record": self.record(),

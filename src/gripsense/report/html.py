@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 
 from gripsense.estimate.estimators import estimator_of
-from gripsense.estimate.results import FrictionResult
+from gripsense.estimate.results import COLUMN_KINDS, FrictionResult
 from gripsense.io.output_folder import write_file_atomic
 from gripsense.report import figures as F
 from gripsense.report.summary_check import check_summary
@@ -25,7 +25,7 @@ body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;mar
 max-width:1100px;color:#222;line-height:1.45;padding:0 1em}
 h1{font-size:1.6em;margin-bottom:.2em} h2{border-bottom:1px solid #ccc;padding-bottom:.2em;
 margin-top:1.6em} table{border-collapse:collapse;margin:.6em 0;font-size:.92em}
-th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right;overflow-wrap:anywhere}
+th,td{border:1px solid #ccc;padding:.3em .6em;text-align:right;overflow-wrap:break-word}
 th{background:#f3f3f3} table{max-width:100%}
 td.l,th.l{text-align:left} .note{background:#fff8e1;border-left:4px solid #f0b400;padding:.6em 1em}
 .ok{background:#eaf6ea;border-left:4px solid #3a9a3a;padding:.6em 1em} img{max-width:100%}
@@ -43,6 +43,30 @@ def fig_to_data_uri(fig) -> str:
 
 def _img(fig, alt: str) -> str:
     return f'<p><img alt="{html.escape(alt)}" src="{fig_to_data_uri(fig)}"></p>'
+
+
+def _breakable(text: str) -> str:
+    """Text escaped, with a line-break opportunity after each ``_`` and ``.`` of a word
+    longer than 14 characters (``grip_used_lower``, ``PacejkaBook_Defaults.tir``): a table
+    then fits the page.
+    """
+    return " ".join(
+        html.escape(t).replace("_", "_<wbr>").replace(".", ".<wbr>")
+        if len(t) > 14
+        else html.escape(t)
+        for t in text.split(" ")
+    )
+
+
+def _cell(v, floatfmt: str = "{:.2f}") -> str:
+    """One table cell: booleans as yes/no, NaN as —, infinite as ∞, text escaped."""
+    if isinstance(v, bool | np.bool_):  # words, not True/False
+        return "yes" if v else "no"
+    if isinstance(v, float | np.floating):
+        if not np.isfinite(v):
+            return "—" if np.isnan(v) else "∞"
+        return floatfmt.format(v)
+    return _breakable(str(v))
 
 
 def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
@@ -63,13 +87,7 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
     """
 
     def cell(v):
-        if isinstance(v, bool | np.bool_):  # words, not True/False
-            return "yes" if v else "no"
-        if isinstance(v, float | np.floating):
-            if not np.isfinite(v):
-                return "—" if np.isnan(v) else "∞"
-            return floatfmt.format(v)
-        return html.escape(str(v))
+        return _cell(v, floatfmt)
 
     if "observable" in df.columns:
         df = df.assign(
@@ -79,7 +97,7 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
             ]
         ).rename(columns={"observable": "estimate"})
     head = "".join(
-        f'<th class="{"l" if i == 0 else ""}">{html.escape(str(c))}</th>'
+        f'<th class="{"l" if i == 0 else ""}">{_breakable(str(c))}</th>'
         for i, c in enumerate(df.columns)
     )
     rows = "".join(
@@ -91,40 +109,27 @@ def html_table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
     return f"<table><tr>{head}</tr>{rows}</table>"
 
 
-KINDS: dict[str, str] = {
-    "mu": "estimated",
-    "mu_low": "estimated",
-    "mu_high": "estimated",
-    "mu_best": "estimated",
-    "surface": "estimated",
-    "slippery": "measured and estimated",
-    "observable": "estimated",
-    "grip_used": "measured",
-    "grip_used_lower": "measured",
-    "utilisation_p95": "measured, load-transfer model",
-    "valid_fraction": "count",
-    "fit": "estimated",
-    "shape": "estimated",
-    "stiffness_scale": "estimated",
-    "cornering_stiffness_N_per_rad": "estimated",
-    "heading_bias_deg": "estimated",
-    "camber_slip_deg_per_g": "estimated",
-    "load_transfer_error": "estimated",
-    "limited_by": "why",
-    "steering_torque": "input",
-    "note": "why",
-}
-"""The kind of each summary column as the report names it (``n…`` columns are counts):
-*measured* (model-free), *estimated* (under a tyre model), counts and reasons."""
-
-
 def _named(columns) -> dict[str, str]:
     """Column → "column (kind)" for a table header."""
     out = {}
     for c in columns:
-        kind = KINDS.get(str(c), "count" if str(c).startswith("n") else "")
+        kind = COLUMN_KINDS.get(str(c), "count" if str(c).startswith("n") else "")
         out[c] = f"{c} ({kind})" if kind else str(c)
     return out
+
+
+def _transposed(table: pd.DataFrame, unit: str) -> str:
+    """A summary with one row per column ("name (kind)") and one column per axle or wheel:
+    as narrow as the page however many columns the method writes.
+    """
+    named = _named([c for c in table.columns if c != unit])
+    rows = {named[c]: [_cell(v) for v in table[c]] for c in table.columns if c != unit}
+    body = "".join(
+        f'<tr><th class="l">{_breakable(k)}</th>' + "".join(f"<td>{v}</td>" for v in vals) + "</tr>"
+        for k, vals in rows.items()
+    )
+    head = "".join(f"<th>{_breakable(str(u))}</th>" for u in table[unit])
+    return f"<table><tr><th class='l'>{html.escape(unit)}</th>{head}</tr>{body}</table>"
 
 
 def _compact(summary: pd.DataFrame, unit: str) -> str:
@@ -457,7 +462,7 @@ def render_report(
         ]
         out.append(
             "<details><summary>All columns of the summary (each with its kind)</summary>"
-            + html_table(s[cols].rename(columns=_named(cols)))
+            + _transposed(s[cols], result.unit)
             + "</details>"
         )
     if cal:
