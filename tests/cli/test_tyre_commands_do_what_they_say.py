@@ -159,3 +159,20 @@ def test_fit_plot_uses_the_points_of_the_fit_only(tmp_path, monkeypatch):
     lo, hi = seen["range"]
     assert len(seen["fz"]) == n  # the rear wheels' steady rows: what the fit used
     assert seen["fz"].min() >= lo and seen["fz"].max() <= hi
+
+
+def test_python_errors_name_the_python_argument():
+    """In Python the fit's refusal names ``wheel=``, not only the command's ``--wheel``."""
+    from gripsense.errors import InputError
+    from gripsense.identify.tyre_fit import fit_from_wheel_table
+
+    both = pd.DataFrame(
+        {
+            "wheel": ["front_left", "rear_left"],
+            "slip_angle_rad": [0.01, 0.02],
+            "load_N": [4000.0, 4000.0],
+            "force_N": [-500.0, -900.0],
+        }
+    )
+    with pytest.raises(InputError, match=re.escape('wheel="front"')):
+        fit_from_wheel_table(both)

@@ -68,7 +68,7 @@ def _select(wheels: pd.DataFrame, wheel: str | None):
             raise InputError(
                 f"wheel table: it holds the {' and '.join(axles)} wheels — different tyres and "
                 "different slip errors, not one curve; give --wheel front or --wheel rear "
-                "(or one wheel, e.g. --wheel rear_left)"
+                '(or one wheel, e.g. --wheel rear_left; in Python: wheel="front")'
             )
     ok = np.ones(len(t), bool)
     if "steady" in t.columns:
