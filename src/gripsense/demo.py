@@ -10,17 +10,23 @@ import pandas as pd
 from gripsense.config import Vehicle
 from gripsense.pipeline import FrictionRun
 
-__all__ = ["DEMO_COLUMNS", "DEMO_METHOD", "demo_description", "demo_verdict", "run_demo"]
+__all__ = [
+    "DEMO_COLUMNS",
+    "DEMO_METHOD",
+    "demo_description",
+    "demo_estimate_text",
+    "demo_verdict",
+    "run_demo",
+]
 
 DEMO_METHOD = "axle-window"
 
 DEMO_COLUMNS = {
+    "kmh": "km/h",
     "mu_true": "μ true (simulator)",
     "grip_used_lower": "measured: data prove μ ≥",
     "share_proven": "share of μ true proven (μ ≥ ÷ μ true)",
-    "mu": "estimate μ",
-    "mu_low": "estimate: 90 % low",
-    "mu_high": "estimate: 90 % high",
+    "estimate": "estimate μ [90 %] (tyre model)",
     "limited_by": "what limits the estimate",
 }
 """The demo report's table headers: each number's name and kind."""
@@ -109,6 +115,26 @@ def run_demo(
                 }
             )
     return pd.DataFrame(rows)
+
+
+def demo_estimate_text(rec: dict) -> str:
+    """A demo row's estimate as the console prints it: "0.52 [0.47, 0.57]" for a value,
+    "— (≤ 0.67)" for only an upper end, "—" for none.
+
+    Parameters
+    ----------
+    rec : dict
+        A row of :func:`run_demo`'s table.
+
+    Returns
+    -------
+    str
+        The text.
+    """
+    if rec["observable"]:
+        return f"{rec['mu']:.2f} [{rec['mu_low']:.2f}, {rec['mu_high']:.2f}]"
+    hi = rec["mu_high"]
+    return "—" + (f" (≤ {hi:.2f})" if np.isfinite(hi) else "")
 
 
 def demo_description(folder: str | Path | None = None) -> str:
@@ -211,19 +237,21 @@ def write_demo_report(
     ax.set_title("Demo set: estimates and measured bounds against the truth")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    show = df.assign(share_proven=df["grip_used_lower"] / df["mu_true"])[
+    show = df.assign(
+        kmh=df["name"].str.extract(r"v=([\d.]+)\s*km/h", expand=False).fillna(""),
+        share_proven=df["grip_used_lower"] / df["mu_true"],
+        estimate=[demo_estimate_text(r) for r in df.to_dict("records")],
+    )[
         [
             "case",
-            "name",
             "tyre",
             "receiver",
+            "kmh",
             "axle",
             "mu_true",
             "grip_used_lower",
             "share_proven",
-            "mu",
-            "mu_low",
-            "mu_high",
+            "estimate",
             "limited_by",
         ]
     ].rename(columns=DEMO_COLUMNS)

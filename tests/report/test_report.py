@@ -155,6 +155,11 @@ def test_demo_report_in_browser(tmp_path):
     for c in ("μ true (simulator)", "measured: data prove μ ≥", "share of μ true proven"):
         assert any(x.startswith(c) for x in cols), cols
     assert "utilisation_true" not in cols and "util" not in cols, cols
+    # the estimate as the console says it: a value with its range, or only an upper end
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", table)
+    for r in df.to_dict("records"):
+        if r["observable"]:
+            assert f"{r['mu']:.2f} [{r['mu_low']:.2f}, {r['mu_high']:.2f}]" in cells
     # no table wider than the page; "what limits the estimate" visible without scrolling
     drv = _open(p)
     try:

@@ -81,12 +81,18 @@ def demo(
     """Friction on the bundled simulated drives (brush and Magic Formula tyres, two receivers,
     dry μ 0.9 and wet μ 0.5): what the data prove and what is estimated, next to the truth.
     """
-    import numpy as np
     from rich.markup import escape
     from rich.progress import Progress
     from rich.table import Table
 
-    from gripsense.demo import DEMO_METHOD, demo_description, demo_dir, demo_verdict, run_demo
+    from gripsense.demo import (
+        DEMO_METHOD,
+        demo_description,
+        demo_dir,
+        demo_estimate_text,
+        demo_verdict,
+        run_demo,
+    )
     from gripsense.io.output_folder import ResultWriter, check_output_folder
 
     folder = demo_dir()
@@ -129,13 +135,8 @@ def demo(
         table.add_column(col, no_wrap=True, min_width=len(col) if col != "estimate [90%]" else 17)
     for rec in df.to_dict("records"):
         v = rec["name"].split()[1]
-        if rec["observable"]:
-            est = f"{rec['mu']:.2f} [{rec['mu_low']:.2f}, {rec['mu_high']:.2f}]"
-            mark = "✓" if rec["covered"] else "✗"
-        else:
-            hi = rec["mu_high"]
-            est = "—" + (f" (≤ {hi:.2f})" if np.isfinite(hi) else "")
-            mark = ""
+        est = demo_estimate_text(rec)  # as the report's table says it
+        mark = ("✓" if rec["covered"] else "✗") if rec["observable"] else ""
         table.add_row(
             rec["case"].removeprefix("case"),
             "MF" if rec["tyre"] != "brush" else "brush",
@@ -144,7 +145,7 @@ def demo(
             rec["axle"],
             f"{rec['mu_true']:.2f}",
             f"{rec['grip_used_lower']:.2f}" + ("" if rec["bound_holds"] else " ✗"),
-            f"{rec['grip_used_lower'] / rec['mu_true']:.0%}",
+            f"{rec['grip_used_lower'] / rec['mu_true']:.2f}",
             est,
             mark,
         )
