@@ -155,6 +155,14 @@ def test_per_condition_mu_is_labelled_and_no_empty_figure_beside_a_value(tmp_pat
     assert "mu" not in cols and "μ, window estimates (median)" in cols, cols
     assert "their 90 % low (median)" in cols and "their 90 % high (median)" in cols, cols
     assert "each 3 s window alone" in H.unescape(page)
+    # a condition's panel (d) shows its windows' values, labelled, not "μ not observable"
+    row = ct.dropna(subset=["mu"]).iloc[0]
+    fig = F.condition_figure(res.wheels, row["t_start"], row["t_end"], windows=res.windows)
+    (d,) = [a for a in fig.axes if a.get_title(loc="left") == "(d)"]
+    legend = d.get_legend()
+    assert legend is not None
+    assert any("a window's value" in t.get_text() for t in legend.get_texts())
+    assert not any("not observable" in t.get_text() for t in d.texts)
     # far from the limit: no window value in any condition — no empty μ-vs-radius figure
     res, epochs = _result(method="axle-window", mu=0.9, util=0.2)
     assert res.condition_table()["mu"].isna().all()

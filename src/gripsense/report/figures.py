@@ -113,7 +113,14 @@ def interval_bars(summary: pd.DataFrame, unit: str, *, mu_max: float = 1.4) -> F
     return fig
 
 
-def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str = "") -> Figure:
+def condition_figure(
+    wheels: pd.DataFrame,
+    t0: float,
+    t1: float,
+    *,
+    title: str = "",
+    windows: pd.DataFrame | None = None,
+) -> Figure:
     """Four panels for one steady condition (thesis figs 72–81 / 113–137).
 
     (a) slip angle and turn radius, (b) load and contact length, (c) lateral force and slide
@@ -129,6 +136,9 @@ def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str =
         Condition end [s].
     title : str
         Figure title.
+    windows : pandas.DataFrame, optional
+        ``axle-window`` windows: panel (d) shows the values of this condition's windows per
+        axle (each window alone) instead of per-sample values, which that method has none of.
     """
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
     fig, axs = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
@@ -196,14 +206,40 @@ def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str =
                 label=str(w),
             )
         ax.plot(g["t_s"], g["utilisation"], color=c, lw=0.8, ls=":", alpha=0.8)
-    bad = seg.groupby("t_s")["flag"].agg(lambda f: not (f == "ok").any())
-    tt = bad.index.to_numpy(float)
-    if tt.size > 1:
-        dt = np.median(np.diff(tt))
-        for t, b in zip(tt, bad.to_numpy(bool), strict=True):
-            if b:
-                ax.axvspan(t - dt / 2, t + dt / 2, color="0.85", alpha=0.6, lw=0, zorder=1)
-    if not any_valid:
+    per_window = windows is not None
+    if per_window:
+        win = windows[(windows["t_start"] >= t0) & (windows["t_end"] <= t1 + 1e-9)]
+        win = win[win["observable"].astype(bool)]
+        for axle, g in win.groupby("axle"):
+            c = WHEEL_COLOURS.get(f"{axle}_left", "k")
+            for k, r in enumerate(g.to_dict("records")):
+                lab = f"{axle} axle: a window's value, 90 %" if k == 0 else None
+                ax.plot([r["t_start"], r["t_end"]], [r["mu"], r["mu"]], color=c, lw=2, label=lab)
+                tm = 0.5 * (r["t_start"] + r["t_end"])
+                ax.plot([tm, tm], [r["mu_low"], min(r["mu_high"], ymax)], color=c, lw=0.8)
+        any_valid = len(win) > 0
+    else:
+        bad = seg.groupby("t_s")["flag"].agg(lambda f: not (f == "ok").any())
+        tt = bad.index.to_numpy(float)
+        if tt.size > 1:
+            dt = np.median(np.diff(tt))
+            for t, b in zip(tt, bad.to_numpy(bool), strict=True):
+                if b:
+                    ax.axvspan(t - dt / 2, t + dt / 2, color="0.85", alpha=0.6, lw=0, zorder=1)
+    if per_window:
+        if any_valid:
+            ax.legend(fontsize=7, loc="lower right")
+        else:
+            ax.text(
+                0.5,
+                0.55,
+                "no window of this condition has a value of its own\n(the summary's value, if "
+                "any, combines the whole drive;\ndotted: |F|/Fz, what the data prove: μ ≥ it)",
+                transform=ax.transAxes,
+                ha="center",
+                fontsize=8,
+            )
+    elif not any_valid:
         ax.text(
             0.5,
             0.55,
@@ -213,7 +249,11 @@ def condition_figure(wheels: pd.DataFrame, t0: float, t1: float, *, title: str =
             fontsize=9,
         )
     ax.set_ylim(0, ymax)
-    ax.set_ylabel("μ (points: valid; dotted: |F|/Fz)")
+    ax.set_ylabel(
+        "μ (bars: windows, axle-window; dotted: |F|/Fz)"
+        if per_window
+        else "μ (points: valid; dotted: |F|/Fz)"
+    )
     ax.set_title("(d)", loc="left", fontsize=10)
     for a in axs[1]:
         a.set_xlabel("time [s]")

@@ -525,7 +525,8 @@ def render_report(
                 f"condition {i + 1}: {t0:.1f}–{t1:.1f} s, {sub['speed_kmh'].mean():.0f} km/h, "
                 f"R {sub['radius_m'].mean():.0f} m, |a_y| {sub['ay_g'].mean():.2f} g"
             )
-            out.append(_img(F.condition_figure(w, t0, t1, title=ttl), ttl))
+            fig = F.condition_figure(w, t0, t1, title=ttl, windows=windows if per_window else None)
+            out.append(_img(fig, ttl))
         if len(conds) > max_conditions:
             out.append(
                 f"<p class='meta'>{len(conds) - max_conditions} more conditions are in "
