@@ -207,7 +207,7 @@ def condition_figure(
             )
         ax.plot(g["t_s"], g["utilisation"], color=c, lw=0.8, ls=":", alpha=0.8)
     per_window = windows is not None
-    if per_window:
+    if windows is not None:
         win = windows[(windows["t_start"] >= t0) & (windows["t_end"] <= t1 + 1e-9)]
         win = win[win["observable"].astype(bool)]
         for axle, g in win.groupby("axle"):
