@@ -10,6 +10,7 @@ returns its own typed result (:class:`~gripsense.estimate.results.WheelFriction`
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import warnings
 from dataclasses import fields, replace
@@ -19,7 +20,14 @@ import numpy as np
 import pandas as pd
 
 from gripsense.config import Receiver, Vehicle, receiver_from
-from gripsense.config.calibration import AxleCalibration, Calibration, calibrated_vehicle
+from gripsense.config.calibration import (
+    N_SUMS,
+    AxleCalibration,
+    Calibration,
+    DriveSums,
+    apply_calibration,
+    calibrated_vehicle,
+)
 from gripsense.errors import InputError
 from gripsense.estimate.estimators import Estimator, get_estimator
 from gripsense.estimate.friction import friction_from_motion
@@ -39,8 +47,10 @@ __all__ = [
     "learn_calibration",
     "log_drive_sums",
     "log_steering",
+    "log_wheels",
     "solve_calibration",
     "steering_meta",
+    "wheel_drive_sums",
 ]
 
 NO_STEERING = (
@@ -395,7 +405,9 @@ def learn_calibration(
 ) -> Calibration:
     """Learn each axle's cornering stiffness from drives of one vehicle (``docs/physics.md``
     §15.7): the linear-range fit of :mod:`gripsense.estimate.calibration` over every drive,
-    added to what *previous* was learned from (a drive already in it is not counted twice).
+    added to what *previous* was learned from (a drive already in it is not counted twice);
+    and from every drive that took an axle up its curve, what it says of the axle's normalised
+    shape (§15.10), with the stiffness just learned.
 
     Parameters
     ----------
@@ -403,7 +415,8 @@ def learn_calibration(
         Logs of everyday driving (any format of :func:`gripsense.io.log.read_log`).
     vehicle : Vehicle or str or Path
         The vehicle file (its declared stiffness is the reference; a calibration it names is
-        not applied: learning starts from the declaration).
+        not applied: learning starts from the declaration). Its tyres' ``tyre_set`` marks the
+        drives; drives of *previous* on other tyres are kept but not learned from.
     receiver : str or Path or Receiver, optional
         The receiver (default: the vehicle file's, else ``v100``).
     steer_csvs : list of str or Path, optional
@@ -427,11 +440,28 @@ def learn_calibration(
         )
     _same_vehicle(previous, veh)  # before any log is read
     run = FrictionRun(veh, receiver=receiver)
-    drives = []
+    drives, tables = [], []
     for i, log in enumerate(logs):
         steer = steer_csvs[i] if steer_csvs else None
-        drives += log_drive_sums(log, run, steer_csv=steer, log_options=log_options)
-    return solve_calibration(veh, drives, previous=previous)
+        wheels, name, digest = log_wheels(log, run, steer_csv=steer, log_options=log_options)
+        drives += wheel_drive_sums(wheels, run, name, digest, shape=False)
+        tables.append((wheels, name, digest))
+    cal = solve_calibration(veh, drives, previous=previous)
+    # the shape, with the stiffness just learned (the declaration's ±20 % would blur it); a
+    # drive that teaches it took the axle near its limit: its stiffness bins are cut to half
+    # its largest grip, and the stiffness is solved again
+    shape_run = copy.copy(run)
+    shape_run.vehicle = apply_calibration(veh, dataclasses.replace(cal, drives=[]))
+    held = {(d.sha256, d.axle) for d in previous.drives} if previous is not None else set()
+    shapes: dict[tuple[str, str], DriveSums] = {}
+    for wheels, name, digest in tables:
+        for d in _shape_sums(wheels, shape_run, name, digest):
+            if (digest, d.axle) not in held:  # a drive the calibration held: not twice
+                shapes[(digest, d.axle)] = d
+    if not shapes:
+        return cal
+    new = [shapes.pop((d.sha256, d.axle), d) for d in drives] + list(shapes.values())
+    return solve_calibration(veh, new, previous=previous)
 
 
 def _same_vehicle(previous: Calibration | None, vehicle: Vehicle) -> None:
@@ -441,6 +471,132 @@ def _same_vehicle(previous: Calibration | None, vehicle: Vehicle) -> None:
         )
 
 
+def log_wheels(
+    log: str | Path,
+    run: FrictionRun,
+    *,
+    steer_csv: str | Path | None = None,
+    steer_columns: str | dict | None = None,
+    log_options: LogOptions | None = None,
+) -> tuple[pd.DataFrame, str, str]:
+    """One log's wheel table with its name and SHA-256 (a pipe or FIFO is read once).
+
+    Parameters
+    ----------
+    log : str or Path
+        Log of any supported format (:func:`gripsense.io.log.read_log`).
+    run : FrictionRun
+        The run (vehicle without calibration, receiver).
+    steer_csv : str or Path, optional
+        The log's steering channel (the front axle needs it; else the log's own, if it has
+        one: :func:`log_steering`).
+    steer_columns : str or dict, optional
+        Column mapping of *steer_csv*.
+    log_options : LogOptions, optional
+        Channel mapping, DBC and time offset of a measurement log.
+
+    Returns
+    -------
+    wheels : pandas.DataFrame
+        Wheel table (:meth:`FrictionRun.wheel_table`; empty when nothing is usable).
+    name : str
+        The log's file name.
+    sha256 : str
+        Its content hash.
+    """
+    import hashlib
+    import tempfile
+
+    from gripsense.io.text import read_bytes
+
+    lo = log_options or LogOptions()
+    if Path(log).is_file():
+        digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
+        nlog = read_log(log, lo)
+    else:  # a pipe or FIFO is read once: hashed, then read from a private copy
+        data = read_bytes(log, "log", max_bytes=lo.max_bytes)
+        digest = hashlib.sha256(data).hexdigest()
+        with tempfile.TemporaryDirectory(prefix="gripsense-") as tmp:
+            copy_ = Path(tmp) / (Path(log).name or "log")
+            copy_.write_bytes(data)
+            nlog = read_log(copy_, lo)
+    st = log_steering(nlog.epochs, run.vehicle, log=log, steer_csv=steer_csv,
+                      steer_columns=steer_columns, steering=nlog.report.steering)  # fmt: skip
+    wheels, _ = run.wheel_table(st.epochs, steer_rad=st.steer_rad)
+    return wheels, Path(log).name, digest
+
+
+def wheel_drive_sums(
+    wheels: pd.DataFrame, run: FrictionRun, name: str, sha256: str, *, shape: bool = True
+) -> list[DriveSums]:
+    """One drive's sums per axle (:func:`gripsense.estimate.calibration.drive_sums`) and, with
+    a steering-torque channel, the steering's; with *shape*, what the drive says of each
+    axle's curve shape (:func:`gripsense.estimate.shape_learning.shape_evidence`, with the
+    run's stiffness); each tagged with the axle's ``tyre_set``.
+
+    Parameters
+    ----------
+    wheels : pandas.DataFrame
+        The drive's wheel table (:func:`log_wheels`).
+    run : FrictionRun
+        The run (vehicle, receiver).
+    name : str
+        The drive's file name.
+    sha256 : str
+        Its content hash.
+    shape : bool
+        Also learn the curve's shape.
+
+    Returns
+    -------
+    list of DriveSums
+        One per axle with usable bins or shape evidence, and the steering's.
+    """
+    from gripsense.estimate.calibration import drive_sums, steering_sums
+
+    if wheels.empty:
+        return []
+    veh = run.vehicle
+    out = []
+    for axle in ("front", "rear"):
+        s = drive_sums(wheels, veh, axle, run.options.noise, file=name, sha256=sha256)
+        if s is not None and axle in veh.tyres:
+            out.append(dataclasses.replace(s, tyre_set=veh.tyres[axle].tyre_set))
+    if shape:
+        with_shape = {d.axle: d for d in _shape_sums(wheels, run, name, sha256)}
+        out = [with_shape.pop(d.axle, d) for d in out] + list(with_shape.values())
+    s = steering_sums(wheels, veh, file=name, sha256=sha256)
+    if s is not None:  # a steering-torque channel: the steering's lever (§16.8)
+        front = veh.tyres.get("front")
+        out.append(dataclasses.replace(s, tyre_set=front.tyre_set if front else ""))
+    return out
+
+
+def _shape_sums(wheels: pd.DataFrame, run: FrictionRun, name: str, sha256: str) -> list[DriveSums]:
+    """Per axle whose curve the drive tells apart: its sums (as
+    :func:`~gripsense.estimate.calibration.drive_sums` over the bins below half its largest
+    measured grip, ``near_limit``; zero without such bins) with the shape
+    evidence of :func:`~gripsense.estimate.shape_learning.shape_evidence`.
+    """
+    from gripsense.estimate.calibration import drive_sums
+    from gripsense.estimate.shape_learning import shape_evidence
+
+    out: list[DriveSums] = []
+    if wheels.empty:
+        return out
+    veh = run.vehicle
+    for axle in veh.tyres:
+        ev = shape_evidence(wheels, veh, axle, noise=run.options.noise, options=run.window)
+        if ev is None:
+            continue
+        s = drive_sums(wheels, veh, axle, run.options.noise, file=name, sha256=sha256,
+                       near_limit=True)  # fmt: skip
+        if s is None:
+            s = DriveSums(name, sha256, axle, 0, np.zeros(N_SUMS[axle]))
+        out.append(dataclasses.replace(s, tyre_set=veh.tyres[axle].tyre_set, shape=ev))
+    return out
+
+
 def log_drive_sums(
     log: str | Path,
     run: FrictionRun,
@@ -448,10 +604,10 @@ def log_drive_sums(
     steer_csv: str | Path | None = None,
     steer_columns: str | dict | None = None,
     log_options: LogOptions | None = None,
-) -> list:
-    """The linear-range sums of one log per axle (:func:`gripsense.estimate.calibration.
-    drive_sums`), tagged with the log's name and SHA-256 — the part of :func:`learn_calibration`
-    that a fleet runs on its workers.
+) -> list[DriveSums]:
+    """The linear-range sums of one log per axle and the shape evidence of the axles it took up
+    their curves (:func:`wheel_drive_sums` of :func:`log_wheels`, with the run's stiffness) —
+    the part of :func:`learn_calibration` that a fleet runs on its workers.
 
     Parameters
     ----------
@@ -470,81 +626,76 @@ def log_drive_sums(
     Returns
     -------
     list of DriveSums
-        One per axle with usable bins, and the steering's with a steering-torque channel.
+        One per axle with usable bins or shape evidence, and the steering's with a
+        steering-torque channel.
     """
-    import hashlib
-    import tempfile
-
-    from gripsense.estimate.calibration import drive_sums, steering_sums
-    from gripsense.io.text import read_bytes
-
-    lo = log_options or LogOptions()
-    if Path(log).is_file():
-        digest = hashlib.sha256(Path(log).read_bytes()).hexdigest()
-        nlog = read_log(log, lo)
-    else:  # a pipe or FIFO is read once: hashed, then read from a private copy
-        data = read_bytes(log, "log", max_bytes=lo.max_bytes)
-        digest = hashlib.sha256(data).hexdigest()
-        with tempfile.TemporaryDirectory(prefix="gripsense-") as tmp:
-            copy = Path(tmp) / (Path(log).name or "log")
-            copy.write_bytes(data)
-            nlog = read_log(copy, lo)
-    st = log_steering(nlog.epochs, run.vehicle, log=log, steer_csv=steer_csv,
-                      steer_columns=steer_columns, steering=nlog.report.steering)  # fmt: skip
-    wheels, _ = run.wheel_table(st.epochs, steer_rad=st.steer_rad)
-    if wheels.empty:
-        return []
-    out = []
-    for axle in ("front", "rear"):
-        s = drive_sums(wheels, run.vehicle, axle, run.options.noise, file=Path(log).name,
-                       sha256=digest)  # fmt: skip
-        if s is not None:
-            out.append(s)
-    s = steering_sums(wheels, run.vehicle, file=Path(log).name, sha256=digest)
-    if s is not None:  # a steering-torque channel: the steering's lever (§16.8)
-        out.append(s)
-    return out
+    wheels, name, digest = log_wheels(
+        log, run, steer_csv=steer_csv, steer_columns=steer_columns, log_options=log_options
+    )
+    return wheel_drive_sums(wheels, run, name, digest)
 
 
 def solve_calibration(
     vehicle: Vehicle, drives: list, *, previous: Calibration | None = None
 ) -> Calibration:
-    """Each axle's learned stiffness from the sums of its drives, added to what *previous* was
-    learned from (a drive already in it is not counted twice).
+    """Each axle's learned stiffness from the sums of its drives on the tyres fitted, added to
+    what *previous* was learned from (a drive already in it is not counted twice; drives on
+    another ``tyre_set`` are kept but not learned from).
 
     Parameters
     ----------
     vehicle : Vehicle
-        The vehicle (its declared stiffness is the reference).
+        The vehicle (its declared stiffness is the reference, its tyres' ``tyre_set`` the
+        tyres fitted).
     drives : list of DriveSums
         Sums of the new drives (:func:`log_drive_sums`).
     previous : Calibration, optional
         An earlier calibration of this vehicle to update.
-    log_options : LogOptions, optional
-        Channel mapping, DBC and time offset of measurement logs.
 
     Returns
     -------
     Calibration
-        Per axle the learned stiffness (axles without usable bins are left out) and the drives.
+        Per axle the learned stiffness (axles without usable bins are left out), the drives,
+        in ``left_out`` the axles whose drives on other tyres were not used and in ``repeated``
+        the drives given again.
     """
     from gripsense.estimate.calibration import solve_steering_sums, solve_sums
 
     _same_vehicle(previous, vehicle)
     kept = list(previous.drives) if previous is not None else []
     seen = {(d.sha256, d.axle) for d in kept}
+    repeated: list[str] = []
     for d in drives:
         if (d.sha256, d.axle) not in seen:
             kept.append(d)
             seen.add((d.sha256, d.axle))
+        elif d.file not in repeated:
+            repeated.append(d.file)
+    earlier = {d.sha256 for d in previous.drives} if previous is not None else set()
     axles: dict[str, AxleCalibration] = {}
+    left: dict[str, str] = {}
     for axle in ("front", "rear"):
         if axle not in vehicle.tyres:
             continue
+        fitted = vehicle.tyres[axle].tyre_set
+        mine = [d for d in kept if d.axle == axle]
+        other = [d for d in mine if d.tyre_set != fitted]
+        if other:  # kept in the file, not learned from: the tyres have changed
+            sets = ", ".join(sorted({repr(d.tyre_set) if d.tyre_set else "(not named)"
+                                     for d in other}))  # fmt: skip
+            left[f"tyres {axle}"] = (
+                f"{axle} axle: {len(other)} drive(s) on tyre set {sets} kept but not learned "
+                f"from (the vehicle file's {axle} tyres are "
+                f"{repr(fitted) if fitted else '(not named)'})"
+            )
         declared = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
-        earlier = {d.sha256 for d in previous.drives} if previous is not None else set()
-        a = solve_sums([d for d in kept if d.axle == axle], declared, earlier=earlier, axle=axle)
+        use = [d for d in mine if d.tyre_set == fitted and d.bins > 0]
+        a = solve_sums(use, declared, earlier=earlier, axle=axle)
         if a is not None:
-            axles[axle] = a
-    steering = solve_steering_sums([d for d in kept if d.axle == "steering"])
-    return Calibration(vehicle=vehicle.name, axles=axles, drives=kept, steering=steering)
+            axles[axle] = dataclasses.replace(a, tyre_set=fitted)
+    front = vehicle.tyres["front"].tyre_set if "front" in vehicle.tyres else ""
+    steering = solve_steering_sums(
+        [d for d in kept if d.axle == "steering" and d.tyre_set == front]
+    )
+    return Calibration(vehicle=vehicle.name, axles=axles, drives=kept, steering=steering,
+                       left_out=left, repeated=tuple(repeated))  # fmt: skip

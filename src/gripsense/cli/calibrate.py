@@ -52,7 +52,8 @@ def calibrate(
     overwrite: Overwrite = False,
 ) -> None:
     """Learn each axle's cornering stiffness (one wheel, at the static load) and its
-    uncertainty from the linear range of everyday driving, and with a steering-torque channel
+    uncertainty from the linear range of everyday driving, the curve's shape from drives that
+    took an axle near its limit (a sweep, a track session), and with a steering-torque channel
     the steering's lever at low grip; friction and live take the file with
     --calibration, every command (fleet too) when the vehicle file names it in a calibration
     table (file = "car.calibration.toml").
@@ -63,6 +64,7 @@ def calibrate(
     from gripsense.config.calibration import (
         calibration_toml,
         read_calibration,
+        shape_lines,
         stiffness_conflict,
         usable_calibration,
     )
@@ -110,6 +112,10 @@ def calibrate(
             str(n_drives),
         )
     console.print(table)
+    for name in cal.repeated:
+        say(f"{name}: already in the calibration (same content): not counted twice")
+    for line in shape_lines(veh, cal):
+        say(line)
     for axle, a in sorted(cal.axles.items()):  # conflicts said out loud, one line each
         if a.drives_disagree:
             say(a.drives_disagree)

@@ -35,6 +35,13 @@ torque estimator then takes as a constraint of its trail nuisances::
 
 (its drives have ``axle = "steering"``, their sums those of the lever and the friction).
 
+A drive that took an axle near its limit also says what it taught of the axle's curve shape:
+its record keeps the deviance of each shape of :data:`~gripsense.physics.shape_grid.LEARN_GRID`
+(``shape = [...]``, ``docs/physics.md`` §15.10), which :func:`apply_calibration` combines into
+the tyre's ``shape_evidence``. Every drive and axle table is marked with the tyres it was driven
+on (``tyre_set``, from the vehicle file's ``[tyre.front|rear] tyre_set``): learning on another
+set is kept in the file but not applied.
+
 Where the drives disagreed (``docs/calibration.md``) an axle's table also keeps the line
 ``calibrate`` said, ``drives_disagree = "…"``, which ``friction`` repeats; a declaration more
 than 2 combined σ from the learned stiffness is not blended with it (:func:`apply_calibration`,
@@ -58,9 +65,10 @@ from pathlib import Path
 import numpy as np
 
 from gripsense.config.toml_reader import TomlReader
-from gripsense.config.vehicle import Vehicle
+from gripsense.config.vehicle import Tyre, Vehicle
 from gripsense.errors import InputError
 from gripsense.io.text import read_toml
+from gripsense.physics.shape_grid import LEARN_GRID, learned_evidence, possible_members
 
 __all__ = [
     "AXLE_KEYS",
@@ -75,6 +83,7 @@ __all__ = [
     "calibration_toml",
     "parse_calibration",
     "read_calibration",
+    "shape_lines",
     "stiffness_conflict",
     "usable_calibration",
 ]
@@ -86,7 +95,11 @@ drives' learnings disagreed and the uncertainty was widened (``friction`` repeat
 CONFLICT_SIGMAS = 2.0
 """A declaration and a learned value (or two learnings) conflict when they differ by more than
 this many combined standard deviations (in ln C) [-] (``docs/physics.md`` §15.7)."""
-DRIVE_KEYS = ("file", "sha256", "axle", "bins", "sums")
+DRIVE_KEYS = ("file", "sha256", "axle", "bins", "sums", "tyre_set", "shape")
+"""Keys of ``[[calibration.drive]]``; ``tyre_set`` (the tyres it was driven on) and ``shape``
+(what it said of the axle's curve shape, one deviance per shape of
+:data:`~gripsense.physics.shape_grid.LEARN_GRID`) are written when there is something to say."""
+AXLE_TEXT_KEYS = (AXLE_NOTE_KEY, "tyre_set")
 STEERING_KEYS = ("lever_m", "lever_uncertainty", "bins")
 N_SUMS = {"front": 7, "rear": 7, "steering": 7}  # 2 × 2 + 2 + 1
 
@@ -132,6 +145,13 @@ class DriveSums:
     sums : numpy.ndarray
         XᵀWX (2 × 2, row-major), XᵀWk (2) and kᵀWk of the drive's bins centred on their
         weighted means: 7 numbers.
+    tyre_set : str
+        The tyres it was driven on (the axle's, the front's for the steering; ``""``: not
+        named).
+    shape : numpy.ndarray or None
+        What the drive said of the axle's normalised curve shape: the deviance of each shape of
+        :data:`~gripsense.physics.shape_grid.LEARN_GRID` (``docs/physics.md`` §15.10) [-]; None
+        when it did not tell the shapes apart (it never left the linear range).
     """
 
     file: str
@@ -139,6 +159,8 @@ class DriveSums:
     axle: str
     bins: int
     sums: np.ndarray
+    tyre_set: str = ""
+    shape: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -158,6 +180,8 @@ class AxleCalibration:
     drives_disagree : str
         One line when the drives' learnings disagreed beyond 2σ and the uncertainty was widened
         to cover them (``""``: they agree; :func:`gripsense.estimate.calibration.solve_sums`).
+    tyre_set : str
+        The tyres it was learned on (``""``: not named); it is applied to these tyres only.
     """
 
     cornering_stiffness_N_per_rad: float
@@ -165,6 +189,7 @@ class AxleCalibration:
     scale: float
     bins: int
     drives_disagree: str = ""
+    tyre_set: str = ""
 
 
 @dataclass(frozen=True)
@@ -204,8 +229,12 @@ class Calibration:
     steering : SteeringCalibration or None
         The steering's lever, when the drives had a torque channel.
     left_out : dict
-        ``front`` / ``rear`` / ``steering`` / ``drive …`` -> why a learned part was not kept
-        (:func:`usable_calibration`; the file writes it as a comment).
+        ``front`` / ``rear`` / ``steering`` / ``drive …`` / ``tyres …`` -> why a learned part
+        was not kept or drives were not used (:func:`usable_calibration`; the file writes it as
+        a comment).
+    repeated : tuple of str
+        Drives given again that the calibration already held (same content): not counted
+        twice (not written; ``calibrate`` says so).
     """
 
     vehicle: str
@@ -214,6 +243,7 @@ class Calibration:
     source: str = "<calibration>"
     steering: SteeringCalibration | None = None
     left_out: dict[str, str] = field(default_factory=dict)
+    repeated: tuple[str, ...] = ()
 
 
 def read_calibration(path: str | Path) -> Calibration:
@@ -273,12 +303,10 @@ def _from_doc(doc: dict, src: str) -> Calibration:
         where = f"calibration.{axle}"
         if not isinstance(a, dict):
             raise InputError(f"{src}: [{where}] must be a table")
-        r.known(a, where, (*AXLE_KEYS, AXLE_NOTE_KEY))
+        r.known(a, where, (*AXLE_KEYS, *AXLE_TEXT_KEYS))
         c, u, s, n = _limited(r, a, where, AXLE_LIMITS)
-        note = a.get(AXLE_NOTE_KEY, "")
-        if not isinstance(note, str):
-            raise InputError(f"{src}: [{where}] {AXLE_NOTE_KEY}: a string is needed")
-        axles[axle] = AxleCalibration(c, u, s, int(n), note)
+        note, tyre_set = (_text(a, key, f"{src}: [{where}]") for key in AXLE_TEXT_KEYS)
+        axles[axle] = AxleCalibration(c, u, s, int(n), note, tyre_set)
     steering = None
     st = t.get("steering")
     if st is not None:
@@ -320,9 +348,42 @@ def _from_doc(doc: dict, src: str) -> Calibration:
                 str(d["axle"]),
                 int(bins or 0),
                 np.asarray(sums, dtype=float),
+                _text(d, "tyre_set", f"{src}: {where}"),
+                _shape(d, f"{src}: {where}"),
             )
         )
     return Calibration(vehicle, axles, drives, src, steering)
+
+
+def _text(t: dict, key: str, where: str) -> str:
+    """An optional text key (``""`` when absent)."""
+    v = t.get(key, "")
+    if not isinstance(v, str):
+        raise InputError(f"{where} {key}: a string is needed")
+    return v
+
+
+def _shape(d: dict, where: str) -> np.ndarray | None:
+    """A drive's shape evidence: one deviance ≥ 0 (or ``inf``) per shape of the learning grid,
+    0 at the drive's best.
+    """
+    v = d.get("shape")
+    if v is None:
+        return None
+    how = "write the file again with gripsense calibrate (its drives' logs are needed)"
+    if not (isinstance(v, list) and len(v) == len(LEARN_GRID)):
+        raise InputError(
+            f"{where}: shape: {len(LEARN_GRID)} numbers are needed (one per shape of this "
+            f"gripsense's learning grid); {how}"
+        )
+    if not all(isinstance(x, int | float) and not isinstance(x, bool) for x in v):
+        raise InputError(f"{where}: shape: numbers are needed; {how}")
+    a = np.asarray(v, dtype=float)
+    if np.isnan(a).any() or (a < 0).any() or not np.isfinite(a).any() or np.min(a) != 0:
+        raise InputError(
+            f"{where}: shape: deviances ≥ 0 with 0 at the best shape are needed; {how}"
+        )
+    return a
 
 
 def _limited(r: TomlReader, t: dict, where: str, limits: dict) -> list[float]:
@@ -450,6 +511,8 @@ def calibration_toml(cal: Calibration) -> str:
         ]
         if a.drives_disagree:
             out.append(f"{AXLE_NOTE_KEY} = {_q(_comment(a.drives_disagree))}")
+        if a.tyre_set:
+            out.append(f"tyre_set = {_q(a.tyre_set)}")
     if cal.steering is not None:
         out += [
             "",
@@ -469,6 +532,10 @@ def calibration_toml(cal: Calibration) -> str:
             f"bins = {d.bins}",
             f"sums = [{sums}]",
         ]
+        if d.tyre_set:
+            out.append(f"tyre_set = {_q(d.tyre_set)}")
+        if d.shape is not None:
+            out.append(f"shape = [{', '.join(_deviance(v) for v in d.shape)}]")
     text = "\n".join(out) + "\n"
     back = parse_calibration(text, "the calibration to be written")
     if back.vehicle != cal.vehicle or set(back.axles) != set(cal.axles):
@@ -477,6 +544,17 @@ def calibration_toml(cal: Calibration) -> str:
             "(a bug: please report it)"
         )
     return text
+
+
+def _deviance(v: float) -> str:
+    """A shape's deviance as written: 4 significant digits, ``inf`` beyond what any interval
+    level can reach (more than :data:`DEVIANCE_CAP`).
+    """
+    return "inf" if not v <= DEVIANCE_CAP else f"{v:.4g}"
+
+
+DEVIANCE_CAP = 1e4
+"""A drive's deviance of a shape beyond this is written ``inf`` (excluded at any level) [-]."""
 
 
 def _comment(text: str) -> str:
@@ -527,7 +605,9 @@ def apply_calibration(
         widens it; where the two conflict (more than :data:`CONFLICT_SIGMAS` combined σ apart)
         the learned stiffness and its uncertainty alone (the car's own data outrank a
         datasheet; a blend would be a value neither supports); the steering's learned lever, a
-        constraint the torque estimator adds to its trail priors (docs/physics.md §16.8).
+        constraint the torque estimator adds to its trail priors (docs/physics.md §16.8); the
+        curve shape its drives on the fitted tyres taught (``shape_evidence``, §15.10). An axle
+        learned on another ``tyre_set`` keeps its declaration (a note says so).
     """
     if cal.vehicle != vehicle.name:
         raise InputError(
@@ -535,8 +615,14 @@ def apply_calibration(
             "use the vehicle's own calibration file"
         )
     tyres = dict(vehicle.tyres)
+    for axle in tyres:  # the curve's shape, from every drive on these tyres that taught it
+        tyres[axle] = _with_shape(tyres[axle], axle, cal, notes)
     for axle, a in cal.axles.items():
         if axle not in tyres:
+            continue
+        if a.tyre_set != tyres[axle].tyre_set:
+            if notes is not None:
+                notes.append(_other_tyres(axle, a.tyre_set, tyres[axle].tyre_set, cal.source))
             continue
         c_d = float(vehicle.cornering_stiffness(axle, vehicle.static_load(axle)))
         if notes is not None and a.drives_disagree:
@@ -562,6 +648,91 @@ def apply_calibration(
             calibrated_lever_uncertainty=cal.steering.lever_uncertainty,
         )
     return dataclasses.replace(vehicle, tyres=tyres, steering=steering)
+
+
+def shape_lines(vehicle: Vehicle, cal: Calibration) -> list[str]:
+    """One line per axle of what its drives taught of the curve's shape (``calibrate`` says
+    them): the drives, the shapes they leave within the 95 % level and the closest Magic
+    Formula one, or that no drive on these tyres took the axle near its limit.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        The vehicle (its tyres' ``tyre_set``).
+    cal : Calibration
+        The calibration.
+
+    Returns
+    -------
+    list of str
+        One line per axle of *vehicle*.
+    """
+    from scipy.stats import chi2
+
+    out = []
+    notes: list[str] = []
+    for axle, tyre in vehicle.tyres.items():
+        d, n = _learned_shape(tyre, axle, cal, notes)
+        if d is None:
+            out.append(
+                f"{axle} axle: curve shape not learned (no drive took it near its limit; a "
+                "steady-state sweep or a track session teaches it, docs/calibration.md)"
+            )
+            continue
+        kept = int(np.sum(d <= chi2.ppf(0.95, 2)))
+        best = LEARN_GRID[int(np.argmin(d))]
+        out.append(
+            f"{axle} axle: curve shape learned from {n} drive(s): {kept} of {len(LEARN_GRID)} "
+            f"shapes within the 95 % level, closest {best.name}"
+        )
+    return out + notes
+
+
+def _set_name(tyre_set: str) -> str:
+    return repr(tyre_set) if tyre_set else "(not named)"
+
+
+def _other_tyres(axle: str, learned_on: str, fitted: str, source: str) -> str:
+    """The line that says a calibration was learned on other tyres than those fitted."""
+    return (
+        f"{source}: {axle} axle: learned on tyre set {_set_name(learned_on)}, but the vehicle "
+        f"file's {axle} tyres are {_set_name(fitted)}: the declared stiffness is used; learn "
+        f"the new tyres with gripsense calibrate --update (drives on them)"
+    )
+
+
+def _with_shape(tyre: Tyre, axle: str, cal: Calibration, notes: list[str] | None) -> Tyre:
+    """The tyre with the members of its prior family that its drives on the tyres fitted leave
+    possible on another road (``docs/physics.md`` §15.10); as it is when no drive taught the
+    shape.
+    """
+    deviance, _ = _learned_shape(tyre, axle, cal, notes)
+    if deviance is None:
+        return tyre
+    return dataclasses.replace(tyre, shape_members=possible_members(deviance, tyre.shape))
+
+
+def _learned_shape(
+    tyre: Tyre, axle: str, cal: Calibration, notes: list[str] | None
+) -> tuple[np.ndarray | None, int]:
+    """The deviance per shape the drives on the fitted tyres taught together and how many drives
+    (None, 0 when none did); a line in *notes* when they disagree or learned on other tyres.
+    """
+    mine = [d for d in cal.drives if d.axle == axle and d.shape is not None]
+    fitted = [d for d in mine if d.tyre_set == tyre.tyre_set]
+    if not fitted:
+        if mine and notes is not None and not cal.axles.get(axle):
+            sets = sorted({d.tyre_set for d in mine})
+            notes.append(_other_tyres(axle, sets[0], tyre.tyre_set, cal.source))
+        return None, 0
+    deviance, disagree = learned_evidence([d.shape for d in fitted if d.shape is not None])
+    if disagree and notes is not None:
+        names = ", ".join(sorted({d.file for d in fitted}))
+        notes.append(
+            f"{axle} axle: the curve shapes learned from {names} disagree (no shape explains "
+            f"them all at 2σ): the learned shape covers each drive's instead of a blend"
+        )
+    return deviance, len(fitted)
 
 
 def calibrated_vehicle(

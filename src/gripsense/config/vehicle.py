@@ -134,6 +134,13 @@ class Tyre:
         it (default 0.2).
     friction_load_sensitivity_uncertainty : float
         1σ of η [-] (default 0.15).
+    tyre_set : str
+        The name of the tyres fitted (``""``: not named); a calibration learned on another set
+        is not applied to them (:func:`gripsense.config.calibration.apply_calibration`).
+    shape_members : tuple of int, optional
+        The members of the prior family (indices into
+        :data:`gripsense.physics.tyre_curves.SHAPE_FAMILY`) a calibration's drives leave
+        possible (``docs/physics.md`` §15.10); None: every member the ``shape`` allows.
     shape_evidence : tuple of float, optional
         What a calibration learned of the normalised curve's shape: the deviance of each shape
         of :data:`gripsense.physics.shape_grid.LEARN_GRID` (``docs/physics.md`` §15.10) [-];
@@ -157,6 +164,8 @@ class Tyre:
     friction_load_sensitivity_uncertainty: float = TYRE[
         "friction_load_sensitivity_uncertainty"
     ].default  # 0.15
+    tyre_set: str = ""
+    shape_members: tuple[int, ...] | None = None
     shape_evidence: tuple[float, ...] | None = None
 
     def contact_length(self, mass_kg) -> np.ndarray:
@@ -667,6 +676,7 @@ def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
     }
     return Tyre(
         shape=shape,
+        tyre_set=v["tyre_set"],
         **extra,
         width_m=w,
         tread_stiffness_N_per_m3=g,

@@ -192,6 +192,14 @@ TYRE = Table(
         Key("camber_thrust_ratio", "-", "|C_γ / C_α|", 0.1, (0.0, 1.0)),
         Key("friction_load_sensitivity", "-", "exponent η of μ ∝ Fz^−η", 0.2, (-0.5, 1.0)),
         Key("friction_load_sensitivity_uncertainty", "-", "1σ of η", 0.15, (0.0, 1.0)),
+        Key(
+            "tyre_set",
+            "",
+            'name of the tyres fitted (e.g. "winter 2026"): a calibration learned on another '
+            "set is not applied to them",
+            "",
+            kind="text",
+        ),
     ),
     "the tyre of one axle",
 )

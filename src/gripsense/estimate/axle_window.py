@@ -41,7 +41,7 @@ from gripsense.estimate.profile import (
     axle_priors,
     merge_bins,
     mu_grid,
-    profile_mu,
+    profile_learned,
     torque_only,
     tyre_family,
 )
@@ -215,11 +215,11 @@ def estimate_windows(
                 pri,
                 o,
             )
-            est = profile_mu(
+            est = profile_learned(
                 merged,
                 mid,
                 pri,
-                shapes,
+                vehicle.tyres[axle],
                 ab.p0,
                 o,
                 base["grip_used_lower"],

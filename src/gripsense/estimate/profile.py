@@ -39,6 +39,7 @@ __all__ = [
     "learned_family",
     "merge_bins",
     "mu_grid",
+    "profile_learned",
     "profile_mu",
     "shape_ids",
     "slow_correlation",
@@ -132,9 +133,10 @@ their normalised shape across surfaces only approximately (flatter peaks on wet 
 
 
 def tyre_family(tyre: Tyre) -> np.ndarray | ShapeFamily:
-    """The shapes an axle's μ is profiled over: the learnable grid weighted by what a
-    calibration learned of this tyre (``docs/physics.md`` §15.10), else the prior family's
-    shapes its ``shape`` allows.
+    """The shapes an axle's μ is profiled over: the prior family's members a calibration's
+    drives left possible (``shape_members``), else the learnable grid weighted by learned
+    evidence (``shape_evidence``; ``docs/physics.md`` §15.10), else the prior family's shapes
+    its ``shape`` allows.
 
     Parameters
     ----------
@@ -146,6 +148,8 @@ def tyre_family(tyre: Tyre) -> np.ndarray | ShapeFamily:
     numpy.ndarray or ShapeFamily
         Indices into the prior family (:func:`shape_ids`), or a learned family.
     """
+    if tyre.shape_members is not None:  # a calibration's drives left these possible
+        return np.asarray(tyre.shape_members, dtype=np.int64)
     if tyre.shape_evidence is None:
         return shape_ids(tyre.shape)
     return learned_family(np.asarray(tyre.shape_evidence, dtype=float), SIMILARITY_TEMPER)
@@ -751,3 +755,45 @@ class ProfileCache:
         est.pop("torque_note", None)  # windows are compass-only (docs/physics.md §16.6)
         self.data, self.est = merged.copy(), est
         return dict(est)
+
+
+def profile_learned(
+    bins: np.ndarray,
+    t0: np.ndarray,
+    pri: Priors,
+    tyre: Tyre,
+    p0: float,
+    o: WindowOptions,
+    grip_lower: float,
+    torque: TorqueProfile | None = None,
+) -> dict:
+    """:func:`profile_mu` over the shapes an axle's tyre allows (:func:`tyre_family`); where a
+    calibration's drives left only some members of the prior family possible
+    (``shape_members``, ``docs/physics.md`` §15.10), the range stays within what the whole
+    prior family says (the overlap; the family's alone where they do not meet, with a note in
+    ``limited_by``): knowing more of the tyre never says less.
+
+    Parameters
+    ----------
+    bins, t0, pri, p0, o, grip_lower, torque
+        As :func:`profile_mu`.
+    tyre : Tyre
+        The axle's tyre description.
+
+    Returns
+    -------
+    dict
+        As :func:`profile_mu`.
+    """
+    est = profile_mu(bins, t0, pri, tyre_family(tyre), p0, o, grip_lower, torque=torque)
+    if tyre.shape_members is None:
+        return est
+    prior = profile_mu(bins, t0, pri, shape_ids(tyre.shape), p0, o, grip_lower, torque=torque)
+    lo, hi = max(est["mu_low"], prior["mu_low"]), min(est["mu_high"], prior["mu_high"])
+    if not lo < hi:  # the learned shapes do not fit this drive: the prior family's range
+        note = "the learned curve shape does not fit this drive (the tyre's prior family used)"
+        return {**prior, "limited_by": "; ".join(x for x in (prior["limited_by"], note) if x)}
+    if (lo, hi) == (est["mu_low"], est["mu_high"]):
+        return est
+    mu = float(np.clip(est["mu"], lo, hi)) if np.isfinite(est["mu"]) else est["mu"]
+    return {**est, "mu_low": lo, "mu_high": hi, "mu": mu}

@@ -31,7 +31,7 @@ from gripsense.estimate.bins import axle_bins
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.profile import Priors, axle_priors, merge_bins, slow_correlation
-from gripsense.physics.shape_grid import LEARN_GRID, learn_tables
+from gripsense.physics.shape_grid import LEARN_GRID, combine_evidence, learn_tables
 
 __all__ = [
     "CLEAR_Z",
@@ -149,24 +149,3 @@ def shape_evidence(
     if np.all(dev < EVIDENCE_FLAT):
         return None
     return dev
-
-
-def combine_evidence(drives: list[np.ndarray]) -> np.ndarray:
-    """The evidence of independent drives together: their deviances added, 0 at the best shape
-    (``docs/physics.md`` §15.10).
-
-    Parameters
-    ----------
-    drives : list of numpy.ndarray
-        Each drive's :func:`shape_evidence` (one value per shape of the grid) [-].
-
-    Returns
-    -------
-    numpy.ndarray
-        The combined deviance per shape [-] (inf where no drive's shape could carry its data).
-    """
-    if not drives:
-        raise ValueError("no drive's evidence to combine")
-    total = np.sum(np.vstack(drives), axis=0)
-    best = np.min(total[np.isfinite(total)]) if np.isfinite(total).any() else 0.0
-    return total - best

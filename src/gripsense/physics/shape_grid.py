@@ -24,7 +24,16 @@ from gripsense.physics.tyre_curves import (
     magic_formula_normalised,
 )
 
-__all__ = ["LEARN_C", "LEARN_E", "LEARN_GRID", "learn_tables"]
+__all__ = [
+    "LEARN_C",
+    "LEARN_E",
+    "LEARN_GRID",
+    "SHAPES_DISAGREE_LEVEL",
+    "SHAPE_DRIFT",
+    "combine_evidence",
+    "learn_tables",
+    "learned_evidence",
+]
 
 LEARN_C = tuple(float(c) for c in np.round(np.arange(1.1, 2.0001, 0.1), 2))
 """Shape factors C_s of the grid [-]."""
@@ -64,3 +73,146 @@ def learn_tables() -> tuple[np.ndarray, np.ndarray, float]:
     """
     x, f, df = curve_tables(LEARN_GRID)
     return f, df, 1.0 / (x[1] - x[0])
+
+
+SHAPES_DISAGREE_LEVEL = 0.954
+"""Drives' shape learnings disagree when no shape of the grid explains them all at this level
+(2σ): the minimum of their summed deviances beyond the χ² quantile of 2 (n − 1) degrees of
+freedom (each drive pins the shape's two factors) [-]."""
+
+
+def combine_evidence(drives: list[np.ndarray]) -> np.ndarray:
+    """The evidence of independent drives together: their deviances added, 0 at the best shape
+    (``docs/physics.md`` §15.10).
+
+    Parameters
+    ----------
+    drives : list of numpy.ndarray
+        Each drive's deviance per shape of :data:`LEARN_GRID` [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The combined deviance per shape [-] (inf where no drive's shape could carry its data).
+    """
+    if not drives:
+        raise ValueError("no drive's evidence to combine")
+    total = np.sum(np.vstack(drives), axis=0)
+    best = np.min(total[np.isfinite(total)]) if np.isfinite(total).any() else 0.0
+    return total - best
+
+
+def learned_evidence(drives: list[np.ndarray]) -> tuple[np.ndarray, bool]:
+    """What several drives together say of an axle's shape (``docs/physics.md`` §15.10): their
+    deviances added (:func:`combine_evidence`) — unless they disagree (no shape explains them
+    all at :data:`SHAPES_DISAGREE_LEVEL`), then each shape's smallest deviance over the drives,
+    so that the learned shape covers every drive's learning instead of a shape none supports.
+
+    Parameters
+    ----------
+    drives : list of numpy.ndarray
+        Each drive's deviance per shape of :data:`LEARN_GRID` [-].
+
+    Returns
+    -------
+    deviance : numpy.ndarray
+        Per shape, 0 at the best [-].
+    disagree : bool
+        True when the drives disagreed (the deviance is their envelope).
+    """
+    from scipy.stats import chi2
+
+    total = np.sum(np.vstack(drives), axis=0) if drives else np.zeros(0)
+    n = len(drives)
+    finite = total[np.isfinite(total)]
+    if n < 2 or (finite.size and finite.min() <= chi2.ppf(SHAPES_DISAGREE_LEVEL, 2 * (n - 1))):
+        return combine_evidence(drives), False
+    env = np.min(np.vstack(drives), axis=0)
+    return env - np.min(env[np.isfinite(env)]), True
+
+
+SHAPE_DRIFT = 0.05
+"""How far an axle's normalised curve may move from one road to another, as the largest
+difference in F/(μ Fz) up to 1.5 × the peak's slip [-]: the library's tyres on μ 0.3–0.5 lie
+within this of the family made on dry roads (:data:`gripsense.config.tyre_library.
+LOW_GRIP_MARGIN`; ``docs/physics.md`` §14.3, §15.10)."""
+
+
+def _distances(fa: np.ndarray, fb: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Largest |f_a − f_b| for x up to 1.5 × the later peak of each pair of tabulated shapes."""
+    step = max(round(0.04 / (x[1] - x[0])), 1)  # every 0.04 in x: f moves < 0.01
+    peak_a, peak_b = x[np.argmax(fa, axis=1)], x[np.argmax(fb, axis=1)]
+    fa, fb, x = fa[:, ::step], fb[:, ::step], x[::step]
+    out = np.zeros((fa.shape[0], fb.shape[0]))
+    for j in range(fa.shape[0]):
+        reach = 1.5 * np.maximum(peak_a[j], peak_b)
+        diff = np.abs(fa[j][None, :] - fb)
+        out[j] = np.where(x[None, :] <= reach[:, None], diff, 0.0).max(axis=1)
+    return out
+
+
+KEEP_LEVEL = 0.95
+"""A prior member stays possible while a shape within :data:`SHAPE_DRIFT` of it is within the
+χ² quantile of two degrees of freedom (the shape's two factors) at this level [-]."""
+
+
+def member_evidence(deviance: np.ndarray, prior: str) -> tuple[np.ndarray, np.ndarray]:
+    """Learned evidence carried to the members of a tyre's prior family on another road
+    (``docs/physics.md`` §15.10): D_m = min D_k over the grid's shapes k within
+    :data:`SHAPE_DRIFT` of member m (inf when none is), less the smallest.
+
+    Parameters
+    ----------
+    deviance : numpy.ndarray
+        Learned deviance per shape of :data:`LEARN_GRID` [-].
+    prior : str
+        The tyre's ``shape`` (``any``, ``brush``, ``magic-formula`` or a category).
+
+    Returns
+    -------
+    members : numpy.ndarray
+        Indices into :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY` of the prior's members.
+    carried : numpy.ndarray
+        Their carried deviance [-].
+    """
+    members, dist = _member_distances(prior)
+    d = np.asarray(deviance, dtype=float)
+    carried = np.min(np.where(dist <= SHAPE_DRIFT, d[:, None], np.inf), axis=0)
+    if not np.isfinite(carried).any():  # no member near a learnable shape: the nearest member
+        carried = np.where(np.arange(members.size) == np.argmin(dist[np.argmin(d)]), 0.0, np.inf)
+    return members, carried - np.min(carried)
+
+
+def possible_members(deviance: np.ndarray, prior: str) -> tuple[int, ...]:
+    """The members of a tyre's prior family its learned evidence leaves possible on another road
+    (``docs/physics.md`` §15.10): carried deviance (:func:`member_evidence`) within the χ²
+    quantile of 2 degrees of freedom at :data:`KEEP_LEVEL`. Learning only removes members: the
+    set is never wider than the prior's, and holds its best member.
+
+    Parameters
+    ----------
+    deviance : numpy.ndarray
+        Learned deviance per shape of :data:`LEARN_GRID` [-].
+    prior : str
+        The tyre's ``shape``.
+
+    Returns
+    -------
+    tuple of int
+        Indices into :data:`~gripsense.physics.tyre_curves.SHAPE_FAMILY`.
+    """
+    from scipy.stats import chi2
+
+    members, carried = member_evidence(deviance, prior)
+    return tuple(int(m) for m in members[carried <= chi2.ppf(KEEP_LEVEL, 2)])
+
+
+@cache
+def _member_distances(prior: str) -> tuple[np.ndarray, np.ndarray]:
+    """The prior's member indices and the distance of every grid shape to each (grid × members)."""
+    from gripsense.physics.tyre_curves import SHAPE_FAMILY, shape_members
+
+    members = np.array(shape_members(prior), dtype=np.int64)
+    x, fm, _ = curve_tables(tuple(SHAPE_FAMILY[i] for i in members))
+    f, _, _ = learn_tables()
+    return members, _distances(f, fm, x)

@@ -46,6 +46,7 @@ __all__ = [
     "commonroad_vehicle",
     "cr_circle",
     "cr_constant_radius",
+    "cr_everyday",
     "cr_ramp_steer",
     "with_corner_exits",
 ]
@@ -235,6 +236,36 @@ def cr_ramp_steer(
         return None, math.radians(rate_deg_s * max(t - 6.0, 0.0)), speed_mps
 
     return DrivePlan(duration_s=dur, settle_s=6.0, target=target)
+
+
+def cr_everyday(speed_mps: float, *, seed: int = 0, **kwargs) -> DrivePlan:
+    """Everyday driving (:func:`gripsense.sim.maneuvers.everyday`: steady curves of random
+    direction and road-wheel angle, each entered over 2 s, after a straight) at constant speed.
+
+    Parameters
+    ----------
+    speed_mps : float
+        Speed [m/s].
+    seed : int
+        Random seed of the curves.
+    **kwargs
+        ``curves``, ``hold_s``, ``max_steer_deg``, ``lead_s`` of
+        :func:`~gripsense.sim.maneuvers.everyday`.
+
+    Returns
+    -------
+    DrivePlan
+        The drive's targets.
+    """
+    from gripsense.sim.maneuvers import everyday
+
+    m = everyday(speed_mps, seed=seed, **kwargs)
+    t_tab, steer_tab = m.steer_table
+
+    def target(t):
+        return None, float(np.interp(t, t_tab, steer_tab)), speed_mps
+
+    return DrivePlan(duration_s=m.duration_s, settle_s=m.settle_s, target=target)
 
 
 def with_corner_exits(
