@@ -185,3 +185,29 @@ def test_a_calibration_without_shapes_leaves_the_prior_family():
     uv = user_vehicle(truth_vehicle("sedan"), TYRE)
     v = apply_calibration(uv, Calibration(uv.name, {}))
     assert all(t.shape_members is None for t in v.tyres.values())
+
+
+def test_a_limit_drive_on_a_slippery_road_does_not_bend_the_stiffness(tmp_path):
+    """A sweep past the limit on μ 0.3 added to two everyday drives: it teaches both axles'
+    shape, and its linear range is cut to half its grip — the stiffness learned stays within 1σ
+    of the everyday drives' (its bins up to 0.3 g, the top of the everyday range, lie near this
+    road's limit: uncut, the front axle's fit fails and the rear's moves by a third)."""
+    from gripsense.pipeline import learn_calibration
+    from gripsense.sim.drives import truth_vehicle, user_vehicle
+
+    uv = user_vehicle(truth_vehicle("sedan"), TYRE, stiffness_error=-0.1,
+                      stiffness_uncertainty=0.2)  # fmt: skip
+    every = [_write(simulate_drive("sedan", TYRE, M.everyday(60 / 3.6, seed=i), 0.9,
+                                   receiver="rtk", seed=i), tmp_path, f"e{i}")
+             for i in range(2)]  # fmt: skip
+    m = M.constant_radius(40.0, 3.0, limit_speed(0.39, 40.0, 1.0), accel_mps2=0.1)
+    sweep = _write(simulate_drive("sedan", TYRE, m, 0.3, receiver="rtk", seed=5), tmp_path, "sw")
+    base = learn_calibration([e[0] for e in every], uv, receiver="rtk",
+                             steer_csvs=[e[1] for e in every])  # fmt: skip
+    both = learn_calibration([sweep[0]], uv, receiver="rtk", steer_csvs=[sweep[1]],
+                             previous=base)  # fmt: skip
+    taught = {d.axle for d in both.drives if d.file == "sw.nmea.gz" and d.shape is not None}
+    assert taught == {"front", "rear"}
+    for axle in ("front", "rear"):
+        a, b = base.axles[axle], both.axles[axle]
+        assert abs(np.log(b.scale / a.scale)) <= np.log1p(a.stiffness_uncertainty), (axle, a, b)
