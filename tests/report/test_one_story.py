@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import html as H
 import json
+import os
 import re
+import subprocess
 
 import matplotlib.colors as mcolors
 import numpy as np
@@ -20,7 +22,7 @@ from gripsense.estimate.results import AxleFriction
 from gripsense.report import figures as F
 from gripsense.report.html import render_report
 from gripsense.report.summary_check import check_summary_file
-from tests.cli.test_commands import run
+from tests.cli.test_commands import EXE, run
 from tests.report.test_report import _result
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
@@ -59,11 +61,28 @@ def calibrated_run(tmp_path_factory):
     cal = d / "car.calibration.toml"
     cal.write_text(CALIBRATION)
     out = d / "run"
-    r = run(
-        "friction", str(DEMO / "case002.nmea.gz"), "--vehicle", str(VEHICLE),
-        "--steer-csv", str(DEMO / "case002_steer.csv"), "--receiver", "rtk",
-        "--calibration", str(cal), "-o", str(out), "--report",
-    )  # fmt: skip
+    r = subprocess.run(
+        [
+            EXE,
+            "friction",
+            str(DEMO / "case002.nmea.gz"),
+            "--vehicle",
+            str(VEHICLE),
+            "--steer-csv",
+            str(DEMO / "case002_steer.csv"),
+            "--receiver",
+            "rtk",
+            "--calibration",
+            str(cal),
+            "-o",
+            str(out),
+            "--report",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**os.environ, "COLUMNS": "250"},
+    )  # fmt: skip  (a wide console: every table cell on one line)
     assert r.returncode == 0, r.stderr
     again = d / "again.html"
     r2 = run("report", str(out), "-o", str(again))
@@ -215,3 +234,22 @@ def test_trajectory_without_conditions_says_so():
     _, epochs = _result(method="brush-2")
     fig = F.trajectory(epochs, [])
     assert "no steady condition" in fig.axes[0].get_title()
+
+
+def test_console_report_and_explain_say_an_upper_end_alike(calibrated_run):
+    """An axle without a value but with an upper end: the console, the report and explain()
+    state the same upper end, and none pairs it with a lower end as if it were a range."""
+    out, again, stdout = calibrated_run
+    doc = json.loads((out / "summary.json").read_text())
+    page = _text(again.read_text(encoding="utf-8"))
+    checked = 0
+    for r in doc["axles"]:
+        hi, lo = r["mu_high"], r["mu_low"]
+        if r["observable"] or hi is None or not hi > r["grip_used_lower"]:
+            continue
+        checked += 1
+        assert f"≤ {hi:.2f} (upper end only)" in stdout, stdout
+        assert f"no value — μ ≤ {hi:.2f} (upper end only)" in page
+        assert f"estimate μ ≤ {hi:.2f} (90 %)" in doc["explain"]
+        assert f"{lo:.2f} – {hi:.2f}" not in stdout
+    assert checked, doc["axles"]

@@ -287,11 +287,13 @@ def _print_axles(result: AxleFriction) -> None:
             continue
         mu = f"{rec['mu']:.2f}" if rec["observable"] else "no value"
         lo, hi = rec.get("mu_low", np.nan), rec.get("mu_high", np.nan)
-        iv = (
-            "—"
-            if not np.isfinite(lo)
-            else f"{lo:.2f} – " + (f"{hi:.2f}" if np.isfinite(hi) else "∞")
-        )
+        bound = rec.get("grip_used_lower", np.nan)
+        if rec["observable"]:
+            iv = f"{lo:.2f} – " + (f"{hi:.2f}" if np.isfinite(hi) else "∞")
+        elif np.isfinite(hi) and not (np.isfinite(bound) and hi <= bound):
+            iv = f"≤ {hi:.2f} (upper end only)"  # as explain() and the report say it
+        else:
+            iv = "—"
         nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else []
         obs = f"{int(nw['observable'].sum())} / {len(nw)}" if len(nw) else "—"
         table.add_row(
