@@ -253,3 +253,28 @@ def test_console_report_and_explain_say_an_upper_end_alike(calibrated_run):
         assert f"estimate μ ≤ {hi:.2f} (90 %)" in doc["explain"]
         assert f"{lo:.2f} – {hi:.2f}" not in stdout
     assert checked, doc["axles"]
+
+
+def test_python_api_names_the_vehicle_files_calibration(tmp_path):
+    """FrictionRun applies the calibration a vehicle file names: the result's record names it
+    too (and not when another calibration was given instead)."""
+    from gripsense import FrictionRun
+    from gripsense.estimate.results import stiffness_lines
+
+    (tmp_path / "car.calibration.toml").write_text(CALIBRATION)
+    other = tmp_path / "other.calibration.toml"
+    other.write_text(CALIBRATION.replace(f"= {C_REAR_LEARNED}", "= 60000.0"))
+    veh = tmp_path / "car.toml"
+    veh.write_text(
+        VEHICLE.read_text(encoding="utf-8") + '\n[calibration]\nfile = "car.calibration.toml"\n'
+    )
+    log, steer = DEMO / "case002.nmea.gz", DEMO / "case002_steer.csv"
+    res = FrictionRun(veh, receiver="rtk").run_log(log, steer_csv=steer)
+    rec = res.record()
+    assert rec["calibration"]["file"] == "car.calibration.toml"
+    assert rec["calibration"]["learned"]["rear"] == [C_REAR_LEARNED, U_REAR_LEARNED]
+    assert any("learned (calibration)" in line for line in stiffness_lines(rec))
+    res = FrictionRun(veh, receiver="rtk", calibration=other).run_log(log, steer_csv=steer)
+    rec = res.record()
+    assert "calibration" not in rec
+    assert any("did not record" in line for line in stiffness_lines(rec))

@@ -160,28 +160,16 @@ def friction(
 def _calibration_record(
     veh, vehicle_file: Path, calibration: Path | None, notes: list[str]
 ) -> dict | None:
-    """The calibration a run used, for its result (``meta["calibration"]``): the file, what it
-    learned per axle (``[C, relative 1σ]`` [N/rad, -]), its drives and the conflicts said.
+    """The calibration a run used (``--calibration``, else the vehicle file's), for its result
+    (``meta["calibration"]``; :func:`gripsense.estimate.results.calibration_record`).
     """
     from gripsense.config import Vehicle
-    from gripsense.config.calibration import read_calibration
+    from gripsense.estimate.results import calibration_record
 
     path = (
         calibration if calibration is not None else Vehicle.from_toml(vehicle_file).calibration_file
     )
-    if path is None:
-        return None
-    cal = read_calibration(path)
-    return {
-        "file": Path(path).name,
-        "learned": {
-            axle: [float(a.cornering_stiffness_N_per_rad), float(a.stiffness_uncertainty)]
-            for axle, a in cal.axles.items()
-            if axle in veh.tyres
-        },
-        "drives": len({d.sha256 for d in cal.drives}),
-        "notes": list(notes),
-    }
+    return None if path is None else calibration_record(path, veh, notes)
 
 
 def _report_of_folder(folder: Path, output: Path | None = None, *, overwrite: bool) -> Path:

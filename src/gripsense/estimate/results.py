@@ -38,6 +38,7 @@ __all__ = [
     "AxleFriction",
     "FrictionResult",
     "WheelFriction",
+    "calibration_record",
     "read_result",
     "slippery_from_range",
     "stiffness_lines",
@@ -261,6 +262,21 @@ class FrictionResult:
             }
         if isinstance(self.meta.get("calibration"), dict):
             rec["calibration"] = self.meta["calibration"]
+        elif veh is not None and declared is not None and declared.calibration_file:
+            # the vehicle file names a calibration: stated when applying it gives the stiffness
+            # the run used (FrictionRun(calibration=…) may have given another)
+            from gripsense.config.calibration import calibrated_vehicle
+
+            try:
+                applied = calibrated_vehicle(declared)
+                same = all(
+                    np.isclose(_stiffness(applied, a)[0], _stiffness(veh, a)[0], rtol=1e-9)  # type: ignore[index]
+                    for a in veh.tyres
+                )
+                if same:
+                    rec["calibration"] = calibration_record(declared.calibration_file, veh)
+            except (InputError, OSError):  # changed since the run: not stated
+                pass
         return rec
 
     # ------------------------------------------------------------------ files
@@ -351,6 +367,43 @@ class FrictionResult:
             The kind recorded in the folder.
         """
         return read_result(folder)
+
+
+def calibration_record(
+    path: str | Path, vehicle: Vehicle, notes: list[str] | None = None
+) -> dict[str, Any]:
+    """What a calibration file in use taught, for a result's ``meta["calibration"]`` (and so
+    its :meth:`FrictionResult.record`): the file's name, the learned stiffness per axle of
+    *vehicle* (``[C, relative 1σ]`` [N/rad, -]), how many drives it came from and the lines
+    said when it was applied.
+
+    Parameters
+    ----------
+    path : str or Path
+        The calibration file [-].
+    vehicle : Vehicle
+        The vehicle it calibrates [-].
+    notes : list of str, optional
+        The lines applying it said (``FrictionRun.calibration_notes``) [-].
+
+    Returns
+    -------
+    dict
+        JSON-ready.
+    """
+    from gripsense.config.calibration import read_calibration
+
+    cal = read_calibration(path)
+    return {
+        "file": Path(path).name,
+        "learned": {
+            axle: [float(a.cornering_stiffness_N_per_rad), float(a.stiffness_uncertainty)]
+            for axle, a in cal.axles.items()
+            if axle in vehicle.tyres
+        },
+        "drives": len({d.sha256 for d in cal.drives}),
+        "notes": list(notes or []),
+    }
 
 
 def _stiffness(
