@@ -10,7 +10,8 @@ user's vehicle file states the stiffness 10 % off, to ±20 %, and the receiver a
   (60 km/h, curves to ~0.35 g, μ 0.9);
 - ``learned``: that calibration updated (``calibrate --update``) with one ISO 4138
   constant-radius sweep past the limit on another road (μ 1.0; 0.7 for the multi-body car,
-  whose inner wheels lift from ~0.85 g): the curve's shape, and the sweep's linear range.
+  whose inner wheels lift from ~0.85 g): the curve's shape (a drive near the limit teaches the
+  shape, not the stiffness).
 
 Each is applied to steady circles (R 40 m) on μ 0.5 and 0.3 at utilisation 0.7, 0.8, 0.9 and
 0.95. Printed per configuration and utilisation band: axle-cases, ranges holding the truth,
@@ -35,6 +36,13 @@ CARS = ("cr-std", "cr-mb", "mf")
 US = (0.7, 0.8, 0.9, 0.95)
 MUS = (0.5, 0.3)
 RADIUS_M = 40.0
+SLIPPERY = ((0.1, 0.2, 0.3), (0.8, 0.9))
+"""--slippery: circles on ice, packed snow and snow at these utilisations, R ≥ 40 m and 7 m/s."""
+
+
+def radius(mu: float, u: float) -> float:
+    """The circle's radius [m]: 40 m, or larger so that the speed is at least 7 m/s."""
+    return max(RADIUS_M, 7.0**2 / (u * mu * 9.80665))
 
 
 def _write(d, folder: Path, name: str) -> tuple[Path, Path]:
@@ -61,7 +69,7 @@ def _drives(car: str, receiver: str):
                 plan = CR.cr_constant_radius(RADIUS_M, limit_speed(mu, RADIUS_M, 0.5),
                                              limit_speed(mu, RADIUS_M, 1.1))  # fmt: skip
             else:
-                plan = CR.cr_circle(limit_speed(mu, RADIUS_M, u), RADIUS_M)
+                plan = CR.cr_circle(limit_speed(mu, radius(mu, u), u), radius(mu, u))
             return CR.commonroad_drive(plan, mu, model=model, receiver=receiver, seed=seed)
 
         return uv, sim
@@ -76,8 +84,9 @@ def _drives(car: str, receiver: str):
             m = M.constant_radius(RADIUS_M, 5.0, limit_speed(1.3 * mu, RADIUS_M, 1.0),
                                   accel_mps2=0.1)  # fmt: skip
             return simulate_drive("sedan", "mf-sedan", m, mu, receiver=receiver, seed=seed)
+        r = radius(mu, u)
         return simulate_drive("sedan", "mf-sedan", None, mu, receiver=receiver, seed=seed,
-                              circle=(limit_speed(mu, RADIUS_M, u), RADIUS_M))  # fmt: skip
+                              circle=(limit_speed(mu, r, u), r))  # fmt: skip
 
     return uv, sim
 
@@ -100,6 +109,9 @@ def one(job: dict) -> list[dict]:
         full = learn_calibration([sweep[0]], uv, receiver=rec, steer_csvs=[sweep[1]],
                                  previous=stiff)  # fmt: skip
         cpu_learn = time.process_time() - t
+        kept = {axle: len(t.shape_members) for axle, t in
+                FrictionRun(uv, calibration=full).vehicle.tyres.items()
+                if t.shape_members is not None}  # fmt: skip
         learned_axles = sorted({d.axle for d in full.drives if d.shape is not None})
         runs = {
             "declared": FrictionRun(uv, receiver=rec),
@@ -107,8 +119,9 @@ def one(job: dict) -> list[dict]:
             "learned": FrictionRun(uv, receiver=rec, calibration=full),
         }
         seed = 30
-        for mu in MUS:
-            for u in US:
+        mus, us = SLIPPERY if job.get("slippery") else (MUS, US)
+        for mu in mus:
+            for u in us:
                 seed += 1
                 d = sim("circle", mu, u, seed)
                 log, steer = _write(d, folder, f"circle{seed}")
@@ -127,6 +140,7 @@ def one(job: dict) -> list[dict]:
                             "mu_low": float(r["mu_low"]), "mu_high": float(r["mu_high"]),
                             "slippery": str(r.get("slippery", "")),
                             "shape_learned": axle in learned_axles,
+                            "members_kept": kept.get(axle, -1),
                             "cpu_learn_s": cpu_learn,
                         })  # fmt: skip
     return rows
@@ -164,8 +178,12 @@ def main() -> None:
     ap.add_argument("--receiver", default="white-0.3")
     ap.add_argument("--cars", default=",".join(CARS))
     ap.add_argument("--csv", default=None)
+    ap.add_argument(
+        "--slippery", action="store_true", help="circles on μ 0.1, 0.2, 0.3 at u 0.8, 0.9"
+    )
     args = ap.parse_args()
-    jobs = [{"car": c, "receiver": args.receiver} for c in args.cars.split(",")]
+    jobs = [{"car": c, "receiver": args.receiver, "slippery": args.slippery}
+            for c in args.cars.split(",")]  # fmt: skip
     t = time.time()
     with ProcessPoolExecutor(args.workers) as ex:
         rows = [r for part in ex.map(one, jobs) for r in part]
@@ -174,11 +192,20 @@ def main() -> None:
         df.to_csv(args.csv, index=False)
     pd.set_option("display.width", 160)
     print(f"receiver {args.receiver}; cars {args.cars}; {time.time() - t:.0f} s wall")
+    if args.slippery:
+        hi = df[df["u_true"] >= 0.8]
+        print("slippery at u ≥ 0.8 on μ 0.1–0.3 (share of axle-cases):")
+        print(hi.assign(slippery=hi["slippery"] == "slippery").groupby(["config", "mu_road"])
+              ["slippery"].agg(["mean", "size"]).round(3).to_string())  # fmt: skip
+        return
     print(scores(df).to_string())
     print("\nper car, u ≥ 0.8 (upper ends / values ±0.05):")
     hi = df[df["u_true"] >= 0.8]
     hi = hi.assign(upper=np.isfinite(hi["mu_high"]), close=(hi["mu"] - hi["mu_true"]).abs() <= 0.05)
     print(hi.groupby(["car", "config"])[["upper", "close"]].mean().round(2).to_string())
+    members = df[df["config"] == "learned"].groupby(["car", "axle"])["members_kept"].first()
+    print("\nprior-family members the sweep left possible (-1: it taught nothing):")
+    print(members.to_string())
 
 
 if __name__ == "__main__":

@@ -448,8 +448,8 @@ def learn_calibration(
         tables.append((wheels, name, digest))
     cal = solve_calibration(veh, drives, previous=previous)
     # the shape, with the stiffness just learned (the declaration's ±20 % would blur it); a
-    # drive that teaches it took the axle near its limit: its stiffness bins are cut to half
-    # its largest grip, and the stiffness is solved again
+    # drive that teaches it took the axle near its limit: it teaches the shape, not the
+    # stiffness, which is solved again without it
     shape_run = copy.copy(run)
     shape_run.vehicle = apply_calibration(veh, dataclasses.replace(cal, drives=[]))
     held = {(d.sha256, d.axle) for d in previous.drives} if previous is not None else set()
@@ -573,12 +573,11 @@ def wheel_drive_sums(
 
 
 def _shape_sums(wheels: pd.DataFrame, run: FrictionRun, name: str, sha256: str) -> list[DriveSums]:
-    """Per axle whose curve the drive tells apart: its sums (as
-    :func:`~gripsense.estimate.calibration.drive_sums` over the bins below half its largest
-    measured grip, ``near_limit``; zero without such bins) with the shape
-    evidence of :func:`~gripsense.estimate.shape_learning.shape_evidence`.
+    """Per axle whose curve the drive tells apart: the shape evidence of
+    :func:`~gripsense.estimate.shape_learning.shape_evidence`, with no linear-range sums — a
+    drive that took the axle near its limit teaches the shape, not the stiffness
+    (``docs/physics.md`` §15.10).
     """
-    from gripsense.estimate.calibration import drive_sums
     from gripsense.estimate.shape_learning import shape_evidence
 
     out: list[DriveSums] = []
@@ -587,13 +586,9 @@ def _shape_sums(wheels: pd.DataFrame, run: FrictionRun, name: str, sha256: str) 
     veh = run.vehicle
     for axle in veh.tyres:
         ev = shape_evidence(wheels, veh, axle, noise=run.options.noise, options=run.window)
-        if ev is None:
-            continue
-        s = drive_sums(wheels, veh, axle, run.options.noise, file=name, sha256=sha256,
-                       near_limit=True)  # fmt: skip
-        if s is None:
-            s = DriveSums(name, sha256, axle, 0, np.zeros(N_SUMS[axle]))
-        out.append(dataclasses.replace(s, tyre_set=veh.tyres[axle].tyre_set, shape=ev))
+        if ev is not None:
+            out.append(DriveSums(name, sha256, axle, 0, np.zeros(N_SUMS[axle]),
+                                 veh.tyres[axle].tyre_set, ev))  # fmt: skip
     return out
 
 

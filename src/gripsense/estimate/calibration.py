@@ -69,7 +69,6 @@ __all__ = [
     "DRIVE_FORM_REL",
     "FORCE_SCALE_REL",
     "GRIP_RANGE",
-    "NEAR_LIMIT_SHARE",
     "TRAIL_GRIP_RANGE",
     "declared_lever",
     "drive_sums",
@@ -83,10 +82,6 @@ __all__ = [
 GRIP_RANGE = (0.04, 0.3)
 """Measured grip of the bins the linear-range fit uses [-]: above the noise, below where any
 road from wet upward bends the curve by more than the fit's curvature term absorbs."""
-NEAR_LIMIT_SHARE = 0.5
-"""Of a drive that took the axle near its limit, the linear-range fit uses the bins up to this
-share of its largest measured grip [-]: on a slippery road 0.3 is near the limit, and half the
-limit is where the curvature term still absorbs the bend."""
 FORCE_SCALE_REL = 0.03
 """Relative 1σ of the axle force's scale (mass, a_y calibration): a floor of the learned
 stiffness's uncertainty [-]."""
@@ -105,7 +100,6 @@ def drive_sums(
     *,
     file: str = "",
     sha256: str = "",
-    near_limit: bool = False,
 ) -> DriveSums | None:
     """One drive's least-squares sums of the linear-range fit of one axle.
 
@@ -123,9 +117,6 @@ def drive_sums(
         The drive's name, kept in the calibration file.
     sha256 : str
         Its content hash.
-    near_limit : bool
-        The drive took the axle near its limit (its curve's shape is learned from it): only
-        bins up to :data:`NEAR_LIMIT_SHARE` of its largest measured grip are used.
 
     Returns
     -------
@@ -141,8 +132,7 @@ def drive_sums(
     fz = d[:, 2] + d[:, 3]
     y, k = force_and_linear(d)
     g = np.abs(d[:, 9])
-    top = min(GRIP_RANGE[1], NEAR_LIMIT_SHARE * float(np.max(g))) if near_limit else GRIP_RANGE[1]
-    use = (g >= GRIP_RANGE[0]) & (g <= top) & np.isfinite(y) & np.isfinite(k)
+    use = (g >= GRIP_RANGE[0]) & (g <= GRIP_RANGE[1]) & np.isfinite(y) & np.isfinite(k)
     if use.sum() < 3:
         return None
     y, k = y[use], k[use]
