@@ -172,27 +172,18 @@ def scores(df: pd.DataFrame) -> pd.DataFrame:
     return out
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--receiver", default="white-0.3")
-    ap.add_argument("--cars", default=",".join(CARS))
-    ap.add_argument("--csv", default=None)
-    ap.add_argument(
-        "--slippery", action="store_true", help="circles on μ 0.1, 0.2, 0.3 at u 0.8, 0.9"
-    )
-    args = ap.parse_args()
-    jobs = [{"car": c, "receiver": args.receiver, "slippery": args.slippery}
-            for c in args.cars.split(",")]  # fmt: skip
+def run(cars: str, receiver: str, workers: int, csv: str | None, slippery: bool) -> None:
+    """Run the benchmark and print its tables (``accuracy.py --learned`` calls this too)."""
+    jobs = [{"car": c, "receiver": receiver, "slippery": slippery} for c in cars.split(",")]
     t = time.time()
-    with ProcessPoolExecutor(args.workers) as ex:
+    with ProcessPoolExecutor(workers) as ex:
         rows = [r for part in ex.map(one, jobs) for r in part]
     df = pd.DataFrame(rows)
-    if args.csv:
-        df.to_csv(args.csv, index=False)
+    if csv:
+        df.to_csv(csv, index=False)
     pd.set_option("display.width", 160)
-    print(f"receiver {args.receiver}; cars {args.cars}; {time.time() - t:.0f} s wall")
-    if args.slippery:
+    print(f"receiver {receiver}; cars {cars}; {time.time() - t:.0f} s wall")
+    if slippery:
         hi = df[df["u_true"] >= 0.8]
         print("slippery at u ≥ 0.8 on μ 0.1–0.3 (share of axle-cases):")
         print(hi.assign(slippery=hi["slippery"] == "slippery").groupby(["config", "mu_road"])
@@ -206,6 +197,19 @@ def main() -> None:
     members = df[df["config"] == "learned"].groupby(["car", "axle"])["members_kept"].first()
     print("\nprior-family members the sweep left possible (-1: it taught nothing):")
     print(members.to_string())
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--receiver", default="white-0.3")
+    ap.add_argument("--cars", default=",".join(CARS))
+    ap.add_argument("--csv", default=None)
+    ap.add_argument(
+        "--slippery", action="store_true", help="circles on μ 0.1, 0.2, 0.3 at u 0.8, 0.9"
+    )
+    args = ap.parse_args()
+    run(args.cars, args.receiver, args.workers, args.csv, args.slippery)
 
 
 if __name__ == "__main__":
