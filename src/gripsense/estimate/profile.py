@@ -339,7 +339,9 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
     physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
     prediction, and a tolerance from the force's noise and model fidelity and the slip's white
-    noise, offset and drift.
+    noise, offset and drift (their 90 % edges added: the slip's offset and drift are the
+    receiver's declared slow heading error, so a receiver declared with one is given more room
+    here than one declared without: ``docs/physics.md`` §15.11).
     """
     if bins.shape[0] == 0:
         return False
@@ -477,6 +479,13 @@ def profile_mu(
         strained, observable, hi, hi_p = True, False, np.inf, np.inf
         if fit == "ok":
             fit = "strained"
+    if not observable:
+        # without a value the lower end is what the data prove, not the model's crossing: that
+        # is measured from the profile's minimum, which moves with the data's noise where no
+        # value is given (a better receiver's lower end could fall below a worse one's on the
+        # same drive) — the model's lower end is stated only with a value (docs/physics.md
+        # §15.11)
+        lo = grip_lower if np.isfinite(grip_lower) else 0.0
     names = (
         "stiffness",
         "camber",
