@@ -211,3 +211,25 @@ def test_a_limit_drive_on_a_slippery_road_does_not_bend_the_stiffness(tmp_path):
     for axle in ("front", "rear"):
         a, b = base.axles[axle], both.axles[axle]
         assert b.scale == a.scale and b.bins == a.bins, (axle, a, b)
+
+
+@pytest.mark.parametrize("keep", ["brush-4", "mf C1.38 E0.14"])
+def test_learned_members_never_say_more_than_the_prior_family_allows(tmp_path, keep):
+    """Whatever members a calibration leaves (here one, far from the truth tyre or near it), an
+    axle's range on a steady circle lies within the prior family's, and a note says when the
+    learned shapes and the drive do not meet."""
+    from gripsense.sim.drives import truth_vehicle, user_vehicle
+
+    uv = user_vehicle(truth_vehicle("sedan"), TYRE)
+    d = simulate_drive("sedan", TYRE, None, 0.5, receiver="rtk", seed=7,
+                       circle=(limit_speed(0.5, 40.0, 0.93), 40.0))  # fmt: skip
+    log, steer = _write(d, tmp_path, "circle")
+    k = next(i for i, s in enumerate(SHAPE_FAMILY) if s.name == keep)
+    one = {a: dataclasses.replace(t, shape_members=(k,)) for a, t in uv.tyres.items()}
+    prior = FrictionRun(uv, receiver="rtk").run_log(log, steer_csv=steer).summary
+    learned = FrictionRun(dataclasses.replace(uv, tyres=one), receiver="rtk")
+    learned = learned.run_log(log, steer_csv=steer).summary
+    for p, s in zip(prior.itertuples(), learned.itertuples(), strict=True):
+        assert p.mu_low - 1e-9 <= s.mu_low <= s.mu_high <= p.mu_high + 1e-9, (keep, p, s)
+        if "learned curve shape does not fit" in s.limited_by:
+            assert (s.mu_low, s.mu_high) == (p.mu_low, p.mu_high)

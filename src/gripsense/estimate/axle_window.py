@@ -43,7 +43,6 @@ from gripsense.estimate.profile import (
     mu_grid,
     profile_learned,
     torque_only,
-    tyre_family,
 )
 from gripsense.estimate.screen import resolvable, resolvable_bins
 from gripsense.estimate.torque import check_channel, torque_bins, torque_profile, torque_read
@@ -164,7 +163,7 @@ def estimate_windows(
     for axle in axles:
         ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
         pri = axle_priors(vehicle, axle, noise)
-        shapes = tyre_family(vehicle.tyres[axle])
+        tyre = vehicle.tyres[axle]
         n_b = ab.t0.size
         cols, starts = _window_table(ab, axle, o, z_w, noise)
         n_win = starts.size
@@ -177,7 +176,7 @@ def estimate_windows(
             sel = slice(starts[i], starts[i] + per_bin_win)
             analysed_bins[sel] = True
             mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
-            est = reuse.profile(merged, mid, pri, shapes, ab.p0, o, cols["grip_used_lower"][i])
+            est = reuse.profile(merged, mid, pri, tyre, ab.p0, o, cols["grip_used_lower"][i])
             for k, v in est.items():
                 cols[k][i] = v
         cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
@@ -219,7 +218,7 @@ def estimate_windows(
                 merged,
                 mid,
                 pri,
-                vehicle.tyres[axle],
+                tyre,
                 ab.p0,
                 o,
                 base["grip_used_lower"],

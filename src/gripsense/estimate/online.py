@@ -17,7 +17,7 @@ from gripsense.estimate.bins import axle_bins, axle_pairs
 from gripsense.estimate.grip import bin_bound
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins, tyre_family
+from gripsense.estimate.profile import ProfileCache, axle_priors, merge_bins
 from gripsense.estimate.screen import resolvable
 
 __all__ = ["OnlineAxleWindow"]
@@ -61,7 +61,7 @@ class OnlineAxleWindow:
         self._pri = axle_priors(vehicle, axle, self.noise)
         self._reuse = ProfileCache()
         self._tail: dict[str, np.ndarray] | None = None
-        self._shapes = tyre_family(vehicle.tyres[axle])
+        self._tyre = vehicle.tyres[axle]  # its shapes: tyre_family, via ProfileCache.profile
 
     def push(self, rows: pd.DataFrame) -> None:
         """Add final wheel-table rows (both wheels of this axle, any number of epochs).
@@ -141,7 +141,7 @@ class OnlineAxleWindow:
                     merged,
                     mid,
                     self._pri,
-                    self._shapes,
+                    self._tyre,
                     self._bins[-1][5],
                     self.o,
                     lower,

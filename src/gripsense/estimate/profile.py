@@ -741,7 +741,8 @@ class ProfileCache:
 
     def profile(self, merged, mid, pri, shapes, p0, o, lower) -> dict:
         """:func:`profile_mu` of a window, or the previous window's answer when the data are
-        the same within their noise (parameters as :func:`profile_mu`).
+        the same within their noise (parameters as :func:`profile_mu`; *shapes* may be the
+        axle's :class:`~gripsense.config.vehicle.Tyre`, then :func:`profile_learned`).
         """
         d, prev = self.data, self.est
         if (
@@ -760,7 +761,10 @@ class ProfileCache:
             if not est["mu_high"] <= (1.0 + STRAINED_REL) * est["mu_low"]:
                 return est
             # this window's bound strains the previous answer: its own profile decides
-        est = profile_mu(merged, mid, pri, shapes, p0, o, lower)
+        if isinstance(shapes, Tyre):
+            est = profile_learned(merged, mid, pri, shapes, p0, o, lower)
+        else:
+            est = profile_mu(merged, mid, pri, shapes, p0, o, lower)
         est.pop("torque_note", None)  # windows are compass-only (docs/physics.md §16.6)
         self.data, self.est = merged.copy(), est
         return dict(est)
