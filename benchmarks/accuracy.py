@@ -60,17 +60,22 @@ utilisation the front axle reached: upper end given, median width over μ, value
 coverage, bias — against the compass-only estimate of the same drives, and how often the range
 with the torque is wider than without.
 
-``--slippery`` drives icy and snowy roads (issue 41): steady circles on μ 0.1, 0.2 and 0.3 (ice,
+``--slippery`` drives icy and snowy roads: steady circles on μ 0.1, 0.2 and 0.3 (ice,
 packed snow, snow) and, as the control, 0.9, at 70, 80 and 90 % of the road's friction (quick:
 80 and 90 %), R 30 m or wider so that the car keeps 7 m/s (a compass's course needs speed);
 reported per road and receiver at u ≥ 0.8: analysed, ``slippery``, ranges holding the truth,
 measured-grip bounds above the truth.
+
+``--learned`` measures the calibrate workflow (``benchmarks/learned.py``): the vehicle file
+alone, the stiffness learned from three everyday drives, and that with the curve's shape learned
+from one sweep on another road, on CommonRoad's cars and the Magic Formula truth.
 
 Usage: python benchmarks/accuracy.py [--quick] [--wrong-cg] [--kind circles|transients|sweeps|dwell]
        [--slippery]
        [--truth gripsense|commonroad|commonroad-mb] [--torque] [--workers 2] [--csv out.csv]
        [--plot benchmarks/accuracy.png]
        --torque [--exits] [--shape known] [--calibrated] [--only tyre,vehicle,mu,kind,target_u]
+       --learned [--receivers rtk] [--slippery]
 """
 
 from __future__ import annotations
@@ -932,7 +937,22 @@ def main() -> None:
         help="--torque: the drives whose tyre,vehicle,mu,kind,target_u match (a field left "
         "empty matches any), e.g. mf-sedan,sports,0.7,circle,1.0",
     )
+    ap.add_argument(
+        "--learned",
+        action="store_true",
+        help="the calibrate workflow: declared, calibrated (stiffness from 3 everyday drives) "
+        "and learned (+ the shape from one sweep on another road) on CommonRoad single-track "
+        "and multi-body cars and the Magic Formula truth (benchmarks/learned.py; --receivers: "
+        "the first; --slippery: circles on μ 0.1–0.3)",
+    )
     args = ap.parse_args()
+    if args.learned:
+        import learned
+
+        rec = args.receivers.split(",")[0] if args.receivers != ",".join(RECEIVERS) else None
+        learned.run(",".join(learned.CARS), rec or "white-0.3", args.workers, args.csv,
+                    args.slippery)  # fmt: skip
+        return
     if args.torque:
         todo = only_torque(jobs_torque(args.quick, args.shape, args.truth, args.exits), args.only)
         if not todo:

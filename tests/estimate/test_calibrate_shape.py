@@ -233,3 +233,27 @@ def test_learned_members_never_say_more_than_the_prior_family_allows(tmp_path, k
         assert p.mu_low - 1e-9 <= s.mu_low <= s.mu_high <= p.mu_high + 1e-9, (keep, p, s)
         if "learned curve shape does not fit" in s.limited_by:
             assert (s.mu_low, s.mu_high) == (p.mu_low, p.mu_high)
+
+
+def test_an_axle_learned_alone_keeps_its_own_stiffness_uncertainty(tmp_path):
+    """A calibration that learned the rear only (no steering channel): the rear's prior is its
+    own learned 1σ, not the front's declared ±20 % — and on a steady circle at 0.9 of the limit
+    its range lies within the one the ±20 % prior gives (knowing more never says less)."""
+    from gripsense.estimate.noise import NoiseModel
+    from gripsense.estimate.profile import axle_priors
+    from gripsense.sim.drives import truth_vehicle, user_vehicle
+
+    uv = user_vehicle(truth_vehicle("sedan"), TYRE, stiffness_uncertainty=0.2)
+    rear = dataclasses.replace(uv.tyres["rear"], stiffness_uncertainty=0.03)
+    known = dataclasses.replace(uv, tyres={**uv.tyres, "rear": rear})
+    noise = NoiseModel.for_vehicle(known, "rtk")
+    assert axle_priors(known, "rear", noise).sd[0] == pytest.approx(np.log1p(0.03))
+    assert axle_priors(known, "front", noise).sd[0] == pytest.approx(np.log1p(0.2))
+    d = simulate_drive("sedan", TYRE, None, 0.6, receiver="rtk", seed=11,
+                       circle=(limit_speed(0.6, 40.0, 0.9), 40.0))  # fmt: skip
+    log, steer = _write(d, tmp_path, "circle")
+    wide, narrow = (FrictionRun(v, receiver="rtk").run_log(log, steer_csv=steer).summary
+                    .set_index("axle").loc["rear"] for v in (uv, known))  # fmt: skip
+    truth = float(d.axles.set_index("axle").loc["rear", "mu_true"])
+    assert narrow["mu_low"] <= truth <= narrow["mu_high"]
+    assert wide["mu_low"] - 1e-9 <= narrow["mu_low"] and narrow["mu_high"] <= wide["mu_high"] + 0.01

@@ -7,6 +7,7 @@ from __future__ import annotations
 import subprocess
 
 import pandas as pd
+import pytest
 
 from gripsense.live import open_replay, run_live
 from gripsense.pipeline import NO_STEERING
@@ -33,12 +34,16 @@ def test_a_steering_csv_beside_the_replay_gives_the_front_axle(simulated):
     assert list(bare["summary"]["unit"]) == ["rear"]
     assert bare["front_axle"] == NO_STEERING and bare["stats"].front_axle == NO_STEERING
     # the rear's estimate is the same; its measured grip knows the front's steer (the yaw
-    # moment the split leaves out, docs/physics.md §14.1) and never says less with it
+    # moment the split leaves out, docs/physics.md §14.1) and never says less with it — nor
+    # does a range without a value, which starts at the measured grip (§15.11)
     rear_bare = bare["summary"].set_index("unit").loc["rear"]
     rear = res["summary"].set_index("unit").loc["rear"]
-    grip = ["grip_used", "grip_used_lower"]
+    grip = ["grip_used", "grip_used_lower", "mu_low"]
     pd.testing.assert_series_equal(rear_bare.drop(grip), rear.drop(grip))
     assert rear["grip_used_lower"] >= rear_bare["grip_used_lower"]
+    assert rear["mu_low"] >= rear_bare["mu_low"]
+    if not rear["observable"]:
+        assert rear["mu_low"] == pytest.approx(rear["grip_used_lower"])
 
 
 def test_the_steering_channel_inside_a_replayed_vbo(simulated):

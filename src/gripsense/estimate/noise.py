@@ -58,6 +58,10 @@ class NoiseModel:
     load_transfer_rel : float
         Relative uncertainty of the lateral load transfer (CG height, roll split) [-]
         (``axle-window``).
+    axle_stiffness_rel : tuple of (str, float), optional
+        Each axle's own relative stiffness uncertainty [-] (``axle-window``'s prior of that
+        axle; :meth:`for_vehicle` sets it from the tyres, so that an axle a calibration learned
+        keeps its own uncertainty); None: *tread_stiffness_rel* for both.
     steer_scale_rel : float
         Relative 1σ of the steering channel's scale (the steering ratio is never known
         exactly and varies with the angle) [-].
@@ -87,6 +91,7 @@ class NoiseModel:
     axle_force_rel: float = 0.03
     steer_scale_rel: float = 0.05
     heading_calibration_deg: float | None = None
+    axle_stiffness_rel: tuple[tuple[str, float], ...] | None = None
 
     @classmethod
     def for_vehicle(
@@ -95,9 +100,9 @@ class NoiseModel:
         receiver: Receiver | str | Path | None = None,
     ) -> NoiseModel:
         """The noise model of a receiver on a vehicle: heading, velocity and yaw-rate noise
-        from the receiver; the stiffness uncertainty from the tyres (the larger of the two
-        axles'); the lateral load-transfer uncertainty from the declared CG-height range (taken
-        as a 90 % interval).
+        from the receiver; the stiffness uncertainty from the tyres (each axle's own for
+        ``axle-window``, the larger of the two for the per-sample methods); the lateral
+        load-transfer uncertainty from the declared CG-height range (taken as a 90 % interval).
 
         Parameters
         ----------
@@ -127,13 +132,17 @@ class NoiseModel:
             "yaw_rate_dps": rec.yaw_rate_dps,
             "heading_slow_tau_s": rec.heading_slow_tau_s,
         }
+        per_axle = None
         if vehicle is not None:
             kw["tread_stiffness_rel"] = max(t.stiffness_uncertainty for t in vehicle.tyres.values())
+            per_axle = tuple(
+                (axle, t.stiffness_uncertainty) for axle, t in sorted(vehicle.tyres.items())
+            )
             h = vehicle.cg_height_m
             f_lo, f_hi = CG_HEIGHT_RANGE_FACTORS
             lo, hi = vehicle.cg_height_range_m or (f_lo * h, f_hi * h)
             kw["load_transfer_rel"] = max((hi - lo) / (2 * 1.645 * h), 0.02)
-        return cls(**kw)
+        return cls(**kw, axle_stiffness_rel=per_axle)
 
     @classmethod
     def rtk(cls, *, tread_stiffness_rel: float = 0.05) -> NoiseModel:

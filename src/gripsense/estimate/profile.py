@@ -220,7 +220,8 @@ def axle_priors(vehicle: Vehicle, axle: str, noise: NoiseModel) -> Priors:
         The priors.
     """
     tyre = vehicle.tyres[axle]
-    s_rel = max(noise.tread_stiffness_rel, 1e-3)
+    own = dict(noise.axle_stiffness_rel or ())  # an axle's own (a calibration's), if known
+    s_rel = max(own.get(axle, noise.tread_stiffness_rel), 1e-3)
     # camber thrust: body roll (gradient, deg/g) leans the wheels (gain) and the thrust needs
     # a slip of |C_γ/C_α| × inclination to balance: an effective slip shift per g
     kap0 = np.deg2rad(

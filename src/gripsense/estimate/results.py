@@ -252,11 +252,14 @@ class FrictionResult:
                     declared = Vehicle.from_toml(veh.source)
                 except (InputError, OSError):  # changed since the run: not stated
                     declared = None
-            width = self.noise.tread_stiffness_rel if self.noise is not None else None
+            nm = self.noise
+            own = dict(nm.axle_stiffness_rel or ()) if nm is not None else {}
             rec["stiffness"] = {
                 axle: {
                     "declared": _stiffness(declared, axle),
-                    "used": _stiffness(veh, axle, width),
+                    "used": _stiffness(
+                        veh, axle, own.get(axle, nm.tread_stiffness_rel) if nm else None
+                    ),
                 }
                 for axle in veh.tyres
             }
@@ -878,6 +881,24 @@ def _noise(doc: object, folder: str | Path) -> NoiseModel | None:
     if doc is None:
         return None
     known = {f.name for f in dataclasses.fields(NoiseModel)}
+    per_axle = None
+    if isinstance(doc, dict) and "axle_stiffness_rel" in doc:  # [[axle, 1σ], …]
+        doc = dict(doc)
+        pairs = doc.pop("axle_stiffness_rel")
+        ok = pairs is None or (
+            isinstance(pairs, list)
+            and all(
+                isinstance(p, list) and len(p) == 2 and isinstance(p[0], str)
+                and isinstance(p[1], int | float) and not isinstance(p[1], bool)
+                for p in pairs
+            )
+        )  # fmt: skip
+        if not ok:
+            raise InputError(
+                f"{folder}/summary.json: record.noise axle_stiffness_rel = {pairs!r}, not what "
+                "gripsense wrote ([[axle, number], …]); restore it or run gripsense friction again"
+            )
+        per_axle = tuple((str(a), float(v)) for a, v in pairs) if pairs is not None else None
     bad = (
         "is not a table"
         if not isinstance(doc, dict)
@@ -896,7 +917,7 @@ def _noise(doc: object, folder: str | Path) -> NoiseModel | None:
             f"{folder}/summary.json: record.noise {bad}, not what gripsense wrote (a number "
             "per known key); restore it or run gripsense friction again"
         )
-    return NoiseModel(**doc)  # type: ignore[arg-type]
+    return NoiseModel(**doc, axle_stiffness_rel=per_axle)  # type: ignore[arg-type]
 
 
 def _summary_frame(records: list[dict]) -> pd.DataFrame:

@@ -83,6 +83,16 @@ def _fits(value: Any, kind: str) -> bool:
     return True
 
 
+def _axle_number(pair: Any) -> bool:
+    """An [axle, number] pair of the record."""
+    return (
+        isinstance(pair, list)
+        and len(pair) == 2
+        and isinstance(pair[0], str)
+        and _fits(pair[1], NUMBER)
+    )
+
+
 def _check(value: Any, kind: str, where: str, source: str) -> None:
     if hasattr(value, "item") and not isinstance(value, str):  # numpy scalars
         value = value.item()
@@ -185,6 +195,15 @@ def check_record(record: Any, source: str = "summary.json") -> None:
     if noise is not None and not isinstance(noise, Mapping):
         raise InputError(f"{source}: record.noise is {noise!r}, but must be a table; {fix}")
     for key, value in (noise or {}).items():
+        if key == "axle_stiffness_rel":  # [[axle, relative 1σ], …] or null
+            if value is not None and not (
+                isinstance(value, list) and all(_axle_number(p) for p in value)
+            ):
+                raise InputError(
+                    f"{source}: record.noise.{key} is {value!r}, but must be a list of [axle, "
+                    f"number] pairs; {fix}"
+                )
+            continue
         _check(value, NUMBER, f"record.noise.{key}", source)
     stiff = record.get("stiffness") or {}
     if not isinstance(stiff, Mapping):
