@@ -3,7 +3,7 @@ PYTHON ?= $(shell command -v python3.11 || command -v python3)
 VENV   := .venv
 BIN    := $(VENV)/bin
 
-.PHONY: demo test test-fast lint clean clean-cache browser examples
+.PHONY: demo test test-fast test-under-load lint clean clean-cache browser examples
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,13 @@ browser:
 # one worker per CPU; a file's tests stay on one worker (its fixtures are built once)
 test: $(VENV)/.installed-test browser
 	$(BIN)/python -m pytest -q -n auto --dist loadfile
+
+# the full suite with two busy CPU hogs beside it: nothing in it may depend on timing or load
+test-under-load: $(VENV)/.installed-test browser
+	@$(BIN)/python -c 'while True: pass' & h1=$$!; \
+	 $(BIN)/python -c 'while True: pass' & h2=$$!; \
+	 trap 'kill $$h1 $$h2 2>/dev/null' EXIT INT TERM; \
+	 $(BIN)/python -m pytest -q -n auto --dist loadfile
 
 # the inner loop: everything but the end-to-end tests (`make test` is the full suite CI runs)
 test-fast: $(VENV)/.installed-test
