@@ -606,8 +606,9 @@ def apply_calibration(
         the learned stiffness and its uncertainty alone (the car's own data outrank a
         datasheet; a blend would be a value neither supports); the steering's learned lever, a
         constraint the torque estimator adds to its trail priors (docs/physics.md §16.8); the
-        curve shape its drives on the fitted tyres taught (``shape_evidence``, §15.10). An axle
-        learned on another ``tyre_set`` keeps its declaration (a note says so).
+        members of the prior family its drives on the fitted tyres leave possible
+        (``shape_members``, §15.10). An axle learned on another ``tyre_set`` keeps its
+        declaration (a note says so).
     """
     if cal.vehicle != vehicle.name:
         raise InputError(
@@ -652,8 +653,10 @@ def apply_calibration(
 
 def shape_lines(vehicle: Vehicle, cal: Calibration) -> list[str]:
     """One line per axle of what its drives taught of the curve's shape (``calibrate`` says
-    them): the drives, the shapes they leave within the 95 % level and the closest Magic
-    Formula one, or that no drive on these tyres took the axle near its limit.
+    them): the drives, the shapes they leave within the 95 % level, the closest Magic Formula
+    one and how many shapes of the prior family stay possible on another road
+    (:func:`~gripsense.physics.shape_grid.possible_members`), or that no drive on these tyres
+    took the axle near its limit.
 
     Parameters
     ----------
@@ -669,6 +672,8 @@ def shape_lines(vehicle: Vehicle, cal: Calibration) -> list[str]:
     """
     from scipy.stats import chi2
 
+    from gripsense.physics.tyre_curves import shape_members
+
     out = []
     notes: list[str] = []
     for axle, tyre in vehicle.tyres.items():
@@ -681,9 +686,12 @@ def shape_lines(vehicle: Vehicle, cal: Calibration) -> list[str]:
             continue
         kept = int(np.sum(d <= chi2.ppf(0.95, 2)))
         best = LEARN_GRID[int(np.argmin(d))]
+        members = possible_members(d, tyre.shape)
         out.append(
             f"{axle} axle: curve shape learned from {n} drive(s): {kept} of {len(LEARN_GRID)} "
-            f"shapes within the 95 % level, closest {best.name}"
+            f"shapes within the 95 % level, closest {best.name}; on another road "
+            f"{len(members)} of the {len(shape_members(tyre.shape))} real-tyre shapes stay "
+            "possible"
         )
     return out + notes
 
