@@ -82,8 +82,14 @@ def friction(
     dbc: Dbc = None,
     time_offset: TimeOffset = None,
     outdir: Annotated[
-        Path, typer.Option("-o", "--outdir", help="folder for the result files")
-    ] = Path("friction-results"),
+        Path | None,
+        typer.Option(
+            "-o",
+            "--outdir",
+            help="folder for the result files (default: the log's name with .friction, in the "
+            "current folder: drive.nmea.gz -> drive.friction)",
+        ),
+    ] = None,
     report: Annotated[bool, typer.Option("--report", help="also write OUTDIR/report.html")] = False,
     calibration: Annotated[
         Path | None,
@@ -107,6 +113,10 @@ def friction(
             raise GripsenseError("--vehicle car.toml is required")
         if (log is None) == (table is None):
             raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
+        source = log if log is not None else table
+        if outdir is None and source is not None:  # one folder per log, never a shared name
+            outdir = default_outdir(source)
+        assert outdir is not None
         check_output_folder(
             outdir, "friction", overwrite=overwrite, files=["report.html"] if report else []
         )
@@ -170,6 +180,27 @@ def _calibration_record(
         calibration if calibration is not None else Vehicle.from_toml(vehicle_file).calibration_file
     )
     return None if path is None else calibration_record(path, veh, notes)
+
+
+def default_outdir(source: Path) -> Path:
+    """The result folder of ``friction`` without ``-o``: the log's name without its format
+    suffixes, with ``.friction``, in the current folder (``drive.nmea.gz`` → ``drive.friction``).
+
+    Parameters
+    ----------
+    source : Path
+        The log or motion table.
+
+    Returns
+    -------
+    Path
+        The folder.
+    """
+    name = Path(source).name
+    for suffix in (".gz", ".bz2", ".xz"):
+        name = name.removesuffix(suffix)
+    stem = Path(name).stem or name or "drive"
+    return Path(f"{stem}.friction")
 
 
 def _report_of_folder(folder: Path, output: Path | None = None, *, overwrite: bool) -> Path:
