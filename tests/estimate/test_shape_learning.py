@@ -116,16 +116,27 @@ def test_a_sweep_learns_the_truth_tyres_shape():
 
 @pytest.mark.slow
 def test_the_learned_shape_carries_to_another_road():
-    """Learned on μ 1.0, applied on a μ 0.5 steady circle at 0.95 of the limit: the front axle's
-    range holds the truth and states a value within 0.05 of it."""
+    """Learned on μ 1.0, applied on a μ 0.5 steady circle at 0.95 of the limit, both ways a
+    calibration can carry it — the evidence weighting the whole grid (``shape_evidence``) and
+    the real-tyre members it leaves possible (``shape_members``, what ``calibrate`` applies):
+    the front axle's range holds the truth and states a value within 0.05 of it, and the
+    members' range lies within the prior family's (docs/physics.md §15.10)."""
+    from gripsense.physics.shape_grid import possible_members
+
     uv = _vehicle()
-    front = dataclasses.replace(uv.tyres["front"], shape_evidence=tuple(_sweep_evidence(1.0)))
-    learned = dataclasses.replace(uv, tyres={**uv.tyres, "front": front})
+    ev = _sweep_evidence(1.0)
     d = simulate_drive("sedan", TYRE, None, 0.5, receiver=RECEIVER, seed=5,
                        circle=(limit_speed(0.5, 40.0, 0.95), 40.0))  # fmt: skip
-    res, _ = _run(d, learned)
-    s = res.summary.set_index("axle").loc["front"]
     truth = float(d.axles.set_index("axle").loc["front", "mu_true"])
-    assert s["mu_low"] <= truth <= s["mu_high"], (s["mu_low"], truth, s["mu_high"])
-    assert s["observable"] and abs(s["mu"] - truth) <= 0.05, (s["mu"], truth)
-    assert str(s["shape"]).startswith(("mf ", "brush"))
+    prior = _run(d, uv)[0].summary.set_index("axle").loc["front"]
+    tyre = uv.tyres["front"]
+    for front in (
+        dataclasses.replace(tyre, shape_evidence=tuple(ev)),
+        dataclasses.replace(tyre, shape_members=possible_members(ev, tyre.shape)),
+    ):
+        res, _ = _run(d, dataclasses.replace(uv, tyres={**uv.tyres, "front": front}))
+        s = res.summary.set_index("axle").loc["front"]
+        assert s["mu_low"] <= truth <= s["mu_high"], (s["mu_low"], truth, s["mu_high"])
+        assert s["observable"] and abs(s["mu"] - truth) <= 0.05, (s["mu"], truth)
+        assert str(s["shape"]).startswith(("mf ", "brush"))
+    assert prior["mu_low"] - 1e-9 <= s["mu_low"] and s["mu_high"] <= prior["mu_high"] + 1e-9
