@@ -216,8 +216,8 @@ def test_a_limit_drive_on_a_slippery_road_does_not_bend_the_stiffness(tmp_path):
 @pytest.mark.parametrize("keep", ["brush-4", "mf C1.38 E0.14"])
 def test_learned_members_never_say_more_than_the_prior_family_allows(tmp_path, keep):
     """Whatever members a calibration leaves (here one, far from the truth tyre or near it), an
-    axle's range on a steady circle lies within the prior family's, and a note says when the
-    learned shapes and the drive do not meet."""
+    axle's range on a steady circle lies within the prior family's, a value the family gives is
+    kept, and a note says when the learned shapes and the drive do not meet."""
     from gripsense.sim.drives import truth_vehicle, user_vehicle
 
     uv = user_vehicle(truth_vehicle("sedan"), TYRE)
@@ -231,6 +231,7 @@ def test_learned_members_never_say_more_than_the_prior_family_allows(tmp_path, k
     learned = learned.run_log(log, steer_csv=steer).summary
     for p, s in zip(prior.itertuples(), learned.itertuples(), strict=True):
         assert p.mu_low - 1e-9 <= s.mu_low <= s.mu_high <= p.mu_high + 1e-9, (keep, p, s)
+        assert s.observable or not p.observable  # a value the family gives is not lost
         if "learned curve shape does not fit" in s.limited_by:
             assert (s.mu_low, s.mu_high) == (p.mu_low, p.mu_high)
 

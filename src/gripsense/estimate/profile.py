@@ -807,7 +807,11 @@ def profile_learned(
     if not lo < hi:  # the learned shapes do not fit this drive: the prior family's range
         note = "the learned curve shape does not fit this drive (the tyre's prior family used)"
         return {**prior, "limited_by": "; ".join(x for x in (prior["limited_by"], note) if x)}
-    if (lo, hi) == (est["mu_low"], est["mu_high"]):
-        return est
-    mu = float(np.clip(est["mu"], lo, hi)) if np.isfinite(est["mu"]) else est["mu"]
-    return {**est, "mu_low": lo, "mu_high": hi, "mu": mu}
+    if est["observable"] or not prior["observable"]:
+        if (lo, hi) == (est["mu_low"], est["mu_high"]):
+            return est
+        mu = float(np.clip(est["mu"], lo, hi)) if np.isfinite(est["mu"]) else est["mu"]
+        return {**est, "mu_low": lo, "mu_high": hi, "mu": mu}
+    # the family gave a value and the overlap is no wider than its range: the value stays
+    return {**est, "mu_low": lo, "mu_high": hi, "observable": True,
+            "mu": float(np.clip(prior["mu"], lo, hi))}  # fmt: skip
