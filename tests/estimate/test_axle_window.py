@@ -83,7 +83,8 @@ def test_each_truth_tyre_family(tyre):
         miss = max(r["lo"] - r["mu_true"], r["mu_true"] - r["hi"], 0.0)
         assert miss <= 0.1, r
     covered = np.mean([r["lo"] <= r["mu_true"] <= r["hi"] for r in given_])
-    # issue 14 aims at 85–95 %; the benchmark measures 45–95 % per family (benchmarks/README.md)
+    # a floor for a handful of random drives (the benchmark's coverage over 1 620 axle-cases
+    # is 92–94 %, benchmarks/README.md): half, so that a few draws cannot fail it by chance
     assert covered >= 0.5, covered
 
 

@@ -227,7 +227,7 @@ def _peak_slip(tyre, load, mu):
 
 
 def test_a_spin_is_not_read_as_the_limit():
-    """The benchmark's last miss, reduced (benchmarks/README.md, "a held steer and a slide"):
+    """The torque benchmark's last miss, reduced (benchmarks/README.md, ``accuracy.py --torque``):
     the sports car on a μ 0.7 circle at its limit, held 20 s, spins at the corner's exit and
     keeps turning — its front wheels slide at 6–20 times the peak's slip, always on the side of
     the force the turn-in did not use. Read on the rising side those points said "at the

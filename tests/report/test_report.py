@@ -236,10 +236,12 @@ def _compare(fig, name: str, tmp_path: Path, tol: float = 8.0) -> None:
 
     Baselines in tests/data/figures/ were rendered once from the same synthetic drive; set
     GRIPSENSE_UPDATE_BASELINES=1 to regenerate them after an intended change."""
+    import matplotlib.pyplot as plt
     from matplotlib.testing.compare import compare_images
 
     out = tmp_path / name
     fig.savefig(out, dpi=60)
+    plt.close(fig)  # the test's own figure (the report closes its own)
     base = BASELINE / name
     if os.environ.get("GRIPSENSE_UPDATE_BASELINES") == "1":
         shutil.copyfile(out, base)

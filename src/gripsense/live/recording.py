@@ -347,7 +347,8 @@ def check_live_outputs(
     if existing:
         if not overwrite:
             raise InputError(
-                f"{existing[0]}: exists; add --overwrite to replace it, or give -o another name"
+                f"{existing[0]}: exists; add --overwrite (in Python: overwrite=True) to replace "
+                "it, or give -o another name"
             )
         record = read_record(paths["results"])
         for p in existing:
