@@ -99,11 +99,14 @@ def _with_external_cluster(tmp: Path, fn):
         )
     ]  # fmt: skip
     try:
-        deadline = time.monotonic() + 60
-        while not sched_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.2)
-        address = json.loads(sched_file.read_text())["address"]
-        assert address.startswith("tcp://127.0.0.1:")
+        # wait until the scheduler has written its file whole (it exists, empty, for a moment)
+        deadline, address = time.monotonic() + 600, ""
+        while not address and time.monotonic() < deadline:
+            try:
+                address = json.loads(sched_file.read_text())["address"]
+            except (OSError, ValueError, KeyError):
+                time.sleep(0.2)
+        assert address.startswith("tcp://127.0.0.1:"), address
         for _ in range(2):
             procs.append(
                 subprocess.Popen(
