@@ -10,7 +10,6 @@ returns its own typed result (:class:`~gripsense.estimate.results.WheelFriction`
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import warnings
 from dataclasses import fields, replace
@@ -450,8 +449,8 @@ def learn_calibration(
     # the shape, with the stiffness just learned (the declaration's ±20 % would blur it); a
     # drive that teaches it took the axle near its limit: it teaches the shape, not the
     # stiffness, which is solved again without it
-    shape_run = copy.copy(run)
-    shape_run.vehicle = apply_calibration(veh, dataclasses.replace(cal, drives=[]))
+    learned = apply_calibration(veh, dataclasses.replace(cal, drives=[]))
+    shape_run = FrictionRun(learned, receiver=receiver)  # its noise: the learned 1σ too
     held = {(d.sha256, d.axle) for d in previous.drives} if previous is not None else set()
     shapes: dict[tuple[str, str], DriveSums] = {}
     for wheels, name, digest in tables:
