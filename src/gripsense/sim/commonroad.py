@@ -561,6 +561,7 @@ def commonroad_drive(
     receiver: str = "white-0.3",
     seed: int = 0,
     steer_scale_error: float = 0.03,
+    **where,
 ) -> Drive:
     """Simulate *plan* with one of CommonRoad's models on a road of friction *mu* and record it
     with the emulated compass and steering channel (the truth per wheel as the model computes
@@ -581,6 +582,9 @@ def commonroad_drive(
         Random seed of the receiver and steering noise.
     steer_scale_error : float
         Scale error of the steering channel [-].
+    **where
+        ``origin`` and ``start`` of :func:`~gripsense.sim.drives.record_drive` (where and when
+        the drive is).
 
     Returns
     -------
@@ -589,5 +593,5 @@ def commonroad_drive(
     """
     return record_drive(
         commonroad_result(plan, mu, model=model), commonroad_vehicle(), plan.settle_s,
-        receiver=receiver, seed=seed, steer_scale_error=steer_scale_error,
+        receiver=receiver, seed=seed, steer_scale_error=steer_scale_error, **where,
     )  # fmt: skip

@@ -14,6 +14,7 @@ sound exactly when it stays below μ_axle.
 
 from __future__ import annotations
 
+import datetime as dt
 from dataclasses import dataclass
 from functools import cache
 
@@ -25,7 +26,7 @@ from gripsense.constants import G0
 from gripsense.data import sample_path
 from gripsense.errors import InputError
 from gripsense.sim import maneuvers as M
-from gripsense.sim.gnss import CompassNoise, emulate_compass
+from gripsense.sim.gnss import DEFAULT_ORIGIN, DEFAULT_START, CompassNoise, emulate_compass
 from gripsense.sim.sensors import emulate_steering
 from gripsense.sim.steering_torque import emulate_torque
 from gripsense.sim.tyres import SimTyre, load_sim_tyre
@@ -283,6 +284,7 @@ def simulate_drive(
     steer_scale_error: float = 0.03,
     circle: tuple[float, float] | None = None,
     torque: bool = False,
+    **where,
 ) -> Drive:
     """Simulate a drive with a truth tyre and emulate the receiver and the steering channel.
 
@@ -309,6 +311,8 @@ def simulate_drive(
     torque : bool
         Add the column-torque channel (``torque_Nm`` at 100 Hz) to the steering table
         (:func:`gripsense.sim.steering_torque.emulate_torque`; the vehicle's ``[steering]``).
+    **where
+        ``origin`` and ``start`` of :func:`record_drive` (where and when the drive is).
 
     Returns
     -------
@@ -327,7 +331,7 @@ def simulate_drive(
     res = M.run(p, maneuver, mu=mu)
     return record_drive(
         res, veh, maneuver.settle_s, receiver=receiver, seed=seed,
-        steer_scale_error=steer_scale_error, torque=torque,
+        steer_scale_error=steer_scale_error, torque=torque, **where,
     )  # fmt: skip
 
 
@@ -340,6 +344,8 @@ def record_drive(
     seed: int = 0,
     steer_scale_error: float = 0.03,
     torque: bool = False,
+    origin: tuple[float, float, float] = DEFAULT_ORIGIN,
+    start: dt.datetime = DEFAULT_START,
 ) -> Drive:
     """Record a simulated drive (of any vehicle model) as a user would: the emulated compass at
     the vehicle's antenna and a steering channel, with the per-axle truth.
@@ -360,6 +366,10 @@ def record_drive(
         Scale error of the steering channel [-].
     torque : bool
         Add the column-torque channel at 100 Hz to the steering table (rows of either rate).
+    origin : (lat_deg, lon_deg, alt_m)
+        Where the drive is (:func:`~gripsense.sim.gnss.emulate_compass`).
+    start : datetime
+        UTC time of t = 0.
 
     Returns
     -------
@@ -367,7 +377,9 @@ def record_drive(
         The recording and the truth.
     """
     ant = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
-    log = emulate_compass(result, ant, noise=CompassNoise.preset(receiver), seed=seed)
+    log = emulate_compass(
+        result, ant, noise=CompassNoise.preset(receiver), seed=seed, origin=origin, start=start
+    )
     steer = emulate_steering(result, scale_error=steer_scale_error, seed=seed + 7919)
     if torque:
         if vehicle.steering is None or not vehicle.steering_ratio:
