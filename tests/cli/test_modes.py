@@ -1,33 +1,30 @@
 """Outputs get the user's umask like any other tool's (issue "What a newcomer trips on": files
 installed by rename kept ``mkstemp``'s 0600 and result folders ``mkdtemp``'s 0700): every file and
-folder each command writes, through the console script, under umask 022 and 027."""
+folder each command writes, under umask 027.
+
+The commands run in the test's process (``tests.cli.inprocess``: the console script's entry
+point, the umask set for the call) — a mode comes from the umask and the calls that create the
+file (``mkstemp``/``mkdtemp``/``open``), the same in a fresh process; six subprocesses paid
+~15 s of imports for nothing the check needs."""
 
 from __future__ import annotations
 
 import os
 import stat
-import subprocess
 
 import numpy as np
 import pandas as pd
 import pytest
 
 from gripsense.data import path as data_path
-from tests.cli.test_commands import EXE
+from tests.cli.inprocess import cli
 from tests.conftest import GPSD
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
 
 
 def _run(args, mask, cwd):
-    r = subprocess.run(
-        [EXE, *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=300,
-        preexec_fn=lambda: os.umask(mask),
-    )
+    r = cli(*args, cwd=cwd, umask=mask)
     assert r.returncode == 0, (args, r.stderr)
 
 
