@@ -7,7 +7,9 @@ numba's cache loading again (2–4 s of CPU per call); in-process, one test work
 What a user sees is kept: the same argument parsing, the same one-line error handling and exit
 code, stdout and stderr captured as text (rich's consoles write to ``sys.stdout`` /
 ``sys.stderr`` at the time of writing, at the pipe width a subprocess gets), warnings printed on
-stderr as a fresh interpreter prints them (pytest's warning capture is lifted for the call).
+stderr as a fresh interpreter prints them (pytest's warning capture is lifted for the call), and
+so are log records of loggers nobody configured (pytest's handlers are taken off the root logger
+for the call: ``logging.lastResort`` writes them to stderr, as in a fresh interpreter).
 The process-wide state a command may change — signal handlers, ``sys.unraisablehook``, the
 working folder, the umask — is restored afterwards.
 
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import os
 import signal
 import subprocess
@@ -33,6 +36,11 @@ def _fresh_interpreter_filters() -> None:
     for category in (ResourceWarning, ImportWarning, PendingDeprecationWarning, DeprecationWarning):
         warnings.simplefilter("ignore", category)
     warnings.filterwarnings("default", category=DeprecationWarning, module="__main__")
+
+
+def _show(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning on (the redirected) stderr as the interpreter's default hook does."""
+    sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line))
 
 
 def cli(
@@ -59,11 +67,14 @@ def cli(
     argv, hook = sys.argv, sys.unraisablehook
     handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
     here = os.getcwd()
+    root = logging.getLogger()
+    root_handlers, root_level = root.handlers[:], root.level
     old_mask = os.umask(umask) if umask is not None else None
     out, err = io.StringIO(), io.StringIO()
     sys.argv = ["gripsense", *map(str, args)]
     code = 0
     try:
+        root.handlers, root.level = [], logging.WARNING
         if cwd is not None:
             os.chdir(cwd)
         with (
@@ -72,7 +83,7 @@ def cli(
             warnings.catch_warnings(),
         ):
             _fresh_interpreter_filters()
-            warnings.showwarning = warnings._showwarning_orig  # type: ignore[attr-defined]
+            warnings.showwarning = _show
             try:
                 main()
             except SystemExit as e:
@@ -81,6 +92,7 @@ def cli(
                     err.write(e.code + "\n")
     finally:
         sys.argv, sys.unraisablehook = argv, hook
+        root.handlers, root.level = root_handlers, root_level
         for s, h in handlers.items():
             signal.signal(s, h)
         os.chdir(here)

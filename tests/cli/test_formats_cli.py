@@ -1,11 +1,17 @@
 """The formats on the command line: simulate --format, then ingest and friction read the files
-with the --columns the case index names; bad input is one line."""
+with the --columns the case index names; bad input is one line.
+
+The commands run in the test's process (``tests.cli.inprocess``: the console script's entry
+point, its stdout, stderr — warnings and log lines included — and exit code); twenty console
+scripts paid ~55 s of interpreter and library imports that none of these checks is about.
+``--help`` keeps the console script (its speed is part of what it promises)."""
 
 from __future__ import annotations
 
 import pandas as pd
 import pytest
 
+from tests.cli.inprocess import cli
 from tests.cli.test_commands import run
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
@@ -40,7 +46,7 @@ def test_simulate_each_format_and_read_it_back(tmp_path):
     fronts = {}
     for fmt in ("nmea", "vbo", "ubx", "mf4"):
         out = tmp_path / fmt
-        r = run("simulate", str(sc), "-o", str(out), "--format", fmt)
+        r = cli("simulate", str(sc), "-o", str(out), "--format", fmt)
         assert r.returncode == 0, r.stderr
         c = pd.read_csv(out / "cases.csv").iloc[0]
         log = out / c["log"]
@@ -49,11 +55,11 @@ def test_simulate_each_format_and_read_it_back(tmp_path):
         columns = ["--columns", cols] if isinstance(cols, str) else []
         # VBOX and MDF4 carry the steering channel inside; NMEA and UBX need the CSV
         steer = ["--steer-csv", str(out / c["steer"])] if fmt in ("nmea", "ubx") else []
-        r = run("ingest", str(log), *columns)
+        r = cli("ingest", str(log), *columns)
         assert r.returncode == 0, r.stderr
         assert "balanced: yes" in r.stdout and "channels:" in r.stdout
         vehicle = str(out / "vehicle.toml")
-        r = run("friction", str(log), "--vehicle", vehicle, *columns, *steer, "-o",
+        r = cli("friction", str(log), "--vehicle", vehicle, *columns, *steer, "-o",
                 str(tmp_path / f"fr-{fmt}"))  # fmt: skip
         assert r.returncode == 0, r.stderr
         fronts[fmt] = _front(r.stdout)
@@ -62,13 +68,13 @@ def test_simulate_each_format_and_read_it_back(tmp_path):
 
 def test_bad_format_input_is_one_line(tmp_path):
     (tmp_path / "cut.vbo").write_text("File created on 1/1/2026 @ 10:00\n[header]\ntime\n")
-    r = run("ingest", str(tmp_path / "cut.vbo"))
+    r = cli("ingest", str(tmp_path / "cut.vbo"))
     assert r.returncode != 0 and "Traceback" not in r.stderr
     assert "no [column names] section" in r.stderr and len(r.stderr.strip().splitlines()) == 1
-    r = run("simulate", "nothing.toml", "--format", "csv", "-o", str(tmp_path / "x"))
+    r = cli("simulate", "nothing.toml", "--format", "csv", "-o", str(tmp_path / "x"))
     assert r.returncode != 0 and "--format 'csv': use one of nmea, vbo, ubx, mf4" in r.stderr
     (tmp_path / "x.mf4").write_bytes(b"MDF     4.10    " + bytes(64))
-    r = run("ingest", str(tmp_path / "x.mf4"), "--columns", "heading=H")
+    r = cli("ingest", str(tmp_path / "x.mf4"), "--columns", "heading=H")
     assert r.returncode != 0 and "Traceback" not in r.stderr and "x.mf4" in r.stderr
 
 
@@ -104,7 +110,7 @@ def test_simulate_a_torque_channel_and_estimate_with_it(tmp_path):
     sc = tmp_path / "sc.toml"
     sc.write_text(TORQUE_SCENARIO)
     out = tmp_path / "sim"
-    r = run("simulate", str(sc), "-o", str(out))
+    r = cli("simulate", str(sc), "-o", str(out))
     assert r.returncode == 0, r.stderr
     c = pd.read_csv(out / "cases.csv").iloc[0]
     steer = pd.read_csv(out / c["steer"])
@@ -113,11 +119,11 @@ def test_simulate_a_torque_channel_and_estimate_with_it(tmp_path):
     vehicle = str(out / c["vehicle_file"])
     args = ("friction", str(out / c["log"]), "--vehicle", vehicle, "--steer-csv",
             str(out / c["steer"]))  # fmt: skip
-    r = run(*args, "-o", str(tmp_path / "fr"))
+    r = cli(*args, "-o", str(tmp_path / "fr"))
     assert r.returncode == 0, r.stderr
     assert "steering torque" in r.stdout
     flipped = "t=t_s:s,road_wheel=road_wheel_deg:deg,torque=-torque_Nm:Nm"
-    r = run(*args, "--steer-columns", flipped, "-o", str(tmp_path / "fr2"))
+    r = cli(*args, "--steer-columns", flipped, "-o", str(tmp_path / "fr2"))
     assert r.returncode == 2
     assert "sign is flipped" in r.stderr and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
@@ -129,11 +135,11 @@ def test_the_torque_rides_inside_an_mdf4_log(tmp_path):
     sc = tmp_path / "sc.toml"
     sc.write_text(TORQUE_SCENARIO)
     out = tmp_path / "sim"
-    r = run("simulate", str(sc), "-o", str(out), "--format", "mf4")
+    r = cli("simulate", str(sc), "-o", str(out), "--format", "mf4")
     assert r.returncode == 0, r.stderr
     c = pd.read_csv(out / "cases.csv").iloc[0]
     assert "torque=SteeringTorque" in c["columns"]
-    r = run("friction", str(out / c["log"]), "--vehicle", str(out / c["vehicle_file"]),
+    r = cli("friction", str(out / c["log"]), "--vehicle", str(out / c["vehicle_file"]),
             "--columns", c["columns"], "-o", str(tmp_path / "fr"))  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "steering torque" in r.stdout
