@@ -158,3 +158,5 @@ def test_cell_truth(net):
     here = net.logs[(net.logs["bend"] == r.bend) & (net.logs["bucket"] == NETWORK_BUCKETS[0].name)]
     assert t["mu_axle_min"].iloc[0] == here[["mu_front", "mu_rear"]].min().min()
     assert t["mu_axle_max"].iloc[0] == here[["mu_front", "mu_rear"]].max().max()
+    empty = net.cell_truth(cells.iloc[:0])
+    assert empty.empty and {"bend", "mu_true", "mu_axle_min", "on_path"} <= set(empty.columns)

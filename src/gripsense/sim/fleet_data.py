@@ -327,10 +327,8 @@ class FleetNetwork:
         import h3
 
         out = cells.copy()
-        lat, lon = (np.array(v, dtype=float).reshape(-1) for v in
-                    zip(*(h3.cell_to_latlng(c) for c in out["cell"]), strict=True))  # fmt: skip
-        if not len(out):
-            lat = lon = np.zeros(0)
+        ll = np.array([h3.cell_to_latlng(c) for c in out["cell"]], dtype=float).reshape(-1, 2)
+        lat, lon = ll[:, 0], ll[:, 1]
         blat = np.array([b.lat_deg for b in self.bends])
         blon = np.array([b.lon_deg for b in self.bends])
         d = np.hypot(lat[:, None] - blat, (lon[:, None] - blon) * np.cos(np.deg2rad(blat)))
