@@ -18,6 +18,7 @@ Two generators:
 from __future__ import annotations
 
 import datetime as dt
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -403,7 +404,8 @@ def write_road_network(
     h3_res : int
         H3 resolution of the truth's cells [-].
     seed : int
-        Random seed of the speeds, passes, start times and receiver noise.
+        Random seed of the speeds, passes, start times and receiver noise (with the car's and
+        the bend's names: a car's passes of a bend are the same in a smaller network).
     workers : int
         Processes that simulate [-] (1: in this process).
 
@@ -421,12 +423,15 @@ def write_road_network(
         if len(b.mu) != len(buckets):
             raise ValueError(f"bend {b.name}: {len(b.mu)} μ for {len(buckets)} buckets")
     outdir.mkdir(parents=True, exist_ok=True)
-    jobs: list[tuple] = [("car", outdir, c, seed + 1000 * i) for i, c in enumerate(cars)]
+    # seeds from the names: a car's drives and passes are the same in any fleet and network
+    jobs: list[tuple] = [("car", outdir, c, seed + zlib.crc32(c.name.encode()) % 10**6)
+                         for c in cars]  # fmt: skip
     jobs += [
-        ("passes", outdir, c, b, buckets, passes, h3_res, (seed, i, j))
-        for i, c in enumerate(cars)
-        for j, b in enumerate(bends)
-    ]
+        ("passes", outdir, c, b, buckets, passes, h3_res,
+         (seed, zlib.crc32(c.name.encode()), zlib.crc32(b.name.encode())))
+        for c in cars
+        for b in bends
+    ]  # fmt: skip
     jobs.sort(key=lambda j: (j[2].model != "cr-mb", j[0] != "car"))  # the slow ones first
     if workers > 1:
         with ProcessPoolExecutor(workers) as ex:
