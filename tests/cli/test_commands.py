@@ -1,4 +1,9 @@
-"""The command line, run as a user runs it (console script in the venv)."""
+"""The command line, run as a user runs it (console script in the venv).
+
+The checks of what a command computes and writes from several runs of it
+(``test_friction_axle_window_and_table``, ``test_simulate_command``) run it in the test's process
+(``tests.cli.inprocess``: the console script's entry point, its stdout, stderr and exit code),
+without a console script's 2–4 s of imports per call; the others keep the console script."""
 
 from __future__ import annotations
 
@@ -12,6 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tests.cli.inprocess import cli
 from tests.conftest import GPSD
 
 EXE = shutil.which("gripsense") or str(Path(sys.executable).with_name("gripsense"))
@@ -85,7 +91,7 @@ maneuver = "braking"
 speed_kmh = 40
 """)
     out = tmp_path / "out"
-    r = run("simulate", str(sc), "-o", str(out))
+    r = cli("simulate", str(sc), "-o", str(out))
     assert r.returncode == 0, r.stderr
     cases = pd.read_csv(out / "cases.csv")
     assert list(cases["maneuver"]) == ["circle", "braking"]
@@ -98,7 +104,7 @@ speed_kmh = 40
     assert set(truth["mu_true"].round(6)) == {0.6}
     bad = tmp_path / "bad.toml"
     bad.write_text('[scenario]\nvehicle = "corolla_sim.toml"\n[[case]]\nmaneuver = "drift"\n')
-    r = run("simulate", str(bad), "-o", str(out))
+    r = cli("simulate", str(bad), "-o", str(out))
     assert r.returncode == 2 and "maneuver = 'drift'" in r.stderr
 
 
@@ -170,7 +176,7 @@ def test_friction_axle_window_and_table(tmp_path):
     log = tmp_path / "circle.nmea"
     _circle_nmea(log)
     out1 = tmp_path / "a"
-    r = run("friction", str(log), "--vehicle", veh, "--method", "axle-window", "-o", str(out1))
+    r = cli("friction", str(log), "--vehicle", veh, "--method", "axle-window", "-o", str(out1))
     assert r.returncode == 0, r.stderr
     assert "Friction per axle" in r.stdout and (out1 / "windows.parquet").exists()
     doc = json.loads((out1 / "summary.json").read_text())
@@ -189,7 +195,7 @@ def test_friction_axle_window_and_table(tmp_path):
     csv = tmp_path / "ins.csv"
     tab.to_csv(csv, index=False)
     out2 = tmp_path / "b"
-    r = run(
+    r = cli(
         "friction",
         "--table",
         str(csv),
@@ -204,7 +210,7 @@ def test_friction_axle_window_and_table(tmp_path):
     w = pd.read_parquet(out2 / "wheels.parquet").query("wheel == 'rear_left'")
     _, truth = circle(mu=0.5, utilisation=0.92)
     np.testing.assert_allclose(w["slip_angle_rad"], truth["alpha_rear_left"], rtol=1e-9)
-    r = run(
+    r = cli(
         "friction",
         "--table",
         str(csv),
@@ -214,7 +220,7 @@ def test_friction_axle_window_and_table(tmp_path):
         veh,
     )
     assert r.returncode == 2 and "no column 'Nope' for vy" in r.stderr
-    r = run("friction", "--table", str(csv), "--columns", "t=Time,vx=VelX", "--vehicle", veh)
+    r = cli("friction", "--table", str(csv), "--columns", "t=Time,vx=VelX", "--vehicle", veh)
     assert r.returncode == 2 and "no column for yaw_rate" in r.stderr, r.stderr
     # headers that carry a name and a unit need no --columns; the mapping is printed
     sp = np.hypot(tab["VelX"], tab["VelY"])
@@ -229,10 +235,10 @@ def test_friction_axle_window_and_table(tmp_path):
     csv2 = tmp_path / "named.csv"
     auto.to_csv(csv2, index=False)
     out3 = tmp_path / "c"
-    r = run("friction", "--table", str(csv2), "--vehicle", veh, "-o", str(out3))
+    r = cli("friction", "--table", str(csv2), "--vehicle", veh, "-o", str(out3))
     assert r.returncode == 0, r.stderr
     assert "t ← time_s [s], speed ← speed_kmh [km/h], slip ← slip_deg [deg]" in r.stdout
     w3 = pd.read_parquet(out3 / "wheels.parquet").query("wheel == 'rear_left'")
     np.testing.assert_allclose(w3["slip_angle_rad"], truth["alpha_rear_left"], rtol=1e-9)
-    r = run("friction", "--table", str(csv), "--vehicle", veh)
+    r = cli("friction", "--table", str(csv), "--vehicle", veh)
     assert r.returncode == 2 and "unit suffix" in r.stderr, r.stderr

@@ -1,4 +1,8 @@
-"""`gripsense steering identify`, run as a user runs it, on simulated test recordings."""
+"""`gripsense steering identify`, run as a user runs it, on simulated test recordings.
+
+The commands run in the test's process (``tests.cli.inprocess``: the console script's entry
+point, its stdout, stderr and exit code): each console script paid 2–4 s of imports that none of
+these checks is about."""
 
 from __future__ import annotations
 
@@ -11,7 +15,7 @@ import pandas as pd
 import gripsense
 from gripsense.config import SteeringCar
 from gripsense.physics.steering_system import simulate_release, simulate_step
-from tests.cli.test_commands import run
+from tests.cli.inprocess import cli
 
 TOML = Path(gripsense.__file__).parent / "data" / "of18_steering.toml"
 
@@ -48,7 +52,7 @@ def test_identify_from_recordings(tmp_path):
         ).to_csv(p, index=False)
         args += ["--step", str(p)]
     out = tmp_path / "out"
-    r = run("steering", "identify", str(TOML), *args, "--gain-law", "linear", "-o", str(out))
+    r = cli("steering", "identify", str(TOML), *args, "--gain-law", "linear", "-o", str(out))
     assert r.returncode == 0, r.stderr
     d = json.loads((out / "steering.json").read_text())
     assert d["converged"]
@@ -59,7 +63,7 @@ def test_identify_from_recordings(tmp_path):
 
 
 def test_seed_summary_numbers_and_errors(tmp_path):
-    r = run(
+    r = cli(
         "steering",
         "identify",
         str(TOML),
@@ -73,9 +77,9 @@ def test_seed_summary_numbers_and_errors(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "first pass (seed)" in r.stdout and "converged" in r.stdout
     assert "no interval" in r.stdout
-    r = run("steering", "identify", str(TOML))
+    r = cli("steering", "identify", str(TOML))
     assert r.returncode == 2 and "--settling" in r.stderr
     bad = tmp_path / "bad.csv"
     bad.write_text("t_s,angle\n0,1\n")
-    r = run("steering", "identify", str(TOML), "--release", str(bad))
+    r = cli("steering", "identify", str(TOML), "--release", str(bad))
     assert r.returncode == 2 and "steer_deg" in r.stderr and "Traceback" not in r.stderr

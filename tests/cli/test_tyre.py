@@ -1,4 +1,8 @@
-"""`gripsense tyre eval` and `gripsense tyre fit`, run as a user runs them."""
+"""`gripsense tyre eval` and `gripsense tyre fit`, run as a user runs them.
+
+The first test runs the console script; the others run the command in the test's process
+(``tests.cli.inprocess``: the console script's entry point, its stdout, stderr and exit code),
+without a console script's 2–4 s of imports per call, which none of their checks is about."""
 
 from __future__ import annotations
 
@@ -11,6 +15,7 @@ import pytest
 
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
+from tests.cli.inprocess import cli
 from tests.cli.test_commands import run
 
 TIR = Path(__file__).parent.parent / "data" / "tyre" / "tir"
@@ -38,7 +43,7 @@ def test_eval_matches_mfeval_reference_rows(tmp_path):
 
 
 def test_eval_grid_and_errors(tmp_path):
-    r = run(
+    r = cli(
         "tyre",
         "eval",
         str(TIR / "HMMWV_Pac89Tire.json"),
@@ -51,9 +56,9 @@ def test_eval_grid_and_errors(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     assert "PAC89" in r.stdout
-    r = run("tyre", "eval", str(tmp_path / "missing.tir"), "--fz", "1000")
+    r = cli("tyre", "eval", str(tmp_path / "missing.tir"), "--fz", "1000")
     assert r.returncode == 2 and "no such file" in r.stderr
-    r = run("tyre", "eval", str(TIR / "FSAE_Defaults.tir"), "--fz", "1000", "--alpha-deg", "1:x")
+    r = cli("tyre", "eval", str(TIR / "FSAE_Defaults.tir"), "--fz", "1000", "--alpha-deg", "1:x")
     assert r.returncode == 2 and "--alpha-deg" in r.stderr
     assert "Traceback" not in r.stderr
 
@@ -79,7 +84,7 @@ def road_csv(tmp_path):
 
 def test_fit_pac94_json_and_plot(tmp_path, road_csv):
     out, png = tmp_path / "fit.json", tmp_path / "fit.png"
-    r = run(
+    r = cli(
         "tyre",
         "fit",
         str(road_csv),
@@ -103,7 +108,7 @@ def test_fit_pac94_json_and_plot(tmp_path, road_csv):
     }
     assert png.stat().st_size > 20_000
     # the fit file evaluates like a tyre model
-    r = run("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "3")
+    r = cli("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "3")
     assert r.returncode == 0 and "PAC94" in r.stdout
 
 
@@ -113,7 +118,7 @@ def test_fit_mf61_tir_with_column_mapping(tmp_path, road_csv):
     src = tmp_path / "ttc.csv"
     ttc.to_csv(src, index=False)
     out = tmp_path / "fit.tir"
-    r = run(
+    r = cli(
         "tyre",
         "fit",
         str(src),
@@ -125,11 +130,11 @@ def test_fit_mf61_tir_with_column_mapping(tmp_path, road_csv):
         str(out),
     )
     assert r.returncode == 0, r.stderr
-    r = run("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "-3,3")
+    r = cli("tyre", "eval", str(out), "--fz", "4000", "--alpha-deg", "-3,3")
     assert r.returncode == 0, r.stderr
-    r = run("tyre", "fit", str(src), "-o", str(tmp_path / "x.tir"))
+    r = cli("tyre", "fit", str(src), "-o", str(tmp_path / "x.tir"))
     assert r.returncode == 2 and "--model mf61" in r.stderr
-    r = run("tyre", "fit", str(src))
+    r = cli("tyre", "fit", str(src))
     assert r.returncode == 2 and "--columns" in r.stderr
 
 
@@ -141,14 +146,14 @@ def test_fit_on_a_friction_runs_wheels_table(tmp_path):
 
     demo = data_path("demo")
     out = tmp_path / "run"
-    r = run("friction", str(demo / "case002.nmea.gz"), "--vehicle", str(demo / "vehicle.toml"),
+    r = cli("friction", str(demo / "case002.nmea.gz"), "--vehicle", str(demo / "vehicle.toml"),
             "--steer-csv", str(demo / "case002_steer.csv"), "-o", str(out))  # fmt: skip
     assert r.returncode == 0, r.stderr
     wheels = out / "wheels.parquet"
-    r = run("tyre", "fit", str(wheels), "-o", str(tmp_path / "fit.json"))
+    r = cli("tyre", "fit", str(wheels), "-o", str(tmp_path / "fit.json"))
     assert r.returncode == 2 and "--wheel front or --wheel rear" in r.stderr, r.stderr
     assert not (tmp_path / "fit.json").exists()
-    r = run("tyre", "fit", str(wheels), "--wheel", "rear", "-o", str(tmp_path / "fit.json"))
+    r = cli("tyre", "fit", str(wheels), "--wheel", "rear", "-o", str(tmp_path / "fit.json"))
     assert r.returncode == 0, r.stderr
     line = next(x for x in r.stdout.splitlines() if "rows used" in x)
     nums = [int(n) for n in __import__("re").findall(r"\b(\d+)\b", line)]
@@ -165,7 +170,7 @@ def test_fit_on_a_friction_runs_wheels_table(tmp_path):
             "fy_N": rng.normal(0.0, 30.0, 400),
         }
     ).to_csv(flat, index=False)
-    r = run("tyre", "fit", str(flat), "-o", str(tmp_path / "flat.json"), "--plot",
+    r = cli("tyre", "fit", str(flat), "-o", str(tmp_path / "flat.json"), "--plot",
             str(tmp_path / "flat.png"))  # fmt: skip
     assert r.returncode == 2 and "determines no tyre" in r.stderr, (r.stdout, r.stderr)
     assert not (tmp_path / "flat.json").exists() and not (tmp_path / "flat.png").exists()
