@@ -1,6 +1,11 @@
 """What survives a kill and a rerun: live and fleet keep the previous outputs intact, a killed
 run's partial rows are never truncated by the next run, a fleet run that can use no log leaves
-the previous result in place and fails."""
+the previous result in place and fails.
+
+The runs to be killed are console scripts (a real process and a real SIGKILL); the runs after
+them, whose checks are about the files they leave, run in the test's process
+(``tests.cli.inprocess``: the console script's entry point, its stdout, stderr and exit code)
+without a console script's 2–4 s of imports each."""
 
 from __future__ import annotations
 
@@ -15,7 +20,8 @@ import pytest
 
 import gripsense
 from gripsense.sim.fleet_data import Site, write_fleet
-from tests.cli.test_commands import EXE, run
+from tests.cli.inprocess import cli
+from tests.cli.test_commands import EXE
 
 DATA = Path(gripsense.__file__).parent / "data"
 VEHICLE = DATA / "corolla_sim.toml"
@@ -69,29 +75,14 @@ def test_live_rerun_after_sigkill_keeps_the_partial_and_the_raw_recording(tmp_pa
     before = _hashes(tmp_path)
     # the natural next step — the same command again — must not truncate anything
     for extra in ((), ("--overwrite",)):
-        r = subprocess.run(
-            [
-                EXE,
-                "live",
-                "--replay",
-                str(DEMO),
-                "--speed",
-                "0",
-                "--vehicle",
-                str(VEHICLE),
-                "-o",
-                str(out),
-                "--quiet",
-                *extra,
-            ],
-            capture_output=True,
-            text=True,
-            timeout=600,
-        )
+        r = cli(
+            "live", "--replay", DEMO, "--speed", "0", "--vehicle", VEHICLE, "-o", out, "--quiet",
+            *extra,
+        )  # fmt: skip
         assert r.returncode == 2 and "recover it first" in r.stderr, r.stderr
         assert _hashes(tmp_path) == before
     rows = pd.read_csv(part)
-    r = subprocess.run([EXE, "live", "--recover", str(out)], capture_output=True, text=True)
+    r = cli("live", "--recover", out)
     assert r.returncode == 0, r.stderr
     assert len(pd.read_parquet(out)) == len(rows) > 0
     assert not part.exists() and raw.exists()
@@ -102,47 +93,16 @@ def test_live_never_writes_its_input(tmp_path):
     log.write_bytes(DEMO.read_bytes())
     before = _hashes(tmp_path)
     # -o drive.csv used to record the raw bytes into drive.nmea: the replayed log itself
-    r = subprocess.run(
-        [
-            EXE,
-            "live",
-            "--replay",
-            str(log),
-            "--speed",
-            "0",
-            "--vehicle",
-            str(VEHICLE),
-            "-o",
-            str(tmp_path / "drive.csv"),
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    r = cli(
+        "live", "--replay", log, "--speed", "0", "--vehicle", VEHICLE,
+        "-o", tmp_path / "drive.csv", "--quiet",
+    )  # fmt: skip
     assert r.returncode == 0, r.stderr
     after = _hashes(tmp_path)
     assert after["drive.nmea"] == before["drive.nmea"]
     assert {"drive.csv", "drive.csv.raw.nmea"} <= set(after)
     # output named like the input: refused
-    r = subprocess.run(
-        [
-            EXE,
-            "live",
-            "--replay",
-            str(log),
-            "--speed",
-            "0",
-            "--vehicle",
-            str(VEHICLE),
-            "-o",
-            str(log),
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    r = cli("live", "--replay", log, "--speed", "0", "--vehicle", VEHICLE, "-o", log, "--quiet")
     assert r.returncode == 2
 
 
@@ -154,7 +114,7 @@ def fleet_dir(tmp_path_factory):
     d = tmp_path_factory.mktemp("fleet")
     write_fleet(d / "logs", VEHICLE, SITES, n_vehicles=1)
     out = d / "out"
-    r = run(
+    r = cli(
         "fleet",
         str(d / "logs" / "**" / "*.nmea*"),
         "--vehicle",
@@ -173,7 +133,7 @@ def test_fleet_failed_rerun_keeps_the_previous_result(fleet_dir, tmp_path):
     before = _hashes(out)
     broken = tmp_path / "broken.toml"
     broken.write_text("[vehicle]\nmass_kg = 1200\n")
-    r = run(
+    r = cli(
         "fleet",
         str(fleet_dir / "logs" / "**" / "*.nmea*"),
         "--vehicle",
@@ -217,29 +177,16 @@ def test_fleet_sigkill_keeps_the_previous_result_and_ids_cannot_escape(fleet_dir
     p.send_signal(signal.SIGKILL)
     p.wait(timeout=120)
     assert _hashes(out) == before
-    # a vehicle map whose id tries to leave the output folder
+    # the next run replaces the result (one run checks two things): the user's file inside the
+    # earlier result survives the overwrite, and a vehicle map whose id tries to leave the
+    # output folder writes one folder inside -o (the id's partition) and nothing outside it
     vmap = tmp_path / "map.csv"
     vmap.write_text(f"*,{VEHICLE},../../escaped\n")
-    r = run(
+    r = cli(
         "fleet",
         str(fleet_dir / "logs" / "**" / "*.nmea*"),
         "--vehicle-map",
         str(vmap),
-        "--workers",
-        "1",
-        "-o",
-        str(tmp_path / "o2"),
-    )
-    assert r.returncode == 0, r.stderr
-    assert not list(tmp_path.parent.rglob("escaped*"))
-    parts = {p.parent.name for p in (tmp_path / "o2" / "epochs").rglob("*.parquet")}
-    assert parts == {"vehicle=.._.._escaped"}  # one folder inside -o
-    # the user's file inside the earlier result survives an overwrite
-    r = run(
-        "fleet",
-        str(fleet_dir / "logs" / "**" / "*.nmea*"),
-        "--vehicle",
-        str(VEHICLE),
         "--workers",
         "1",
         "-o",
@@ -248,3 +195,7 @@ def test_fleet_sigkill_keeps_the_previous_result_and_ids_cannot_escape(fleet_dir
     )
     assert r.returncode == 0, r.stderr
     assert (out / "epochs" / "2024" / "notes.txt").read_text() == "my notes\n"
+    assert not list(tmp_path.parent.rglob("escaped*"))
+    assert not list(fleet_dir.parent.rglob("escaped*"))
+    parts = {p.parent.name for p in (out / "epochs").rglob("*.parquet")}
+    assert parts == {"vehicle=.._.._escaped"}  # one folder inside -o
