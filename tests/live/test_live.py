@@ -1,5 +1,9 @@
 """Live mode with real I/O on this machine: incremental = batch, a pseudo-terminal serial port,
-a loopback TCP receiver that drops and comes back, SIGINT and SIGKILL on the command."""
+a loopback TCP receiver that drops and comes back, SIGINT and SIGKILL on the command.
+
+The runs that receive a signal are console scripts; the others (replays, recovery, refused
+arguments) run in the test's process (``tests.cli.inprocess``: the console script's entry point,
+its stdout, stderr and exit code) without a console script's 2–4 s of imports each."""
 
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ import pytest
 import gripsense
 from gripsense.io import read_nmea
 from gripsense.live import LiveIngest, SerialSource, TcpSource, run_live
+from tests.cli.inprocess import cli
 from tests.cli.test_commands import EXE
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
@@ -228,28 +233,16 @@ def test_sigkill_leaves_a_readable_file_and_recovery(tmp_path):
     p.wait(timeout=120)
     df = pd.read_csv(part)  # complete rows up to the last flush
     assert len(df) > 0
-    r = subprocess.run(
-        [EXE, "live", "--recover", str(tmp_path / "res.parquet")],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    r = cli("live", "--recover", tmp_path / "res.parquet")
     assert r.returncode == 0, r.stderr
     back = pd.read_parquet(tmp_path / "res.parquet")
     assert len(back) == len(df)
 
 
 def test_bad_arguments():
-    r = subprocess.run(
-        [EXE, "live", "--vehicle", str(VEHICLE)], capture_output=True, text=True, timeout=600
-    )
+    r = cli("live", "--vehicle", VEHICLE)
     assert r.returncode == 2 and "exactly one source" in r.stderr
-    r = subprocess.run(
-        [EXE, "live", "--tcp", "nohostport", "--vehicle", str(VEHICLE)],
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
+    r = cli("live", "--tcp", "nohostport", "--vehicle", VEHICLE)
     assert r.returncode == 2 and "HOST:PORT" in r.stderr
 
 
@@ -281,11 +274,7 @@ def test_replay_gives_the_same_rows_at_any_speed(tmp_path):
     tables = {}
     for speed in ("0", "2", "10"):
         out = tmp_path / f"res{speed}.csv"
-        r = subprocess.run(
-            [EXE, "live", "--replay", str(log), "--speed", speed, "--vehicle", str(VEHICLE),
-             "-o", str(out)],
-            capture_output=True, text=True, timeout=600,
-        )  # fmt: skip
+        r = cli("live", "--replay", log, "--speed", speed, "--vehicle", VEHICLE, "-o", out)
         assert r.returncode == 0, r.stderr
         assert "\nstopped: end of input" in r.stdout, r.stdout[-300:]
         tables[speed] = pd.read_csv(out).drop(columns=["wall_time_s", "stale"])
