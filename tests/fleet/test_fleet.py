@@ -190,7 +190,20 @@ def test_map_page_in_headless_chromium(fleet_run, tmp_path):
             "const p = document.querySelector('.leaflet-popup-content');"
             " return p ? p.textContent : ''"
         )
-        assert "cell" in popup and "passes" in popup
+        assert "cell" in popup and "passes" in popup and "its statement" in popup
+        # bounded ranges filled in a surface colour, one-sided ones hatched, slippery ones
+        # with a thick border: as the cells state them
+        styles = drv.execute_script(
+            "return [...document.querySelectorAll('path.leaflet-interactive')]"
+            ".map(p => [p.getAttribute('fill'), p.getAttribute('stroke-width')])"
+        )
+        latest = fleet_run.cells.sort_values("bucket").groupby("cell").tail(1)
+        one_sided = (latest["status"] == "measured grip only") & (latest["grip_used_lower"] > 0)
+        assert sum(f.startswith("url(#hatch-") for f, _ in styles) == one_sided.sum()
+        assert sum(f.startswith("#") and f != "#888888" for f, _ in styles) == (
+            latest["status"].isin(["estimate", "range"]).sum()
+        )
+        assert sum(w == "4" for _, w in styles) == (latest["slippery"] == "slippery").sum() > 0
         shot = tmp_path / "map.png"
         drv.save_screenshot(str(shot))
     finally:

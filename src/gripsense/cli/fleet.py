@@ -75,10 +75,17 @@ def fleet(
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
     bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
     """
+    import pandas as pd
     from rich.progress import Progress
 
     from gripsense.fleet import run_fleet
-    from gripsense.fleet.aggregate import STATUS_INCONSISTENT
+    from gripsense.fleet.aggregate import (
+        STATUS_CONTRADICTION,
+        STATUS_ESTIMATE,
+        STATUS_INCONSISTENT,
+        STATUS_MEASURED,
+        STATUS_RANGE,
+    )
 
     try:
         with Progress(console=console, transient=True, disable=not console.is_terminal) as prog:
@@ -126,12 +133,15 @@ def fleet(
             f"not estimated (give <log stem>_steer.csv beside each log, or a steering channel in "
             f"the log; {res.paths['logs']} says which; docs/fleet.md)"
         )
-    n_est = int((c["status"] == "estimate").sum()) if len(c) else 0
-    n_bad = int((c["status"] == STATUS_INCONSISTENT).sum()) if len(c) else 0
+    st = c["status"].value_counts() if len(c) else pd.Series(dtype="int64")
+    n_slip = int((c["slippery"] == "slippery").sum()) if len(c) else 0
     console.print(
-        f"{len(c)} cell-buckets: {n_est} with μ, {len(c) - n_est - n_bad} with measured grip "
-        f"only, {n_bad} inconsistent (an estimate below the measured grip: check the vehicle "
-        "file)"
+        f"{len(c)} cell-buckets: {st.get(STATUS_ESTIMATE, 0)} with a value, "
+        f"{st.get(STATUS_RANGE, 0)} with a bounded range only, "
+        f"{st.get(STATUS_MEASURED, 0)} with measured grip only, "
+        f"{st.get(STATUS_CONTRADICTION, 0)} contradictions (passes that disagree), "
+        f"{st.get(STATUS_INCONSISTENT, 0)} inconsistent (a range below the measured grip: "
+        f"check the vehicle file); {n_slip} slippery"
     )
     if "calibration" in res.paths:
         say(f"calibrations: {res.paths['calibration']}")

@@ -71,6 +71,7 @@ WINDOW_COLUMNS = {
     "shape": object,
     "limited_by": object,
     "cornering_stiffness_N_per_rad": float,
+    "mu_deviance": object,
 }
 """Columns of :func:`estimate_windows`' window table and their types, in order."""
 
@@ -114,6 +115,7 @@ def _window_table(
     cols["fit"] = np.full(k, "screened", dtype=object)
     cols["shape"] = np.full(k, np.nan, dtype=object)
     cols["limited_by"] = np.full(k, "no cornering the compass resolves", dtype=object)
+    cols["mu_deviance"] = np.full(k, None, dtype=object)  # a screened window says nothing
     # the declared stiffness of the window (times the fitted scale once there is one)
     cols["cornering_stiffness_N_per_rad"] = 0.5 * np.mean(windows(ab.data[:, 4] + ab.data[:, 5]),
                                                           axis=1)  # fmt: skip
@@ -149,7 +151,9 @@ def estimate_windows(
         ``observable``), ``mu_low``, ``mu_high`` (inf when unbounded), ``observable``, ``fit``,
         the profile's best μ, stiffness scale, heading bias, camber slip and load-transfer
         error (NaN where the window was screened), ``shape``, ``limited_by``,
-        ``cornering_stiffness_N_per_rad``.
+        ``cornering_stiffness_N_per_rad``, ``mu_deviance`` (the window's statement as a curve
+        on the μ grid, :func:`~gripsense.estimate.profile.deviance_curve`: what a fleet cell
+        combines; None where the window was screened or its fit is inconsistent).
     summary : pandas.DataFrame
         One row per axle over the drive, the same columns plus ``n_windows``, ``n_screened``
         and ``steering_torque`` (what a steering-torque channel was and what it did to the
@@ -224,6 +228,7 @@ def estimate_windows(
                 base["grip_used_lower"],
                 torque=torque,
             )
+            est.pop("mu_deviance", None)  # a window's statement for the fleet, not the drive's
             c = 0.5 * (ab.data[analysed_bins, 4] + ab.data[analysed_bins, 5]).mean()
             est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
             summ.append({**base, **est})

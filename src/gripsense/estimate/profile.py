@@ -28,6 +28,8 @@ from gripsense.physics.shape_grid import LEARN_GRID, learn_tables
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, CurveShape, curve_tables, shape_members
 
 __all__ = [
+    "DEVIANCE_CAP",
+    "DEVIANCE_STEP",
     "SHAPE_PRIOR_PEAK",
     "SIMILARITY_TEMPER",
     "STRAINED_REL",
@@ -36,6 +38,7 @@ __all__ = [
     "ShapeFamily",
     "axle_priors",
     "curve_lookup",
+    "deviance_curve",
     "learned_family",
     "merge_bins",
     "mu_grid",
@@ -51,6 +54,49 @@ STRAINED_REL = 0.02
 """A model interval whose upper end lies within this fraction above the measured-grip bound is
 strained: its range would be (nearly) zero-width, narrower than the force model's own fidelity
 (:data:`FORCE_MODEL_REL`), so the upper end is dropped and the fit flagged ``strained``."""
+
+DEVIANCE_STEP = 0.1
+"""Resolution of a stored deviance curve (:func:`deviance_curve`): one byte per point of the
+profile's μ grid, the deviance rounded down to a multiple of this [-]."""
+
+DEVIANCE_CAP = 255
+"""A stored deviance of this many steps means "at least 25.5" (a point the profile excluded)."""
+
+
+def deviance_curve(
+    dev: np.ndarray, i_best: int, *, lower_trusted: bool, upper_trusted: bool
+) -> bytes:
+    """What a profile says about μ, stored compactly: its deviance on the profile's μ grid
+    (:func:`mu_grid`) as one byte per point, with each side that its stated range does not
+    trust flattened to zero (``docs/physics.md`` §15.12).
+
+    A range without a value starts at the measured grip, not at the profile's lower crossing,
+    and a range without an upper end (a linear tyre explains the data; the model strained) has
+    none: the curve says the same — zero below the best μ, resp. above it. Rounded down (and
+    capped at :data:`DEVIANCE_CAP` steps), so that the range read back from the curve at any
+    level holds the one the profile states.
+
+    Parameters
+    ----------
+    dev : numpy.ndarray
+        Deviance 2 (nll − min nll) per grid point; ``inf`` where the profile stopped [-].
+    i_best : int
+        Index of the profile's minimum.
+    lower_trusted, upper_trusted : bool
+        Whether the stated range takes the profile's lower, resp. upper crossing.
+
+    Returns
+    -------
+    bytes
+        One unsigned byte per grid point: the deviance in steps of :data:`DEVIANCE_STEP`.
+    """
+    q = np.floor(np.minimum(np.nan_to_num(dev, nan=np.inf), 1e6) / DEVIANCE_STEP)
+    q = np.clip(q, 0, DEVIANCE_CAP).astype(np.uint8)
+    if not lower_trusted:
+        q[:i_best] = 0
+    if not upper_trusted:
+        q[i_best + 1 :] = 0
+    return q.tobytes()
 
 
 @cache
@@ -401,7 +447,8 @@ def profile_mu(
         ``stiffness_scale``, ``heading_bias_deg``, ``camber_slip_deg_per_g``,
         ``load_transfer_error``, ``shape``, ``limited_by``, ``torque_note`` (with *torque*: what
         it did to the range — :data:`UNCHANGED`, the ends it moved, or why it was not used;
-        empty without).
+        empty without), ``mu_deviance`` (the statement as a curve on the μ grid,
+        :func:`deviance_curve`; None with *torque* or an inconsistent fit).
     """
     if isinstance(shapes, ShapeFamily):
         f, df, inv_dx, members = shapes.f, shapes.df, shapes.inv_dx, shapes.shapes
@@ -561,6 +608,14 @@ def profile_mu(
     # the measured grip cuts the range from below), so its best μ sits low in the range — biased
     # low by 1–2 % of μ near the limit, more at high grip (docs/physics.md §15.9)
     value = float(np.sqrt(mu_low * hi)) if observable else np.nan
+    curve = None
+    if torque is None and fit != "inconsistent":
+        # the statement as a curve on the whole grid (points the profile did not reach: the cap)
+        full = np.full(m, np.inf)
+        inner = np.arange(done[0], done[-1] + 1)  # a point between two it reached: as they say
+        full[inner] = np.interp(inner, done, dev)
+        curve = deviance_curve(full, int(done[im]), lower_trusted=observable,
+                               upper_trusted=bool(np.isfinite(hi)))  # fmt: skip
     return {
         "mu": value,
         "mu_low": mu_low if fit != "inconsistent" else np.nan,
@@ -575,6 +630,7 @@ def profile_mu(
         "shape": members[int(shp[im])].name,
         "limited_by": limited,
         "torque_note": torque_note,
+        "mu_deviance": curve,
     }
 
 
@@ -807,11 +863,22 @@ def profile_learned(
     if not lo < hi:  # the learned shapes do not fit this drive: the prior family's range
         note = "the learned curve shape does not fit this drive (the tyre's prior family used)"
         return {**prior, "limited_by": "; ".join(x for x in (prior["limited_by"], note) if x)}
+    # the overlap's curve: where both hold (the larger deviance of the two)
+    curve = _both(est["mu_deviance"], prior["mu_deviance"])
     if est["observable"] or not prior["observable"]:
         if (lo, hi) == (est["mu_low"], est["mu_high"]):
             return est
         mu = float(np.clip(est["mu"], lo, hi)) if np.isfinite(est["mu"]) else est["mu"]
-        return {**est, "mu_low": lo, "mu_high": hi, "mu": mu}
+        return {**est, "mu_low": lo, "mu_high": hi, "mu": mu, "mu_deviance": curve}
     # the family gave a value and the overlap is no wider than its range: the value stays
-    return {**est, "mu_low": lo, "mu_high": hi, "observable": True,
+    return {**est, "mu_low": lo, "mu_high": hi, "observable": True, "mu_deviance": curve,
             "mu": float(np.clip(prior["mu"], lo, hi))}  # fmt: skip
+
+
+def _both(a: bytes | None, b: bytes | None) -> bytes | None:
+    """The curve of two statements that both hold (:func:`deviance_curve`s): their pointwise
+    larger deviance; one alone where the other has none.
+    """
+    if a is None or b is None:
+        return a if b is None else b
+    return np.maximum(np.frombuffer(a, np.uint8), np.frombuffer(b, np.uint8)).tobytes()

@@ -58,11 +58,15 @@ ESTIMATE_COLUMNS = [
     "mu_high",
     "grip_used",
     "grip_used_lower",
+    "mu_deviance",
 ]
 """Columns of :meth:`FrictionResult.estimates` (same for every method). Two kinds of number
 (``docs/physics.md`` §14): ``grip_used`` / ``grip_used_lower`` are *measured* (the friction the
 axle used, and its model-free one-sided lower bound: "the data prove μ ≥ …", level road
-assumed); ``mu``, ``mu_sigma``, ``mu_low``, ``mu_high`` are *estimated* under a tyre model."""
+assumed); ``mu``, ``mu_sigma``, ``mu_low``, ``mu_high`` are *estimated* under a tyre model, and
+``mu_deviance`` is the estimate's statement as a curve on the μ grid (``axle-window``:
+:func:`~gripsense.estimate.profile.deviance_curve`; None where there is none, and for
+per-sample methods)."""
 
 UNIT_COLUMNS = [
     "unit",
@@ -591,6 +595,7 @@ class WheelFriction(FrictionResult):
                 "mu_high": np.where(ok, w["mu"] + Z90 * w["mu_sigma"], np.nan),
                 "grip_used": grip,
                 "grip_used_lower": np.maximum(grip - Z90 * w["grip_sigma"].to_numpy(float), 0.0),
+                "mu_deviance": None,
             },
             columns=ESTIMATE_COLUMNS,
         )
@@ -682,6 +687,8 @@ class AxleFriction(FrictionResult):
                 "mu_high": w["mu_high"].to_numpy(float),
                 "grip_used": w["grip_used"].to_numpy(float),
                 "grip_used_lower": w["grip_used_lower"].to_numpy(float),
+                # a result folder of an earlier version has no curves
+                "mu_deviance": w["mu_deviance"].to_numpy(object) if "mu_deviance" in w else None,
             },
             columns=ESTIMATE_COLUMNS,
         )

@@ -1,4 +1,6 @@
-"""Aggregation per H3 cell and time bucket with DuckDB over the fleet's partitioned Parquet."""
+"""Aggregation per H3 cell and time bucket: DuckDB over the fleet's partitioned Parquet, and
+every pass's statement combined (:mod:`gripsense.estimate.evidence`).
+"""
 
 from __future__ import annotations
 
@@ -8,20 +10,50 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from gripsense.constants import Z90
-from gripsense.physics.surface import slippery_call, surface_class_interval
+from gripsense.constants import CHI2_1_90, Z90
+from gripsense.estimate.evidence import (
+    CONTRADICTION_TOL,
+    curve_grid,
+    curve_range,
+    curves_from_bytes,
+    gaussian_curves,
+    reduce_groups,
+)
+from gripsense.estimate.options import WindowOptions
+from gripsense.estimate.profile import STRAINED_REL, _chi2_ppf
+from gripsense.physics.surface import UNDETERMINED, slippery_call, surface_class_interval
 
 __all__ = [
     "CELL_COLUMNS",
+    "MAX_LISTED_PASSES",
+    "STATUS_CONTRADICTION",
+    "STATUS_ESTIMATE",
     "STATUS_INCONSISTENT",
+    "STATUS_MEASURED",
+    "STATUS_RANGE",
     "aggregate_cells",
     "cells_geojson",
     "write_geojson",
 ]
 
+STATUS_ESTIMATE = "estimate"
+"""A cell with a value: its combined 99 % range is bounded and narrow (the rule of a drive)."""
+
+STATUS_RANGE = "range"
+"""A cell with a bounded 90 % range but no value (e.g. one vehicle proves μ ≥ 0.70 and another's
+slip bounds it ≤ 0.85: "μ in [0.70, 0.85]")."""
+
+STATUS_MEASURED = "measured grip only"
+"""A cell whose statements bound μ from below only (the measured grip)."""
+
 STATUS_INCONSISTENT = "inconsistent: estimate below the measured grip"
-"""Status of a cell whose estimate lies below the grip its data prove (``mu`` is kept for
-diagnosis, but the map, the surface class and the slippery call use the measured grip only)."""
+"""Status of a cell whose combined model range lies below the grip its data prove (the map, the
+surface class and the slippery call use the measured grip only)."""
+
+STATUS_CONTRADICTION = "contradiction: no μ lies in every pass's range"
+"""Status of a cell whose statements contradict each other: no μ at or above the measured grip
+lies inside every window's (or pass's) own 90 % range. Flagged, never combined into a number
+none of them supports; the measured grip stays."""
 
 CELL_COLUMNS = [
     "cell",
@@ -39,17 +71,45 @@ CELL_COLUMNS = [
     "n_rows",
     "n_vehicles",
     "n_passes",
+    "n_statements",
     "last_update",
+    "passes",
 ]
 
+MAX_LISTED_PASSES = 12
+"""Passes listed per cell in ``passes`` (the map's popup); the rest are counted."""
 
-def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFrame:
-    """Combine the estimates in ``outdir/epochs/`` per cell and time bucket.
 
-    Within one pass (log) the overlapping windows share their errors, so they are averaged by
-    inverse variance but keep the pass's median σ; passes are independent and are combined by
-    inverse variance (σ = (Σ 1/σ_p²)^(−½)). Also counts of estimates, vehicles and
-    passes (logs), and the last update.
+def _read(con, pattern: str, bucket: str) -> None:
+    """The rows as view ``r`` with their time bucket and their curve (NULL in files written
+    before curves were).
+    """
+    src = f"read_parquet('{pattern}', hive_partitioning = true, union_by_name = true)"
+    cols = {row[0] for row in con.sql(f"DESCRIBE SELECT * FROM {src}").fetchall()}
+    curve = "mu_deviance" if "mu_deviance" in cols else "CAST(NULL AS BLOB)"
+    con.execute(
+        f"""CREATE TEMP VIEW r AS
+            SELECT *, {curve} AS curve,
+                   time_bucket(INTERVAL '{bucket}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
+            FROM {src}"""
+    )
+
+
+def aggregate_cells(
+    outdir: str | Path, *, bucket: str = "1 hour", options: WindowOptions | None = None
+) -> pd.DataFrame:
+    """Combine every pass's statement per cell and time bucket (``docs/fleet.md``,
+    :mod:`gripsense.estimate.evidence`).
+
+    Each row carries its statement as a deviance curve on the μ grid (``axle-window``); a
+    per-sample method's pass states its inverse-variance mean with the pass's median σ. The
+    statements of one vehicle share its tyre and model-form nuisances: its curve is their
+    pointwise largest deviance (every statement holds; one long drive says no less than its
+    passes). Vehicles are independent: their curves add. The cell's range is where the sum is
+    within the 90 % level of its minimum, never below the measured grip; a value where the 99 %
+    range is bounded, at most ``max_width`` wide and its upper end within 1 / min_utilisation
+    of the measured grip (a drive's rule). Statements none of whose ranges all meet are a
+    contradiction (flagged, no range); a combined range below the measured grip is inconsistent.
 
     Two kinds of number (``docs/physics.md`` §14): ``mu``/``mu_sigma``/``mu_low``/``mu_high``
     are the model-based estimate; ``grip_used`` (the largest measured grip) and
@@ -61,93 +121,203 @@ def aggregate_cells(outdir: str | Path, *, bucket: str = "1 hour") -> pd.DataFra
     outdir : path
         Fleet output folder.
     bucket : str
-        DuckDB interval of the time buckets (``"1 hour"``, ``"15 minutes"``, ``"1 day"``).
+        DuckDB interval of the time buckets (``"1 hour"``, ``"15 minutes"``, ``"1 day"``); each
+        bucket combines its own passes only.
+    options : WindowOptions, optional
+        The windows' options (μ grid, levels, rules for a value); default as the fleet's runs.
 
     Returns
     -------
     pandas.DataFrame
-        ``cell, bucket, mu, mu_sigma, mu_low, mu_high, grip_used, grip_used_lower, status
-        (``estimate``, ``measured grip only``, :data:`STATUS_INCONSISTENT` or ``no data``;
-        ``mu_low`` is at least ``grip_used_lower``, as in a drive), surface, slippery
-        (``slippery``/``not slippery``/``unknown``), n_estimates, n_rows, n_vehicles,
-        n_passes, last_update``.
+        :data:`CELL_COLUMNS`: ``cell, bucket``; ``mu`` (NaN without a value), ``mu_sigma``
+        (the range's half-width / 1.645 where there is a value), ``mu_low`` (≥
+        ``grip_used_lower``), ``mu_high`` (``inf`` when unbounded; NaN when flagged);
+        ``grip_used``, ``grip_used_lower``; ``status`` (:data:`STATUS_ESTIMATE`,
+        :data:`STATUS_RANGE`, :data:`STATUS_MEASURED`, :data:`STATUS_INCONSISTENT`,
+        :data:`STATUS_CONTRADICTION` or ``no data``); ``surface``; ``slippery``
+        (``slippery``/``not slippery``/``unknown``); counts of estimates (rows with a value),
+        rows, vehicles, passes and statements (rows and passes with a curve);
+        ``last_update``; ``passes`` (JSON: each pass's own statement in the cell — vehicle,
+        log, mu_low, mu_high, grip_used_lower — at most :data:`MAX_LISTED_PASSES`, then a
+        count).
     """
     import duckdb
 
+    o = options or WindowOptions()
     pattern = str(Path(outdir) / "epochs" / "**" / "*.parquet")
     if not list((Path(outdir) / "epochs").glob("**/*.parquet")):
         return pd.DataFrame(columns=CELL_COLUMNS)
     con = duckdb.connect()
-    con.execute("SET TimeZone = 'UTC'")
-    # windows of one pass overlap and share their errors (heading bias, tyre stiffness): they are
-    # combined within the pass without shrinking the uncertainty (σ = median σ of the pass);
-    # passes are independent and combined by inverse variance
-    q = f"""
-        WITH r AS (
-            SELECT *, time_bucket(INTERVAL '{bucket}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
-            FROM read_parquet('{pattern}', hive_partitioning = true, union_by_name = true)
-        ), passes AS (
+    try:
+        con.execute("SET TimeZone = 'UTC'")
+        _read(con, pattern, bucket)
+        # per pass: its measured grip, counts, and — for a per-sample method (rows without
+        # curves) — its statement: the inverse-variance mean with the pass's median σ (its
+        # samples share their errors)
+        passes = con.sql(
+            """
             SELECT cell, bucket, vehicle, log,
-                   SUM(mu / (mu_sigma * mu_sigma)) FILTER (WHERE observable AND mu_sigma > 0)
-                     / SUM(1 / (mu_sigma * mu_sigma)) FILTER (WHERE observable AND mu_sigma > 0)
-                     AS mu_p,
-                   MEDIAN(mu_sigma) FILTER (WHERE observable AND mu_sigma > 0) AS sigma_p,
+                   SUM(mu / (mu_sigma * mu_sigma))
+                       FILTER (WHERE observable AND mu_sigma > 0 AND curve IS NULL)
+                     / SUM(1 / (mu_sigma * mu_sigma))
+                       FILTER (WHERE observable AND mu_sigma > 0 AND curve IS NULL) AS mu_p,
+                   MEDIAN(mu_sigma)
+                       FILTER (WHERE observable AND mu_sigma > 0 AND curve IS NULL) AS sigma_p,
                    MAX(grip_used_lower) AS bound_p,
                    MAX(grip_used) AS grip_p,
                    COUNT(*) FILTER (WHERE observable) AS n_est,
                    COUNT(*) AS n_rows,
+                   COUNT(curve) AS n_curves,
                    MAX(time_utc) AS last_t
-            FROM r GROUP BY ALL
-        )
-        SELECT cell, bucket,
-               SUM(mu_p / (sigma_p * sigma_p)) / SUM(1 / (sigma_p * sigma_p)) AS mu,
-               1 / sqrt(SUM(1 / (sigma_p * sigma_p))) AS mu_sigma,
-               MAX(grip_p) AS grip_used,
-               MAX(bound_p) AS grip_used_lower,
-               SUM(n_est) AS n_estimates,
-               SUM(n_rows) AS n_rows,
-               COUNT(DISTINCT vehicle) AS n_vehicles,
-               COUNT(DISTINCT log) AS n_passes,
-               MAX(last_t) AS last_update
-        FROM passes GROUP BY ALL
-        ORDER BY cell, bucket
-    """
-    df = con.sql(q).to_arrow_table().to_pandas()
-    con.close()
-    for c in ("n_estimates", "n_rows", "n_vehicles", "n_passes"):
-        df[c] = df[c].fillna(0).astype("int64")
-    bound = df["grip_used_lower"].to_numpy(float)
-    # a drive's rule: an estimate's lower end is at least what the data prove (no estimate: NaN)
-    df["mu_low"] = np.fmax(np.maximum(df["mu"] - Z90 * df["mu_sigma"], 0.0), bound)
-    df.loc[df["mu"].isna(), "mu_low"] = np.nan
-    df["mu_high"] = df["mu"] + Z90 * df["mu_sigma"]
-    has = df["mu"].notna().to_numpy()
-    # an estimate below the grip the data prove contradicts them: flagged, never a plain value
-    bad = has & (df["mu"].to_numpy(float) < np.nan_to_num(bound, nan=-np.inf))
-    df["status"] = np.where(
-        bad,
-        STATUS_INCONSISTENT,
-        np.where(
-            has,
-            "estimate",
-            np.where(df["grip_used_lower"].notna(), "measured grip only", "no data"),
-        ),
+            FROM r WHERE cell IS NOT NULL GROUP BY ALL
+            ORDER BY cell, bucket, vehicle, log
+            """
+        ).df()
+        rows = con.sql(
+            "SELECT cell, bucket, vehicle, log, curve FROM r "
+            "WHERE curve IS NOT NULL AND cell IS NOT NULL"
+        ).df()
+    finally:
+        con.close()
+    return _cells(passes, rows, o)
+
+
+def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.DataFrame:
+    """The cell table from the per-pass summary and the rows' curves (:func:`aggregate_cells`)."""
+    grid = curve_grid(o)
+    keys = ["cell", "bucket", "vehicle", "log"]
+    for c in ("n_est", "n_rows", "n_curves"):
+        passes[c] = passes[c].fillna(0).astype("int64")
+    passes["pass_id"] = np.arange(len(passes))
+    # every statement: the rows' curves, and the per-sample passes' Gaussian ones
+    rid = rows.merge(passes[[*keys, "pass_id"]], on=keys, how="left")["pass_id"].to_numpy()
+    gauss = passes[passes["mu_p"].notna() & (passes["sigma_p"] > 0)]
+    curves = np.concatenate(
+        [
+            curves_from_bytes(rows["curve"], grid.size),
+            gaussian_curves(gauss["mu_p"].to_numpy(float), gauss["sigma_p"].to_numpy(float), grid),
+        ]
     )
-    ok = has & ~bad
-    df["surface"] = [
-        surface_class_interval(lo, hi) if h else "undetermined"
-        for lo, hi, h in zip(df["mu_low"], df["mu_high"], ok, strict=True)
-    ]
-    df["surface"] = df["surface"].astype(str)
-    # "is it slippery?": the cell's range (only the measured grip where it is inconsistent)
-    hi = np.where(bad, np.inf, df["mu_high"].to_numpy(float))
-    lo = np.where(bad, bound, np.fmax(df["mu_low"].to_numpy(float), bound))
-    df["slippery"] = np.asarray(slippery_call(lo, hi), dtype=str)
+    owner = np.concatenate([rid, gauss["pass_id"].to_numpy()]).astype(np.int64)
+    n_stat = np.bincount(owner, minlength=len(passes))
+    # each statement's own 90 % range: do they all meet?
+    s_lo, s_hi, _ = curve_range(curves, grid, CHI2_1_90)
+    cell_id = passes.groupby(["cell", "bucket"], sort=True).ngroup().to_numpy()
+    veh_id = passes.groupby(["cell", "bucket", "vehicle"], sort=True).ngroup().to_numpy()
+    n_cells = int(cell_id.max()) + 1 if len(passes) else 0
+    st_cell = cell_id[owner]
+    max_lo = np.full(n_cells, -np.inf)
+    min_hi = np.full(n_cells, np.inf)
+    np.maximum.at(max_lo, st_cell, s_lo)
+    np.minimum.at(min_hi, st_cell, s_hi)
+    # one pass: its statements all hold; one vehicle: its passes all hold; vehicles add
+    p_ids, p_curves = reduce_groups(curves, owner, "max")
+    v_ids, v_curves = reduce_groups(p_curves, veh_id[p_ids], "max")
+    c_ids, c_curves = reduce_groups(v_curves, _first(cell_id, veh_id)[v_ids], "sum")
+    lo90, hi90, _ = curve_range(c_curves, grid, CHI2_1_90)
+    lo99, hi99, _ = curve_range(c_curves, grid, _chi2_ppf(float(o.point_level), 1))
+
+    g = passes.groupby(cell_id)
+    df = pd.DataFrame(
+        {
+            "cell": g["cell"].first().to_numpy(),
+            "bucket": g["bucket"].first().to_numpy(),
+            "grip_used": g["grip_p"].max().to_numpy(float),
+            "grip_used_lower": g["bound_p"].max().to_numpy(float),
+            "n_estimates": g["n_est"].sum().to_numpy(),
+            "n_rows": g["n_rows"].sum().to_numpy(),
+            "n_vehicles": g["vehicle"].nunique().to_numpy(),
+            "n_passes": g["log"].count().to_numpy(),
+            "n_statements": np.bincount(cell_id, weights=n_stat, minlength=n_cells).astype("int64"),
+            "last_update": g["last_t"].max().to_numpy(),
+        }
+    )
+    has = np.zeros(n_cells, bool)
+    has[c_ids] = True
+    hi, lo_m, hi_p, lo_p = (np.full(n_cells, np.inf) for _ in range(4))
+    hi[c_ids], lo_m[c_ids], hi_p[c_ids], lo_p[c_ids] = hi90, lo90, hi99, lo99
+    bound = df["grip_used_lower"].to_numpy(float)
+    b0 = np.nan_to_num(bound, nan=0.0)
+    contra = has & (max_lo > min_hi + CONTRADICTION_TOL)
+    below = has & ~contra & (np.minimum(hi, min_hi) < b0 - CONTRADICTION_TOL)
+    # an upper end that reaches what the data prove carries nothing above it (a drive's
+    # "strained" rule): it is dropped
+    hi = np.where(has & ~contra & ~below & (hi <= (1.0 + STRAINED_REL) * b0), np.inf, hi)
+    flagged = contra | below
+    # a value: the 99 % range bounded from the model on both sides, narrow, and near the limit
+    model_lo = has & (lo_p > grid[0])
+    with np.errstate(invalid="ignore"):
+        value = (
+            has & ~flagged & model_lo & np.isfinite(hi_p) & np.isfinite(hi)
+            & (hi_p - np.fmax(lo_p, b0) <= o.max_width) & (hi * o.min_utilisation <= b0)
+        )  # fmt: skip
+    mu_low = np.where(value, np.fmax(lo_m, b0), b0)
+    mu_high = np.where(has & ~flagged, hi, np.inf)
+    df["mu_low"] = np.where(flagged, np.nan, mu_low)
+    df["mu_high"] = np.where(flagged, np.nan, mu_high)
+    df["mu"] = np.where(value, np.sqrt(mu_low * mu_high), np.nan)
+    df["mu_sigma"] = np.where(value, (mu_high - mu_low) / (2 * Z90), np.nan)
+    bounded = ~flagged & np.isfinite(mu_high)
+    n_rows = df["n_rows"].to_numpy()
+    df["status"] = np.select(
+        [contra, below, value, bounded, np.isfinite(bound), n_rows > 0],
+        [STATUS_CONTRADICTION, STATUS_INCONSISTENT, STATUS_ESTIMATE, STATUS_RANGE,
+         STATUS_MEASURED, STATUS_MEASURED],
+        default="no data",
+    )  # fmt: skip
+    df["surface"] = np.where(
+        bounded, surface_class_interval(mu_low, np.where(bounded, mu_high, np.nan)), UNDETERMINED
+    ).astype(str)
+    # "is it slippery?": the cell's range, or what the data prove where it is flagged
+    df["slippery"] = np.asarray(
+        slippery_call(np.where(flagged, b0, mu_low), np.where(flagged, np.inf, mu_high)), str
+    )
+    df["passes"] = _pass_lists(passes, p_ids, p_curves, cell_id, grid, n_cells)
     return df[CELL_COLUMNS]
 
 
+def _first(cell_id: np.ndarray, veh_id: np.ndarray) -> np.ndarray:
+    """The cell of each vehicle group (indexed by the vehicle group's id)."""
+    out = np.zeros(int(veh_id.max()) + 1 if veh_id.size else 0, np.int64)
+    out[veh_id] = cell_id
+    return out
+
+
+def _pass_lists(passes, p_ids, p_curves, cell_id, grid, n_cells) -> list[str]:
+    """Per cell, JSON of its passes' own statements (the popup's list)."""
+    lo, hi = np.full(len(passes), np.nan), np.full(len(passes), np.inf)
+    p_lo, p_hi, _ = curve_range(p_curves, grid, CHI2_1_90)
+    lo[p_ids], hi[p_ids] = p_lo, p_hi
+    bound = passes["bound_p"].to_numpy(float)
+    lo = np.fmax(lo, bound)
+    out: list[list[dict]] = [[] for _ in range(n_cells)]
+    count = np.bincount(cell_id, minlength=n_cells)
+    for i, (v, lg) in enumerate(zip(passes["vehicle"], passes["log"], strict=True)):
+        lst = out[cell_id[i]]
+        if len(lst) < MAX_LISTED_PASSES:
+            lst.append(
+                {
+                    "vehicle": str(v),
+                    "log": str(lg),
+                    "mu_low": _num(lo[i]),
+                    "mu_high": _num(hi[i]),
+                    "grip_used_lower": _num(bound[i]),
+                }
+            )
+    return [
+        json.dumps({"listed": lst, "more": int(count[k] - len(lst))}) for k, lst in enumerate(out)
+    ]
+
+
+def _num(x: float) -> float | None:
+    """A JSON number (None for NaN and inf: inf is spelled out by the reader)."""
+    return round(float(x), 4) if np.isfinite(x) else None
+
+
 def cells_geojson(cells: pd.DataFrame) -> dict:
-    """GeoJSON FeatureCollection of the latest bucket per cell (hexagon polygons).
+    """GeoJSON FeatureCollection of the latest bucket per cell (hexagon polygons), with
+    ``stale`` (the cell's latest bucket is older than the newest bucket of the run) and
+    ``newest_bucket``.
 
     Parameters
     ----------
@@ -157,8 +327,12 @@ def cells_geojson(cells: pd.DataFrame) -> dict:
     import h3
 
     latest = cells.sort_values("bucket").groupby("cell", sort=False).tail(1)
+    newest = cells["bucket"].max() if len(cells) else None
     feats = []
     for r in latest.to_dict("records"):
+        # older evidence is shown as older, never blended with newer (docs/fleet.md, "Time")
+        r["stale"] = bool(newest is not None and r["bucket"] < newest)
+        r["newest_bucket"] = newest
         ring = [[lon, lat] for lat, lon in h3.cell_to_boundary(r["cell"])]
         ring.append(ring[0])
         props = {}

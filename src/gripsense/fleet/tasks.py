@@ -3,14 +3,20 @@
 Rows (one per estimate; schema :data:`ROW_COLUMNS`):
 
 * ``axle-window`` (default): one row per axle window — the estimate μ, its 1σ and 90 %
-  interval when observable (model-based), and always the measured grip and its model-free lower
-  bound ``grip_used_lower`` (one-sided 99 % per window, level road assumed; the window's numbers
-  of ``friction``, the measured grip the drive's bound takes: ``docs/physics.md`` §14.1);
-  placed at the epoch nearest the window's middle;
+  interval when observable (model-based), the window's statement as a deviance curve on the μ
+  grid (``mu_deviance``, one byte per grid point: :func:`~gripsense.estimate.profile.
+  deviance_curve`; what a cell combines, :mod:`gripsense.fleet.aggregate`), and always the
+  measured grip and its model-free lower bound ``grip_used_lower`` (one-sided 99 % per window,
+  level road assumed; the window's numbers of ``friction``, the measured grip the drive's bound
+  takes: ``docs/physics.md`` §14.1); placed at the epoch nearest the window's middle;
 * per-sample methods (``brush-2`` …): one row per valid wheel sample (μ, σ_μ), plus per log and
   cell one measured-grip row: ``grip_used`` the 95th percentile of the axle's measured grip (the
   bound's, ``grip_proven``) over the cell's cornering samples, ``grip_used_lower`` that minus
   3 × the samples' median 1σ.
+
+Every row also names what its likelihood depends on besides the vehicle: the ``receiver`` (its
+noise model's name) and the tyre ``calibration`` in use (its file; empty: the vehicle file's
+declared tyres).
 
 A log that cannot be read or analysed never fails the batch: it is returned as a problem with
 its reason.
@@ -62,6 +68,9 @@ ROW_COLUMNS = [
     "mu_high",
     "grip_used",
     "grip_used_lower",
+    "mu_deviance",
+    "receiver",
+    "calibration",
 ]
 
 
@@ -168,6 +177,7 @@ def process_log(
     receiver: str | None = None,
     log_options=None,
     steer_columns: str | None = None,
+    calibration: str = "",
 ) -> pd.DataFrame:
     """Rows of one log (schema :data:`ROW_COLUMNS`).
 
@@ -194,6 +204,9 @@ def process_log(
         Column mapping of the log's steering CSV, ``<log stem>_steer.csv`` beside it
         (:func:`gripsense.fleet.run.steer_csv_for`), used when it exists; else the log's own
         steering channel, if any.
+    calibration : str
+        The tyre calibration *vehicle* carries (its file), written into the rows (empty: the
+        declared tyres).
 
     Returns
     -------
@@ -263,10 +276,13 @@ def process_log(
                 mu_sigma=np.nan,
                 mu_low=np.nan,
                 mu_high=np.nan,
+                mu_deviance=None,
             )
         )
     rows = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
-    rows = rows.assign(vehicle=vehicle_id, log=Path(path).name)
+    rows = rows.assign(
+        vehicle=vehicle_id, log=Path(path).name, receiver=run.receiver, calibration=calibration
+    )
     rows = rows[rows["cell"].notna()]
     out = rows[ROW_COLUMNS].reset_index(drop=True)
     out.attrs.update(steering)
@@ -359,6 +375,17 @@ def process_batch(
         numba.set_num_threads(threads)
 
 
+def _calibration_name(vfile: str, given: str | None) -> str:
+    """The calibration a vehicle of the run uses: the run's own (``--calibrate``), else the one
+    its vehicle file names, else ``""`` (the declared tyres).
+    """
+    if given:
+        return str(given)
+    from gripsense.config import Vehicle
+
+    return str(Vehicle.from_toml(vfile).calibration_file or "")
+
+
 def _process_items(
     items, outdir, method, h3_res, since, receiver, calibrations, log_options=None,
     steer_columns=None,
@@ -368,6 +395,7 @@ def _process_items(
 
     out = []
     vehicles: dict[str, object] = {}
+    cal_names: dict[str, str] = {}
     since_ts = None if since is None else pd.Timestamp(since)
     if since_ts is not None and since_ts.tzinfo is None:
         since_ts = since_ts.tz_localize("UTC")
@@ -378,9 +406,11 @@ def _process_items(
             key = f"{vfile}\0{vid}"
             if key not in vehicles:
                 vehicles[key] = calibrated_vehicle(vfile, calibrations.get(vid))
+                cal_names[key] = _calibration_name(vfile, calibrations.get(vid))
             rows = process_log(
                 path,
                 vehicles[key],
+                calibration=cal_names[key],
                 vehicle_id=vid,
                 method=method,
                 h3_res=h3_res,
