@@ -26,7 +26,8 @@ PAC2002 sedan tyre); median ``mu_high``/μ of the bounded; values (``mu`` finite
 within ±0.05; the slippery calls against the truth (road μ < 0.5): recognised, missed (said
 ``unknown`` / ``not slippery``), false calls on cells that are not slippery; the largest
 ``grip_used_lower − μ`` (a measured bound never above the truth) and the ``status`` counts.
-Also: per car the stiffness declared, learned and used against the truth; per bend and bucket
+Also: per car the stiffness declared, learned and used against the truth; per car the windows
+(rows of ``OUT/epochs``) whose own range holds their axle's true μ; per bend and bucket
 the cells, bounded ranges and calls; every cell whose range misses the road μ or that is called
 slippery when it is not. Finally the same fleet with ``workers=1``: are the cell tables
 identical (to 1e-12, NaN = NaN)? The targets of issue 42 are printed beside the figures.
@@ -116,6 +117,38 @@ def calibrations(net) -> pd.DataFrame:
                 "used 1σ": round(used.tyres[axle].stiffness_uncertainty, 3),
             })  # fmt: skip
     return pd.DataFrame(rows)
+
+
+def window_scores(outdir: Path, net) -> pd.DataFrame:
+    """Per car: the fleet's rows (``OUT/epochs``, one per axle window) and how many of their own
+    statements hold their axle's true μ — what every cell's combination starts from.
+    """
+    rows = pd.read_parquet(outdir / "epochs")
+    rows["vehicle"] = rows["vehicle"].astype(str)
+    truth = net.logs.assign(name=[Path(x).name for x in net.logs["log"]])
+    truth = truth.set_index(["car", "name"])
+    key = list(zip(rows["vehicle"], rows["log"], strict=True))
+    axle_mu = np.array([truth.loc[k, f"mu_{u}"] for k, u in zip(key, rows["unit"], strict=True)])
+    lo = rows["mu_low"].to_numpy(float)
+    lo = np.where(np.isfinite(lo), lo, rows["grip_used_lower"].to_numpy(float))
+    hi = rows["mu_high"].to_numpy(float)
+    hi = np.where(np.isfinite(hi), hi, np.inf)
+    rows = rows.assign(
+        upper=np.isfinite(hi),
+        holds=(lo - 1e-9 <= axle_mu) & (axle_mu <= hi),
+        below=hi < axle_mu,
+    )
+    g = rows.groupby("vehicle")
+    out = pd.DataFrame({
+        "windows": g.size(),
+        "with an upper end": g["upper"].sum(),
+        "holding the axle's μ": g["holds"].mean().round(3),
+        "upper end below it": g["below"].sum(),
+        "values": g["observable"].sum(),
+    })  # fmt: skip
+    out.loc["all"] = [len(rows), int(rows["upper"].sum()), round(rows["holds"].mean(), 3),
+                      int(rows["below"].sum()), int(rows["observable"].sum())]  # fmt: skip
+    return out
 
 
 def statement(cells: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
@@ -217,6 +250,8 @@ def run(quick: bool, keep: str | None, seed: int, csv: str | None) -> None:
     from gripsense.fleet import run_fleet
     from gripsense.sim.fleet_data import GRIPPY_MU
 
+    pd.set_option("display.width", 200)
+    pd.set_option("display.max_columns", 20)
     folder = Path(keep) if keep else Path(tempfile.mkdtemp(prefix="gripsense-fleet-cells-"))
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -240,6 +275,9 @@ def run(quick: bool, keep: str | None, seed: int, csv: str | None) -> None:
             for r in problems.head(5).itertuples():
                 print(f"  problem: {Path(r.log).name}: {r.problem}")
             tables[workers] = pd.read_parquet(out / "cells.parquet")
+            if workers == 2:
+                print("the passes' windows (OUT/epochs), per car:")
+                print(window_scores(out, net).to_string())
         cells = net.cell_truth(tables[2])
         names = {pd.Timestamp(b.start): b.name for b in net.buckets}
         cells["bucket_name"] = [
@@ -252,8 +290,6 @@ def run(quick: bool, keep: str | None, seed: int, csv: str | None) -> None:
         cells = cells[~lost]
         if csv:
             cells.to_csv(csv, index=False)
-        pd.set_option("display.width", 200)
-        pd.set_option("display.max_columns", 20)
         print()
         print(score_table(cells).to_string())
         print("\nstatus (all cell-buckets):")
