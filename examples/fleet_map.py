@@ -3,10 +3,10 @@
 #
 # Beyond the seeds. Cars drive the curves of a small road network whose surfaces are known (dry
 # μ 0.9, wet 0.5, snow 0.25), recorded by emulated RTK-class compasses. `run_fleet` processes
-# every log on a local Dask cluster and aggregates per H3 cell: what the data prove
-# (`grip_used_lower`, model-free) and the estimate of μ where a pass was near the limit
-# (docs/fleet.md). The interactive page is `OUTDIR/map.html`; here the cells are drawn as a
-# static figure.
+# every log on a local Dask cluster and combines every pass's statement per H3 cell: what the
+# data prove (`grip_used_lower`, model-free), the range the passes' likelihoods leave together
+# (`mu_low`, `mu_high`) and a value where that range is narrow (docs/fleet.md). The interactive
+# page is `OUTDIR/map.html`; here the cells are drawn as a static figure.
 
 # %%
 import os
@@ -73,12 +73,19 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
 
     cells = cells.assign(mu_road=[site_of(c).mu for c in cells["cell"]])
     est = cells.dropna(subset=["mu"])
-    print(cells.groupby("mu_road")[["grip_used_lower", "mu"]].median().round(3))
+    print(cells.groupby("mu_road")[["grip_used_lower", "mu", "mu_high"]].median().round(3))
+    print(cells["status"].value_counts().to_string())
+    bounded = np.isfinite(cells["mu_high"])
     CHECKS = {
         "no cell proves more than its road's μ": bool(
             (cells["grip_used_lower"] <= cells["mu_road"] + 1e-9).all()
         ),
         "some cells carry an estimate": len(est) > 0,
+        "every bounded range holds its road's μ": bool(
+            ((cells["mu_low"] <= cells["mu_road"]) & (cells["mu_road"] <= cells["mu_high"]))[
+                bounded
+            ].all()
+        ),
     }
     REPRODUCED = {}
 
@@ -90,7 +97,15 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
     for ax, site in zip(axes, SITES, strict=True):
         sub = cells[[site_of(c) is site for c in cells["cell"]]]
         for row in sub.itertuples():
-            value = row.mu if np.isfinite(row.mu) else row.grip_used_lower
+            # a value; else a bounded range's centre (dotted); else the proven bound (hatched)
+            ranged = np.isfinite(row.mu_high)
+            value = (
+                row.mu
+                if np.isfinite(row.mu)
+                else np.sqrt(row.mu_low * row.mu_high)
+                if ranged
+                else row.grip_used_lower
+            )
             poly = np.array(h3.cell_to_boundary(row.cell))[:, ::-1]  # (lon, lat)
             ax.add_patch(
                 Polygon(
@@ -98,7 +113,7 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
                     facecolor=cmap(norm(value)),
                     edgecolor="0.3",
                     lw=0.3,
-                    hatch=None if np.isfinite(row.mu) else "///",
+                    hatch=None if np.isfinite(row.mu) else ".." if ranged else "///",
                 )
             )
         if len(sub):
@@ -112,6 +127,6 @@ if __name__ == "__main__":  # Dask starts worker processes: scripts need the gua
     fig.colorbar(
         plt.cm.ScalarMappable(norm=norm, cmap=cmap),
         ax=axes,
-        label="μ estimate (hatched: proven μ ≥, no estimate)",
+        label="μ (dotted: range centre; hatched: proven μ ≥)",
     )
     fig.savefig(OUT / "fleet_map.png", dpi=90)

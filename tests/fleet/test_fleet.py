@@ -160,11 +160,13 @@ def test_same_results_with_1_worker_and_an_explicit_scheduler(
             pattern, fleet_logs / "out4", vehicle=veh, receiver="rtk", scheduler=address
         ),
     )
-    cols = ["mu", "mu_sigma", "grip_used_lower", "n_estimates", "n_passes"]
+    cols = ["mu", "mu_sigma", "mu_low", "mu_high", "grip_used_lower", "n_estimates", "n_passes",
+            "n_statements"]  # fmt: skip
     ref = fleet_run.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
     for other in (one, sch, ext):
         o = other.cells.sort_values(["cell", "bucket"]).reset_index(drop=True)
         assert list(o["cell"]) == list(ref["cell"])
+        assert list(o["status"]) == list(ref["status"]) and list(o["passes"]) == list(ref["passes"])
         np.testing.assert_allclose(
             o[cols].to_numpy(float), ref[cols].to_numpy(float), rtol=1e-12, equal_nan=True
         )
