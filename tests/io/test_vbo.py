@@ -97,11 +97,21 @@ def test_short_and_non_numeric_rows_are_counted_with_their_line(tmp_path):
         parse_vbo("\n".join(lines), "bad.vbo", strict=True)
 
 
-@pytest.mark.parametrize("section", ["[header]", "[column names]", "[data]"])
+@pytest.mark.parametrize("section", ["[column names]", "[data]"])
 def test_a_missing_section_is_one_clear_error(section):
     text = SAMPLE_TEXT.replace(section, "")
     with pytest.raises(InputError, match=rf"x.vbo: .*no \{section[:-1]}\] section"):
         parse_vbo(text, "x.vbo")
+
+
+def test_a_file_without_header_section_is_read():
+    """[header] is optional (some loggers write only [column names] and [data])."""
+    lines = SAMPLE_TEXT.splitlines()
+    h0 = lines.index("[header]")
+    h1 = next(i for i in range(h0 + 1, len(lines)) if lines[i].startswith("["))
+    log = parse_vbo("\n".join(lines[:h0] + lines[h1:]) + "\n", "x.vbo")
+    assert len(log.epochs) == 6 and log.report.balanced
+    assert log.epochs["speed_mps"].iloc[0] == pytest.approx(0.153 / 3.6)  # km/h by default
 
 
 def test_a_mapped_channel_without_a_unit_names_the_channel_and_the_fix(tmp_path):
@@ -144,3 +154,132 @@ def test_fuzz_never_a_traceback(cut, junk, at):
         return
     assert log.report.balanced
     assert log.report.total_lines == len(text.splitlines())
+
+
+# --- real files as they come (issue 43) --------------------------------------------------------
+
+VB3I = DATA / "formats" / "vbox" / "vb3i_imu_can.vbo"
+"""A real VBOX 3i file with an IMU and a CAN module (Racelogic-VBO-Converter's example, its
+first 100 rows; tests/data/formats/README.md): Latin-1 ``°``, blank unit lines, a CAN channel
+named twice in [column names]."""
+
+
+def _field(text: str, row: int, column: str, k: int = 1) -> float:
+    """The value of a column in a data row, read from the text by hand (k-th of that name)."""
+    lines = text.splitlines()
+    cols = lines[lines.index("[column names]") + 1].split()
+    j = [i for i, c in enumerate(cols) if c == column][k - 1]
+    return float(lines[lines.index("[data]") + 1 + row].split()[j])
+
+
+def test_real_vbox3i_with_modules_reads_its_latin1_units_in_place():
+    """Through read_log (the path of every command): YawRate is in °/s (byte 0xB0 in the
+    file; the blank unit of Veh_VoG_QF keeps its place) and AvgWhl_V in kph."""
+    text = VB3I.read_bytes().decode("latin-1")
+    assert b"\xb0/s" in VB3I.read_bytes()
+    log = read_log(VB3I, columns="yaw_rate=YawRate,speed=AvgWhl_V")
+    ep, rep = log.epochs, log.report
+    assert len(ep) == 100 and rep.parsed == {"VBO data": 100} and rep.balanced
+    yaw = [_field(text, i, "YawRate") for i in range(3)]  # -0.43, -0.52, -0.12 deg/s
+    np.testing.assert_allclose(ep["yaw_rate_rps"].iloc[:3], np.deg2rad(yaw), rtol=1e-12)
+    # the standard channels against the format description, by hand
+    assert ep["lat_deg"].iloc[0] == pytest.approx(52 + 21.68909263 / 60, abs=1e-12)  # 3141.69 min
+    assert ep["lon_deg"].iloc[0] == pytest.approx(-(1 + 39.51333601 / 60), abs=1e-12)
+    assert ep["time_utc"].iloc[0] == pd.Timestamp("2016-03-01 14:26:19.860", tz="UTC")
+    assert ep["fix_quality"].iloc[0] == 1  # Solution_Type +00001: GNSS
+
+
+def test_real_file_steering_wheel_channel_named_twice(tmp_path):
+    """SteeringWh is columns 44 and 49 of [column names]; the same values: the first is read
+    and said; different values: one line naming both columns and the mapping that chooses."""
+    log = read_vbo(VB3I)
+    assert log.report.steering["channel"] == "SteeringWh"
+    assert log.report.steering["key"] == "steering_wheel"  # ° (Degrees), cut by VBOX
+    assert any("'SteeringWh'" in n and "columns 44 and 49" in n for n in log.report.notes)
+    raw = VB3I.read_bytes().decode("latin-1")
+    lines = raw.split("\r\n")
+    k = lines.index("[data]") + 1
+    fields = lines[k].split(" ")
+    assert fields[48] == "+0.000000E+00"
+    fields[48] = "+4.500000E+01"  # the second SteeringWh: 45 deg in the first row
+    lines[k] = " ".join(fields)
+    (tmp_path / "twice.vbo").write_bytes("\r\n".join(lines).encode("latin-1"))
+    with pytest.raises(InputError, match=r"'SteeringWh'.*columns 44 and 49.*SteeringWh\[2\]"):
+        read_log(tmp_path / "twice.vbo", columns="steering_wheel=SteeringWh")
+    got = read_log(tmp_path / "twice.vbo", columns="steering_wheel=SteeringWh[2]").epochs
+    assert got["steering_wheel_rad"].iloc[0] == pytest.approx(np.deg2rad(45.0))
+    assert got["steering_wheel_rad"].iloc[1] == 0.0
+
+
+def _with_channel(text: str, title: str, name: str, values: list[str]) -> str:
+    """The sample with one more channel: its title in [header], its name in [column names],
+    a value at the end of each data row."""
+    lines = text.splitlines()
+    h = lines.index("[header]") + 1
+    while lines[h].strip():
+        h += 1
+    lines.insert(h, title)
+    c = lines.index("[column names]") + 1
+    lines[c] = lines[c].rstrip() + " " + name
+    d = lines.index("[data]") + 1
+    rows = [i for i in range(d, len(lines)) if lines[i].strip()]
+    for i, v in zip(rows, values, strict=True):
+        lines[i] = lines[i].rstrip() + " " + v
+    return "\n".join(lines) + "\n"
+
+
+def test_a_channel_name_with_a_space_is_read_as_header_lists_it(tmp_path):
+    """`battery vo` in [column names] is one channel ([header] lists it on one line): every row
+    is read, and the notes say so; without a [header] to tell, one line and no epochs."""
+    text = _with_channel(SAMPLE_TEXT, "battery vo", "battery vo", ["12.6"] * 6)
+    log = parse_vbo(text, "space.vbo")
+    assert len(log.epochs) == 6 and log.report.balanced
+    assert log.epochs["speed_mps"].iloc[0] == pytest.approx(0.153 / 3.6)
+    assert any("'battery vo'" in n for n in log.report.notes)
+    # a title that the name cuts (VBOX cuts names to ten characters)
+    text = _with_channel(SAMPLE_TEXT, "battery voltage", "battery vo", ["12.6"] * 6)
+    assert len(parse_vbo(text, "space.vbo").epochs) == 6
+    lines = text.splitlines()
+    h0 = lines.index("[header]")
+    h1 = lines.index("[channel units]") if "[channel units]" in lines else h0 + 1
+    no_header = "\n".join(lines[:h0] + lines[h1:])
+    with pytest.raises(
+        InputError, match=r"^space.vbo:\d+: \[column names\] has \d+ names but the rows"
+    ):
+        parse_vbo(no_header, "space.vbo")
+
+
+def test_the_space_in_a_name_through_the_command_line(tmp_path):
+    """Today's failure was "parsed 0", exit 0: now the file is read, and a file whose names
+    cannot be told apart is one line and a non-zero exit."""
+    from tests.cli.inprocess import cli
+
+    text = _with_channel(SAMPLE_TEXT, "battery vo", "battery vo", ["12.6"] * 6)
+    (tmp_path / "ok.vbo").write_text(text)
+    r = cli("ingest", tmp_path / "ok.vbo")
+    assert r.returncode == 0, r.stderr
+    bad = text.replace("battery vo\n", "battery\nvo\n", 1)  # [header] lists two channels
+    (tmp_path / "bad.vbo").write_text(bad)
+    r = cli("ingest", tmp_path / "bad.vbo")
+    assert r.returncode != 0
+    assert "Traceback" not in r.stderr
+    err = [ln for ln in r.stderr.splitlines() if ln.strip()]
+    assert len(err) == 1 and "[column names] has" in err[0] and "bad.vbo" in err[0]
+
+
+def test_video_variant_sections_and_latin1_and_null_units(tmp_path):
+    """A VBOX Video file's [AVI] and [laptiming] sections (a Latin-1 ``¬`` in the start line),
+    ``(null)`` as the unit of a unitless channel and a unit in Latin-1 ``°``."""
+    text = _with_channel(SAMPLE_TEXT, "lap_number", "lap_number", ["1"] * 6)
+    text = _with_channel(text, "Steering angle", "RoadWheelAngle", ["+2.0"] * 6)
+    text = text.replace("[channel units]\n", "[channel units]\n(null)\n°\n", 1).replace(
+        "[column names]",
+        "[AVI]\nVBOX0135_\nmp4\n\n[laptiming]\n"
+        "Start  +3119.372 +0059.482 +3119.380 +0059.490 ¬  Start / Finish\n\n[column names]",
+        1,
+    )
+    (tmp_path / "video.vbo").write_bytes(text.encode("latin-1"))
+    log = read_log(tmp_path / "video.vbo")
+    assert len(log.epochs) == 6 and log.report.balanced
+    assert log.report.steering["channel"] == "RoadWheelAngle"
+    np.testing.assert_allclose(log.epochs["steer_rad"], np.deg2rad(2.0))

@@ -184,16 +184,16 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         log = parse_ubx(data, str(p), strict=o.strict)
         log.report.notes[:0] = notes
     elif fmt == "vbo":
-        from gripsense.io.vbo import parse_vbo
+        from gripsense.io.vbo import decode_vbo, parse_vbo
 
-        text = data.decode("utf-8", errors="replace") if data else ""
+        text = decode_vbo(data) if data else ""  # VBOX files are Latin-1
         log = parse_vbo(text, str(p), columns=o.columns, strict=o.strict)
         log.report.notes[:0] = notes
     elif fmt == "mf4":
         from gripsense.io.mdf import read_mdf
 
         log = read_mdf(p, None if by_path else data, columns=o.columns,
-                       time_offset=o.time_offset, strict=o.strict)  # fmt: skip
+                       time_offset=o.time_offset, strict=o.strict, dbc=o.dbc)  # fmt: skip
         log.report.notes[:0] = notes
     else:
         from gripsense.io.canlog import read_can
@@ -207,7 +207,7 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         flag
         for flag, given, used_by in (
             ("--columns", o.columns, ("vbo", "mf4", "blf", "asc")),
-            ("--dbc", o.dbc, ("blf", "asc")),
+            ("--dbc", o.dbc, ("blf", "asc", "mf4")),  # MDF4: its raw CAN frames
             ("--time-offset", o.time_offset, ("mf4", "blf", "asc")),
         )
         if given is not None and fmt not in used_by

@@ -47,10 +47,11 @@ from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.reader import NmeaLog
 from gripsense.io.nmea.schema import MALFORMED, REASONS, TRUNCATED
 
-__all__ = ["VBO_SECTIONS", "is_vbo", "parse_vbo", "read_vbo", "write_vbo"]
+__all__ = ["VBO_SECTIONS", "decode_vbo", "is_vbo", "parse_vbo", "read_vbo", "write_vbo"]
 
-VBO_SECTIONS = ("header", "column names", "data")
-"""Sections a ``.vbo`` file must have."""
+VBO_SECTIONS = ("column names", "data")
+"""Sections a ``.vbo`` file must have (``[header]``, ``[channel units]`` and the others are
+optional; ``[header]`` tells channel names that hold a space apart)."""
 
 _SECTION = re.compile(r"^\s*\[([^\]]+)\]\s*$")
 _CREATED = re.compile(
@@ -97,20 +98,48 @@ def is_vbo(head: bytes) -> bool:
     return b"[column names]" in low or (b"[header]" in low and b"file created on" in low)
 
 
+def decode_vbo(data: bytes) -> str:
+    """The text of a ``.vbo`` file: UTF-8 when it is valid UTF-8, else Latin-1 (what VBOX
+    loggers and VBOX Tools write: ``°`` is the byte 0xB0, ``¬`` 0xAC).
+
+    Parameters
+    ----------
+    data : bytes
+        The file's bytes.
+
+    Returns
+    -------
+    str
+        The decoded text; every byte is a character, none is replaced.
+    """
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
 @dataclass
 class _Sections:
     lines: list[str]
     start: dict[str, int] = field(default_factory=dict)  # section -> index of its title line
     created: dt.date | None = None
 
-    def body(self, name: str) -> list[tuple[int, str]]:
-        """(0-based line index, text) of the non-blank lines of a section."""
+    def body(self, name: str, *, blank: bool = False) -> list[tuple[int, str]]:
+        """(0-based line index, text) of the non-blank lines of a section; with *blank* every
+        line up to the last non-blank one (a blank line inside ``[channel units]`` is the unit
+        of a unitless channel; the blank lines that end a section separate it from the next).
+        """
         if name not in self.start:
             return []
         i0 = self.start[name] + 1
         later = [i for i in self.start.values() if i > self.start[name]]
         i1 = min(later) if later else len(self.lines)
-        return [(i, ln.strip()) for i, ln in enumerate(self.lines[i0:i1], i0) if ln.strip()]
+        out = [(i, ln.strip()) for i, ln in enumerate(self.lines[i0:i1], i0)]
+        if not blank:
+            return [(i, t) for i, t in out if t]
+        while out and not out[-1][1]:
+            out.pop()
+        return out
 
 
 def _sections(text: str) -> _Sections:
@@ -134,16 +163,84 @@ def _sections(text: str) -> _Sections:
     return sec
 
 
-def _units(sec: _Sections, names: list[str]) -> dict[str, str]:
-    """Channel -> unit from ``[channel units]``: one unit per column, or one per trailing
-    (module) column when there are fewer units than columns.
+def _units(sec: _Sections, names: list[str]) -> list[str]:
+    """The unit of each column (``""`` when none) from ``[channel units]``: one unit per
+    column, or one per trailing (module) column when there are fewer units than columns. A blank
+    line inside the section is the unit of a unitless channel and keeps its place.
     """
-    units = [u for _, u in sec.body("channel units")]
-    if not units:
-        return {}
+    units = [_unit_text(u) for _, u in sec.body("channel units", blank=True)]
     if len(units) >= len(names):
-        return dict(zip(names, units, strict=False))
-    return dict(zip(names[len(names) - len(units) :], units, strict=True))
+        return units[: len(names)]
+    return [""] * (len(names) - len(units)) + units
+
+
+_DEGREE_WORD = re.compile(r"^°[\s_]*\(?\s*deg", re.IGNORECASE)
+
+
+def _unit_text(unit: str) -> str:
+    """A unit as VBOX writes it, in the words of :func:`gripsense.io.channels.file_unit_factor`:
+    ``(null)`` is no unit; VBOX cuts ``° (Degrees)`` to ``°_(Degree``.
+    """
+    u = unit.strip()
+    if u.lower() == "(null)":
+        return ""
+    if _DEGREE_WORD.match(u):
+        return "°"
+    return u
+
+
+def _join_spaced_names(
+    words: list[str], titles: list[str], nfield: int
+) -> tuple[list[str], list[str]] | None:
+    """``[column names]`` split into *nfield* names when channel names hold spaces: a run of
+    words that (joined by a space) begins the ``[header]`` title at the same place is one
+    name (``battery vo`` for the title ``battery voltage``). None when that does not give
+    *nfield* names.
+    """
+    if len(titles) != nfield or len(words) <= nfield:
+        return None
+    out: list[str] = []
+    joined: list[str] = []
+    p = 0
+    for title in titles:
+        if p >= len(words):
+            return None
+        t = " ".join(title.split()).lower()
+        m = 1
+        for k in range(len(title.split()), 1, -1):
+            cand = " ".join(words[p : p + k])
+            if len(words[p : p + k]) == k and t.startswith(cand.lower()):
+                m = k
+                break
+        out.append(" ".join(words[p : p + m]))
+        if m > 1:
+            joined.append(out[-1])
+        p += m
+    return (out, joined) if p == len(words) and len(out) == nfield else None
+
+
+_NTH = re.compile(r"^(.*)\[(\d+)\]$")
+
+
+def _column_of(cols: list[str], channel: str) -> tuple[int | None, list[int]]:
+    """Column index of a mapped channel: its name, or ``NAME[k]`` for the k-th column of that
+    name (a name ``[column names]`` holds twice); and every column of that name.
+    """
+    same = [j for j, c in enumerate(cols) if c == channel]
+    if same:
+        return same[0], same
+    m = _NTH.match(channel)
+    if m:
+        same = [j for j, c in enumerate(cols) if c == m.group(1).strip()]
+        k = int(m.group(2))
+        if 1 <= k <= len(same):
+            return same[k - 1], [same[k - 1]]
+    return None, []
+
+
+def _same_values(a: np.ndarray, idx: list[int]) -> bool:
+    x = a[:, idx]
+    return bool(np.all((x == x[:, :1]) | (np.isnan(x) & np.isnan(x[:, :1]))))
 
 
 def _speed_factor(sec: _Sections) -> float:
@@ -182,38 +279,74 @@ def parse_vbo(
     missing = [s for s in VBO_SECTIONS if s not in sec.start]
     if missing:
         raise InputError(
-            f"{name}: not a complete VBOX file: no [{missing[0]}] section (a .vbo has [header], "
+            f"{name}: not a complete VBOX file: no [{missing[0]}] section (a .vbo has "
             "[column names] and [data]); was the file cut off or edited?"
         )
     names_lines = sec.body("column names")
     if not names_lines:
         raise InputError(f"{name}:{sec.start['column names'] + 2}: [column names] is empty")
     cols = names_lines[0][1].split()
+    names_line = names_lines[0][0] + 1
+    d0 = sec.start["data"] + 1
+    rows = sec.lines[d0:]
+    # the rows' field count (the commonest of the first rows): [column names] must match it
+    counts = [len(r.split()) for r in rows[:200] if r.strip()]
+    nfield = max(set(counts), key=counts.count) if counts else len(cols)
+    structure_notes: list[str] = []
+    if len(cols) != nfield:
+        titles = [t for _, t in sec.body("header")]
+        fixed = _join_spaced_names(cols, titles, nfield)
+        if fixed is None:
+            spaced = ", ".join(repr(t) for t in titles if " " in t.strip())
+            raise InputError(
+                f"{name}:{names_line}: [column names] has {len(cols)} names but the rows have "
+                f"{nfield} fields"
+                + (
+                    f" and [header] lists {len(titles)} channels"
+                    if titles
+                    else " and there is no [header] to tell the channels apart"
+                )
+                + (f" (names with a space: {spaced})" if spaced else "")
+                + "; correct [column names] to one name per field (a name with a space written "
+                "with _)"
+            )
+        cols, joined = fixed
+        structure_notes.append(
+            f"[column names]: {', '.join(repr(j) for j in joined)} "
+            f"{'holds a space' if len(joined) == 1 else 'hold spaces'}: read as one channel each, "
+            f"as [header] lists them ({nfield} channels)"
+        )
     ncol = len(cols)
-    role = {}
+    role: dict[str, int] = {}
+    twice: dict[str, list[int]] = {}
     for j, c in enumerate(cols):
         r = _ALIASES.get(c.lower())
         if r and r not in role:
             role[r] = j
+        if cols.count(c) > 1:
+            twice.setdefault(c, []).append(j)
     if "time" not in role:
-        raise InputError(
-            f"{name}:{names_lines[0][0] + 1}: [column names] has no 'time' column ({cols[:12]})"
-        )
+        raise InputError(f"{name}:{names_line}: [column names] has no 'time' column ({cols[:12]})")
     mapped = parse_channel_spec(columns)
     for spec in mapped.values():
-        if spec.channel not in cols:
+        if _column_of(cols, spec.channel)[0] is None:
             raise InputError(
                 f"{name}: --columns {spec.key}={spec.channel}: no such column; the file has "
                 f"{', '.join(cols[:30])}"
             )
-    units = _units(sec, cols)
+    unit_list = _units(sec, cols)
+    units: dict[str, str] = {}
+    for c, u in zip(cols, unit_list, strict=True):
+        units.setdefault(c, u)
+    for spec in mapped.values():  # a NAME[k] takes the unit of its own column
+        jm = _column_of(cols, spec.channel)[0]
+        assert jm is not None
+        units[spec.channel] = unit_list[jm]
     used = list(mapped)
-    others = [c for c in cols if _ALIASES.get(c.lower()) is None]
+    others = list(dict.fromkeys(c for c in cols if _ALIASES.get(c.lower()) is None))
     steering, steer_notes = add_steering(mapped, others, units.get)
 
     # data rows: every line after [data] is one row (or blank)
-    d0 = sec.start["data"] + 1
-    rows = sec.lines[d0:]
     n_lines = len(sec.lines)
     blank = 0
     good_idx: list[int] = []
@@ -318,9 +451,36 @@ def parse_vbo(
         values["yaw_rate_rps"] = -np.deg2rad(yr)  # clockwise (compass) -> ISO
         yaw_src = "VBOX"
     for spec in mapped.values():
-        _mapped_channel(values, spec, a[:, cols.index(spec.channel)], units, name)
+        jm, same = _column_of(cols, spec.channel)
+        assert jm is not None
+        if len(same) > 1:
+            where = " and ".join(str(i + 1) for i in same)
+            if not _same_values(a, same):
+                options = " or ".join(
+                    f"{spec.key}={spec.channel}[{k}]" for k in range(1, len(same) + 1)
+                )
+                raise InputError(
+                    f"{name}:{names_line}: channel {spec.channel!r} ({spec.key}) is named "
+                    f"{len(same)} times in [column names] (columns {where}) and their values "
+                    f"differ; say which with --columns {options}"
+                )
+            structure_notes.append(
+                f"channel {spec.channel!r} ({spec.key}) is named {len(same)} times in [column "
+                f"names] (columns {where}) with the same values: column {jm + 1} read"
+            )
+        _mapped_channel(values, spec, a[:, jm], units, name)
         if spec.key == "yaw_rate":
             yaw_src = "channel"
+    for r, j in role.items():
+        same = twice.get(cols[j], [])
+        if len(same) > 1 and r != "date":
+            where = " and ".join(str(i + 1) for i in same)
+            agree = "the same values" if _same_values(a, same) else "different values"
+            structure_notes.append(
+                f"channel {cols[j]!r} is named {len(same)} times in [column names] (columns "
+                f"{where}, {agree}): column {j + 1} read; map another with --columns "
+                f"KEY={cols[j]}[2]"
+            )
 
     # time: hhmmss.ss of day, rolled over at midnight, on the file's date
     hms = a[:, role["time"]]
@@ -348,7 +508,8 @@ def parse_vbo(
         epochs_without_time=0,
         has_date=has_date,
         format="VBOX VBO",
-        notes=([f"mapped by --columns: {', '.join(used)}"] if used else [])
+        notes=structure_notes
+        + ([f"mapped by --columns: {', '.join(used)}"] if used else [])
         + steer_notes
         + (
             [f"the file ends inside line {d0 + cut + 1} (cut off?): that row is not read"]
@@ -408,9 +569,9 @@ def read_vbo(
     NmeaLog
         Epoch table and line accounting.
     """
-    from gripsense.io.text import read_text
+    from gripsense.io.text import read_bytes
 
-    return parse_vbo(read_text(path, "VBOX file", latin1=True), str(path), columns=columns,
+    return parse_vbo(decode_vbo(read_bytes(path, "VBOX file")), str(path), columns=columns,
                      strict=strict)  # fmt: skip
 
 
