@@ -495,6 +495,48 @@ def stiffness_lines(record: dict) -> list[str]:
     return lines
 
 
+_INPUTS = {  # epoch-table column -> what it is, the --columns key that maps it, NMEA sentences
+    "heading_deg": ("true heading", "heading", "HDT, PASHR"),
+    "course_deg": ("course over ground", "course", "RMC, VTG"),
+    "speed_mps": ("speed over ground", "speed", "RMC, VTG"),
+    "yaw_rate_rps": ("yaw rate", "yaw_rate", "a heading channel gives it"),
+}
+
+
+def missing_inputs(epochs: pd.DataFrame | None, meta: dict) -> str:
+    """Why no epoch was usable, when a whole input channel is missing: which, and the
+    ``--columns`` that would map it (``""`` when epochs were used or every channel has
+    values).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame or None
+        The epoch table of the run.
+    meta : dict
+        The run's meta (``epochs_used``).
+
+    Returns
+    -------
+    str
+    """
+    if epochs is None or len(epochs) == 0 or meta.get("epochs_used", 1) != 0:
+        return ""
+    gone = [
+        c for c in _INPUTS
+        if c not in epochs.columns or not np.isfinite(epochs[c].to_numpy(float)).any()
+    ]  # fmt: skip
+    if not gone:
+        return ""
+    what = ", ".join(f"{_INPUTS[c][0]} ({c})" for c in gone)
+    maps = ",".join(f"{_INPUTS[c][1]}=CHANNEL" for c in gone)
+    nmea = "; ".join(f"{_INPUTS[c][0]}: {_INPUTS[c][2]}" for c in gone)
+    return (
+        f"no epoch usable: the log gives no {what}; map the channel that carries it with "
+        f"--columns {maps} (VBOX, MDF4, CAN logs; docs/ingest.md), or log the NMEA sentences "
+        f"that do ({nmea})"
+    )
+
+
 def _proven(rec: dict) -> str:
     """The model-free statement of a summary row (empty when there is none)."""
     lo = rec.get("grip_used_lower", np.nan)
@@ -533,9 +575,10 @@ class WheelFriction(FrictionResult):
         """One line: what was found, or why nothing was observable."""
         s = self.summary
         if len(s) == 0:
-            return "nothing to analyse: " + self.meta.get(
+            gone = missing_inputs(self.epochs, self.meta)
+            return "nothing to analyse: " + (gone or self.meta.get(
                 "note", "no epoch had heading, course, speed and yaw rate together"
-            )
+            ))  # fmt: skip
         if s["observable"].any():
             parts = []
             for rec in s.to_dict("records"):
@@ -656,6 +699,9 @@ class AxleFriction(FrictionResult):
             read = rec.get("steering_torque")
             if isinstance(read, str) and read:
                 parts[-1] += f" [steering torque read: {read}]"
+        gone = missing_inputs(self.epochs, self.meta)
+        if gone:  # an empty table says why: the channel missing and how to map it
+            parts.insert(0, gone)
         if self.meta.get("front_axle"):  # the front axle never disappears without a word
             parts.append(str(self.meta["front_axle"]))
         if self.meta.get("epochs_collapsed"):  # a logger's copies, counted once
