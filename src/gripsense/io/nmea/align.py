@@ -72,6 +72,11 @@ class Alignment:
         """One line for the ingest summary."""
         if self.n_aligned == 0 and self.n_gap == 0 and self.n_not_smooth == 0:
             return "channels: heading and course/speed share their epochs (nothing to align)"
+        if self.n_course == 0:  # no rate to state: nothing was there to align
+            return (
+                f"channels: no epoch has course and speed: nothing to align onto the "
+                f"{self.n_heading} heading epochs"
+            )
         skew = (
             ""
             if np.isnan(self.skew_s)
