@@ -33,7 +33,9 @@ error). A leading
 
 from __future__ import annotations
 
+import csv
 import io
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -58,6 +60,7 @@ __all__ = [
     "parse_columns",
     "read_motion_table",
     "read_table",
+    "resolve_column",
 ]
 
 UNITS = {
@@ -210,6 +213,12 @@ def _read_csv(path: Path) -> pd.DataFrame:
     ]
     if len(lines) == len(df) + 1:
         df.attrs["line"] = np.asarray(lines[1:])
+    if lines:
+        # the header as written: pandas renames a repeated name (x, x.1, x.2)
+        first = text.splitlines()[lines[0] - 1]
+        names = next(csv.reader([first]), [])
+        if len(names) == df.shape[1]:
+            df.attrs["header"] = names
     return df
 
 
@@ -339,6 +348,118 @@ def _spec_dict(spec: str | dict) -> dict[str, str]:
     return {k.strip(): v.strip() for k, v in (p.split("=", 1) for p in spec.split(",") if "=" in p)}
 
 
+_POSITION = re.compile(r"^#(\d+)$")
+_NTH = re.compile(r"^(.*)\[(\d+)\]$")
+
+
+def _group(header: list[str], j: int) -> str | None:
+    """The vector a column of a repeated name belongs to: the nearest column before it whose
+    name the header does not repeat (``vel`` for the ``x`` of ``t,vel,x,y,z,rate,x,y,z``).
+    """
+    for i in range(j - 1, -1, -1):
+        if header.count(header[i]) == 1:
+            return header[i]
+    return None
+
+
+def resolve_column(df: pd.DataFrame, ref: str, path: str | Path, key: str = "") -> tuple[str, str]:
+    """The table column a ``--columns`` reference names, for a header that may repeat names.
+
+    A reference is a header name; where the header repeats it (``x,y,z`` after each vector of a
+    GNSS/INS or rosbag export) one of: ``NAME[k]`` (its k-th column), ``#N`` (the file's N-th
+    column, counted from 1) or ``VECTOR.NAME`` / ``VECTOR/NAME`` (the ``NAME`` column after
+    the column ``VECTOR``, the nearest column before it whose name is not repeated). A
+    repeated name given alone is read when its columns hold the same values (the first is
+    taken and said) and is otherwise an error naming every column and how to choose.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table (:func:`read_table`; ``attrs["header"]`` holds the header as written).
+    ref : str
+        The header part of the mapping (no sign, no unit).
+    path : str or Path
+        The file, for messages.
+    key : str
+        The key mapped, for messages.
+
+    Returns
+    -------
+    column : str
+        The label of the column in *df*.
+    said : str
+        How it was chosen (``"x (column 7, after 'rate')"``); ``""`` for a name the header
+        holds once.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the reference and the columns it could mean.
+    """
+    header = [str(h) for h in df.attrs.get("header", list(df.columns))]
+    labels = list(df.columns)
+    if len(header) != len(labels):
+        header = [str(h) for h in labels]
+
+    def said(j: int) -> str:
+        groups = [_group(header, i) for i, h in enumerate(header) if h == header[j]]
+        g = _group(header, j)
+        tells = len(groups) > 1 and None not in groups and len(set(groups)) == len(groups)
+        return f"{header[j]} (column {j + 1}" + (f", after {g!r})" if tells else ")")
+
+    same = [j for j, h in enumerate(header) if h == ref]
+    if len(same) == 1:
+        return str(labels[same[0]]), ""
+    if len(same) > 1:
+        x = df.iloc[:, same]
+        equal = all(x.iloc[:, 0].equals(x.iloc[:, i]) for i in range(1, len(same)))
+        if equal:
+            return str(labels[same[0]]), said(same[0]) + f", the first of {len(same)} equal"
+        cols = ", ".join(said(j) for j in same)
+        groups = [_group(header, j) for j in same]
+        by_path = (
+            [f"{key}={g}.{ref}" for g in groups]
+            if None not in groups and len(set(groups)) == len(groups)
+            else []
+        )
+        ways = by_path + [f"{key}={ref}[{k}]" for k in range(1, len(same) + 1)]
+        raise InputError(
+            f"{path}: the header names {len(same)} columns {ref!r} ({cols}) and they differ; say "
+            f"which with --columns {' or '.join(ways[: len(same)])} (or {key}=#{same[0] + 1} "
+            "for a column by its position)"
+        )
+    if ref in labels:  # pandas' own name of a repeated column (x.1)
+        j = labels.index(ref)
+        return ref, said(j)
+    m = _POSITION.match(ref.strip())
+    if m:
+        j = int(m.group(1)) - 1
+        if not 0 <= j < len(labels):
+            raise InputError(
+                f"{path}: --columns {key}={ref}: the table has {len(labels)} columns (#1 to "
+                f"#{len(labels)})"
+            )
+        return str(labels[j]), said(j)
+    m = _NTH.match(ref)
+    if m:
+        same = [j for j, h in enumerate(header) if h == m.group(1)]
+        k = int(m.group(2))
+        if same and 1 <= k <= len(same):
+            return str(labels[same[k - 1]]), said(same[k - 1])
+        if same:
+            raise InputError(
+                f"{path}: --columns {key}={ref}: the header names {len(same)} columns "
+                f"{m.group(1)!r}; use [1] to [{len(same)}]"
+            )
+    for sep in (".", "/"):
+        if sep in ref:
+            g, _, name = ref.rpartition(sep)
+            hits = [j for j, h in enumerate(header) if h == name and _group(header, j) == g]
+            if len(hits) == 1:
+                return str(labels[hits[0]]), said(hits[0])
+    raise InputError(f"{path}: no column {ref!r} for {key} (columns: {header[:20]})")
+
+
 def map_table(
     df: pd.DataFrame,
     path: str | Path,
@@ -417,11 +538,11 @@ def map_table(
             f"(columns: {list(df.columns)[:20]}); {how}"
         )
     values = {}
-    for key, (name, factor) in m.items():
-        if name not in df.columns:
-            raise InputError(
-                f"{path}: no column {name!r} for {key} (columns: {list(df.columns)[:20]})"
-            )
+    chosen: dict[str, str] = {}
+    for key, (ref, factor) in m.items():
+        name, how = resolve_column(df, ref, path, key)
+        if how:
+            chosen[key] = how
         if non_numeric == "nan":
             col = pd.to_numeric(df[name], errors="coerce").to_numpy(float)
         else:
@@ -433,16 +554,25 @@ def map_table(
             elif rejected is None:
                 row = int(np.flatnonzero(inf)[0])
                 raise InputError(
-                    f"{path}: {_where(df, row)}, column {name!r} ({key}): "
+                    f"{path}: {_where(df, row)}, column {ref!r} ({key}): "
                     f"{col[row]:g} is not a finite number; correct the value, or "
                     "leave the cell empty or delete the row"
                 )
             else:
                 rejected[key] = inf
                 col = np.where(inf, np.nan, col)
-        _check_plausible(df, path, key, name, quantities[key], col, factor, spec)
+        _check_plausible(df, path, key, ref, quantities[key], col, factor, spec)
         values[key] = col * factor
-    return values, _spec_dict(spec)
+    used: dict = _spec_dict(spec)
+    for key, how in chosen.items():  # say which column a repeated name gave
+        v = used.get(key)
+        if isinstance(v, tuple):
+            used[key] = (how, v[1])
+        elif isinstance(v, str):
+            sign = "-" if v.strip().startswith("-") else ""
+            unit = v.rsplit(":", 1)[1] if ":" in v else ""
+            used[key] = f"{sign}{how}" + (f":{unit}" if unit else "")
+    return values, used
 
 
 def _declared_unit(spec: str | dict, key: str, dimension: str) -> str:
