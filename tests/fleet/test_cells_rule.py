@@ -43,7 +43,7 @@ def statement(centre: float, width: float, *, lower: bool = True, upper: bool = 
     return deviance_curve(np.maximum(dev, 0.0), best, lower_trusted=lower, upper_trusted=upper)
 
 
-def _rows(vehicle, log, curves, bounds, *, hour=10, mu=None, sigma=None) -> pd.DataFrame:
+def _rows(vehicle, log, curves, bounds, *, hour=10, mu=None, sigma=None, tyres=None):
     n = len(bounds)
     t = pd.Timestamp(f"2026-01-05T{hour:02d}:00:00Z") + pd.to_timedelta(np.arange(n), unit="s")
     mu = np.full(n, np.nan) if mu is None else np.asarray(mu, float)
@@ -68,6 +68,7 @@ def _rows(vehicle, log, curves, bounds, *, hour=10, mu=None, sigma=None) -> pd.D
             "mu_deviance": list(curves),
             "receiver": "white-0.3",
             "calibration": "",
+            "tyres": tyres or f"own tyres of {vehicle}",
         }
     )[ROW_COLUMNS]
 
@@ -158,6 +159,19 @@ def test_passes_of_one_vehicle_are_not_multiplied(tmp_path_factory):
     assert ten["n_passes"] == 10 and one["status"] == STATUS_ESTIMATE
     assert two["mu_high"] - two["mu_low"] < 0.8 * (one["mu_high"] - one["mu_low"])
     assert two["mu_low"] <= 0.5 <= two["mu_high"]
+
+
+def test_cars_on_one_declared_tyre_are_not_multiplied(tmp_path_factory):
+    """Two cars described by one vehicle file without a calibration of their own share its
+    declared tyre (stiffness and shape priors): their statements combine as one car's."""
+    s = statement(0.5, 0.12)
+    one = _cell(tmp_path_factory.mktemp("one"), [_rows("a", "a.nmea", [s], [0.3])])
+    shared = _cell(
+        tmp_path_factory.mktemp("shared"),
+        [_rows(v, f"{v}.nmea", [s], [0.3], tyres="car.toml digest") for v in ("a", "b")],
+    )
+    assert (shared["mu_low"], shared["mu_high"]) == (one["mu_low"], one["mu_high"])
+    assert shared["n_vehicles"] == 2
 
 
 def test_buckets_combine_their_own_passes(tmp_path):

@@ -269,11 +269,12 @@ def test_a_batch_runs_numba_on_its_own_thread_and_restores_the_count(fleet_logs,
     assert rec[0]["problem"] == "" and rec[0]["rows"] > 0
     a = pd.read_parquet(next((tmp_path / "a").rglob("*.parquet")))
     from gripsense.config import Vehicle
-    from gripsense.fleet.tasks import process_log
+    from gripsense.fleet.tasks import process_log, tyres_digest
 
     rows = process_log(
         str(log), Vehicle.from_toml(fleet_logs / "vehicle.toml"), vehicle_id="car01",
         method="axle-window", h3_res=11, since=None, receiver="rtk",
+        tyres=tyres_digest(fleet_logs / "vehicle.toml"),
     )  # fmt: skip
     pd.testing.assert_frame_equal(
         a.reset_index(drop=True), rows.drop(columns="vehicle").reset_index(drop=True)

@@ -81,15 +81,18 @@ MAX_LISTED_PASSES = 12
 
 
 def _read(con, pattern: str, bucket: str) -> None:
-    """The rows as view ``r`` with their time bucket and their curve (NULL in files written
-    before curves were).
+    """The rows as view ``r`` with their time bucket, their curve (NULL in files written
+    before curves were) and their nuisance group (the tyres their likelihood used).
     """
     src = f"read_parquet('{pattern}', hive_partitioning = true, union_by_name = true)"
     cols = {row[0] for row in con.sql(f"DESCRIBE SELECT * FROM {src}").fetchall()}
     curve = "mu_deviance" if "mu_deviance" in cols else "CAST(NULL AS BLOB)"
+    # whose tyre nuisances a statement carries (tasks.tyres_digest; earlier files: its vehicle's)
+    own = "'vehicle:' || CAST(vehicle AS VARCHAR)"
+    grp = f"COALESCE(tyres, {own})" if "tyres" in cols else own
     con.execute(
         f"""CREATE TEMP VIEW r AS
-            SELECT *, {curve} AS curve,
+            SELECT *, {curve} AS curve, {grp} AS nuisance_group,
                    time_bucket(INTERVAL '{bucket}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
             FROM {src}"""
     )
@@ -105,7 +108,9 @@ def aggregate_cells(
     per-sample method's pass states its inverse-variance mean with the pass's median σ. The
     statements of one vehicle share its tyre and model-form nuisances: its curve is their
     pointwise largest deviance (every statement holds; one long drive says no less than its
-    passes). Vehicles are independent: their curves add. The cell's range is where the sum is
+    passes) — and so do those of cars described by one declared tyre without a calibration of
+    their own (``tyres``, :func:`~gripsense.fleet.tasks.tyres_digest`). Vehicles on tyres of their
+    own are independent: their curves add. The cell's range is where the sum is
     within the 90 % level of its minimum, never below the measured grip; a value where the 99 %
     range is bounded, at most ``max_width`` wide and its upper end within 1 / min_utilisation
     of the measured grip (a drive's rule). Statements none of whose ranges all meet are a
@@ -156,7 +161,7 @@ def aggregate_cells(
         # samples share their errors)
         passes = con.sql(
             """
-            SELECT cell, bucket, vehicle, log,
+            SELECT cell, bucket, vehicle, log, nuisance_group,
                    SUM(mu / (mu_sigma * mu_sigma))
                        FILTER (WHERE observable AND mu_sigma > 0 AND curve IS NULL)
                      / SUM(1 / (mu_sigma * mu_sigma))
@@ -170,11 +175,11 @@ def aggregate_cells(
                    COUNT(curve) AS n_curves,
                    MAX(time_utc) AS last_t
             FROM r WHERE cell IS NOT NULL GROUP BY ALL
-            ORDER BY cell, bucket, vehicle, log
+            ORDER BY cell, bucket, vehicle, log, nuisance_group
             """
         ).df()
         rows = con.sql(
-            "SELECT cell, bucket, vehicle, log, curve FROM r "
+            "SELECT cell, bucket, vehicle, log, nuisance_group, curve FROM r "
             "WHERE curve IS NOT NULL AND cell IS NOT NULL"
         ).df()
     finally:
@@ -185,7 +190,7 @@ def aggregate_cells(
 def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.DataFrame:
     """The cell table from the per-pass summary and the rows' curves (:func:`aggregate_cells`)."""
     grid = curve_grid(o)
-    keys = ["cell", "bucket", "vehicle", "log"]
+    keys = ["cell", "bucket", "vehicle", "log", "nuisance_group"]
     for c in ("n_est", "n_rows", "n_curves"):
         passes[c] = passes[c].fillna(0).astype("int64")
     passes["pass_id"] = np.arange(len(passes))
@@ -203,14 +208,15 @@ def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.Dat
     # each statement's own 90 % range: do they all meet?
     s_lo, s_hi, _ = curve_range(curves, grid, CHI2_1_90)
     cell_id = passes.groupby(["cell", "bucket"], sort=True).ngroup().to_numpy()
-    veh_id = passes.groupby(["cell", "bucket", "vehicle"], sort=True).ngroup().to_numpy()
+    veh_id = passes.groupby(["cell", "bucket", "nuisance_group"], sort=True).ngroup().to_numpy()
     n_cells = int(cell_id.max()) + 1 if len(passes) else 0
     st_cell = cell_id[owner]
     max_lo = np.full(n_cells, -np.inf)
     min_hi = np.full(n_cells, np.inf)
     np.maximum.at(max_lo, st_cell, s_lo)
     np.minimum.at(min_hi, st_cell, s_hi)
-    # one pass: its statements all hold; one vehicle: its passes all hold; vehicles add
+    # one pass: its statements all hold; statements on the same tyres (one vehicle's, or cars
+    # sharing one declared tyre without a calibration of their own): all hold; the rest add
     p_ids, p_curves = reduce_groups(curves, owner, "max")
     v_ids, v_curves = reduce_groups(p_curves, veh_id[p_ids], "max")
     c_ids, c_curves = reduce_groups(v_curves, _first(cell_id, veh_id)[v_ids], "sum")

@@ -15,8 +15,10 @@ Rows (one per estimate; schema :data:`ROW_COLUMNS`):
   3 × the samples' median 1σ.
 
 Every row also names what its likelihood depends on besides the vehicle: the ``receiver`` (its
-noise model's name) and the tyre ``calibration`` in use (its file; empty: the vehicle file's
-declared tyres).
+noise model's name), the tyre ``calibration`` in use (its file; empty: the vehicle file's
+declared tyres) and ``tyres``, a digest of the tyre description the likelihood used (the vehicle
+file's and the calibration's bytes): statements with the same ``tyres`` share their tyre
+nuisances, whichever vehicle made them (:mod:`gripsense.fleet.aggregate`).
 
 A log that cannot be read or analysed never fails the batch: it is returned as a problem with
 its reason.
@@ -50,6 +52,7 @@ __all__ = [
     "process_batch",
     "process_log",
     "steer_csv_for",
+    "tyres_digest",
 ]
 
 ROW_COLUMNS = [
@@ -71,6 +74,7 @@ ROW_COLUMNS = [
     "mu_deviance",
     "receiver",
     "calibration",
+    "tyres",
 ]
 
 
@@ -178,6 +182,7 @@ def process_log(
     log_options=None,
     steer_columns: str | None = None,
     calibration: str = "",
+    tyres: str = "",
 ) -> pd.DataFrame:
     """Rows of one log (schema :data:`ROW_COLUMNS`).
 
@@ -207,6 +212,9 @@ def process_log(
     calibration : str
         The tyre calibration *vehicle* carries (its file), written into the rows (empty: the
         declared tyres).
+    tyres : str
+        Digest of the tyre description (:func:`tyres_digest`), written into the rows (empty:
+        the vehicle id stands for it).
 
     Returns
     -------
@@ -281,7 +289,11 @@ def process_log(
         )
     rows = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
     rows = rows.assign(
-        vehicle=vehicle_id, log=Path(path).name, receiver=run.receiver, calibration=calibration
+        vehicle=vehicle_id,
+        log=Path(path).name,
+        receiver=run.receiver,
+        calibration=calibration,
+        tyres=tyres or f"vehicle:{vehicle_id}",
     )
     rows = rows[rows["cell"].notna()]
     out = rows[ROW_COLUMNS].reset_index(drop=True)
@@ -386,6 +398,30 @@ def _calibration_name(vfile: str, given: str | None) -> str:
     return str(Vehicle.from_toml(vfile).calibration_file or "")
 
 
+def tyres_digest(vehicle_file: str | Path, calibration: str | Path = "") -> str:
+    """What a statement's tyre nuisances are: a digest of the vehicle file's bytes and its
+    calibration's. Two cars described by the same declared file without a calibration of their
+    own share its declared tyre (its stiffness and shape priors): their statements are not
+    independent; a calibration learned per car (``--calibrate``) makes them so.
+
+    Parameters
+    ----------
+    vehicle_file : str or Path
+        The vehicle TOML.
+    calibration : str or Path
+        The calibration TOML in use (empty: none).
+
+    Returns
+    -------
+    str
+        12 hexadecimal digits.
+    """
+    h = hashlib.sha1(Path(vehicle_file).read_bytes())
+    if calibration and Path(calibration).is_file():
+        h.update(b"\0" + Path(calibration).read_bytes())
+    return h.hexdigest()[:12]
+
+
 def _process_items(
     items, outdir, method, h3_res, since, receiver, calibrations, log_options=None,
     steer_columns=None,
@@ -396,6 +432,7 @@ def _process_items(
     out = []
     vehicles: dict[str, object] = {}
     cal_names: dict[str, str] = {}
+    digests: dict[str, str] = {}
     since_ts = None if since is None else pd.Timestamp(since)
     if since_ts is not None and since_ts.tzinfo is None:
         since_ts = since_ts.tz_localize("UTC")
@@ -407,10 +444,12 @@ def _process_items(
             if key not in vehicles:
                 vehicles[key] = calibrated_vehicle(vfile, calibrations.get(vid))
                 cal_names[key] = _calibration_name(vfile, calibrations.get(vid))
+                digests[key] = tyres_digest(vfile, cal_names[key])
             rows = process_log(
                 path,
                 vehicles[key],
                 calibration=cal_names[key],
+                tyres=digests[key],
                 vehicle_id=vid,
                 method=method,
                 h3_res=h3_res,
