@@ -16,6 +16,7 @@ zero) makes them absolute. The signals are put on the heading signal's time base
 from __future__ import annotations
 
 import io
+import logging
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,20 +25,31 @@ from typing import Any
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, add_steering, parse_channel_spec
+from gripsense.io.channels import Channel, ChannelSpec, add_steering, parse_channel_spec
 from gripsense.io.formats import require
 from gripsense.io.measurement import log_from_channels, missing_channel
 from gripsense.io.nmea.accounting import RejectedLine
 from gripsense.io.nmea.reader import NmeaLog
 from gripsense.io.nmea.schema import MALFORMED, TRUNCATED
 
-__all__ = ["CAN_SIGNALS", "load_dbc", "read_can", "write_can"]
+__all__ = [
+    "CAN_SIGNALS",
+    "SignalPlan",
+    "decode_frames",
+    "load_dbc",
+    "plan_signals",
+    "read_can",
+    "write_can",
+]
 
 _ABSOLUTE_AFTER = 1e8  # timestamps above this are seconds since 1970 (1973 onwards)
 
 
 def load_dbc(path: str | Path):
     """A DBC database, with one clear error when it cannot be read.
+
+    cantools' log lines while loading (``Overwriting message …`` for a message defined twice)
+    are kept off stderr: :func:`read_can` resolves such copies itself and says so.
 
     Parameters
     ----------
@@ -49,12 +61,17 @@ def load_dbc(path: str | Path):
     cantools.database.can.Database
     """
     cantools = require("cantools", "decoding CAN logs")
+    logger = logging.getLogger("cantools")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
     try:
         return cantools.database.load_file(str(path), database_format="dbc", strict=False)
     except FileNotFoundError:
         raise InputError(f"{path}: no such DBC file") from None
     except Exception as e:
         raise InputError(f"{path}: not a readable DBC file ({type(e).__name__}: {e})") from None
+    finally:
+        logger.setLevel(level)
 
 
 NOT_BLF = "not a BLF object"
@@ -297,7 +314,8 @@ def read_can(
     dbc : str or Path
         DBC database.
     columns : str or dict
-        ``heading=SIGNAL,…`` (:mod:`gripsense.io.channels`).
+        ``heading=SIGNAL,…`` (:mod:`gripsense.io.channels`); ``heading=MESSAGE.SIGNAL`` or
+        ``heading=0x15.SIGNAL`` names one message of a DBC that defines a signal in several.
     time_offset : float, optional
         Seconds since 1970 UTC of the log's time zero [s] (for logs with relative times).
     strict : bool
@@ -308,24 +326,188 @@ def read_can(
     NmeaLog
     """
     name = str(path)
+    plan = plan_signals(name, dbc, columns)
+    got = _frames(Path(path), data, fmt, strict)
+    return decode_frames(name, got, plan, fmt_name=f"CAN {fmt.upper()}", start_s=None,
+                         time_offset=time_offset, strict=strict)  # fmt: skip
+
+
+@dataclass
+class SignalPlan:
+    """Which DBC messages may carry each mapped signal (:func:`plan_signals`).
+
+    Parameters
+    ----------
+    dbc : str
+        The DBC file, for messages.
+    db : cantools.database.can.Database
+        The database.
+    mapped : dict
+        Key -> :class:`~gripsense.io.channels.ChannelSpec`, the channel being the signal name.
+    copies : dict
+        Key -> the messages (cantools ``Message``) that define the signal: one when the DBC
+        defines it once or ``--columns`` named the message; several when the DBC defines the
+        same message under several identifiers (the frames the log holds decide).
+    steering : dict
+        The steering channel read (:func:`gripsense.io.channels.add_steering`).
+    notes : list of str
+        What the ingest report says about the mapping.
+    """
+
+    dbc: str
+    db: Any
+    mapped: dict[str, ChannelSpec]
+    copies: dict[str, list]
+    steering: dict[str, str]
+    notes: list[str]
+
+
+def _ident(m) -> str:
+    return f"{m.name} (id 0x{m.frame_id:X})"
+
+
+def plan_signals(name: str, dbc: str | Path, columns: str | dict | None) -> SignalPlan:
+    """The DBC messages of the signals ``--columns`` maps, or one error naming what is wrong.
+
+    A signal is named by itself (``heading=Heading``), or with its message's name or identifier
+    before a dot (``heading=gnss_attitude.Heading``, ``heading=0x15.Heading``) when the DBC
+    defines it in several messages.
+
+    Parameters
+    ----------
+    name : str
+        The log, for messages.
+    dbc : str or Path
+        The DBC file.
+    columns : str or dict
+        ``--columns``.
+
+    Returns
+    -------
+    SignalPlan
+    """
     mapped = parse_channel_spec(columns)
     if not mapped:
         raise InputError(f"{name}: give the signals with --columns (heading=…,course=…,speed=…)")
     db = load_dbc(dbc)
-    where: dict[str, Any] = {}  # signal -> its cantools Message
-    known = {m.frame_id for m in db.messages}
+    where: dict[str, list] = {}  # signal -> the messages that define it, in the DBC's order
     for m in db.messages:
-        for s in m.signals:
-            where.setdefault(s.name, m)
-    for spec in mapped.values():
-        if spec.channel not in where:
+        for sg in m.signals:
+            where.setdefault(sg.name, []).append(m)
+    copies: dict[str, list] = {}
+    out: dict[str, ChannelSpec] = {}
+    for key, spec in mapped.items():
+        sig, msgs = spec.channel, where.get(spec.channel)
+        if msgs is None and "." in spec.channel:
+            head, sig = spec.channel.rsplit(".", 1)
+            msgs = [m for m in where.get(sig, []) if _names_message(head, m)]
+            if sig in where and not msgs:
+                raise InputError(
+                    f"{name} (DBC {dbc}): --columns {key}={spec.channel}: no message {head!r} "
+                    f"carries signal {sig!r}; it is in "
+                    f"{', '.join(_ident(m) for m in where[sig])}"
+                )
+        if not msgs:
             raise missing_channel(f"{name} (DBC {dbc})", spec, list(where))
-    steering, steer_notes = add_steering(
-        mapped, list(where), lambda s: where[s].get_signal_by_name(s).unit
-    )
-    wanted = {where[s.channel].frame_id: where[s.channel] for s in mapped.values()}
-    got = _frames(Path(path), data, fmt, strict)
-    series: dict[str, tuple[list, list]] = {s.channel: ([], []) for s in mapped.values()}
+        copies[key] = msgs
+        out[key] = ChannelSpec(spec.key, sig, spec.sign, spec.factor)
+
+    def unit_of(sig: str) -> str | None:
+        return where[sig][0].get_signal_by_name(sig).unit
+
+    steering, notes = add_steering(out, list(where), unit_of)
+    for key, spec in out.items():
+        copies.setdefault(key, where[spec.channel])
+    return SignalPlan(str(dbc), db, out, copies, steering, notes)
+
+
+def _names_message(head: str, m) -> bool:
+    """Whether *head* (of ``MESSAGE.SIGNAL``) is message *m*'s name or identifier."""
+    if head == m.name:
+        return True
+    try:
+        return int(head, 0) == m.frame_id
+    except ValueError:
+        return False
+
+
+def _choose_copies(name: str, plan: SignalPlan, counts: dict[int, int]) -> dict[str, Any]:
+    """Key -> the one message whose frames the log holds, for a signal the DBC defines in
+    several messages; one error naming the identifiers when the log holds frames of more than
+    one.
+    """
+    chosen = {}
+    for key, msgs in plan.copies.items():
+        held = [m for m in msgs if counts.get(m.frame_id, 0)]
+        if len(held) > 1:
+            spec = plan.mapped[key]
+            same = len({m.name for m in held}) < len(held)
+            ids = " and ".join(f"{_ident(m)}: {counts[m.frame_id]} frames" for m in held)
+            pick = (f"0x{held[0].frame_id:X}" if same else held[0].name) + f".{spec.channel}"
+            raise InputError(
+                f"{name}: signal {spec.channel!r} ({key}) is in {len(held)} messages of the DBC "
+                f"{plan.dbc} that the log holds ({ids}); name one with --columns "
+                f"{key}={pick}"
+            )
+        chosen[key] = (held or msgs)[0]
+        if len(msgs) > 1 and held:
+            others = ", ".join(f"0x{m.frame_id:X}" for m in msgs if m is not held[0])
+            plan.notes.append(
+                f"signal {plan.mapped[key].channel!r} ({key}): the DBC defines it under "
+                f"{len(msgs)} identifiers; read from {_ident(held[0])}, the one the log holds "
+                f"(not {others})"
+            )
+    return chosen
+
+
+def decode_frames(
+    name: str,
+    got: _Frames,
+    plan: SignalPlan,
+    *,
+    fmt_name: str,
+    start_s: float | None,
+    time_offset: float | None = None,
+    strict: bool = False,
+) -> NmeaLog:
+    """The mapped signals of a log's CAN frames decoded with the DBC into the epoch table.
+
+    Parameters
+    ----------
+    name : str
+        The log, for messages.
+    got : _Frames
+        Its frames (``(position, frame)``: ``arbitration_id``, ``data``, ``timestamp`` [s])
+        and accounting.
+    plan : SignalPlan
+        Of :func:`plan_signals`.
+    fmt_name : str
+        Format for the report.
+    start_s : float or None
+        Seconds since 1970 UTC of the frames' time zero (an MDF4 file's start) [s]; None: the
+        frame times are absolute when they are over 1e8 s, else ``time_offset`` is their zero.
+    time_offset : float, optional
+        ``--time-offset`` [s].
+    strict : bool
+        Raise at the first frame that does not decode.
+
+    Returns
+    -------
+    NmeaLog
+    """
+    mapped = plan.mapped
+    counts: dict[int, int] = {}
+    for _, fr in got.frames:
+        counts[fr.arbitration_id] = counts.get(fr.arbitration_id, 0) + 1
+    chosen = _choose_copies(name, plan, counts)
+    known = {m.frame_id for m in plan.db.messages}
+    wanted: dict[int, Any] = {m.frame_id: m for m in chosen.values()}
+    series: dict[tuple[int, str], tuple[list, list]] = {
+        (chosen[k].frame_id, s.channel): ([], []) for k, s in mapped.items()
+    }
+    by_id: dict[int, list[tuple[str, tuple[list, list]]]] = {}
+    for (fid, sig), lists in series.items():
+        by_id.setdefault(fid, []).append((sig, lists))
     parsed: dict[str, int] = {}
     ignored: dict[str, int] = dict(got.ignored)
     n_bad = 0
@@ -354,29 +536,30 @@ def read_can(
                 firsts.append(RejectedLine(k, MALFORMED, detail))
             continue
         parsed[msg.name] = parsed.get(msg.name, 0) + 1
-        for sig, (ts, vs) in series.items():
+        for sig, (ts, vs) in by_id[fr.arbitration_id]:
             if sig in dec:
                 ts.append(fr.timestamp)
                 vs.append(float(dec[sig]))
     found = {}
     for key, spec in mapped.items():
-        ts, vs = series[spec.channel]
-        unit = db.get_message_by_name(where[spec.channel].name).get_signal_by_name(
-            spec.channel
-        ).unit  # fmt: skip
+        msg = chosen[key]
+        ts, vs = series[(msg.frame_id, spec.channel)]
+        unit = msg.get_signal_by_name(spec.channel).unit
         found[key] = Channel(spec.channel, np.asarray(ts, float), np.asarray(vs, float),
                              str(unit or ""))  # fmt: skip
-    t_all = np.concatenate([c.t for c in found.values()]) if found else np.zeros(0)
-    absolute = bool(t_all.size and np.nanmin(t_all) > _ABSOLUTE_AFTER)
-    start = 0.0 if absolute else None
-    fmt_name = f"CAN {fmt.upper()}"
-    offset = None if absolute else time_offset
+    if start_s is None:
+        t_all = np.concatenate([c.t for c in found.values()]) if found else np.zeros(0)
+        absolute = bool(t_all.size and np.nanmin(t_all) > _ABSOLUTE_AFTER)
+        start = 0.0 if absolute else None
+        offset = None if absolute else time_offset
+    else:
+        absolute, start, offset = False, start_s, time_offset
     log = log_from_channels(
         mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
         strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
-        unit=got.unit, notes=got.notes + steer_notes,
+        unit=got.unit, notes=got.notes + plan.notes,
     )  # fmt: skip
-    log.report.steering = steering
+    log.report.steering = plan.steering
     # frames, not samples: the parsed count is per message
     rep = log.report
     rep.parsed = dict(sorted(parsed.items()))

@@ -52,8 +52,13 @@ def read_mdf(
     columns: str | dict | None,
     time_offset: float | None = None,
     strict: bool = False,
+    dbc: str | Path | None = None,
 ) -> NmeaLog:
     """Read the mapped channels of an MDF4 file into the epoch table.
+
+    A file of raw CAN frames (ASAM bus logging: ``CAN_DataFrame`` groups of CANedge, Vector
+    and other loggers) is decoded with *dbc*, the way a BLF or ASC log is
+    (:func:`gripsense.io.canlog.decode_frames`).
 
     Parameters
     ----------
@@ -67,6 +72,8 @@ def read_mdf(
         Seconds since 1970 UTC of the file's time zero, replacing its start time [s].
     strict : bool
         Raise at the first sample that is not a number.
+    dbc : str or Path, optional
+        DBC database decoding the file's raw CAN frames (``--dbc``).
 
     Returns
     -------
@@ -77,6 +84,11 @@ def read_mdf(
     mapped = parse_channel_spec(columns)
     if not mapped:
         raise InputError(f"{name}: give the channels with --columns (heading=…,course=…,speed=…)")
+    plan = None
+    if dbc is not None:
+        from gripsense.io.canlog import plan_signals
+
+        plan = plan_signals(name, dbc, columns)
     src = io.BytesIO(data) if data is not None else str(path)
     scratch = Path(tempfile.mkdtemp(prefix="gripsense-mdf-"))
     try:
@@ -84,41 +96,201 @@ def read_mdf(
     except BaseException:
         shutil.rmtree(scratch, ignore_errors=True)
         raise
+    logger = logging.getLogger("asammdf")  # its lines say nothing the errors here do not
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
     try:
-        _check_records(mdf, name)
-        available = list(mdf.channels_db)
-        found = {}
-        for spec in mapped.values():
-            if spec.channel not in mdf.channels_db:
-                raise missing_channel(name, spec, available)
-        steering, steer_notes = add_steering(mapped, available, mdf.get_channel_unit)
-        try:  # one pass over each channel group's records for all the mapped channels
-            sigs = mdf.select([spec.channel for spec in mapped.values()])
-        except Exception as e:
-            raise InputError(f"{name}: the mapped channels cannot be read ({e})") from None
-        for (key, spec), sig in zip(mapped.items(), sigs, strict=True):
-            v = np.asarray(sig.samples)
-            if v.dtype.kind not in "fiub":
-                raise InputError(
-                    f"{name}: channel {spec.channel!r} ({key}) holds {v.dtype} values, not numbers"
-                )
-            found[key] = Channel(spec.channel, np.asarray(sig.timestamps, float), v.astype(float),
-                                 str(sig.unit or ""))  # fmt: skip
         start = mdf.header.start_time
+        if start.tzinfo is None:
+            start = start.replace(tzinfo=dt.UTC)
+        bus = _bus_groups(mdf)
+        if plan is not None and bus:
+            got = _bus_frames(mdf, name, bus, strict)
+        else:
+            found, steer_notes, steering, available = _read_channels(mdf, name, mapped, bus)
     finally:
+        logger.setLevel(level)
         mdf.close()
         shutil.rmtree(scratch, ignore_errors=True)
-    if start.tzinfo is None:
-        start = start.replace(tzinfo=dt.UTC)
     start_s = start.timestamp()
+    if plan is not None and bus:
+        from gripsense.io.canlog import decode_frames
+
+        return decode_frames(name, got, plan, fmt_name="MDF4 (CAN frames)", start_s=start_s,
+                             time_offset=time_offset, strict=strict)  # fmt: skip
     used = {s.channel for s in mapped.values()}
     n_other = len({c for c in available if c not in used and c.lower() not in ("time", "t")})
     notes = [f"{n_other} channels of the file not mapped (not read)"] if n_other else []
+    if dbc is not None:
+        notes.append("--dbc not used: the MDF4 file holds no raw CAN frames (CAN_DataFrame)")
     log = log_from_channels(mapped, found, name=name, fmt="MDF4", start_s=start_s,
                             time_offset=time_offset, strict=strict,
                             notes=steer_notes + notes)  # fmt: skip
     log.report.steering = steering
     return log
+
+
+_BUS = "CAN_DataFrame"
+_BUS_OTHER = ("CAN_RemoteFrame", "CAN_ErrorFrame")
+
+
+def _bus_groups(mdf) -> dict[int, tuple[str, int]]:
+    """The channel groups of raw CAN frames (ASAM MDF4 bus logging): group -> (the frame
+    structure channel's name, its index), for groups with records.
+    """
+    out = {}
+    for gi, g in enumerate(mdf.groups):
+        if not int(g.channel_group.cycles_nr):
+            continue
+        for ci, ch in enumerate(g.channels):
+            if ch.name in (_BUS, *_BUS_OTHER):
+                out[gi] = (ch.name, ci)
+                break
+    return out
+
+
+def _pick(mdf, channel: str) -> tuple[int, int, str]:
+    """The (group, index) of a channel name, and a note when it occurs in several groups:
+    the group with the most records is read (asammdf would refuse or take the first).
+    """
+    entries = list(mdf.channels_db[channel])
+    if len(entries) == 1:
+        return entries[0][0], entries[0][1], ""
+    n = [int(mdf.groups[g].channel_group.cycles_nr) for g, _ in entries]
+    best = int(np.argmax(n))
+    held = sum(1 for k in n if k)
+    note = (
+        f"channel {channel!r} occurs in {len(entries)} channel groups ({held} with records): "
+        f"read from group {entries[best][0]} ({n[best]} records)"
+    )
+    return entries[best][0], entries[best][1], note
+
+
+def _read_channels(mdf, name: str, mapped: dict, bus: dict):
+    """The mapped channels of a file of named channels: (found, notes, steering, available)."""
+    available = list(mdf.channels_db)
+    for spec in mapped.values():
+        if spec.channel not in mdf.channels_db:
+            if any(n == _BUS for n, _ in bus.values()):
+                k = sum(int(mdf.groups[g].channel_group.cycles_nr) for g in bus)
+                raise InputError(
+                    f"{name}: no channel {spec.channel!r} for {spec.key} in --columns; the file "
+                    f"holds raw CAN frames ({k} frames in CAN_DataFrame groups): give the DBC "
+                    "that decodes them with --dbc, and map its signals (docs/ingest.md)"
+                )
+            raise missing_channel(name, spec, available)
+
+    def unit_of(channel: str) -> str:
+        g, i, _ = _pick(mdf, channel)
+        return mdf.get_channel_unit(channel, g, i)
+
+    steering, notes = add_steering(mapped, available, unit_of)
+    where = {key: _pick(mdf, spec.channel) for key, spec in mapped.items()}
+    notes += [w[2] for w in where.values() if w[2]]
+    _check_records(mdf, name, {g: [i] for g, i, _ in where.values()})
+    try:  # one pass over each channel group's records for all the mapped channels
+        sigs = mdf.select([(spec.channel, *where[key][:2]) for key, spec in mapped.items()])
+    except Exception as e:
+        raise InputError(f"{name}: the mapped channels cannot be read ({e})") from None
+    found = {}
+    for (key, spec), sig in zip(mapped.items(), sigs, strict=True):
+        v = np.asarray(sig.samples)
+        what = _not_numbers(v)
+        if what:
+            bus_hint = ""
+            if spec.channel.startswith(("CAN_", "LIN_", "FLX_")):
+                bus_hint = " (raw CAN frames: decode them with --dbc)"
+            raise InputError(
+                f"{name}: channel {spec.channel!r} ({key}) holds {what}, not numbers; map a "
+                f"channel of numbers with --columns{bus_hint}"
+            )
+        found[key] = Channel(spec.channel, np.asarray(sig.timestamps, float), v.astype(float),
+                             str(sig.unit or ""))  # fmt: skip
+    return found, notes, steering, available
+
+
+def _not_numbers(v: np.ndarray) -> str:
+    """What a channel's samples are when they are not one number each ("" when they are)."""
+    if v.dtype.names is not None:
+        return "structures (records of several fields)"
+    if v.ndim != 1 or v.dtype.kind == "V":
+        return "byte arrays" if v.dtype.kind in "uiV" else f"arrays of {v.dtype} values"
+    if v.dtype.kind in "SUO":
+        return "text"
+    if v.dtype.kind not in "fiub":
+        return f"{v.dtype} values"
+    return ""
+
+
+class _Frame:
+    """One CAN frame of an MDF4 bus log (what :func:`gripsense.io.canlog.decode_frames`
+    reads of it).
+    """
+
+    __slots__ = ("arbitration_id", "data", "timestamp")
+
+    def __init__(self, arbitration_id: int, data: bytes, timestamp: float) -> None:
+        self.arbitration_id, self.data, self.timestamp = arbitration_id, data, timestamp
+
+
+def _bus_frames(mdf, name: str, bus: dict, strict: bool):
+    """The CAN frames of an MDF4 bus log's ``CAN_DataFrame`` groups, in time order; remote
+    and error frames counted as ignored.
+    """
+    from gripsense.io.canlog import _Frames
+
+    _check_records(mdf, name, {g: None for g in bus})
+    out = _Frames([])
+    ts, ids, payloads = [], [], []
+    for gi, (kind, ci) in bus.items():
+        n = int(mdf.groups[gi].channel_group.cycles_nr)
+        if kind != _BUS:
+            out.ignored["(error/remote frame)"] = out.ignored.get("(error/remote frame)", 0) + n
+            out.units += n
+            continue
+        try:
+            sig = mdf.get(kind, gi, ci)
+        except Exception as e:
+            raise InputError(
+                f"{name}: the CAN frames of channel group {gi} cannot be read ({e})"
+            ) from None
+        rec = sig.samples
+        fields = rec.dtype.names or ()
+
+        def col(f: str, rec=rec, fields=fields):
+            key = f"{_BUS}.{f}"
+            return np.asarray(rec[key]) if key in fields else None
+
+        raw = col("ID")
+        data = col("DataBytes")
+        if raw is None or data is None:
+            raise InputError(
+                f"{name}: channel group {gi} ({kind}) has no ID or DataBytes field: not an "
+                "ASAM bus-logging group"
+            )
+        length = col("DataLength")
+        if length is None:
+            length = col("DLC")
+        fid = raw.astype(np.uint64) & 0x1FFFFFFF
+        if data.dtype.kind == "V":
+            data = np.frombuffer(data.tobytes(), np.uint8).reshape(len(data), -1)
+        for k in range(len(fid)):
+            row = data[k]
+            b = bytes(row)
+            if length is not None:
+                b = b[: int(length[k])]
+            payloads.append(b)
+        ids.append(fid)
+        ts.append(np.asarray(sig.timestamps, float))
+    if ts:
+        t = np.concatenate(ts)
+        fid = np.concatenate(ids)
+        order = np.argsort(t, kind="stable")
+        out.frames = [
+            (j + 1, _Frame(int(fid[i]), payloads[i], float(t[i])))
+            for j, i in enumerate(order)
+        ]  # fmt: skip
+    return out
 
 
 def _open(asammdf, src, name: str, scratch: Path):
@@ -145,22 +317,40 @@ def _open(asammdf, src, name: str, scratch: Path):
     raise InputError(f"{name}: not a readable MDF file ({err})")
 
 
-def _check_records(mdf, name: str) -> None:
-    """Refuse a file whose channel groups point outside their records or data: asammdf's
-    compiled reader would read past its buffers (a crash, not an error) on such a damaged
-    file.
+_NUMERIC = (0, 1, 2, 3, 4, 5, 15, 16)  # MDF4 integer, float and complex data types
+_MAX_BITS = 64 * 8
+
+
+def _check_records(mdf, name: str, read: dict[int, list[int] | None]) -> None:
+    """Refuse a file whose channels to be read point outside their records, or whose groups to
+    be read hold fewer data than their records declare: asammdf's compiled reader would read
+    past its buffers (a crash, not an error) on such a damaged file.
+
+    Only what will be read is judged (*read*: group -> the indices of its channels read, None
+    for all of them; its master channels always), and as asammdf reads it: a fixed-length
+    channel's bytes (``byte_offset`` + the bits) must lie in the record; a number holds at
+    most 512 bits, a string or byte array (a CANape ``$CalibrationLog``, 256 bytes) any number
+    that fits; variable-length and virtual channels hold no record bytes.
     """
-    for gi, g in enumerate(mdf.groups):
+    for gi, which in read.items():
+        g = mdf.groups[gi]
         cg = g.channel_group
         record = int(cg.samples_byte_nr) + int(getattr(cg, "invalidation_bytes_nr", 0))
-        for ch in g.channels:
-            if int(getattr(ch, "channel_type", 0)) not in (0, 2, 4):
+        for ci, ch in enumerate(g.channels):
+            kind = int(getattr(ch, "channel_type", 0))
+            if which is not None and ci not in which and kind not in (2, 3):
+                continue
+            if kind not in (0, 2, 4):
                 continue  # variable-length and virtual channels hold no record bytes
             end = int(ch.byte_offset) + (int(ch.bit_offset) + int(ch.bit_count) + 7) // 8
-            if ch.bit_count <= 0 or ch.bit_count > 64 * 8 or end > int(cg.samples_byte_nr):
+            numeric = int(getattr(ch, "data_type", 0)) in _NUMERIC
+            if ch.bit_count <= 0 or (numeric and ch.bit_count > _MAX_BITS) or (
+                end > int(cg.samples_byte_nr)
+            ):  # fmt: skip
                 raise InputError(
                     f"{name}: damaged MDF file: channel {ch.name!r} of group {gi} lies outside "
-                    f"its {cg.samples_byte_nr}-byte record (bytes up to {end})"
+                    f"its {cg.samples_byte_nr}-byte record (bytes up to {end}, "
+                    f"{ch.bit_count} bits)"
                 )
         held = sum(int(b.original_size) for b in g.get_data_blocks())
         if record and int(cg.cycles_nr) * record > held:
