@@ -1,6 +1,10 @@
 """`gripsense tyre eval` and `tyre fit` do what they say (issue 45): bundled names as
 `simulate` takes them, the file's version as its FITTYP says, no silent clipping, a plot,
-no unconverged fit written with exit 0, no curve drawn at a load the fit is not valid for."""
+no unconverged fit written with exit 0, no curve drawn at a load the fit is not valid for.
+
+Command-line checks run the command in the test's process (``tests.cli.inprocess``: the
+console script's entry point, its stdout, stderr and exit code), without a console
+script's 2–4 s of imports per call, which none of these checks is about."""
 
 from __future__ import annotations
 
@@ -17,7 +21,7 @@ from gripsense.data import path as data_path
 from gripsense.io.tir import read_tir
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
-from tests.cli.test_commands import run
+from tests.cli.inprocess import cli
 
 ROOT = Path(__file__).resolve().parents[2]
 BUNDLED = data_path("tyres")
@@ -26,7 +30,7 @@ VERSIONS = {5: "5.2", 6: "5.2", 21: "5.2", 61: "6.1", 62: "6.2"}  # FITTYP → M
 
 def _eval_csv(tmp_path: Path, *args: str, name: str = "ev.csv"):
     out = tmp_path / name
-    r = run("tyre", "eval", *args, "-o", str(out), cwd=tmp_path)
+    r = cli("tyre", "eval", *args, "-o", str(out), cwd=tmp_path)
     return r, (pd.read_csv(out, comment="#") if out.exists() else None)
 
 
@@ -35,7 +39,7 @@ def test_eval_takes_the_bundled_names_simulate_takes(tmp_path):
     assert r.returncode == 0, r.stderr
     # MFeval's README hand check of this file (tests/data/tyre/mfeval_ref/README.md)
     assert df["fy_N"].iloc[0] == pytest.approx(-2709.49, abs=0.01)
-    r = run("tyre", "eval", "NoSuchTyre.tir", "--fz", "4000", cwd=tmp_path)
+    r = cli("tyre", "eval", "NoSuchTyre.tir", "--fz", "4000", cwd=tmp_path)
     assert r.returncode == 2 and "PacejkaBook_Defaults.tir" in r.stderr  # names the bundled ones
     assert len(r.stderr.strip().splitlines()) == 1
 
@@ -43,7 +47,7 @@ def test_eval_takes_the_bundled_names_simulate_takes(tmp_path):
 @pytest.mark.parametrize("tir", sorted(p.name for p in BUNDLED.glob("*.tir")))
 def test_the_version_eval_prints_is_the_files_fittyp_and_the_docs_say_so(tir, tmp_path):
     fittyp = read_tir(BUNDLED / tir).parameters().get("FITTYP")
-    r = run("tyre", "eval", tir, "--fz", "4000", cwd=tmp_path)
+    r = cli("tyre", "eval", tir, "--fz", "4000", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     if fittyp is None:  # PAC2002 files without FITTYP are read as MF 5.2 (docs/tyre.md)
         assert "MF 5.2" in r.stdout
@@ -75,13 +79,13 @@ def test_eval_says_when_it_clips_to_the_files_limits(tmp_path):
 
 def test_eval_plot(tmp_path):
     png = tmp_path / "curves.png"
-    r = run("tyre", "eval", "MagicFormula61_Paramerters.tir", "--fz", "2000,4000",
+    r = cli("tyre", "eval", "MagicFormula61_Paramerters.tir", "--fz", "2000,4000",
             "--alpha-deg", "-12:12:0.5", "--kappa", "0,0.05", "--plot", str(png),
             cwd=tmp_path)  # fmt: skip
     assert r.returncode == 0, r.stderr
     img = mpimg.imread(png)
     assert img.shape[0] > 300 and float(np.std(img[..., :3])) > 0.02
-    r = run("tyre", "eval", "PacejkaBook_Defaults.tir", "--fz", "4000", "--plot",
+    r = cli("tyre", "eval", "PacejkaBook_Defaults.tir", "--fz", "4000", "--plot",
             str(tmp_path / "x.jpg"), cwd=tmp_path)  # fmt: skip
     assert r.returncode == 2 and "--plot" in r.stderr
 
@@ -105,17 +109,17 @@ def road_csv(tmp_path):
 
 def test_fit_that_hit_the_iteration_limit_is_refused_unless_forced(tmp_path, road_csv):
     out, png = tmp_path / "fit.json", tmp_path / "fit.png"
-    r = run("tyre", "fit", str(road_csv), "--max-iter", "4", "-o", str(out), "--plot", str(png))
+    r = cli("tyre", "fit", str(road_csv), "--max-iter", "4", "-o", str(out), "--plot", str(png))
     assert r.returncode == 2, (r.stdout, r.stderr)
     assert "did not converge" in r.stderr and "--force" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
     assert not out.exists() and not png.exists()
-    r = run("tyre", "fit", str(road_csv), "--max-iter", "4", "-o", str(out), "--force")
+    r = cli("tyre", "fit", str(road_csv), "--max-iter", "4", "-o", str(out), "--force")
     assert r.returncode == 0, r.stderr
     assert any(x.startswith("warning:") and "did not converge" in x for x in r.stdout.splitlines())
     assert '"success": false' in out.read_text()
     # the same data with the default iterations converge and are written without a word
-    r = run("tyre", "fit", str(road_csv), "-o", str(tmp_path / "ok.json"))
+    r = cli("tyre", "fit", str(road_csv), "-o", str(tmp_path / "ok.json"))
     assert r.returncode == 0 and "did not converge" not in r.stdout + r.stderr
 
 

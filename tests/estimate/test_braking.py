@@ -1,4 +1,8 @@
-"""Braking μ = a/g (docs/physics.md §7) on synthetic and simulated traces."""
+"""Braking μ = a/g (docs/physics.md §7) on synthetic and simulated traces.
+
+Command-line checks run the command in the test's process (``tests.cli.inprocess``: the
+console script's entry point, its stdout, stderr and exit code), without a console
+script's 2–4 s of imports per call, which none of these checks is about."""
 
 from __future__ import annotations
 
@@ -102,12 +106,12 @@ def test_errors(tmp_path):
 
 
 def test_cli(tmp_path):
-    from tests.cli.test_commands import run
+    from tests.cli.inprocess import cli
 
     tr = trace(0.7, seed=9)
     f = tmp_path / "acc.csv"
     pd.DataFrame({"t_s": tr["t_s"], "ax_g": tr["ax"] / G0}).to_csv(f, index=False)
-    r = run("brake-mu", str(f), "--az-col", "", "--ay-col", "", "-o", str(tmp_path / "ev.csv"))
+    r = cli("brake-mu", str(f), "--az-col", "", "--ay-col", "", "-o", str(tmp_path / "ev.csv"))
     assert r.returncode == 0, r.stderr
     assert "μ = 0.7" in r.stdout
     assert pd.read_csv(tmp_path / "ev.csv")["mu"].iloc[0] == pytest.approx(0.7, abs=0.03)
@@ -116,7 +120,7 @@ def test_cli(tmp_path):
 def test_cli_maps_unit_suffixed_headers_without_flags(tmp_path):
     """Headers time_ms, ax_mps2, ay_mps2, az_mps2 need no flag; the mapping is printed; the old
     flags still work with a deprecation note; old and new together are an error."""
-    from tests.cli.test_commands import run
+    from tests.cli.inprocess import cli
 
     tr = trace(0.7, seed=9)
     f = tmp_path / "acc.csv"
@@ -128,18 +132,18 @@ def test_cli_maps_unit_suffixed_headers_without_flags(tmp_path):
             "az_mps2": np.full(len(tr), G0),
         }
     ).to_csv(f, index=False)
-    r = run("brake-mu", str(f))
+    r = cli("brake-mu", str(f))
     assert r.returncode == 0, r.stderr
     assert "t ← time_ms [ms], ax ← ax_mps2 [m/s²], ay ← ay_mps2 [m/s²]" in r.stdout, r.stdout
     assert "μ = 0.7" in r.stdout
     # the same with an explicit mapping, a flipped sign and g units converted back
     g = tmp_path / "flip.csv"
     pd.DataFrame({"clock": tr["t_s"], "acc": -tr["ax"] / G0}).to_csv(g, index=False)
-    r = run("brake-mu", str(g), "--columns", "t=clock:s,ax=-acc:g")
+    r = cli("brake-mu", str(g), "--columns", "t=clock:s,ax=-acc:g")
     assert r.returncode == 0 and "μ = 0.7" in r.stdout, r.stdout + r.stderr
-    old = run("brake-mu", str(f), "--t-col", "time_ms", "--time-scale", "0.001",
+    old = cli("brake-mu", str(f), "--t-col", "time_ms", "--time-scale", "0.001",
               "--ax-col", "ax_mps2", "--ay-col", "ay_mps2", "--az-col", "az_mps2",
               "--units", "mps2")  # fmt: skip
     assert old.returncode == 0 and "deprecated" in old.stdout and "μ = 0.7" in old.stdout
-    both = run("brake-mu", str(f), "--units", "mps2", "--columns", "t=time_ms:ms,ax=ax_mps2")
+    both = cli("brake-mu", str(f), "--units", "mps2", "--columns", "t=time_ms:ms,ax=ax_mps2")
     assert both.returncode == 2 and "either --columns or the old flags" in both.stderr

@@ -1,4 +1,8 @@
-"""Tread stiffness G from cornering on simulated circles with a known tyre (G = 5e7)."""
+"""Tread stiffness G from cornering on simulated circles with a known tyre (G = 5e7).
+
+Command-line checks run the command in the test's process (``tests.cli.inprocess``: the
+console script's entry point, its stdout, stderr and exit code), without a console
+script's 2–4 s of imports per call, which none of these checks is about."""
 
 from __future__ import annotations
 
@@ -58,7 +62,7 @@ def test_g_sweep_thesis_criteria(tmp_path):
 
 
 def test_cli(tmp_path):
-    from tests.cli.test_commands import run
+    from tests.cli.inprocess import cli
 
     log = tmp_path / "c.nmea"
     m = M.circle(30 / 3.6, 30, laps=1.0, params=P)
@@ -66,7 +70,7 @@ def test_cli(tmp_path):
     emulate_compass(
         res, (-VEH.cg_offset[0], -VEH.cg_offset[1]), noise=CompassNoise.none(0.5)
     ).write(log)
-    r = run(
+    r = cli(
         "stiffness",
         str(log),
         "--vehicle",
