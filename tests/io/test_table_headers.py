@@ -98,9 +98,8 @@ def test_a_repeated_name_with_equal_columns_is_read_and_said(tmp_path):
     )
     m = read_motion_table(p)  # headers with a unit suffix: mapped without --columns
     np.testing.assert_array_equal(m["yaw_rate_rps"], WZ)
-    assert "yaw_rate ← yaw_rate_rps (column 4), the first of 2 equal" in describe_columns(
-        m.attrs["columns"]
-    )
+    said = describe_columns(m.attrs["columns"])
+    assert "yaw_rate ← yaw_rate_rps (column 4; the first of 2 equal columns) [rad/s]" in said
     _write(p, ["time_s", "vx_mps", "vy_mps", "yaw_rate_rps", "yaw_rate_rps"], [T, VX, VY, WZ, -WZ])
     with pytest.raises(InputError, match=r"2 columns 'yaw_rate_rps'.*yaw_rate=yaw_rate_rps\[2\]"):
         read_motion_table(p)

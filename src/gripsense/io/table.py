@@ -414,7 +414,8 @@ def resolve_column(df: pd.DataFrame, ref: str, path: str | Path, key: str = "") 
         x = df.iloc[:, same]
         equal = all(x.iloc[:, 0].equals(x.iloc[:, i]) for i in range(1, len(same)))
         if equal:
-            return str(labels[same[0]]), said(same[0]) + f", the first of {len(same)} equal"
+            first = f"{ref} (column {same[0] + 1}; the first of {len(same)} equal columns)"
+            return str(labels[same[0]]), first
         cols = ", ".join(said(j) for j in same)
         groups = [_group(header, j) for j in same]
         by_path = (
