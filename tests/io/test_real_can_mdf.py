@@ -201,3 +201,28 @@ def test_friction_without_a_course_channel_says_which_and_how_to_map_it(plain, t
     explain = json.loads((out / "summary.json").read_text())["explain"]
     assert said in explain and "--columns course=CHANNEL" in explain
     assert said in (out / "report.html").read_text()
+
+
+J1939 = DATA / "formats" / "can" / "canedge_j1939_00000001-60B621D9.mf4.gz"
+J1939_DBC = DATA / "formats" / "can" / "css_j1939_demo.dbc"
+
+
+def test_a_j1939_dbc_matches_frames_by_pgn_as_asammdf_does(tmp_path):
+    """A J1939 DBC (``ProtocolType "J1939"``) names a message by one identifier (CCVS1
+    0x18FEF1FE, source address 0xFE); the truck's frames come from other source addresses:
+    matched by the PGN (was: every frame "no mapped signal", parsed 0), as asammdf's
+    bus-logging decoder matches them."""
+    p = tmp_path / "j1939.mf4"
+    p.write_bytes(gzip.decompress(J1939.read_bytes()))
+    log = read_log(p, columns="speed=WheelBasedVehicleSpeed", dbc=J1939_DBC)
+    with asammdf.MDF(str(p)) as mdf:
+        dec = mdf.extract_bus_logging({"CAN": [(str(J1939_DBC), 0)]})
+        ref = dec.get("WheelBasedVehicleSpeed", *dec.channels_db["WheelBasedVehicleSpeed"][0])
+    rows = log.sentences["speed"]
+    assert (
+        log.report.balanced
+        and log.report.parsed == {"CCVS1": len(ref.samples)}
+        and len(ref.samples) > 100
+    )
+    np.testing.assert_allclose(rows["t_s"], ref.timestamps, atol=1e-9)
+    np.testing.assert_allclose(rows["value"], ref.samples, atol=1e-9)

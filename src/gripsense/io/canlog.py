@@ -431,18 +431,40 @@ def _names_message(head: str, m) -> bool:
         return False
 
 
-def _choose_copies(name: str, plan: SignalPlan, counts: dict[int, int]) -> dict[str, Any]:
+def _pgn(frame_id: int) -> int:
+    """The J1939 parameter group number of a 29-bit identifier: priority and source address
+    dropped, and the destination address of a PDU1 group (PF < 240) (SAE J1939-21; as
+    asammdf's bus-logging decoder matches J1939 messages).
+    """
+    pgn = (frame_id >> 8) & 0x3FF00
+    return pgn + ((frame_id >> 8) & 0xFF) if (frame_id >> 16) & 0xFF >= 240 else pgn
+
+
+def _key(m) -> tuple[str, int]:
+    """What a DBC message matches frames by: its identifier, or its PGN (J1939 DBC)."""
+    if getattr(m, "protocol", None) == "j1939" and m.is_extended_frame:
+        return ("pgn", _pgn(m.frame_id))
+    return ("id", m.frame_id)
+
+
+def _frame_keys(fid: int, pgns: bool) -> tuple[tuple[str, int], ...]:
+    return (("id", fid), ("pgn", _pgn(fid))) if pgns and fid > 0x7FF else (("id", fid),)
+
+
+def _choose_copies(
+    name: str, plan: SignalPlan, counts: dict[tuple[str, int], int]
+) -> dict[str, Any]:
     """Key -> the one message whose frames the log holds, for a signal the DBC defines in
     several messages; one error naming the identifiers when the log holds frames of more than
     one.
     """
     chosen = {}
     for key, msgs in plan.copies.items():
-        held = [m for m in msgs if counts.get(m.frame_id, 0)]
+        held = [m for m in msgs if counts.get(_key(m), 0)]
         if len(held) > 1:
             spec = plan.mapped[key]
             same = len({m.name for m in held}) < len(held)
-            ids = " and ".join(f"{_ident(m)}: {counts[m.frame_id]} frames" for m in held)
+            ids = " and ".join(f"{_ident(m)}: {counts[_key(m)]} frames" for m in held)
             pick = (f"0x{held[0].frame_id:X}" if same else held[0].name) + f".{spec.channel}"
             raise InputError(
                 f"{name}: signal {spec.channel!r} ({key}) is in {len(held)} messages of the DBC "
@@ -496,12 +518,23 @@ def decode_frames(
     NmeaLog
     """
     mapped = plan.mapped
-    counts: dict[int, int] = {}
+    pgns = any(_key(m)[0] == "pgn" for m in plan.db.messages)  # a J1939 DBC: match by PGN
+    ids: dict[int, int] = {}
     for _, fr in got.frames:
-        counts[fr.arbitration_id] = counts.get(fr.arbitration_id, 0) + 1
+        ids[fr.arbitration_id] = ids.get(fr.arbitration_id, 0) + 1
+    counts: dict[tuple[str, int], int] = {}
+    for fid, n in ids.items():
+        for k in _frame_keys(fid, pgns):
+            counts[k] = counts.get(k, 0) + n
     chosen = _choose_copies(name, plan, counts)
-    known = {m.frame_id for m in plan.db.messages}
-    wanted: dict[int, Any] = {m.frame_id: m for m in chosen.values()}
+    known = {_key(m) for m in plan.db.messages}
+    wanted: dict[tuple[str, int], Any] = {_key(m): m for m in chosen.values()}
+    match: dict[int, Any] = {}  # frame identifier -> the message it carries (None: not mapped)
+    for fid in ids:
+        keys = _frame_keys(fid, pgns)
+        match[fid] = next((wanted[k] for k in keys if k in wanted), None)
+        if match[fid] is None and not any(k in known for k in keys):
+            match[fid] = False  # not in the DBC
     series: dict[tuple[int, str], tuple[list, list]] = {
         (chosen[k].frame_id, s.channel): ([], []) for k, s in mapped.items()
     }
@@ -516,9 +549,9 @@ def decode_frames(
         if getattr(fr, "is_error_frame", False) or getattr(fr, "is_remote_frame", False):
             ignored["(error/remote frame)"] = ignored.get("(error/remote frame)", 0) + 1
             continue
-        msg = wanted.get(fr.arbitration_id)
-        if msg is None:
-            key = "(not in the DBC)" if fr.arbitration_id not in known else "(no mapped signal)"
+        msg = match[fr.arbitration_id]
+        if not msg:
+            key = "(not in the DBC)" if msg is False else "(no mapped signal)"
             ignored[key] = ignored.get(key, 0) + 1
             continue
         try:
@@ -536,7 +569,7 @@ def decode_frames(
                 firsts.append(RejectedLine(k, MALFORMED, detail))
             continue
         parsed[msg.name] = parsed.get(msg.name, 0) + 1
-        for sig, (ts, vs) in by_id[fr.arbitration_id]:
+        for sig, (ts, vs) in by_id[msg.frame_id]:
             if sig in dec:
                 ts.append(fr.timestamp)
                 vs.append(float(dec[sig]))
