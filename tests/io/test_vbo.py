@@ -283,3 +283,17 @@ def test_video_variant_sections_and_latin1_and_null_units(tmp_path):
     assert len(log.epochs) == 6 and log.report.balanced
     assert log.report.steering["channel"] == "RoadWheelAngle"
     np.testing.assert_allclose(log.epochs["steer_rad"], np.deg2rad(2.0))
+
+
+def test_decimal_commas_are_read_as_points():
+    """A file converted with a decimal comma (``+3119,37247163``): the same epochs as the
+    original, and a note."""
+    lines = SAMPLE_TEXT.splitlines()
+    k = lines.index("[data]") + 1
+    comma = lines[:k] + [ln.replace(".", ",") for ln in lines[k:]]
+    log = parse_vbo("\n".join(comma) + "\n", "comma.vbo")
+    ref = read_vbo(SAMPLE).epochs
+    assert len(log.epochs) == 6 and log.report.balanced
+    np.testing.assert_array_equal(log.epochs["lat_deg"], ref["lat_deg"])
+    np.testing.assert_array_equal(log.epochs["speed_mps"], ref["speed_mps"])
+    assert any("decimal commas" in n for n in log.report.notes)

@@ -388,6 +388,9 @@ def parse_vbo(
         good_text.append(s)
     if good_text:
         body = "\n".join(good_text)
+        if "," in good_text[0] and "." not in good_text[0]:  # decimal commas (a converter's)
+            body = body.replace(",", ".")
+            structure_notes.append("the rows write decimal commas: read as decimal points")
         try:  # every field a number (the usual file): one parse to floats
             num = pd.read_csv(io.StringIO(body), sep=r"\s+", header=None, dtype=np.float64,
                               engine="c")  # fmt: skip
