@@ -226,3 +226,13 @@ def test_a_j1939_dbc_matches_frames_by_pgn_as_asammdf_does(tmp_path):
     )
     np.testing.assert_allclose(rows["t_s"], ref.timestamps, atol=1e-9)
     np.testing.assert_allclose(rows["value"], ref.samples, atol=1e-9)
+
+
+def test_a_canedge_compressed_file_is_one_line(tmp_path):
+    """A CANedge ``.MFC`` (compressed MF4 in a 'Generic File' container) was read as NMEA:
+    "parsed 0", exit 0; now one line saying what it is and how to convert it."""
+    mfc = DATA / "formats" / "can" / "canedge_compressed_head.mfc"
+    with pytest.raises(InputError, match=r"compressed or encrypted MDF4.*convert it to \.MF4"):
+        read_log(mfc, columns="heading=Heading", dbc=GNSS_DBC)
+    r = cli("ingest", mfc)
+    assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1, r.stderr

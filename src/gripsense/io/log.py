@@ -157,7 +157,14 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     # from (a pipe or FIFO is read once; a device is refused)
     src = InputStream(p, "file")
     try:
-        fmt = detect_format(src.peek(65536))
+        head = src.peek(65536)
+        if head.startswith(b"Generic File"):  # CSS Electronics' container of a CANedge MF4
+            raise InputError(
+                f"{p}: a CANedge compressed or encrypted MDF4 file (.MFC/.MFE, a 'Generic "
+                "File' container): convert it to .MF4 first (CSS Electronics' mdf2finalized "
+                "or MF4 decoders), then read the .MF4"
+            )
+        fmt = detect_format(head)
         if fmt in ("mf4", "blf", "asc") and o.columns is None:
             raise InputError(
                 f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
