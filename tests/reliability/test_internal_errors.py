@@ -2,7 +2,11 @@
 time column coarser than the sampling), go back or are all one value are one input error naming
 the file in every command that divides by a time step (``brake-mu``, ``steering identify``
 release and step recordings, ``camera-slip --fps``); a hand-edited ``summary.json`` is one
-line naming the key whose value has the wrong kind."""
+line naming the key whose value has the wrong kind.
+
+Command-line checks run the command in the test's process (``tests.cli.inprocess``: the
+console script's entry point, its stdout, stderr and exit code), without a console
+script's 2–4 s of imports per call, which none of these checks is about."""
 
 from __future__ import annotations
 
@@ -27,7 +31,7 @@ from gripsense.physics.steering_system import simulate_release, simulate_step
 from gripsense.report.html import render_report
 from gripsense.report.summary_check import META_KINDS, check_summary_file
 from gripsense.vision.slip_camera import slip_from_frames
-from tests.cli.test_commands import run
+from tests.cli.inprocess import cli
 from tests.estimate.test_braking import trace
 
 DATA = Path(gripsense.__file__).parent / "data"
@@ -80,7 +84,7 @@ def test_brake_mu_with_bad_time_stamps_is_one_input_error(fault, tmp_path):
     tr = trace(0.7, seed=9)
     f = tmp_path / "acc.csv"
     _faulty(pd.DataFrame({"t_s": tr["t_s"], "ax_g": tr["ax"] / G0}), fault).to_csv(f, index=False)
-    _one_line(run("brake-mu", str(f)), "acc.csv", "repeat")
+    _one_line(cli("brake-mu", str(f)), "acc.csv", "repeat")
 
 
 @pytest.fixture(scope="module")
@@ -116,7 +120,7 @@ def test_steering_identify_with_bad_time_stamps_is_one_input_error(
     _faulty(recordings[kind], fault).to_csv(bad, index=False)
     extra = ["--release", str(bad)] if kind == "release" else ["--release", str(good),
                                                                "--step", str(bad)]  # fmt: skip
-    r = run("steering", "identify", str(STEERING), *extra)
+    r = cli("steering", "identify", str(STEERING), *extra)
     _one_line(r, bad.name, "goes back" if fault == "goes back" else "repeat")
 
 
@@ -135,7 +139,7 @@ def results(tmp_path_factory) -> dict[str, Path]:
     for method in ("axle-window", "brush-2"):
         log, veh = DATA / "demo" / "case021.nmea.gz", DATA / "corolla_sim.toml"
         args = ["--vehicle", str(veh), "--method", method, "-o", str(d / method)]
-        r = run("friction", str(log), *args)
+        r = cli("friction", str(log), *args)
         assert r.returncode == 0, r.stderr
         out[method] = d / method
     return out
@@ -190,6 +194,6 @@ def test_every_key_of_a_hand_edited_summary_is_checked(method, results, tmp_path
 )
 def test_report_on_a_hand_edited_summary_is_one_line(where, key, value, results, tmp_path):
     folder = _edited(results["axle-window"], tmp_path / "res", where, key, value)
-    r = run("report", str(folder), "-o", str(tmp_path / "r.html"))
+    r = cli("report", str(folder), "-o", str(tmp_path / "r.html"))
     _one_line(r, "summary.json", key)
     assert not (tmp_path / "r.html").exists()
