@@ -55,7 +55,7 @@ def test_psti_036_fields(engine):
     ]
     log = read_nmea(lines, engine=engine)
     assert log.report.parsed == {"PSTI,036": 2}
-    assert log.report.ignored == {"PSTI,030": 1}
+    assert log.report.ignored == {"PSTI,030 (proprietary, not used)": 1}
     ep = log.epochs
     assert ep["heading_deg"].iloc[0] == 191.69 and ep["heading_source"].iloc[0] == "PSTI"
     assert ep["pitch_deg"].iloc[0] == -16.35 and ep["roll_deg"].iloc[0] == 0.0
@@ -149,8 +149,8 @@ def test_vtg_kmh_fallback():
         (sentence("GPZDA,120000.00,29,02,2021,00,00"), "rejected", "malformed field"),
         (sentence("GPGGA,120000.00,3500.0,N"), "rejected", "truncated"),
         (sentence("GPGSV,1,1,00"), "ignored", "GSV"),
-        (sentence("PSTI,030,1"), "ignored", "PSTI,030"),
-        (sentence("PSAT,GBS,1"), "ignored", "PSAT,GBS"),
+        (sentence("PSTI,030,1"), "ignored", "PSTI,030 (proprietary, not used)"),
+        (sentence("PSAT,GBS,1"), "ignored", "PSAT,GBS (proprietary, not used)"),
         (sentence("AIVDM,1,1,,B,13aGhtw0R", "!"), "ignored", "VDM"),
         ("\x00\xff" + sentence("GPHDT,274.07,T"), "parsed", "HDT"),
     ],
@@ -252,7 +252,8 @@ def test_hemisphere_heading_joins_following_fix():
     gga_epoch_by_line = dict(zip(gga["line"], gga["epoch"], strict=True))
     for row in hdt.itertuples(index=False):
         nxt = row.line + 1  # the GGA line follows the HDT line in this log
-        if nxt in gga_epoch_by_line:
+        # (an empty $GPHDT,,T carries nothing and joins the epoch before it instead)
+        if nxt in gga_epoch_by_line and not math.isnan(row.heading_deg):
             assert row.epoch == gga_epoch_by_line[nxt]
 
 

@@ -152,6 +152,26 @@ def _decode_one(
         c["roll_deg"] = r["roll"]
         if key == "PSAT,HPR":
             c["type"] = _char(r["type"])
+    elif key == "PASHR,HPR":
+        # an attitude from float ambiguities (flag 1) is not used; an empty flag is read
+        invalid = r["ambiguity"] > 0
+        c["heading_deg"] = np.where(invalid, np.nan, _wrap360(r["heading"]))
+        c["pitch_deg"] = np.where(invalid, np.nan, r["pitch"])
+        c["roll_deg"] = np.where(invalid, np.nan, r["roll"])
+    elif key == "PTNL,AVR":
+        # the baseline's yaw is a heading only from a fixed-RTK vector (quality 3)
+        invalid = r["quality"] != 3
+        c["heading_deg"] = np.where(invalid, np.nan, _wrap360(r["heading"]))
+        c["pitch_deg"] = np.where(invalid, np.nan, r["pitch"])
+        c["roll_deg"] = np.where(invalid, np.nan, r["roll"])
+    elif key == "PSSN,HRP":
+        # fixed ambiguities only: mode 2 (heading, pitch) or 4 (heading, pitch, roll)
+        invalid = (r["mode"] != 2) & (r["mode"] != 4)
+        c["heading_deg"] = np.where(invalid, np.nan, _wrap360(r["heading"]))
+        c["pitch_deg"] = np.where(invalid, np.nan, r["pitch"])
+        c["roll_deg"] = np.where(invalid, np.nan, r["roll"])
+        c["day"], b = _ddmmyy(r["date"])
+        flag(b, "date")
     elif key == "PSTI,036":
         # attitude valid only with a fixed-RTK baseline (mode R), as GPSD reads it
         invalid = r["mode"] != ord("R")

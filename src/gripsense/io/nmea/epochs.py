@@ -3,7 +3,7 @@
 The grouping rule
 -----------------
 A receiver sends a burst of sentences per measurement epoch. Sentences with a UTC time (GGA,
-RMC, ZDA, ``$PSAT,HPR``, ``$PASHR``, ``$PSTI,036``) say which epoch they belong to; HDT, THS, ROT
+RMC, ZDA and the proprietary attitude sentences) say which epoch they belong to; HDT, THS, ROT
 and VTG (and a timed sentence whose time field is empty) do not. Receivers order their bursts
 differently: Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the position), Saab and
 SkyTraq send the heading *after* RMC. gripsense therefore reads the log in order and starts a new
@@ -14,11 +14,13 @@ epoch when
 (b) a sentence of a type that the current epoch already holds arrives (a burst holds each type
     once).
 
-Rule (b) puts Hemisphere's HDT into the epoch of the GGA that follows it, and rule (a) keeps
-Saab's HDT with the RMC before it. Sentences between bursts that carry no time at all (no fix:
-empty GGA time) form epochs without time (``time_utc`` NaT, ``t_s`` NaN); nothing is dropped.
-A low-rate untimed sentence among high-rate timed ones (1 Hz HDT among 25 Hz PASHR) joins the
-epoch it follows.
+A sentence without any value (every field empty, or invalidated by its own flag: the
+``$IIHDT,,T`` an instrument sends twice per cycle without a heading) takes part in the rule like
+any other — it may lead the next burst, as Hemisphere's empty HDT before each GGA does — but a
+split it made is undone when nothing conflicts: an epoch whose first sentence is empty joins
+the epoch before it when no type has a non-empty sentence in both and their times do not differ
+(an instrument's ``HDT, VTG, HDT, ZDA`` stays one epoch). A line repeated verbatim joins its
+original's epoch.
 
 The rule is sequential: :func:`epoch_boundaries` runs it as a compiled loop, and the plain Python
 loop :func:`epoch_boundaries_loop` is its reference in the tests.
@@ -28,9 +30,11 @@ Merging an epoch's sentences
 * position, altitude, fix quality, satellites, HDOP: GGA (if its fix quality is not 0), else RMC
   (if its status is ``A``);
 * speed and course over ground: RMC (status ``A``), else VTG (mode not ``N``);
-* heading: ``$PSAT,HPR`` > ``$PASHR`` > ``$PSTI,036`` (mode ``R``) > THS (mode not ``V``) > HDT —
-  ``heading_source`` says which;
-* pitch and roll: ``$PSAT,HPR`` > ``$PASHR`` > ``$PSTI,036`` (degrees, as the receiver sends them);
+* heading: ``$PSAT,HPR`` > ``$PASHR`` > ``$PASHR,HPR`` (fixed ambiguities) > ``$PTNL,AVR``
+  (fixed RTK) > ``$PSSN,HRP`` (mode 2, 4) > ``$PSTI,036`` (mode ``R``) > THS (mode not ``V``) >
+  HDT — ``heading_source`` says which;
+* pitch and roll: the same proprietary sentences in the same order (degrees, as the receiver
+  sends them);
 * date: RMC or ZDA in the epoch, else carried from the nearest dated epoch, counting midnight
   roll-overs of the time of day.
 """
@@ -78,15 +82,41 @@ EPOCH_COLUMNS = [
 
 _MIN_PARALLEL_EPOCHS = 100_000  # shorter logs fill their columns on the calling thread
 ROT_TO_RPS = np.pi / (180.0 * 60.0)  # (deg/min) -> (rad/s)
-HEADING_PRIORITY = ("PSAT,HPR", "PASHR", "PSTI,036", "THS", "HDT")
-# categories of ``heading_source``: the NMEA sentences by priority, then the other formats
-# (VBOX True_Head, UBX NAV-RELPOSNED / NAV-ATT, a mapped MDF4 or CAN channel)
-HEADING_SOURCES = ["HPR", "PASHR", "PSTI", "THS", "HDT", "VBOX", "RELPOSNED", "NAV-ATT", "channel"]
+# the NMEA sentences that give a heading, by priority, and the ``heading_source`` they set
+HEADING_PRIORITY = (
+    "PSAT,HPR",
+    "PASHR",
+    "PASHR,HPR",
+    "PTNL,AVR",
+    "PSSN,HRP",
+    "PSTI,036",
+    "THS",
+    "HDT",
+)
+_HEADING_LABEL = {"PSAT,HPR": "HPR", "PASHR,HPR": "PASHR", "PTNL,AVR": "AVR", "PSSN,HRP": "PSSN"}
+# categories of ``heading_source``: the NMEA sentences, then the other formats (VBOX True_Head,
+# UBX NAV-RELPOSNED / NAV-ATT, a mapped MDF4 or CAN channel); new ones are appended
+HEADING_SOURCES = [
+    "HPR",
+    "PASHR",
+    "PSTI",
+    "THS",
+    "HDT",
+    "VBOX",
+    "RELPOSNED",
+    "NAV-ATT",
+    "channel",
+    "AVR",
+    "PSSN",
+]
+ATTITUDE_PRIORITY = ("PSAT,HPR", "PASHR", "PASHR,HPR", "PTNL,AVR", "PSSN,HRP", "PSTI,036")
 # categories of ``yaw_rate_source``: NMEA ROT, the heading's rate, VBOX Yaw_Rate, a mapped channel
 YAW_RATE_SOURCES = ["ROT", "heading", "VBOX", "channel"]
 
 
-def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
+def epoch_boundaries_loop(
+    kind: np.ndarray, tod: np.ndarray, empty: np.ndarray | None = None
+) -> np.ndarray:
     """Reference: the grouping rule as a plain loop.
 
     Parameters
@@ -95,6 +125,8 @@ def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
         Sentence type code per sentence, in line order.
     tod : array of float
         Time of day [s], NaN for sentences without a time.
+    empty : array of bool, optional
+        Sentences without any value (see the module documentation).
 
     Returns
     -------
@@ -115,6 +147,26 @@ def epoch_boundaries_loop(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
         seen.add(k)
         if not np.isnan(t):
             cur_t = t
+    if empty is None:
+        return out
+    # undo the splits made by an empty sentence where nothing conflicts
+    g_types: set[int] = set()
+    g_t = np.nan
+    starts = [*np.flatnonzero(out).tolist(), n]
+    for j in range(len(starts) - 1):
+        a, b = starts[j], starts[j + 1]
+        types = {int(kind[i]) for i in range(a, b) if not empty[i]}
+        times = [tod[i] for i in range(a, b) if not np.isnan(tod[i])]
+        t = times[0] if times else np.nan
+        clash = not np.isnan(t) and not np.isnan(g_t) and t != g_t
+        if j > 0 and empty[a] and not (types & g_types) and not clash:
+            out[a] = False
+            g_types |= types
+        else:
+            g_types = types
+            g_t = np.nan
+        if not np.isnan(t):
+            g_t = t
     return out
 
 
@@ -146,7 +198,51 @@ def _group_kernel(kind_at, tod_at, tod_e):
     return e + 1
 
 
-def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
+@njit(cache=True, nogil=True)
+def _merge_kernel(eid_at, kind_at, empty_at, tod_e, n_ep):
+    """Undo the splits made by an empty sentence where nothing conflicts: an epoch whose first
+    sentence is empty joins the (merged) epoch before it when no type has a non-empty sentence
+    in both and their times do not differ. ``eid_at`` (epoch per line, −1 without a sentence)
+    and ``tod_e`` are rewritten; returns the new epoch count.
+    """
+    mask = np.zeros(n_ep, dtype=np.uint64)
+    first_empty = np.zeros(n_ep, dtype=np.bool_)
+    has_first = np.zeros(n_ep, dtype=np.bool_)
+    for i in range(eid_at.size):
+        e = eid_at[i]
+        if e < 0:
+            continue
+        if not has_first[e]:
+            has_first[e] = True
+            first_empty[e] = empty_at[i]
+        if not empty_at[i]:
+            mask[e] |= np.uint64(1) << np.uint64(kind_at[i])
+    new = np.empty(n_ep, dtype=np.int64)
+    g = -1
+    g_mask = np.uint64(0)
+    g_t = np.nan
+    for e in range(n_ep):
+        t = tod_e[e]
+        clash = t == t and g_t == g_t and t != g_t
+        if g >= 0 and first_empty[e] and (mask[e] & g_mask) == 0 and not clash:
+            g_mask |= mask[e]
+        else:
+            g += 1
+            g_mask = mask[e]
+            g_t = np.nan
+        if t == t:
+            g_t = t
+        new[e] = g
+        tod_e[g] = g_t
+    for i in range(eid_at.size):
+        if eid_at[i] >= 0:
+            eid_at[i] = new[eid_at[i]]
+    return g + 1
+
+
+def epoch_boundaries(
+    kind: np.ndarray, tod: np.ndarray, empty: np.ndarray | None = None
+) -> np.ndarray:
     """The grouping rule, compiled (same result as :func:`epoch_boundaries_loop`).
 
     Parameters
@@ -155,6 +251,8 @@ def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
         Sentence type code per sentence (0..63), in line order.
     tod : array of float
         Time of day [s], NaN for sentences without a time.
+    empty : array of bool, optional
+        Sentences without any value (see the module documentation).
 
     Returns
     -------
@@ -165,7 +263,10 @@ def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
     if kind.size and (kind.min() < 0 or kind.max() > 63):
         raise ValueError("epoch_boundaries: type codes must be in 0..63")
     eid = kind.copy()
-    _group_kernel(eid, np.asarray(tod, dtype=np.float64), np.empty(kind.size))
+    tod_e = np.empty(kind.size)
+    n_ep = _group_kernel(eid, np.asarray(tod, dtype=np.float64), tod_e)
+    if empty is not None:
+        _merge_kernel(eid, kind, np.asarray(empty, dtype=np.bool_), tod_e, n_ep)
     out = np.ones(kind.size, dtype=np.bool_)
     out[1:] = eid[1:] != eid[:-1]
     return out
@@ -174,7 +275,9 @@ def epoch_boundaries(kind: np.ndarray, tod: np.ndarray) -> np.ndarray:
 @njit(cache=True, nogil=True)
 def _scatter_kernel(out, ep, v, use, has_use):
     for r in range(ep.size):
-        out[ep[r]] = v[r] if (not has_use or use[r]) else np.nan
+        x = v[r]
+        if x == x and (not has_use or use[r]):
+            out[ep[r]] = x
 
 
 @njit(cache=True, nogil=True)
@@ -193,7 +296,9 @@ _NONE_I8 = np.zeros(0, dtype=np.int8)
 
 
 def _scatter(out: np.ndarray, ep: np.ndarray, v: np.ndarray, use: np.ndarray | None) -> None:
-    """out[ep] = v, NaN where *use* is False (one sentence of a type per epoch)."""
+    """out[ep] = v where v is a number and *use* is True (*out* starts NaN; one sentence of a
+    type per epoch, apart from empty ones, whose NaN leaves the value alone).
+    """
     _scatter_kernel(out, ep, v, _NONE_B if use is None else use, use is not None)
 
 
@@ -377,6 +482,23 @@ def _repeats(cols: dict[str, np.ndarray]) -> np.ndarray:
     return out
 
 
+def _empty(cols: dict[str, np.ndarray]) -> np.ndarray:
+    """Which sentences of one type carry no value: every decoded number NaN (an empty field,
+    or a value the sentence's own flag invalidates), GGA's fix quality 0 (no fix) included;
+    status and mode letters are not values.
+    """
+    out = np.ones(np.asarray(cols["line"]).size, dtype=bool)
+    for name, a in cols.items():
+        if name == "line" or not out.any():
+            continue
+        a = np.asarray(a)
+        if name == "fix_quality":  # GGA's "no fix" (0) says nothing either
+            out &= np.isnan(a) | (a == 0)
+        elif a.dtype.kind == "f":
+            out &= np.isnan(a)
+    return out
+
+
 def assemble_epochs(
     tables: dict[str, dict[str, np.ndarray]],
 ) -> tuple[pd.DataFrame, dict[str, np.ndarray], dict]:
@@ -406,16 +528,22 @@ def assemble_epochs(
     tod_at = np.full(n_lines, np.nan)
     lines_of = {k: tables[k]["line"] for k in keys}
     repeated = np.zeros(n_lines, dtype=bool)
+    empty_at = np.zeros(n_lines, dtype=bool)
     for code, k in enumerate(keys):
         kind_at[lines_of[k]] = code
         if "tod_s" in tables[k]:
             tod_at[lines_of[k]] = tables[k]["tod_s"]
         repeated[lines_of[k][_repeats(tables[k])]] = True
+        empty_at[lines_of[k][_empty(tables[k])]] = True
     # a sentence that repeats the line before it verbatim (a logger writing each sentence
     # twice) is the same measurement: it joins its original's epoch instead of starting one
     kind_at[repeated] = -1
+    # a sentence without any value (``$IIHDT,,T`` sent twice per cycle) must not split a cycle
     tod_e = np.empty(sum(size.values()))
+    kind0 = kind_at.copy() if empty_at.any() else kind_at
     n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
+    if kind0 is not kind_at:
+        n_ep = int(_merge_kernel(kind_at, kind0, empty_at, tod_e, n_ep))
     tod_e = tod_e[:n_ep]
     eid_at = np.maximum.accumulate(kind_at) if n_lines else kind_at  # line -> epoch
 
@@ -458,13 +586,14 @@ def assemble_epochs(
     def headings() -> tuple[np.ndarray, np.ndarray]:
         heading = np.full(n_ep, np.nan)
         source = np.full(n_ep, -1, dtype=np.int8)
-        for code, k in enumerate(HEADING_PRIORITY):
+        for k in HEADING_PRIORITY:
             if size[k]:
                 v = np.asarray(tables[k]["heading_deg"], dtype=float)
+                code = HEADING_SOURCES.index(_HEADING_LABEL.get(k, k.split(",")[0]))
                 _fill(heading, epoch_of[k], v, None, source, code)
         return heading, source
 
-    attitude = ("PSAT,HPR", "PASHR", "PSTI,036")
+    attitude = ATTITUDE_PRIORITY
     jobs = {
         "position": position,
         "alt_m": lambda: first_of(("GGA", "alt_m", gga_ok)),
@@ -477,7 +606,9 @@ def assemble_epochs(
         "pitch_deg": lambda: first_of(*((k, "pitch_deg") for k in attitude)),
         "roll_deg": lambda: first_of(*((k, "roll_deg") for k in attitude)),
         "rot_deg_per_min": lambda: first_of(("ROT", "rot_deg_per_min")),
-        "day": lambda: first_of(("RMC", "day"), ("ZDA", "day"), ("PSTI,036", "day")),
+        "day": lambda: first_of(
+            ("RMC", "day"), ("ZDA", "day"), ("PSTI,036", "day"), ("PSSN,HRP", "day")
+        ),
     }
     # the columns are independent: on a long log they are filled on the tokenizer's threads
     # (the compiled fills release the GIL)

@@ -31,6 +31,7 @@ float64 (also ``fix_quality`` and ``n_sats``, so that missing stays NaN).
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -46,6 +47,7 @@ from gripsense.io.nmea.epochs import assemble_epochs
 from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
+from gripsense.io.nmea.rtcm import RtcmFrames, split_rtcm
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
@@ -150,6 +152,44 @@ def _cap_lines(inp: ReadInput, max_lines: int) -> None:
     inp.notes = [*(inp.notes or []), f"more than {max_lines} lines: the rest counted, not read"]
 
 
+_CR_SENTENCE = re.compile(rb"[$!][A-Z0-9]{3,8},[^\r]{0,100}\*[0-9A-Fa-f]{2}\r")
+
+
+def _cr_lines(data: bytes) -> bool:
+    """Whether a buffer without any LF ends its lines with CR alone: at least two sentences
+    with a checksum end with CR.
+    """
+    if b"\r" not in data:
+        return False
+    it = _CR_SENTENCE.finditer(data)
+    return next(it, None) is not None and next(it, None) is not None
+
+
+def _input_line(original: bytes, pos: np.ndarray) -> np.ndarray:
+    """0-based line of the input holding each byte offset *pos*."""
+    nl = np.flatnonzero(np.frombuffer(original, dtype=np.uint8) == 10)
+    return np.searchsorted(nl, pos, side="left")
+
+
+def _line_numbers(text: bytes, original: bytes, rtcm: RtcmFrames) -> np.ndarray:
+    """0-based line of the input of each line of *text* (the input without its RTCM
+    frames, whose bytes may hold line ends).
+    """
+    tb = np.frombuffer(text, dtype=np.uint8)
+    starts = np.concatenate([[0], np.flatnonzero(tb == 10) + 1])
+    if starts[-1] >= tb.size:  # a final line end starts no line
+        starts = starts[:-1]
+    return _input_line(original, rtcm.text_to_input(starts))
+
+
+def _frame_detail(rtcm: RtcmFrames, k: int) -> str:
+    """Words of a damaged RTCM3 frame."""
+    m = int(rtcm.message[k])
+    what = f"message {m}, " if m >= 0 else ""
+    n = int(rtcm.end[k] - rtcm.start[k] - 6)
+    return f"RTCM3 frame ({what}{n}-byte payload): its CRC-24Q does not match"
+
+
 def read_nmea(
     source: NmeaSource,
     *,
@@ -198,6 +238,13 @@ def read_nmea(
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
     inp = _read_source(source, max_bytes, max_lines, decompress)
+    # RTCM 3 corrections interleaved by the receiver: cut out and counted as frames
+    original = inp.data
+    inp.data, rtcm = split_rtcm(original)
+    if b"\n" not in inp.data and _cr_lines(inp.data):
+        # a logger that ends its lines with CR alone (classic Mac, some instruments)
+        inp.data = inp.data.replace(b"\r", b"\n")
+        original = original.replace(b"\r", b"\n")  # (the line numbers of the frames)
     # the fast tokenizer counts its chunks' lines before anything else and stops over the
     # limit; then (rare) the size guard counts, cuts and the kept lines are read
     tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
@@ -205,23 +252,35 @@ def read_nmea(
         _cap_lines(inp, max_lines)
         tok = _ENGINES[engine](inp.data)
     data, name = inp.data, inp.name
+    line_no = _line_numbers(data, original, rtcm) if rtcm is not None else None
+
+    def no(i):  # 1-based line number in the input of 0-based line(s) i of the text
+        return i + 1 if line_no is None else line_no[i] + 1
+
     tables, malformed = decode_all(tok.raw)
     if malformed:
         lines = np.array([i for i, _ in malformed], dtype=np.int64)
         tok.reject(lines, S.MALFORMED, [d for _, d in malformed])
     rej = np.flatnonzero(tok.outcome == REJECTED)
+    bad_frames = np.flatnonzero(~rtcm.good) if rtcm is not None else np.zeros(0, dtype=np.int64)
+    if strict and rtcm is not None and bad_frames.size:
+        k = int(bad_frames[0])
+        raise InputError(
+            f"{name}: byte {rtcm.start[k]}: {_frame_detail(rtcm, k)} (strict mode; drop "
+            "--strict to count such frames instead)"
+        )
     if strict and rej.size:
         i = int(rej[0])
         detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i])[2]
         raise InputError(
-            f"{name}:{i + 1}: {tok.names[tok.code[i]]}: {detail} "
+            f"{name}:{no(i)}: {tok.names[tok.code[i]]}: {detail} "
             "(strict mode; drop --strict to count such lines instead)"
         )
     epochs, epoch_of, notes = assemble_epochs(tables)
 
     sentences = {}
     for k, cols in tables.items():
-        cols["line"] = cols["line"] + 1
+        cols["line"] = no(cols["line"])
         cols["epoch"] = epoch_of[k]
         sentences[k] = pd.DataFrame(cols, copy=False)
 
@@ -239,12 +298,30 @@ def read_nmea(
         detail = tok.details.get(i)
         if detail is None:
             detail = classify_line(unworded[i])[2]
-        first.append(RejectedLine(i + 1, tok.names[tok.code[i]], detail))
+        first.append(RejectedLine(int(no(i)), tok.names[tok.code[i]], detail))
+    if rtcm is not None:
+        good = rtcm.good & (rtcm.message >= 0)
+        for m, c in zip(*np.unique(rtcm.message[good], return_counts=True), strict=True):
+            ignored[f"RTCM3 {m}"] = ignored.get(f"RTCM3 {m}", 0) + int(c)
+        empty = int((rtcm.good & (rtcm.message < 0)).sum())
+        if empty:
+            ignored["RTCM3 (empty)"] = empty
+        ignored = dict(sorted(ignored.items()))
+        if bad_frames.size:
+            rejected_c[S.BAD_CHECKSUM] = rejected_c.get(S.BAD_CHECKSUM, 0) + int(bad_frames.size)
+            at = _input_line(original, rtcm.start[bad_frames[:N_FIRST_REJECTS]])
+            first += [
+                RejectedLine(int(ln) + 1, S.BAD_CHECKSUM, f"byte {rtcm.start[k]}: "
+                             + _frame_detail(rtcm, int(k)))
+                for ln, k in zip(at.tolist(), bad_frames[:N_FIRST_REJECTS].tolist(), strict=True)
+            ]  # fmt: skip
+            first = sorted(first, key=lambda r: r.line)[:N_FIRST_REJECTS]
     if inp.extra_lines and len(first) < N_FIRST_REJECTS:
         first.append(RejectedLine(tok.n_lines + 1, S.OVER_LIMIT, inp.notes[-1]))
+    n_frames = rtcm.size if rtcm is not None else 0
     report = IngestReport(
         source=name,
-        total_lines=tok.n_lines + inp.extra_lines,
+        total_lines=tok.n_lines + inp.extra_lines + n_frames,
         parsed=dict(sorted(parsed.items())),
         ignored=dict(sorted(ignored.items())),
         rejected={r: int(rejected_c.get(r, 0)) for r in S.REASONS},
@@ -261,6 +338,15 @@ def read_nmea(
             ]
             if notes.get("repeated_sentences")
             else []
+        )
+        + (
+            [
+                f"{n_frames} RTCM3 frames between the sentences (the receiver's corrections), "
+                "each counted as one unit"
+            ]
+            if n_frames
+            else []
         ),
+        unit="lines and frames" if n_frames else "lines",
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)

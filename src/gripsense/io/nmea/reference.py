@@ -11,13 +11,16 @@ Classification of one line (after stripping spaces, tabs and CR at both ends):
    there is no ``*``); bytes before it are junk (counted in ``junk_prefix``). None -> *not NMEA*.
 3. The address (up to the first comma) must be 5 characters ``[A-Z0-9]`` not starting with ``P``
    (standard: talker + formatter) or ``P`` plus 2 to 7 such characters (proprietary);
-   otherwise *not NMEA*.
+   otherwise *not NMEA*. The type of a standard sentence is its formatter (``GGA`` whatever the
+   talker); of a proprietary one its address, plus field 1 for the makers that put a sub-type
+   there (``PSAT,HPR``, ``PASHR,POS``, ``PTNL,AVR``; :data:`SUBTYPED`).
 4. Checksum: no ``*`` -> *truncated* if the known sentence has fewer fields than it needs, else
    *missing checksum*; fewer than two characters after ``*`` -> *truncated*; anything but
    exactly two hex digits, or a mismatch of the XOR of the bytes between start and ``*`` ->
    *bad checksum*.
 5. Bytes outside printable ASCII -> *malformed field*.
-6. Unknown type -> ignored (by type); known type with too few fields -> *truncated*; a field
+6. Unknown type -> ignored (by type; a proprietary one as ``KEY (proprietary, not used)``);
+   known type with too few fields -> *truncated*; a field
    that does not match its kind, or is longer than 64 characters -> *malformed field*.
 """
 
@@ -48,13 +51,23 @@ _PATTERNS = {
     S.DATE: re.compile(rb"[0-9]{6}"),
 }
 _ADDR = re.compile(rb"[A-Z0-9]+")
-MAX_ADDRESS = 8  # longest address (and $PSAT/$PSTI sub-type) accepted [characters]
-SUBTYPED = ("PSAT", "PSTI")  # proprietary addresses whose type includes field 1 (HPR, 036)
+_SUB = re.compile(rb"[A-Za-z0-9]+")  # a sub-type may be mixed case (Furuno $PFEC,GPatt)
+MAX_ADDRESS = 8  # longest address (and proprietary sub-type) accepted [characters]
+# proprietary addresses whose type includes field 1 (HPR, 036, POS …): Hemisphere, SkyTraq,
+# Ashtech/Spectra, Trimble, u-blox, Septentrio, Furuno
+SUBTYPED = ("PSAT", "PSTI", "PASHR", "PTNL", "PUBX", "PSSN", "PFEC")
+# ... except where field 1 holds a time: $PASHR,hhmmss.ss,… (OxTS/Ashtech attitude) is PASHR
+TIME_FIRST = ("PASHR",)
+UNUSED = " (proprietary, not used)"  # label of a well-formed proprietary sentence not read
 _HEX = re.compile(rb"[0-9A-Fa-f]{2}")
 
 
 def type_key(addr: bytes, rest: bytes) -> str | None:
-    """Type key of a valid address, or None when the address is not NMEA."""
+    """Type key of a valid address, or None when the address is not NMEA.
+
+    A proprietary sentence gripsense does not read is labelled ``KEY (proprietary, not
+    used)`` (it is counted as ignored, never as malformed).
+    """
     if len(addr) > MAX_ADDRESS or not _ADDR.fullmatch(addr):
         return None
     if addr[:1] == b"P":
@@ -63,9 +76,14 @@ def type_key(addr: bytes, rest: bytes) -> str | None:
         key = addr.decode()
         if key in SUBTYPED:
             sub = rest.split(b",", 1)[0]
-            if sub and len(sub) <= MAX_ADDRESS and _ADDR.fullmatch(sub):
-                return key + "," + sub.decode()
-        return key
+            if (
+                sub
+                and len(sub) <= MAX_ADDRESS
+                and _SUB.fullmatch(sub)
+                and not (key in TIME_FIRST and sub[:1].isdigit())
+            ):
+                key = key + "," + sub.decode()
+        return key if key in S.SENTENCES else key + UNUSED
     if len(addr) != 5:
         return None
     return addr[2:].decode()

@@ -5,7 +5,8 @@ production path in :mod:`gripsense.io.nmea.fast`) read this one table, so they c
 which field holds what.
 
 Field numbers count the comma-separated fields after the address field (``$GPGGA`` is field 0,
-the UTC time is field 1). For ``$PSAT,HPR`` and ``$PSTI,036`` the sub-type is field 1.
+the UTC time is field 1). For sub-typed proprietary sentences (``$PSAT,HPR``, ``$PSTI,036``,
+``$PASHR,HPR``, ``$PTNL,AVR``, ``$PSSN,HRP``) the sub-type is field 1.
 """
 
 from __future__ import annotations
@@ -186,6 +187,46 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(4, "roll", NUM),
             F(5, "pitch", NUM),
             min_fields=5,
+        ),
+        # Ashtech / Spectra $PASHR,HPR (dual-antenna attitude): time, heading, pitch, roll,
+        # carrier-phase RMS, baseline RMS, ambiguity (0 = fixed, 1 = float), attitude status
+        # (the sub-type HPR is field 1; an attitude counts only with fixed ambiguities)
+        _spec(
+            "PASHR,HPR",
+            True,
+            F(2, "time", TIME),
+            F(3, "heading", NUM),
+            F(4, "pitch", NUM),
+            F(5, "roll", NUM),
+            F(8, "ambiguity", INT),
+            min_fields=5,
+        ),
+        # Trimble $PTNL,AVR (moving-baseline vector): time, yaw, "Yaw", tilt, "Tilt", roll,
+        # "Roll", range, GPS quality (3 = fixed RTK), PDOP, satellites; the yaw is the true
+        # heading of the antenna baseline, used only with a fixed-RTK vector (quality 3)
+        _spec(
+            "PTNL,AVR",
+            True,
+            F(2, "time", TIME),
+            F(3, "heading", NUM),
+            F(5, "pitch", NUM),
+            F(7, "roll", NUM),
+            F(10, "quality", INT),
+            min_fields=10,
+        ),
+        # Septentrio $PSSN,HRP: time, date ddmmyy, heading, roll, pitch, their standard
+        # deviations, satellites, mode (0 none, 1/3 float, 2/4 fixed ambiguities), ...; used
+        # only with fixed ambiguities (mode 2 or 4)
+        _spec(
+            "PSSN,HRP",
+            True,
+            F(2, "time", TIME),
+            F(3, "date", DATE),
+            F(4, "heading", NUM),
+            F(5, "roll", NUM),
+            F(6, "pitch", NUM),
+            F(11, "mode", INT),
+            min_fields=11,
         ),
     )
 }

@@ -1,0 +1,199 @@
+"""RTCM 3 frames between NMEA sentences (receivers that interleave their corrections).
+
+An RTCM 3 frame (RTCM 10403.3, §4) is the preamble ``0xD3``, 6 reserved zero bits, a 10-bit
+payload length *L* (at most 1023), *L* payload bytes (the first 12 bits: the message number)
+and a 24-bit CRC (CRC-24Q, polynomial ``0x1864CFB``, over preamble, length and payload). The
+bytes of such a frame are binary — they hold line ends and ``$`` by chance — so they are cut
+out of the stream before its lines are read:
+
+* a frame whose CRC checks is counted as one unit, ignored under ``RTCM3 <message number>``;
+* a frame whose structure fits (reserved bits zero, the stream resumes right after it with a
+  sentence start or a good frame, and no line inside it starts a sentence) but whose CRC does
+  not is counted as rejected (*bad checksum*);
+* any other byte stays in the text and is read as NMEA (where it is *not NMEA*, as before).
+
+Pure NMEA holds no ``0xD3`` byte, so the scan costs one ``bytes.find`` there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+__all__ = ["RtcmFrames", "crc24q", "split_rtcm"]
+
+PREAMBLE = 0xD3
+_POLY = 0x1864CFB
+
+
+def _table() -> np.ndarray:
+    t = np.zeros(256, dtype=np.uint32)
+    for i in range(256):
+        c = i << 16
+        for _ in range(8):
+            c <<= 1
+            if c & 0x1000000:
+                c ^= _POLY
+        t[i] = c & 0xFFFFFF
+    return t
+
+
+_CRC_TABLE = _table()
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _crc(buf, a, b, table):
+    c = np.uint32(0)
+    for i in range(a, b):
+        c = ((c << np.uint32(8)) & np.uint32(0xFFFFFF)) ^ table[
+            ((c >> np.uint32(16)) ^ buf[i]) & 0xFF
+        ]
+    return c
+
+
+def crc24q(data: bytes) -> int:
+    """CRC-24Q of *data* (RTCM 10403.3 §4.2) [-]."""
+    return int(_crc(np.frombuffer(data, dtype=np.uint8), 0, len(data), _CRC_TABLE))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _sentence_at(buf, i):
+    """Whether an NMEA sentence seems to start at byte *i*: ``$`` or ``!`` and three upper-case
+    letters or digits.
+    """
+    if i + 4 > buf.size or not (buf[i] == 36 or buf[i] == 33):
+        return False
+    for j in range(i + 1, i + 4):
+        b = buf[j]
+        if not ((48 <= b <= 57) or (65 <= b <= 90)):
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def _good_at(buf, i, table):
+    """Whether a frame with a good CRC starts at byte *i*."""
+    n = buf.size
+    if i + 6 > n or buf[i] != 0xD3 or (buf[i + 1] & 0xFC) != 0:
+        return False
+    e = i + 6 + (((buf[i + 1] & 3) << 8) | buf[i + 2])
+    if e > n:
+        return False
+    want = (np.uint32(buf[e - 3]) << 16) | (np.uint32(buf[e - 2]) << 8) | np.uint32(buf[e - 1])
+    return _crc(buf, i, e - 3, table) == want
+
+
+@njit(cache=True, nogil=True)
+def _scan(buf, table, start, end, good):
+    """Frames from the first preamble on: writes ``start``/``end`` (byte offsets) and ``good``
+    (CRC checks) and returns their number.
+    """
+    n = buf.size
+    k = 0
+    i = 0
+    while i + 6 <= n:
+        if buf[i] != 0xD3 or (buf[i + 1] & 0xFC) != 0:
+            i += 1
+            continue
+        ln = ((buf[i + 1] & 3) << 8) | buf[i + 2]
+        e = i + 6 + ln
+        if e > n:
+            i += 1
+            continue
+        want = (np.uint32(buf[e - 3]) << 16) | (np.uint32(buf[e - 2]) << 8) | np.uint32(buf[e - 1])
+        if _crc(buf, i, e - 3, table) == want:
+            ok = True
+        else:
+            # a damaged frame only where the stream resumes right after it with a sentence or
+            # a frame and no line inside it starts a sentence (else these are other bytes)
+            ok = False
+            if e >= n or not (_sentence_at(buf, e) or _good_at(buf, e, table)):
+                i += 1
+                continue
+            inner = False
+            for j in range(i + 3, e - 4):
+                if buf[j] == 10 and (buf[j + 1] == 36 or buf[j + 1] == 33):
+                    inner = True
+                    break
+            if inner:
+                i += 1
+                continue
+        start[k] = i
+        end[k] = e
+        good[k] = ok
+        k += 1
+        i = e
+    return k
+
+
+@dataclass
+class RtcmFrames:
+    """RTCM 3 frames found in a byte stream.
+
+    Attributes
+    ----------
+    start, end : numpy.ndarray of int64
+        Byte offsets of each frame (end exclusive).
+    good : numpy.ndarray of bool
+        Whether its CRC-24Q checks.
+    message : numpy.ndarray of int64
+        Message number (first 12 payload bits; -1 for an empty payload).
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    good: np.ndarray
+    message: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of frames."""
+        return int(self.start.size)
+
+    def text_to_input(self, pos: np.ndarray) -> np.ndarray:
+        """Byte offsets in the text without the frames -> offsets in the input."""
+        removed = np.concatenate([[0], np.cumsum(self.end - self.start)])
+        text_at = self.start - removed[:-1]  # where each frame was cut, in text offsets
+        return pos + removed[np.searchsorted(text_at, pos, side="right")]
+
+
+def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
+    """Cut the RTCM 3 frames out of a byte stream.
+
+    Parameters
+    ----------
+    data : bytes
+        The stream.
+
+    Returns
+    -------
+    text : bytes
+        The stream without the frames (*data* itself when it holds none).
+    frames : RtcmFrames or None
+        The frames cut out (None: none).
+    """
+    first = data.find(b"\xd3")
+    if first < 0:
+        return data, None
+    buf = np.frombuffer(data, dtype=np.uint8)
+    cap = (buf.size - first) // 6 + 1
+    start = np.empty(cap, dtype=np.int64)
+    end = np.empty(cap, dtype=np.int64)
+    good = np.empty(cap, dtype=np.bool_)
+    k = int(_scan(buf[first:], _CRC_TABLE, start, end, good))
+    if k == 0:
+        return data, None
+    start, end, good = start[:k] + first, end[:k] + first, good[:k]
+    msg = np.where(
+        end - start > 7,
+        (buf[np.minimum(start + 3, buf.size - 1)].astype(np.int64) << 4)
+        | (buf[np.minimum(start + 4, buf.size - 1)].astype(np.int64) >> 4),
+        -1,
+    )
+    d = np.zeros(buf.size + 1, dtype=np.int64)
+    np.add.at(d, start, 1)
+    np.add.at(d, end, -1)
+    keep = np.cumsum(d[:-1]) == 0
+    return buf[keep].tobytes(), RtcmFrames(start, end, good, msg)

@@ -1,0 +1,320 @@
+"""NMEA streams as receivers and instruments really send them (issue 43).
+
+Real files (tests/data/formats/nmea, origins and licences in tests/data/formats/README.md):
+an Ashtech AC12 capture from GPSD's regression suite, the proprietary-sentence samples of
+pynmeagps' test data, and a u-blox stream with RTCM3 corrections from pyubx2's test data. The
+references are independent decoders: pynmeagps for the sentences, pyubx2 for the RTCM3 frames,
+the makers' published example sentences for the proprietary attitude fields.
+"""
+
+from __future__ import annotations
+
+import math
+from io import BytesIO
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pynmeagps import NMEAReader
+from pyubx2 import NMEA_PROTOCOL, RTCM3_PROTOCOL, UBX_PROTOCOL, UBXReader
+
+from gripsense import InputError, read_nmea
+from gripsense.io.log import read_log
+from gripsense.io.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
+from gripsense.io.nmea.rtcm import crc24q, split_rtcm
+from tests.conftest import GPSD_LOGS
+from tests.nmea_helpers import sentence
+
+DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
+ENGINES = ["fast", "reference"]
+
+
+def _no_malformed_proprietary(rep) -> None:
+    for r in rep.first_rejects:
+        assert not (r.reason == "malformed field" and "PASHR" in r.detail), r
+
+
+# --- empty sentences do not start or split epochs -------------------------------------------
+
+
+ORDERS = ["HDT VTG HDT ZDA", "ZDA HDT VTG HDT", "VTG HDT ZDA HDT", "HDT HDT VTG ZDA"]
+
+
+def _instrument_cycle(n: int, order: str = ORDERS[0]) -> list[str]:
+    """A yacht instrument bus: per second an empty $IIHDT,,T twice (no compass), VTG, ZDA."""
+    out = []
+    for k in range(n):
+        t = f"1200{k:02d}.00"
+        s = {
+            "HDT": sentence("IIHDT,,T"),
+            "VTG": sentence(f"IIVTG,{40 + k}.0,T,,M,{5 + k}.0,N,,K,A"),
+            "ZDA": sentence(f"IIZDA,{t},27,11,2026,00,00"),
+        }
+        out += [s[w] for w in order.split()]
+    return out
+
+
+@pytest.mark.parametrize("order", ORDERS)
+@pytest.mark.parametrize("engine", ENGINES)
+def test_empty_heading_sent_twice_does_not_split_the_cycle(engine, order):
+    """Issue 43: "14500 epochs (7250 without time)" — every VTG was cut off its ZDA time."""
+    log = read_nmea(_instrument_cycle(5, order), engine=engine)
+    rep, ep = log.report, log.epochs
+    assert rep.parsed == {"HDT": 10, "VTG": 5, "ZDA": 5}  # the empty ones are still counted
+    assert rep.n_epochs == 5 and rep.epochs_without_time == 0
+    assert ep["time_utc"].dt.second.tolist() == [0, 1, 2, 3, 4]
+    np.testing.assert_allclose(ep["course_deg"], [40.0, 41.0, 42.0, 43.0, 44.0])
+    np.testing.assert_allclose(ep["speed_mps"], np.arange(5, 10) * 1852.0 / 3600.0)
+    assert ep["heading_deg"].isna().all()
+    # every sentence, the empty ones too, lies in an epoch
+    for f in log.sentences.values():
+        assert f["epoch"].between(0, len(ep) - 1).all()
+
+
+def test_hemisphere_empty_heading_still_leads_its_burst():
+    """GPSD's Hemisphere capture sends HDT, GGA, VTG[, ZDA], the HDT empty until the compass
+    has a heading: the first valid HDT (line 742) belongs to the GGA after it, not to the ZDA
+    before it — the empty HDTs before keep marking the bursts."""
+    log = read_nmea(next(p for p in GPSD_LOGS if p.stem == "hemi"))
+    hdt, gga = log.sentences["HDT"], log.sentences["GGA"]
+    row = hdt[hdt["line"] == 742].iloc[0]
+    assert row["heading_deg"] == 274.07
+    assert row["epoch"] == gga[gga["line"] == 743]["epoch"].iloc[0]
+    # every epoch of the capture has its time (97 of 215 had none before issue 43)
+    assert log.report.epochs_without_time == 0
+
+
+def test_empty_sentence_does_not_replace_a_value():
+    """An empty GGA after a good one in the same epoch leaves the position alone."""
+    lines = [
+        sentence("GPGGA,120000.00,3500.0000,N,13500.0000,E,1,08,0.9,10.0,M,30.0,M,,"),
+        sentence("GPGGA,,,,,,0,,,,M,,M,,"),
+        sentence("GPRMC,120000.00,A,3500.0000,N,13500.0000,E,10.0,90.0,271126,,,A"),
+    ]
+    ep = read_nmea(lines).epochs
+    assert len(ep) == 1
+    assert ep["lat_deg"].iloc[0] == 35.0 and ep["alt_m"].iloc[0] == 10.0
+
+
+def test_log_of_only_empty_sentences_is_one_epoch_without_values():
+    log = read_nmea([sentence("IIHDT,,T")] * 3 + [sentence("GPVTG,,T,,M,,N,,K,N")])
+    assert log.report.n_epochs == 1 and log.report.n_parsed == 4
+    assert (
+        log.epochs.drop(columns=["time_utc", "heading_source", "yaw_rate_source"])
+        .isna()
+        .all(axis=None)
+    )
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_epoch_rule_with_empty_sentences_compiled_equals_loop(seed):
+    rng = np.random.default_rng(seed)
+    n = 80
+    kind = rng.integers(0, 5, n)
+    tod = np.where(rng.random(n) < 0.4, rng.integers(0, 4, n).astype(float), np.nan)
+    empty = rng.random(n) < 0.3
+    np.testing.assert_array_equal(
+        epoch_boundaries(kind, tod, empty), epoch_boundaries_loop(kind, tod, empty)
+    )
+
+
+# --- proprietary sentences --------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_ashtech_ac12_capture_has_no_malformed_proprietary_sentence(engine):
+    """GPSD's Ashtech AC12 capture: $PASHR,POS / SAT / XMG are well-formed, counted as
+    proprietary sentences gripsense does not use; before issue 43 they were *malformed*."""
+    log = read_nmea(DATA / "ashtech-ac12.log", engine=engine)
+    rep = log.report
+    assert rep.ignored["PASHR,POS (proprietary, not used)"] == 5
+    assert rep.ignored["PASHR,SAT (proprietary, not used)"] == 4
+    assert rep.ignored["PASHR,XMG (proprietary, not used)"] == 4
+    assert rep.rejected["malformed field"] == 0
+    assert rep.balanced
+    _no_malformed_proprietary(rep)
+    # its fixes are read as GPSD reads them: the RMC at 18:35:30 is 20°37.7601' N 87°04.0737' W
+    rmc = log.sentences["RMC"]
+    row = rmc[np.isclose(rmc["tod_s"], 18 * 3600 + 35 * 60 + 30)].iloc[0]
+    assert row["lat_deg"] == pytest.approx(20 + 37.7601 / 60, abs=1e-9)
+    assert row["lon_deg"] == pytest.approx(-(87 + 4.0737 / 60), abs=1e-9)
+
+
+def _pynmeagps(path: Path) -> dict[str, list]:
+    out: dict[str, list] = {}
+    for raw in path.read_bytes().splitlines():
+        msg = NMEAReader.parse(raw)
+        out.setdefault(msg.identity, []).append(msg)
+    return out
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_trimble_sentences_read_as_pynmeagps_reads_them(engine):
+    """pynmeagps' Trimble samples: $PTNL,AVR gives the heading (yaw of a fixed-RTK vector),
+    every other well-formed proprietary sentence is counted, none is malformed."""
+    path = DATA / "pynmeagps-trimble.log"
+    log = read_nmea(path, engine=engine)
+    rep = log.report
+    assert sum(rep.rejected.values()) == 0
+    assert rep.parsed["PTNL,AVR"] == 2
+    ref = _pynmeagps(path)["PTNLAVR"]
+    avr = log.sentences["PTNL,AVR"]
+    np.testing.assert_allclose(avr["heading_deg"], [m.yaw for m in ref])
+    for got, m in zip(avr["pitch_deg"], ref, strict=True):
+        assert (math.isnan(got) and m.tilt == "") or got == pytest.approx(m.tilt)
+    for got, m in zip(avr["roll_deg"], ref, strict=True):
+        assert (math.isnan(got) and m.roll == "") or got == pytest.approx(m.roll)
+    ep = log.epochs
+    assert (ep["heading_source"].iloc[avr["epoch"]] == "AVR").all()
+    unused = {k for k in rep.ignored if k.endswith("(proprietary, not used)")}
+    assert {"PTNL,GGK (proprietary, not used)", "PASHR,ARR (proprietary, not used)"} <= unused
+
+
+def test_trimble_avr_heading_only_from_a_fixed_rtk_vector():
+    # Trimble's own example sentence (its manual prints the checksum as *00), then the same
+    # with quality 2 (float RTK)
+    lines = [
+        sentence("PTNL,AVR,181059.6,+149.4688,Yaw,+0.0134,Tilt,,,60.191,3,2.5,6"),
+        sentence("PTNL,AVR,181059.8,+149.4700,Yaw,+0.0134,Tilt,,,60.191,2,2.5,6"),
+    ]
+    ep = read_nmea(lines).epochs
+    assert ep["heading_deg"].iloc[0] == pytest.approx(149.4688)
+    assert math.isnan(ep["heading_deg"].iloc[1])
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_septentrio_hrp_and_its_mode(engine):
+    """pynmeagps' Septentrio X5 sample has mode 0 (no attitude): counted, no heading; the
+    reference guide's example (mode 2, fixed ambiguities) gives heading and pitch."""
+    path = DATA / "pynmeagps-septentriox5.log"
+    log = read_nmea(path, engine=engine)
+    assert log.report.parsed == {"PSSN,HRP": 1}
+    assert log.report.ignored == {
+        "PSSN,SNC (proprietary, not used)": 2,
+        "PSSN,TFM (proprietary, not used)": 1,
+    }
+    ref = _pynmeagps(path)["PSSNHRP"][0]
+    assert int(ref.attmode) == 0 and math.isnan(log.epochs["heading_deg"].iloc[0])
+    ok = read_nmea(
+        ["$PSSN,HRP,142657.80,061222,152.236,,-0.708,0.084,,0.181,21,2,2.400,E*23"],
+        engine=engine,
+    ).epochs
+    assert ok["heading_deg"].iloc[0] == 152.236 and ok["pitch_deg"].iloc[0] == -0.708
+    assert math.isnan(ok["roll_deg"].iloc[0]) and ok["heading_source"].iloc[0] == "PSSN"
+    assert ok["time_utc"].iloc[0].isoformat().startswith("2022-12-06T14:26:57.8")
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_ashtech_hpr(engine):
+    """$PASHR,HPR as a ProFlex/SP receiver sends it (a public ROS driver's recorded sentence):
+    heading 302.15390, pitch 1.90221, no roll, fixed ambiguities (0)."""
+    line = "$PASHR,HPR,021745.90,302.15390,1.90221,,0.0065,0.0000,0,2,0.900,1.2*11"
+    float_amb = sentence("PASHR,HPR,021746.00,302.2,1.9,,0.0065,0.0000,1,2,0.900,1.2")
+    log = read_nmea([line, float_amb], engine=engine)
+    assert log.report.parsed == {"PASHR,HPR": 2}
+    ep = log.epochs
+    assert ep["heading_deg"].iloc[0] == 302.1539 and ep["pitch_deg"].iloc[0] == 1.90221
+    assert ep["heading_source"].iloc[0] == "PASHR" and math.isnan(ep["roll_deg"].iloc[0])
+    assert math.isnan(ep["heading_deg"].iloc[1])  # float ambiguities: not a heading
+
+
+def test_furuno_and_unknown_proprietary_are_counted_not_rejected():
+    log = read_nmea(DATA / "pynmeagps-furuno.log")
+    assert log.report.ignored == {
+        "PFEC,GPatt (proprietary, not used)": 1,
+        "PFEC,GPhve (proprietary, not used)": 1,
+    }
+    assert log.report.n_rejected == 0
+
+
+def test_oxts_pashr_with_time_first_is_still_read():
+    line = sentence("PASHR,204132,010.51,T,+00.39,-00.79,-00.84,0.151,0.075,0.555,1,0")
+    ep = read_nmea([line]).epochs
+    assert ep["heading_deg"].iloc[0] == 10.51 and ep["heading_source"].iloc[0] == "PASHR"
+
+
+# --- RTCM3 between the sentences --------------------------------------------------------------
+
+
+def _pyubx2_frames(path: Path) -> list[str]:
+    r = UBXReader(
+        BytesIO(path.read_bytes()),
+        protfilter=UBX_PROTOCOL | NMEA_PROTOCOL | RTCM3_PROTOCOL,
+        quitonerror=0,
+    )
+    return [p.identity for raw, p in r if raw[:1] == b"\xd3"]
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_rtcm3_frames_between_sentences_are_counted_as_rtcm(engine):
+    """A u-blox stream with RTCM3 output (pyubx2's test data, its UBX frame cut out): the
+    frames are counted under their message numbers as pyubx2 decodes them; before issue 43
+    their bytes were 9 *not NMEA* lines."""
+    path = DATA / "pyubx2-nmea-rtcm3.log"
+    log = read_nmea(path, engine=engine)
+    rep = log.report
+    ref = _pyubx2_frames(path)
+    assert len(ref) == 7
+    got = {k[6:]: v for k, v in rep.ignored.items() if k.startswith("RTCM3 ")}
+    assert got == {m: ref.count(m) for m in ref}
+    assert rep.n_rejected == 0 and rep.balanced
+    assert rep.unit == "lines and frames"
+    assert rep.parsed == {"RMC": 1} and rep.ignored["GLL"] == 1
+    # the RMC is on line 11 of the file (the frames hold line-end bytes)
+    data = path.read_bytes()
+    line = data[: data.index(b"$GNRMC")].count(b"\n") + 1
+    assert log.sentences["RMC"]["line"].tolist() == [line]
+    assert log.epochs["time_utc"].iloc[0].isoformat().startswith("2022-02-08T08:41:59")
+
+
+def test_rtcm3_frame_with_a_bad_crc_is_one_rejected_frame(tmp_path):
+    """pyubx2's copy of the stream with one byte of the 1005 frame changed."""
+    path = DATA / "pyubx2-mixed-rtcm3-badcrc.log"
+    for log in (read_log(path), read_nmea(path)):
+        rep = log.report
+        assert rep.rejected["bad checksum"] == 1 and rep.balanced
+        assert "RTCM3 1005" not in rep.ignored and rep.ignored["RTCM3 1077"] == 1
+        bad = next(r for r in rep.first_rejects if r.reason == "bad checksum")
+        assert "RTCM3 frame (message 1005" in bad.detail and "CRC-24Q" in bad.detail
+    with pytest.raises(InputError, match=r"byte 52: RTCM3 frame .*strict"):
+        read_nmea(path, strict=True)
+
+
+def test_ubx_stream_with_rtcm3_counts_the_frames():
+    """The same stream with its UBX frame goes to the UBX reader, whose NMEA part counts the
+    RTCM3 frames instead of *not NMEA* lines."""
+    rep = read_log(DATA / "pyubx2-mixed-rtcm3.log").report
+    assert rep.parsed == {"RMC": 1, "UBX NAV-PVT": 1}
+    assert sum(v for k, v in rep.ignored.items() if k.startswith("RTCM3")) == 7
+    assert rep.n_rejected == 0 and rep.balanced
+
+
+def test_crc24q_matches_the_standards_check_value():
+    # CRC-24Q (RTCM 10403.3; the "CRC-24/LTE-A" parameters): check value of "123456789"
+    assert crc24q(b"123456789") == 0xCDE703
+
+
+def test_pure_nmea_is_not_scanned_and_binary_is_not_taken_for_rtcm():
+    data = b"".join(s.encode() + b"\r\n" for s in _instrument_cycle(3))
+    text, frames = split_rtcm(data)
+    assert frames is None and text is data
+    junk = bytes(np.random.default_rng(1).integers(0, 256, 4000, dtype=np.uint8))
+    _, frames = split_rtcm(junk.replace(b"\xd3", b"\xd2"))
+    assert frames is None
+
+
+# --- line ends, checksums ---------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("eol", [b"\r\n", b"\n", b"\r"])
+def test_line_ends(eol):
+    lines = _instrument_cycle(3)
+    log = read_nmea(eol.join(s.encode() for s in lines) + eol)
+    assert log.report.total_lines == len(lines)
+    assert log.report.n_parsed == len(lines) and log.report.n_epochs == 3
+
+
+def test_lower_case_checksum():
+    s = sentence("GPHDT,274.07,T")
+    lower = s[:-2] + s[-2:].lower()
+    assert read_nmea([lower]).epochs["heading_deg"].iloc[0] == 274.07
