@@ -145,3 +145,41 @@ def test_friction_table_with_repeated_names_on_the_command_line(tmp_path):
               "--vehicle", veh)  # fmt: skip
     assert res.returncode == 2 and "Traceback" not in res.stderr
     assert "the header names 2 columns 'x'" in res.stderr
+
+
+def test_a_two_row_header_names_each_vector_over_its_components(tmp_path):
+    """The layout of motion-capture and INS exports: the vector's name over its first column,
+    ``x,y,z`` under it (``,VelocityBody,,,AngularRate,,`` / ``Time,x,y,z,x,y,z``)."""
+    p = tmp_path / "ins2.csv"
+    lines = [",VelocityBody,,,AngularRate,,", "Time,x,y,z,x,y,z"] + [
+        ",".join(repr(float(c)) for c in row)
+        for row in zip(T, VX, VY, VZ, np.rad2deg(WX), np.rad2deg(WY), np.rad2deg(WZ), strict=True)
+    ]
+    p.write_text("\n".join(lines) + "\n")
+    m = read_motion_table(
+        p, "t=Time,vx=VelocityBody.x,vy=VelocityBody.y,yaw_rate=AngularRate.z:dps"
+    )
+    np.testing.assert_array_equal(m["t_s"], T)
+    np.testing.assert_array_equal(m["u_mps"], VX)
+    np.testing.assert_array_equal(m["v_mps"], VY)
+    np.testing.assert_allclose(m["yaw_rate_rps"], WZ, rtol=1e-12)
+    said = describe_columns(m.attrs["columns"])
+    assert "yaw_rate ← z (column 7, after 'AngularRate') [deg/s]" in said
+    with pytest.raises(InputError, match=r"vx=VelocityBody.x or vx=AngularRate.x"):
+        read_motion_table(p, "t=Time,vx=x,vy=VelocityBody.y,yaw_rate=AngularRate.z:dps")
+    # a non-number in the data is named by its line in the file (the header has two lines)
+    lines[5] = lines[5].replace(repr(float(VX[3])), "bad", 1)
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"ins2.csv: line 6, column 'x': 'bad' is not a number"):
+        read_motion_table(
+            p, "t=Time,vx=VelocityBody.x,vy=VelocityBody.y,yaw_rate=AngularRate.z:dps"
+        )
+
+
+def test_a_units_row_under_unique_names_is_not_a_header_of_vectors(tmp_path):
+    """``Time,Vx,Vy`` over ``s,m/s,m/s``: still one header line (the units row is a row that
+    is not a number, named as before)."""
+    p = tmp_path / "units.csv"
+    p.write_text("Time,Vx,Vy,Yaw\ns,m/s,m/s,rad/s\n0.0,1.0,0.1,0.01\n0.1,1.0,0.1,0.01\n")
+    with pytest.raises(InputError, match=r"line 2, column 'Time': 's' is not a number"):
+        read_motion_table(p, "t=Time,vx=Vx,vy=Vy,yaw_rate=Yaw")

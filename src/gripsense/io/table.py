@@ -219,7 +219,54 @@ def _read_csv(path: Path) -> pd.DataFrame:
         names = next(csv.reader([first]), [])
         if len(names) == df.shape[1]:
             df.attrs["header"] = names
+            df = _two_row_header(df, names)
     return df
+
+
+def _two_row_header(df: pd.DataFrame, top: list[str]) -> pd.DataFrame:
+    """A header of two rows: each vector's name over its first column (``Velocity,,,``) and
+    the components under it (``x,y,z``). Read as the components, each with its vector
+    (``attrs["groups"]``), when the second row is text that repeats names and the first has
+    blank or repeated cells (a units row under unique names is not such a header).
+    """
+    if len(df) < 2:
+        return df
+    second = ["" if pd.isna(v) else str(v).strip() for v in df.iloc[0]]
+    if any(v and _is_number(v) for v in second):
+        return df
+    named = [v for v in second if v]
+    top = [t.strip() for t in top]
+    if len(set(named)) == len(named) or (all(top) and len(set(top)) == len(top)):
+        return df
+    groups: list[str] = []
+    names: list[str] = []
+    g = ""
+    for t, c in zip(top, second, strict=True):
+        g = t or g
+        names.append(c or t)
+        groups.append(g if c else "")
+    out = df.iloc[1:].reset_index(drop=True)
+    seen: dict[str, int] = {}
+    labels = []
+    for n in names:
+        k = seen.get(n, 0)
+        seen[n] = k + 1
+        labels.append(n if k == 0 else f"{n}.{k}")
+    out.columns = labels
+    out.attrs = dict(df.attrs)
+    out.attrs["header"] = names
+    out.attrs["groups"] = groups
+    if "line" in df.attrs:
+        out.attrs["line"] = np.asarray(df.attrs["line"])[1:]
+    return out
+
+
+def _is_number(v: str) -> bool:
+    try:
+        float(v)
+    except ValueError:
+        return False
+    return True
 
 
 TABLE_READERS = {".parquet": pd.read_parquet, ".csv": _read_csv, ".txt": _read_csv}
@@ -352,10 +399,13 @@ _POSITION = re.compile(r"^#(\d+)$")
 _NTH = re.compile(r"^(.*)\[(\d+)\]$")
 
 
-def _group(header: list[str], j: int) -> str | None:
-    """The vector a column of a repeated name belongs to: the nearest column before it whose
-    name the header does not repeat (``vel`` for the ``x`` of ``t,vel,x,y,z,rate,x,y,z``).
+def _vector(header: list[str], j: int, groups: list[str] | None = None) -> str | None:
+    """The vector a column of a repeated name belongs to: its name in the header's row of
+    vector names (*groups*), else the nearest column before it whose name the header does not
+    repeat (``vel`` for the ``x`` of ``t,vel,x,y,z,rate,x,y,z``).
     """
+    if groups is not None:
+        return groups[j] or None
     for i in range(j - 1, -1, -1):
         if header.count(header[i]) == 1:
             return header[i]
@@ -400,6 +450,11 @@ def resolve_column(df: pd.DataFrame, ref: str, path: str | Path, key: str = "") 
     labels = list(df.columns)
     if len(header) != len(labels):
         header = [str(h) for h in labels]
+    rows = df.attrs.get("groups")
+    vec: list[str] | None = list(rows) if rows is not None and len(rows) == len(labels) else None
+
+    def _group(h: list[str], j: int) -> str | None:
+        return _vector(h, j, vec)
 
     def said(j: int) -> str:
         groups = [_group(header, i) for i, h in enumerate(header) if h == header[j]]
