@@ -4,14 +4,12 @@ is missing. On the files `gripsense simulate` writes."""
 
 from __future__ import annotations
 
-import subprocess
-
 import pandas as pd
 import pytest
 
 from gripsense.live import open_replay, run_live
 from gripsense.pipeline import NO_STEERING
-from tests.cli.test_commands import EXE
+from tests.cli.inprocess import cli
 
 ANGLE_ONLY = "t=t_s,road_wheel=road_wheel_deg:deg"
 
@@ -54,21 +52,19 @@ def test_the_steering_channel_inside_a_replayed_vbo(simulated):
 
 
 def test_the_command_line(simulated, tmp_path):
+    """The command in the test's process (``tests.cli.inprocess``: the console script's entry
+    point, its stdout, stderr and exit code), without a console script's imports per call."""
     sim = simulated("nmea")
-    base = [EXE, "live", "--replay", str(sim.log), "--vehicle", str(sim.vehicle), "--speed", "0",
-            "--quiet"]  # fmt: skip
-    r = subprocess.run([*base, "--steer-csv", str(sim.steer), "--steer-columns", ANGLE_ONLY,
-                        "-o", str(tmp_path / "live.csv")], capture_output=True, text=True,
-                       timeout=600)  # fmt: skip
+    base = ["live", "--replay", sim.log, "--vehicle", sim.vehicle, "--speed", "0", "--quiet"]
+    r = cli(*base, "--steer-csv", sim.steer, "--steer-columns", ANGLE_ONLY,
+            "-o", tmp_path / "live.csv")  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "steering: --steer-csv" in r.stdout and "no steering channel" not in r.stdout
     rows = pd.read_csv(tmp_path / "live.csv")
     assert {"front", "rear"} <= set(rows["unit"])
-    r = subprocess.run(base, capture_output=True, text=True, timeout=600)
+    r = cli(*base)
     assert r.returncode == 0, r.stderr
     assert " ".join(NO_STEERING.split()) in " ".join(r.stdout.split())  # the display wraps it
-    r = subprocess.run([EXE, "live", "--tcp", "localhost:1", "--vehicle", str(sim.vehicle),
-                        "--steer-csv", str(sim.steer)], capture_output=True, text=True,
-                       timeout=600)  # fmt: skip
+    r = cli("live", "--tcp", "localhost:1", "--vehicle", sim.vehicle, "--steer-csv", sim.steer)
     assert r.returncode == 2 and "--steer-csv is replayed beside --replay LOG" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1

@@ -1,4 +1,8 @@
-"""Laser camber (geometry built here) and camera slip angle (synthetic road frames)."""
+"""Laser camber (geometry built here) and camera slip angle (synthetic road frames).
+
+Command-line checks run the command in the test's process (``tests.cli.inprocess``: the
+console script's entry point, its stdout, stderr and exit code), without a console
+script's 2–4 s of imports per call, which none of these checks is about."""
 
 from __future__ import annotations
 
@@ -88,13 +92,13 @@ def test_camera_sign_convention_iso():
 
 
 def test_camera_cli(tmp_path):
-    from tests.cli.test_commands import run
+    from tests.cli.inprocess import cli
 
     d = tmp_path / "frames"
     d.mkdir()
     for k, img in enumerate(frames(5.0, 9.0)):
         cv2.imwrite(str(d / f"f{k:03d}.png"), img)
-    r = run(
+    r = cli(
         "camera-slip",
         str(d),
         "--fps",
@@ -115,7 +119,7 @@ def test_camera_cli(tmp_path):
 def test_camber_cli(tmp_path):
     import pandas as pd
 
-    from tests.cli.test_commands import run
+    from tests.cli.inprocess import cli
 
     t = np.arange(0, 4, 0.01)
     gamma = np.where(t < 1.0, 0.0, 2.0)  # calibration second on the floor, then 2°
@@ -125,7 +129,7 @@ def test_camber_cli(tmp_path):
     d_i = off_i - 1000 * (s / 2) * np.tan(np.deg2rad(gamma))
     f = tmp_path / "laser.csv"
     pd.DataFrame({"t_s": t, "d_outer_mm": d_o, "d_inner_mm": d_i}).to_csv(f, index=False)
-    r = run(
+    r = cli(
         "camber",
         str(f),
         "--spacing-m",
@@ -138,5 +142,5 @@ def test_camber_cli(tmp_path):
     assert r.returncode == 0, r.stderr
     out = pd.read_csv(tmp_path / "c.csv")
     np.testing.assert_allclose(out["camber_deg"], gamma, atol=1e-9)
-    r = run("camber", str(f), "--spacing-m", "0")
+    r = cli("camber", str(f), "--spacing-m", "0")
     assert r.returncode == 2 and "spacing_m" in r.stderr
