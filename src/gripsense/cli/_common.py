@@ -143,7 +143,10 @@ LOG_COLUMNS_HELP = (
     "file's; docs/ingest.md)"
 )
 Dbc = Annotated[
-    Path | None, typer.Option("--dbc", help="DBC database that decodes a CAN log (BLF, ASC)")
+    Path | None,
+    typer.Option(
+        "--dbc", help="DBC database that decodes a CAN log (BLF, ASC, raw CAN frames in MDF4)"
+    ),
 ]
 TimeOffset = Annotated[
     float | None,
