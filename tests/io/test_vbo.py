@@ -258,6 +258,8 @@ def test_the_space_in_a_name_through_the_command_line(tmp_path):
     (tmp_path / "ok.vbo").write_text(text)
     r = cli("ingest", tmp_path / "ok.vbo")
     assert r.returncode == 0, r.stderr
+    assert "6 epochs" in r.stdout and "'battery vo' holds a space" in r.stdout
+    assert r.stderr.strip() == ""  # nothing on stderr
     bad = text.replace("battery vo\n", "battery\nvo\n", 1)  # [header] lists two channels
     (tmp_path / "bad.vbo").write_text(bad)
     r = cli("ingest", tmp_path / "bad.vbo")
