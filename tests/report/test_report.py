@@ -180,12 +180,15 @@ def test_demo_report_in_browser(tmp_path):
 
 
 def test_report_command_round_trip(tmp_path):
-    from tests.cli.test_commands import _circle_nmea, run
+    """``friction --report`` and ``report`` in the test's process (``tests.cli.inprocess``:
+    the console script's entry point, its stdout, stderr and exit code)."""
+    from tests.cli.inprocess import cli
+    from tests.cli.test_commands import _circle_nmea
 
     log = tmp_path / "c.nmea"
     _circle_nmea(log)
     out = tmp_path / "res"
-    r = run(
+    r = cli(
         "friction",
         str(log),
         "--vehicle",
@@ -199,11 +202,11 @@ def test_report_command_round_trip(tmp_path):
     assert r.returncode == 0, r.stderr
     assert (out / "report.html").exists() and (out / "epochs.parquet").exists()
     assert (out / "ingest.json").exists() and (out / "vehicle.toml").exists()
-    r = run("report", str(out), "-o", str(tmp_path / "again.html"))
+    r = cli("report", str(out), "-o", str(tmp_path / "again.html"))
     assert r.returncode == 0, r.stderr
     text = (tmp_path / "again.html").read_text()
     assert "axle-window" in text and "lines" in text  # ingest accounting section
-    r = run("report", str(tmp_path))
+    r = cli("report", str(tmp_path))
     assert r.returncode == 2 and "not a result folder" in r.stderr  # no manifest
 
 
