@@ -236,3 +236,38 @@ def test_a_canedge_compressed_file_is_one_line(tmp_path):
         read_log(mfc, columns="heading=Heading", dbc=GNSS_DBC)
     r = cli("ingest", mfc)
     assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+def _cn_byte_offset_at(mdf_path, channel: str) -> int:
+    """File offset of a channel's ``cn_byte_offset`` (MDF 4 CN block: 24-byte header, the
+    links, then cn_type, cn_sync_type, cn_data_type, cn_bit_offset [1 byte each],
+    cn_byte_offset [4 bytes])."""
+    with asammdf.MDF(str(mdf_path)) as mdf:
+        (g, i), *_ = mdf.channels_db[channel]
+        ch = mdf.groups[g].channels[i]
+        return int(ch.address) + 24 + 8 * int(ch.links_nr) + 4
+
+
+def test_only_the_channels_read_are_judged(tmp_path):
+    """A channel pointing outside its record in a group nobody maps does not refuse the file
+    (was: "damaged MDF file" whatever was mapped); mapped, it is still refused in one line
+    before asammdf's compiled reader would read past its buffer."""
+    import struct
+
+    from gripsense.io.mdf import mdf_columns, write_mdf
+    from tests.io.test_measurement_logs import _epochs, _steer
+
+    ep = _epochs(20)
+    st = _steer(ep)
+    st["torque_Nm"] = 1.0
+    p = tmp_path / "m.mf4"
+    write_mdf(ep, p, steer=st)
+    at = _cn_byte_offset_at(p, "SteeringTorque")
+    raw = bytearray(p.read_bytes())
+    assert struct.unpack_from("<I", raw, at)[0] == 8  # after the 8-byte time stamp
+    struct.pack_into("<I", raw, at, 4096)  # bytes 4096–4103 of a 16-byte record
+    p.write_bytes(bytes(raw))
+    log = read_log(p, columns=mdf_columns(steering=True))
+    assert log.report.balanced and len(log.epochs) == 20
+    with pytest.raises(InputError, match=r"damaged MDF file: channel 'SteeringTorque' of group"):
+        read_log(p, columns=mdf_columns(steering=True, torque=True))
