@@ -22,7 +22,8 @@ from gripsense.estimate.results import AxleFriction
 from gripsense.report import figures as F
 from gripsense.report.html import render_report
 from gripsense.report.summary_check import check_summary_file
-from tests.cli.test_commands import EXE, run
+from tests.cli.inprocess import cli
+from tests.cli.test_commands import EXE
 from tests.report.test_report import _result
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
@@ -85,7 +86,7 @@ def calibrated_run(tmp_path_factory):
     )  # fmt: skip  (a wide console: every table cell on one line)
     assert r.returncode == 0, r.stderr
     again = d / "again.html"
-    r2 = run("report", str(out), "-o", str(again))
+    r2 = cli("report", out, "-o", again)  # in-process: no second interpreter's imports
     assert r2.returncode == 0, r2.stderr
     return out, again, r.stdout
 
