@@ -299,3 +299,65 @@ def test_decimal_commas_are_read_as_points():
     np.testing.assert_array_equal(log.epochs["lat_deg"], ref["lat_deg"])
     np.testing.assert_array_equal(log.epochs["speed_mps"], ref["speed_mps"])
     assert any("decimal commas" in n for n in log.report.notes)
+
+
+def _rows(first: str, n: int, step: float) -> list[str]:
+    """*n* rows: the first row's fields, its time (2nd field, hhmmss.ss) advanced by *step*."""
+    f = first.split(" ")
+    out = []
+    for i in range(n):
+        g = list(f)
+        g[1] = f"{float(f[1]) + i * step:09.2f}"
+        out.append(" ".join(g))
+    return out
+
+
+def test_vbox_sport_layout_battery_vo(tmp_path):
+    """The layout of the issue's VBOX Sport file (github.com/b-stead/vbox, DA500.vbo; no
+    licence, so its structure is replicated here with our own numbers): 14 channels in
+    [header], `battery vo` in [column names] (15 words), units for the 5 module channels with
+    a blank one (`batt.flags`), a Latin-1 `°` in [comments], [data] right after the names."""
+    head = [
+        "File created on 23/04/2018 at 09:20:26", "", "[header]",
+        "satellites", "time", "latitude", "longitude", "velocity kmh", "heading", "height",
+        "long accel g", "lat accel g", "temperatur", "battery vo", "batt.flags", "batt.ai",
+        "batt.soc", "", "[channel units]", "degC", "v", "", "mA", "%", "", "[comments]",
+        "VBSp V01.01 Build 0218", " Elevation mask = 7°", "  VBOX Sport", "",
+        "[column names]",
+        "sats time lat long velocity heading height GPS-Longacc GPS-Latacc temperatur "
+        "battery vo batt.flags batt.ai batt.soc",
+        "[data]",
+    ]  # fmt: skip
+    first = (
+        "011 101500.00 +03000.00000 +00030.00000 012.600 090.00 +00010.00 +00.00 +00.01 "
+        "+2.00000E+01 +3.80000E+00 +4.00000E+05 -1.00000E+02 +8.00000E+01"
+    )
+    rows = _rows(first, 10, 0.05)
+    (tmp_path / "sport.vbo").write_bytes(("\r\n".join(head + rows) + " \r\n").encode("latin-1"))
+    log = read_log(tmp_path / "sport.vbo")
+    ep = log.epochs
+    assert len(ep) == 10 and log.report.parsed == {"VBO data": 10} and log.report.balanced
+    assert ep["lat_deg"].iloc[0] == pytest.approx(50.0) and ep["lon_deg"].iloc[0] == -0.5
+    assert ep["speed_mps"].iloc[0] == pytest.approx(12.6 / 3.6)
+    assert (ep["t_s"].diff().dropna().round(6) == 0.05).all()
+    assert any("'battery vo' holds a space" in n for n in log.report.notes)
+
+
+def test_units_one_line_per_column_as_racebobo_writes_them(tmp_path):
+    """A converter (Racebobo) writes one [channel units] line per column, blank for most: the
+    9th of 10 is `rpm`, and the blank 10th (event1) ends the section with the separator. A
+    steering angle in that layout keeps its place (here the 9th)."""
+    text = SAMPLE_TEXT.replace("Event 1 time\n", "Steering angle\nEvent 1 time\n", 1)
+    text = text.replace("[channel units]\n", "[channel units]\n" + "\n" * 8 + "deg\n\n", 1)
+    lines = text.splitlines()
+    c = lines.index("[column names]") + 1
+    lines[c] = lines[c].replace("event-1", "RoadWheelAngle event-1")
+    assert "RoadWheelAngle event-1" in lines[c]
+    d = lines.index("[data]") + 1
+    for i in range(d, len(lines)):
+        if lines[i].strip():
+            f = lines[i].split()
+            lines[i] = " ".join([*f[:8], "+1.50", *f[8:]])
+    log = parse_vbo("\n".join(lines) + "\n", "racebobo.vbo")
+    assert len(log.epochs) == 6 and log.report.steering["channel"] == "RoadWheelAngle"
+    np.testing.assert_allclose(log.epochs["steer_rad"], np.deg2rad(1.5))

@@ -124,10 +124,13 @@ class _Sections:
     start: dict[str, int] = field(default_factory=dict)  # section -> index of its title line
     created: dt.date | None = None
 
-    def body(self, name: str, *, blank: bool = False) -> list[tuple[int, str]]:
+    def body(
+        self, name: str, *, blank: bool = False, trailing: bool = False
+    ) -> list[tuple[int, str]]:
         """(0-based line index, text) of the non-blank lines of a section; with *blank* every
         line up to the last non-blank one (a blank line inside ``[channel units]`` is the unit
-        of a unitless channel; the blank lines that end a section separate it from the next).
+        of a unitless channel; the blank lines that end a section separate it from the next),
+        with *trailing* too every line to the next section.
         """
         if name not in self.start:
             return []
@@ -137,7 +140,7 @@ class _Sections:
         out = [(i, ln.strip()) for i, ln in enumerate(self.lines[i0:i1], i0)]
         if not blank:
             return [(i, t) for i, t in out if t]
-        while out and not out[-1][1]:
+        while out and not out[-1][1] and not trailing:
             out.pop()
         return out
 
@@ -164,13 +167,16 @@ def _sections(text: str) -> _Sections:
 
 
 def _units(sec: _Sections, names: list[str]) -> list[str]:
-    """The unit of each column (``""`` when none) from ``[channel units]``: one unit per
-    column, or one per trailing (module) column when there are fewer units than columns. A blank
-    line inside the section is the unit of a unitless channel and keeps its place.
+    """The unit of each column (``""`` when none) from ``[channel units]``: one line per
+    column when the section has as many lines as there are columns (blank lines included: a
+    Racebobo export's ``rpm`` is the 9th of 10), else one per trailing (module) column (VBOX:
+    the lines up to the last unit). A blank line inside the section is the unit of a unitless
+    channel and keeps its place.
     """
+    every = [_unit_text(u) for _, u in sec.body("channel units", blank=True, trailing=True)]
+    if len(every) >= len(names):  # a line per column (and the blank line that ends it)
+        return every[: len(names)]
     units = [_unit_text(u) for _, u in sec.body("channel units", blank=True)]
-    if len(units) >= len(names):
-        return units[: len(names)]
     return [""] * (len(names) - len(units)) + units
 
 
@@ -311,10 +317,11 @@ def parse_vbo(
                 "with _)"
             )
         cols, joined = fixed
+        one = len(joined) == 1
         structure_notes.append(
             f"[column names]: {', '.join(repr(j) for j in joined)} "
-            f"{'holds a space' if len(joined) == 1 else 'hold spaces'}: read as one channel each, "
-            f"as [header] lists them ({nfield} channels)"
+            f"{'holds a space: read as one channel' if one else 'hold spaces: each read as one'}"
+            f", as [header] lists {'it' if one else 'them'} ({nfield} channels)"
         )
     ncol = len(cols)
     role: dict[str, int] = {}
