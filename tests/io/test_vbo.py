@@ -206,6 +206,11 @@ def test_real_file_steering_wheel_channel_named_twice(tmp_path):
     (tmp_path / "twice.vbo").write_bytes("\r\n".join(lines).encode("latin-1"))
     with pytest.raises(InputError, match=r"'SteeringWh'.*columns 44 and 49.*SteeringWh\[2\]"):
         read_log(tmp_path / "twice.vbo", columns="steering_wheel=SteeringWh")
+    # found by its name (not mapped): not used, and said
+    found = read_log(tmp_path / "twice.vbo")
+    assert found.report.steering == {} and "steering_wheel_rad" not in found.epochs
+    assert any("columns 44 and 49) with different values: not used" in n for n in
+               found.report.notes)  # fmt: skip
     got = read_log(tmp_path / "twice.vbo", columns="steering_wheel=SteeringWh[2]").epochs
     assert got["steering_wheel_rad"].iloc[0] == pytest.approx(np.deg2rad(45.0))
     assert got["steering_wheel_rad"].iloc[1] == 0.0

@@ -460,11 +460,21 @@ def parse_vbo(
     if yr is not None:
         values["yaw_rate_rps"] = -np.deg2rad(yr)  # clockwise (compass) -> ISO
         yaw_src = "VBOX"
-    for spec in mapped.values():
+    for spec in list(mapped.values()):
         jm, same = _column_of(cols, spec.channel)
         assert jm is not None
         if len(same) > 1:
             where = " and ".join(str(i + 1) for i in same)
+            found = steering.get("source") == "name and unit" and steering["key"] == spec.key
+            if found and not _same_values(a, same):  # found by its name: not used, said
+                del mapped[spec.key]
+                steering = {}
+                structure_notes.append(
+                    f"steering channel {spec.channel!r} is named {len(same)} times in [column "
+                    f"names] (columns {where}) with different values: not used; map one with "
+                    f"--columns {spec.key}={spec.channel}[1] (or [2])"
+                )
+                continue
             if not _same_values(a, same):
                 options = " or ".join(
                     f"{spec.key}={spec.channel}[{k}]" for k in range(1, len(same) + 1)
