@@ -318,3 +318,24 @@ def test_lower_case_checksum():
     s = sentence("GPHDT,274.07,T")
     lower = s[:-2] + s[-2:].lower()
     assert read_nmea([lower]).epochs["heading_deg"].iloc[0] == 274.07
+
+
+# --- several talkers, one instant -------------------------------------------------------------
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_several_talkers_of_one_instant_are_one_epoch(engine):
+    """GPSD's Telit PLS83-W capture sends $GPGGA and $GAGGA, $GPVTG and $GAVTG, $GPRMC and
+    $GARMC for each second: one epoch per second (before issue 43: two per second, at the same
+    time, half of them without speed)."""
+    log = read_nmea(DATA / "telit-pls83-w.log", engine=engine)
+    ep = log.epochs
+    rmc = log.sentences["RMC"]
+    assert len(ep) == rmc["tod_s"].nunique() == 10
+    assert ep["time_utc"].is_unique and ep["time_utc"].is_monotonic_increasing
+    assert ep["speed_mps"].notna().all() and ep["lat_deg"].notna().all()
+    # both talkers' sentences of a second are in that second's epoch
+    for k in ("GGA", "RMC"):
+        f = log.sentences[k]
+        assert (ep["time_utc"].iloc[f["epoch"]].dt.second.to_numpy() == f["tod_s"] % 60).all()
+    assert any("several talkers" in n for n in log.report.notes)

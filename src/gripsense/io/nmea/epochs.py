@@ -19,8 +19,10 @@ A sentence without any value (every field empty, or invalidated by its own flag:
 any other — it may lead the next burst, as Hemisphere's empty HDT before each GGA does — but a
 split it made is undone when nothing conflicts: an epoch whose first sentence is empty joins
 the epoch before it when no type has a non-empty sentence in both and their times do not differ
-(an instrument's ``HDT, VTG, HDT, ZDA`` stays one epoch). A line repeated verbatim joins its
-original's epoch.
+(an instrument's ``HDT, VTG, HDT, ZDA`` stays one epoch). An epoch with the same time as the
+one before joins it: several talkers report one instant (``$GPGGA``, ``$GAGGA``, ``$GPRMC``,
+``$GARMC`` …; the report counts such joins). A line repeated verbatim joins its original's
+epoch.
 
 The rule is sequential: :func:`epoch_boundaries` runs it as a compiled loop, and the plain Python
 loop :func:`epoch_boundaries_loop` is its reference in the tests.
@@ -149,7 +151,8 @@ def epoch_boundaries_loop(
             cur_t = t
     if empty is None:
         return out
-    # undo the splits made by an empty sentence where nothing conflicts
+    # undo the splits made by an empty sentence where nothing conflicts, and those between
+    # sentences of the same time
     g_types: set[int] = set()
     g_t = np.nan
     starts = [*np.flatnonzero(out).tolist(), n]
@@ -159,7 +162,8 @@ def epoch_boundaries_loop(
         times = [tod[i] for i in range(a, b) if not np.isnan(tod[i])]
         t = times[0] if times else np.nan
         clash = not np.isnan(t) and not np.isnan(g_t) and t != g_t
-        if j > 0 and empty[a] and not (types & g_types) and not clash:
+        same_t = not np.isnan(t) and t == g_t
+        if j > 0 and (same_t or (empty[a] and not (types & g_types) and not clash)):
             out[a] = False
             g_types |= types
         else:
@@ -199,11 +203,12 @@ def _group_kernel(kind_at, tod_at, tod_e):
 
 
 @njit(cache=True, nogil=True)
-def _merge_kernel(eid_at, kind_at, empty_at, tod_e, n_ep):
-    """Undo the splits made by an empty sentence where nothing conflicts: an epoch whose first
+def _merge_kernel(eid_at, kind_at, empty_at, tod_e, n_ep, n_same):
+    """Undo the splits rule (b) made where they part no measurements: an epoch whose first
     sentence is empty joins the (merged) epoch before it when no type has a non-empty sentence
-    in both and their times do not differ. ``eid_at`` (epoch per line, −1 without a sentence)
-    and ``tod_e`` are rewritten; returns the new epoch count.
+    in both and their times do not differ; an epoch with the same time as the one before joins
+    it (``$GPGGA`` and ``$GAGGA`` of one instant; counted in ``n_same[0]``). ``eid_at`` (epoch
+    per line, −1 without a sentence) and ``tod_e`` are rewritten; returns the new epoch count.
     """
     mask = np.zeros(n_ep, dtype=np.uint64)
     first_empty = np.zeros(n_ep, dtype=np.bool_)
@@ -224,8 +229,10 @@ def _merge_kernel(eid_at, kind_at, empty_at, tod_e, n_ep):
     for e in range(n_ep):
         t = tod_e[e]
         clash = t == t and g_t == g_t and t != g_t
-        if g >= 0 and first_empty[e] and (mask[e] & g_mask) == 0 and not clash:
+        same_t = t == t and t == g_t
+        if g >= 0 and (same_t or (first_empty[e] and (mask[e] & g_mask) == 0 and not clash)):
             g_mask |= mask[e]
+            n_same[0] += same_t
         else:
             g += 1
             g_mask = mask[e]
@@ -266,7 +273,8 @@ def epoch_boundaries(
     tod_e = np.empty(kind.size)
     n_ep = _group_kernel(eid, np.asarray(tod, dtype=np.float64), tod_e)
     if empty is not None:
-        _merge_kernel(eid, kind, np.asarray(empty, dtype=np.bool_), tod_e, n_ep)
+        n_same = np.zeros(1, dtype=np.int64)
+        _merge_kernel(eid, kind, np.asarray(empty, dtype=np.bool_), tod_e, n_ep, n_same)
     out = np.ones(kind.size, dtype=np.bool_)
     out[1:] = eid[1:] != eid[:-1]
     return out
@@ -540,10 +548,10 @@ def assemble_epochs(
     kind_at[repeated] = -1
     # a sentence without any value (``$IIHDT,,T`` sent twice per cycle) must not split a cycle
     tod_e = np.empty(sum(size.values()))
-    kind0 = kind_at.copy() if empty_at.any() else kind_at
+    kind0 = kind_at.copy()
     n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
-    if kind0 is not kind_at:
-        n_ep = int(_merge_kernel(kind_at, kind0, empty_at, tod_e, n_ep))
+    n_same = np.zeros(1, dtype=np.int64)
+    n_ep = int(_merge_kernel(kind_at, kind0, empty_at, tod_e, n_ep, n_same))
     tod_e = tod_e[:n_ep]
     eid_at = np.maximum.accumulate(kind_at) if n_lines else kind_at  # line -> epoch
 
@@ -650,5 +658,6 @@ def assemble_epochs(
         "epochs_without_time": int((~timed).sum()),
         "has_date": has_date,
         "repeated_sentences": int(repeated.sum()),
+        "same_time_merged": int(n_same[0]),
     }
     return df, epoch_of, notes

@@ -341,6 +341,14 @@ def read_nmea(
         )
         + (
             [
+                f"{notes['same_time_merged']} epochs had the time of the epoch before them "
+                "(several talkers reporting one instant, $GP…/$GN…/$GA…): joined to it"
+            ]
+            if notes.get("same_time_merged")
+            else []
+        )
+        + (
+            [
                 f"{n_frames} RTCM3 frames between the sentences (the receiver's corrections), "
                 "each counted as one unit"
             ]
