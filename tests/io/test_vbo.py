@@ -366,3 +366,33 @@ def test_units_one_line_per_column_as_racebobo_writes_them(tmp_path):
     log = parse_vbo("\n".join(lines) + "\n", "racebobo.vbo")
     assert len(log.epochs) == 6 and log.report.steering["channel"] == "RoadWheelAngle"
     np.testing.assert_allclose(log.epochs["steer_rad"], np.deg2rad(1.5))
+
+
+def test_the_format_descriptions_example_without_a_final_line_end():
+    """The example of Racelogic's format description (VBox II, 2 Hz), pasted without a final
+    line end: its last row has every field whole (`000.072` is one character shorter than
+    `+000.000` before it: no sign), so it is read, not rejected as cut off."""
+    text = "\n".join(
+        [
+            "File created on 31/07/2006 at 09:55:20", "", "[header]", "satellites", "time",
+            "latitude", "longitude", "velocity kmh", "heading", "height",
+            "vertical velocity kmh", "trigger event time in clock counts", "",
+            "[channel units]", "", "[comments]", "(c) 2001 2003 Racelogic",
+            "VBox II Version 4.5a", "Log Rate (Hz) : 02.00", "", "[column names]",
+            "sats time lat long velocity heading height vertvel event1", "", "[data]",
+            "137 162235.40 +03119.09973 +00058.49277 000.140 321.85 +00152.58 +000.000 00000",
+            "137 162235.90 +03119.09973 +00058.49277 000.220 065.93 +00152.58 +000.000 00000",
+            "137 162236.40 +03119.09973 +00058.49277 000.250 356.43 +00152.59 000.072 00000",
+        ]
+    )  # fmt: skip
+    log = parse_vbo(text, "vbox2.vbo")
+    ep = log.epochs
+    assert len(ep) == 3 and log.report.rejected["truncated"] == 0 and log.report.balanced
+    # sats 137 = 9 satellites + 128 (DGPS); 3119.09973 min = 51°59.09973' N; 58.49277' W
+    assert ep["n_sats"].iloc[0] == 9 and ep["fix_quality"].iloc[0] == 2
+    assert ep["lat_deg"].iloc[2] == pytest.approx(51 + 59.09973 / 60, abs=1e-12)
+    assert ep["lon_deg"].iloc[2] == pytest.approx(-58.49277 / 60, abs=1e-12)
+    assert ep["time_utc"].iloc[2] == pd.Timestamp("2006-07-31 16:22:36.40", tz="UTC")
+    # cut inside its last field, the row is rejected
+    cut = parse_vbo(text[:-2], "vbox2.vbo")
+    assert len(cut.epochs) == 2 and cut.report.rejected["truncated"] == 1

@@ -363,10 +363,16 @@ def parse_vbo(
     # a last row without its line end and shorter than the rows before it: the file was cut
     # inside it (a value cut to fewer digits still has all its fields), so it is rejected,
     # and said
+    # (fewer fields, or a last field shorter than in the rows before it; a field elsewhere
+    # written one character shorter — 000.072 after +000.000 — is not a cut)
     cut = -1
     if rows and rows[-1].strip() and not text.endswith(("\n", "\r")):
-        before = [len(r.strip()) for r in rows[-11:-1] if r.strip()]
-        if before and len(rows[-1].strip()) < min(before):
+        last = rows[-1].split()
+        before = [r.split() for r in rows[-11:-1] if r.strip()]
+        if before and (
+            len(last) < min(len(b) for b in before)
+            or len(last[-1].lstrip("+-")) < min(len(b[-1].lstrip("+-")) for b in before)
+        ):
             cut = len(rows) - 1
     for k, ln in enumerate(rows):
         s = ln.strip()
