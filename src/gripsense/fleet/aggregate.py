@@ -220,8 +220,6 @@ def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.Dat
     p_ids, p_curves = reduce_groups(curves, owner, "max")
     v_ids, v_curves = reduce_groups(p_curves, veh_id[p_ids], "max")
     c_ids, c_curves = reduce_groups(v_curves, _first(cell_id, veh_id)[v_ids], "sum")
-    lo90, hi90, _ = curve_range(c_curves, grid, CHI2_1_90)
-    lo99, hi99, _ = curve_range(c_curves, grid, _chi2_ppf(float(o.point_level), 1))
 
     g = passes.groupby(cell_id)
     df = pd.DataFrame(
@@ -240,29 +238,19 @@ def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.Dat
     )
     has = np.zeros(n_cells, bool)
     has[c_ids] = True
-    hi, lo_m, hi_p, lo_p = (np.full(n_cells, np.inf) for _ in range(4))
-    hi[c_ids], lo_m[c_ids], hi_p[c_ids], lo_p[c_ids] = hi90, lo90, hi99, lo99
     bound = df["grip_used_lower"].to_numpy(float)
     b0 = np.nan_to_num(bound, nan=0.0)
+    mu_low, mu_high, value, hi_raw = _statement(c_curves, c_ids, n_cells, b0, o, grid)
     contra = has & (max_lo > min_hi + CONTRADICTION_TOL)
-    below = has & ~contra & (np.minimum(hi, min_hi) < b0 - CONTRADICTION_TOL)
-    # an upper end that reaches what the data prove carries nothing above it (a drive's
-    # "strained" rule): it is dropped
-    hi = np.where(has & ~contra & ~below & (hi <= (1.0 + STRAINED_REL) * b0), np.inf, hi)
+    below = has & ~contra & (np.minimum(hi_raw, min_hi) < b0 - CONTRADICTION_TOL)
     flagged = contra | below
-    # a value: the 99 % range bounded from the model on both sides, narrow, and near the limit
-    model_lo = has & (lo_p > grid[0])
-    with np.errstate(invalid="ignore"):
-        value = (
-            has & ~flagged & model_lo & np.isfinite(hi_p) & np.isfinite(hi)
-            & (hi_p - np.fmax(lo_p, b0) <= o.max_width) & (hi * o.min_utilisation <= b0)
-        )  # fmt: skip
-    mu_low = np.where(value, np.fmax(lo_m, b0), b0)
-    mu_high = np.where(has & ~flagged, hi, np.inf)
+    value &= ~flagged
+    mu_high = np.where(flagged, np.inf, mu_high)
     df["mu_low"] = np.where(flagged, np.nan, mu_low)
     df["mu_high"] = np.where(flagged, np.nan, mu_high)
-    df["mu"] = np.where(value, np.sqrt(mu_low * mu_high), np.nan)
-    df["mu_sigma"] = np.where(value, (mu_high - mu_low) / (2 * Z90), np.nan)
+    with np.errstate(invalid="ignore"):
+        df["mu"] = np.where(value, np.sqrt(mu_low * mu_high), np.nan)
+        df["mu_sigma"] = np.where(value, (mu_high - mu_low) / (2 * Z90), np.nan)
     bounded = ~flagged & np.isfinite(mu_high)
     n_rows = df["n_rows"].to_numpy()
     df["status"] = np.select(
@@ -274,12 +262,59 @@ def _cells(passes: pd.DataFrame, rows: pd.DataFrame, o: WindowOptions) -> pd.Dat
     df["surface"] = np.where(
         bounded, surface_class_interval(mu_low, np.where(bounded, mu_high, np.nan)), UNDETERMINED
     ).astype(str)
-    # "is it slippery?": the cell's range, or what the data prove where it is flagged
+    # "is it slippery?" is answered by what stands with any one window left out (one window at a
+    # turn-in can state an upper end far below the truth: the call needs a second statement),
+    # or by what the data prove where the cell is flagged
+    rob = c_curves - _largest_single(curves, veh_id[owner], _first(cell_id, veh_id))
+    r_low, r_high, _, _ = _statement(rob, c_ids, n_cells, b0, o, grid)
     df["slippery"] = np.asarray(
-        slippery_call(np.where(flagged, b0, mu_low), np.where(flagged, np.inf, mu_high)), str
+        slippery_call(np.where(flagged, b0, r_low), np.where(flagged, np.inf, r_high)), str
     )
     df["passes"] = _pass_lists(passes, p_ids, p_curves, cell_id, grid, n_cells)
     return df[CELL_COLUMNS]
+
+
+def _statement(curves, c_ids, n_cells, b0, o: WindowOptions, grid):
+    """A cell's range from its combined curve (rows *c_ids*; the others have none): its 90 %
+    ends, the measured grip *b0* as the lower end unless a value is given (a drive's rule: the
+    99 % range bounded by the model on both sides, at most ``max_width`` wide, its upper end
+    within 1 / ``min_utilisation`` of the measured grip), an upper end that reaches the
+    measured grip dropped (strained). Returns mu_low, mu_high, value and the upper end before
+    that drop.
+    """
+    hi, lo_m, hi_p, lo_p = (np.full(n_cells, np.inf) for _ in range(4))
+    lo_m[c_ids], hi[c_ids], _ = curve_range(curves, grid, CHI2_1_90)
+    lo_p[c_ids], hi_p[c_ids], _ = curve_range(curves, grid, _chi2_ppf(float(o.point_level), 1))
+    has = np.zeros(n_cells, bool)
+    has[c_ids] = True
+    hi_raw = hi.copy()
+    hi = np.where(hi <= (1.0 + STRAINED_REL) * b0, np.inf, hi)
+    with np.errstate(invalid="ignore"):
+        value = (
+            has & (lo_p > grid[0]) & np.isfinite(hi_p) & np.isfinite(hi)
+            & (hi_p - np.fmax(lo_p, b0) <= o.max_width) & (hi * o.min_utilisation <= b0)
+        )  # fmt: skip
+    mu_low = np.where(value, np.fmax(lo_m, b0), b0)
+    return mu_low, np.where(has, hi, np.inf), value, hi_raw
+
+
+def _largest_single(p_curves, p_group, g_cell) -> np.ndarray:
+    """Per cell (rows in the order of the cells that have curves), pointwise, the most any one
+    statement adds to the combined curve: in each nuisance group the gap between its largest
+    statement curve and its second largest (a group's curve is their maximum), the largest gap
+    over the cell's groups. The combined curve minus it is what stands with any one statement
+    left out.
+    """
+    order = np.argsort(p_group, kind="stable")
+    pg, pc = p_group[order], p_curves[order]
+    groups, start, inverse = np.unique(pg, return_index=True, return_inverse=True)
+    d1 = np.maximum.reduceat(pc, start, axis=0)
+    top = pc == d1[inverse]
+    ties = np.add.reduceat(top.astype(np.int32), start, axis=0)
+    d2 = np.maximum.reduceat(np.where(top, 0, pc), start, axis=0)
+    gap = d1 - np.where(ties >= 2, d1, d2)
+    _, per_cell = reduce_groups(gap, g_cell[groups], "max")
+    return per_cell
 
 
 def _first(cell_id: np.ndarray, veh_id: np.ndarray) -> np.ndarray:
