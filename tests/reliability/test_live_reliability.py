@@ -2,8 +2,12 @@
 proof, one run per output (a second run — or two started together — refused), bad TCP addresses
 refused at the door, recovery that keeps every byte, and SIGINT/SIGTERM at any moment of a run.
 
-Real parts throughout: the command as a subprocess, real signals, real files and advisory locks;
-every wait is on a condition (a file with N rows, a process that exited) with a timeout.
+Real parts throughout: the command as a subprocess where it is signalled, killed or races
+another, real signals, real files and advisory locks; every wait is on a condition (a file with
+N rows, a process that exited) with a timeout. The commands beside such a run (refused, a
+recovery, a replay) and the refused arguments run in the test's process (``tests.cli.inprocess``:
+the console script's entry point, its stdout, stderr and exit code) without a console script's
+2–4 s of imports each.
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ from gripsense.live.recording import (
     recover,
 )
 from gripsense.live.sources import TcpSource, parse_host_port
+from tests.cli.inprocess import cli
 from tests.cli.test_commands import EXE
 
 DATA = Path(gripsense.__file__).parent / "data"
@@ -75,7 +80,10 @@ def _hashes(root: Path) -> dict[str, str]:
 
 
 def _cli(*args: str, timeout: float = 600.0) -> subprocess.CompletedProcess:
-    return subprocess.run([EXE, "live", *args], capture_output=True, text=True, timeout=timeout)
+    """``gripsense live ARGS`` in the test's process (``tests.cli.inprocess``), for the runs
+    that are refused, recover or replay beside a console-script run (its lock belongs to another
+    process all the same); *timeout* is kept for the callers' sake (a replay ends by itself)."""
+    return cli("live", *args)
 
 
 def _live_args(log: Path, out: Path, speed: str = "0") -> list[str]:

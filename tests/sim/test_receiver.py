@@ -4,10 +4,7 @@ built from the same :class:`gripsense.config.Receiver`, named or read from a fil
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import warnings
-from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -16,8 +13,7 @@ from gripsense.config import RECEIVERS, Receiver, receiver_from
 from gripsense.estimate import NoiseModel
 from gripsense.sim.gnss import CompassNoise
 from gripsense.sim.scenario import run_scenario
-
-EXE = str(Path(sys.executable).with_name("gripsense"))  # the console script, as a user runs it
+from tests.cli.inprocess import cli
 
 # the receiver classes as the documentation states them (docs/friction.md, sim/gnss.py):
 # heading white / slow [deg], slow τ [s], position slow / white [m], velocity [m/s], rate [deg/s]
@@ -94,26 +90,18 @@ laps = 0.25
 
 
 def test_simulate_takes_receiver_like_friction(tmp_path):
+    """The command in the test's process (``tests.cli.inprocess``: the console script's entry
+    point, its stdout, stderr and exit code), without a console script's imports per call."""
     sc = tmp_path / "sc.toml"
     sc.write_text(SCENARIO.format(gnss='noise = "v100"'))
     rec = tmp_path / "rx.toml"
     rec.write_text('[receiver]\nname = "bench"\nheading_white_deg = 0.02\nheading_slow_deg = 0\n')
     for spec, want in (("rtk", "rtk"), (str(rec), str(rec))):
         out = tmp_path / f"out-{len(want)}"
-        p = subprocess.run(
-            [EXE, "simulate", str(sc), "-o", str(out),
-             "--receiver", spec],
-            capture_output=True,
-            text=True,
-        )  # fmt: skip
+        p = cli("simulate", sc, "-o", out, "--receiver", spec)
         assert p.returncode == 0, p.stderr
         assert list(pd.read_csv(out / "cases.csv")["receiver"]) == [want]
-    p = subprocess.run(
-        [EXE, "simulate", str(sc), "-o", str(tmp_path / "x"),
-         "--receiver", "gps"],
-        capture_output=True,
-        text=True,
-    )  # fmt: skip
+    p = cli("simulate", sc, "-o", tmp_path / "x", "--receiver", "gps")
     assert p.returncode != 0 and "Traceback" not in p.stderr
     assert "receiver = 'gps'" in p.stderr + p.stdout
 
