@@ -339,3 +339,49 @@ def test_several_talkers_of_one_instant_are_one_epoch(engine):
         f = log.sentences[k]
         assert (ep["time_utc"].iloc[f["epoch"]].dt.second.to_numpy() == f["tod_s"] % 60).all()
     assert any("several talkers" in n for n in log.report.notes)
+
+
+# --- a talker that sends no checksums ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_log_without_any_checksum_is_read_unverified_and_says_so(engine):
+    """GPSD's HP 58534A capture has no checksum on any line ("everything ignored" by GPSD;
+    before issue 43 all its sentences were rejected as *missing checksum*)."""
+    log = read_nmea(DATA / "hp58534a.log", engine=engine)
+    rep = log.report
+    assert rep.parsed == {"GGA": 2, "VTG": 2, "ZDA": 1} and rep.n_rejected == 0
+    assert any("read unverified" in n for n in rep.notes)
+    ep = log.epochs
+    # $GPGGA,222449,3349.0337,S,01843.9282,E,… and $GPVTG,318.0,T,…,000.0,N,0000.1,K,A
+    assert ep["lat_deg"].iloc[0] == pytest.approx(-(33 + 49.0337 / 60), abs=1e-12)
+    assert ep["lon_deg"].iloc[0] == pytest.approx(18 + 43.9282 / 60, abs=1e-12)
+    assert ep["course_deg"].iloc[0] == 318.0 and ep["speed_mps"].iloc[0] == 0.0
+    assert ep["time_utc"].iloc[0].isoformat().startswith("2010-10-25T22:24:49")
+
+
+def test_missing_checksum_among_checksummed_lines_is_still_rejected():
+    lines = [sentence("GPHDT,274.07,T"), "$GPHDT,274.1,T", sentence("GPHDT,274.2,T")]
+    rep = read_nmea(lines).report
+    assert rep.rejected["missing checksum"] == 1 and rep.parsed == {"HDT": 2}
+
+
+def test_without_checksums_fast_equals_reference_and_the_checksummed_read():
+    """The GPSD logs with every '*hh' cut off: both tokenizers agree line by line and read
+    the values the checksummed logs give."""
+    import re
+
+    from gripsense.io.nmea.fast import tokenize_fast
+    from gripsense.io.nmea.reference import tokenize_reference
+    from tests.io.test_nmea_fuzz import assert_same_tokens
+
+    for p in GPSD_LOGS:
+        data = p.read_bytes()
+        bare = re.sub(rb"\*[0-9A-Fa-f]{2}(\r?)$", rb"\1", data, flags=re.M)
+        assert_same_tokens(
+            tokenize_fast(bare, no_checksum=True), tokenize_reference(bare, no_checksum=True)
+        )
+        a, b = read_nmea(data), read_nmea(bare)
+        if not a.report.n_rejected:  # (binary between the lines reads differently unchecked)
+            assert a.epochs.equals(b.epochs), p.name
+            assert a.report.parsed == b.report.parsed

@@ -63,15 +63,17 @@ _LC = {
     K.CS_SHORT: (REJECTED, S.TRUNCATED),
     K.CS_BAD: (REJECTED, S.BAD_CHECKSUM),
     K.UNPRINTABLE: (REJECTED, S.MALFORMED),
+    K.NO_STAR_BIN: (REJECTED, S.MISSING_CHECKSUM),  # or truncated, by the type (below)
 }
 _MIN_SPLIT = 1 << 20  # smaller inputs are tokenized in one piece [bytes]
 _LC_OUTCOME = np.array([_LC[c][0] for c in range(len(_LC))], dtype=np.int8)
 _LC_LABEL = [_LC[c][1] for c in range(len(_LC))]
 
 
-def _tokenize_array(data, n: int | None = None) -> Tokens:
+def _tokenize_array(data, n: int | None = None, no_checksum: bool = False) -> Tokens:
     """Tokenize a buffer of whole lines (no chunking; reject details are added by the caller);
-    *n*: its number of lines when already counted.
+    *n*: its number of lines when already counted; *no_checksum*: read sentences without a
+    checksum (a log whose talker sends none).
     """
     buf = np.frombuffer(data, dtype=np.uint8)
     n = K.count_lines(buf) if n is None else n
@@ -122,9 +124,14 @@ def _tokenize_array(data, n: int | None = None) -> Tokens:
     minf = min_of[key_code + 1]
     known = minf >= 0
 
-    trunc0 = (lc == K.NO_STAR) & known & (nf < minf)
+    no_star = (lc == K.NO_STAR) | (lc == K.NO_STAR_BIN)
+    trunc0 = no_star & known & (nf < minf)
     code[trunc0] = NAME[S.TRUNCATED]
     pending = lc == K.PENDING
+    if no_checksum:
+        bin_ = (lc == K.NO_STAR_BIN) & ~trunc0
+        code[bin_] = NAME[S.MALFORMED]
+        pending |= lc == K.NO_STAR
     ign = pending & ~known
     outcome[ign] = IGNORED
     code[ign] = key_code[ign]
@@ -190,6 +197,7 @@ def tokenize_fast(
     chunk_bytes: int = 8 << 20,
     workers: int | None = None,
     max_lines: int | None = None,
+    no_checksum: bool = False,
 ) -> Tokens | None:
     """Tokenize a buffer (same results as :func:`~gripsense.io.nmea.reference.tokenize_reference`).
 
@@ -212,6 +220,9 @@ def tokenize_fast(
     max_lines : int or None
         Size guard: a buffer of more lines is not tokenized (its chunks' lines are counted
         first, and those counts size the work arrays).
+    no_checksum : bool
+        Read sentences without a ``*hh`` checksum instead of rejecting them (a log whose
+        talker sends none; see :func:`~gripsense.io.nmea.reference.classify_line`).
 
     Returns
     -------
@@ -239,19 +250,19 @@ def tokenize_fast(
         counts = [_count(data)]
         if max_lines is not None and counts[0] > max_lines:
             return None
-        parts = [_tokenize_array(data, counts[0])]
+        parts = [_tokenize_array(data, counts[0], no_checksum)]
     else:
         with ThreadPoolExecutor(max_workers=n_workers) as ex:
             counts = list(ex.map(_count, pieces))
             if max_lines is not None and sum(counts) > max_lines:
                 return None
-            parts = list(ex.map(_tokenize_array, pieces, counts))
+            parts = list(ex.map(_tokenize_array, pieces, counts, [no_checksum] * len(pieces)))
     tok = _join(parts)
     if n_details:
         rej = np.flatnonzero(tok.outcome == REJECTED)[:n_details]
         if rej.size:
             for i, line in lines_at(data, rej.tolist()).items():
-                tok.details[i] = classify_line(line)[2]
+                tok.details[i] = classify_line(line, no_checksum)[2]
     return tok
 
 

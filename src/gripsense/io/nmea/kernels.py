@@ -25,6 +25,7 @@ NO_STAR = 5  # no checksum: missing or truncated, by type
 CS_SHORT = 6  # truncated inside the checksum
 CS_BAD = 7  # bad checksum
 UNPRINTABLE = 8  # malformed field: bytes outside printable ASCII
+NO_STAR_BIN = 9  # no checksum, and bytes outside printable ASCII
 
 KIND_CODES = {S.NUM: 0, S.UNUM: 1, S.INT: 2, S.TIME: 3, S.DATE: 4, S.CHAR: 5}
 
@@ -180,7 +181,7 @@ def scan_buffer(buf, max_address, code, dpos, limit, nfields, junk, addr, sub):
             nc += b == 44
         nfields[i] = nc
         if st < 0:
-            code[i] = NO_STAR
+            code[i] = NO_STAR if u == 0 else NO_STAR_BIN
             i += 1
             continue
         for r in range(d + 1, p):

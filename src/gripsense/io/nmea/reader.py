@@ -165,6 +165,21 @@ def _cr_lines(data: bytes) -> bool:
     return next(it, None) is not None and next(it, None) is not None
 
 
+def _without_checksums(tok) -> bool:
+    """Whether no sentence of a tokenized log has a checksum while some lack one: nothing
+    parsed or ignored but blank lines and comments, nothing rejected for its checksum's value
+    or form, and at least two *missing checksum* (one line alone is no evidence).
+    """
+    if not tok.n_lines:
+        return False
+    rejected = tok.counts(REJECTED)
+    if rejected.get(S.MISSING_CHECKSUM, 0) < 2 or rejected.get(S.BAD_CHECKSUM):
+        return False
+    if tok.counts(PARSED):
+        return False
+    return set(tok.counts(IGNORED)) <= {S.BLANK, S.COMMENT}
+
+
 def _input_line(original: bytes, pos: np.ndarray) -> np.ndarray:
     """0-based line of the input holding each byte offset *pos*."""
     nl = np.flatnonzero(np.frombuffer(original, dtype=np.uint8) == 10)
@@ -251,6 +266,13 @@ def read_nmea(
     if tok is None:
         _cap_lines(inp, max_lines)
         tok = _ENGINES[engine](inp.data)
+    no_checksum = _without_checksums(tok)
+    if no_checksum:  # the talker sends none: read its sentences unverified
+        tok = (
+            tokenize_fast(inp.data, no_checksum=True)
+            if engine == "fast"
+            else tokenize_reference(inp.data, no_checksum=True)
+        )
     data, name = inp.data, inp.name
     line_no = _line_numbers(data, original, rtcm) if rtcm is not None else None
 
@@ -271,7 +293,7 @@ def read_nmea(
         )
     if strict and rej.size:
         i = int(rej[0])
-        detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i])[2]
+        detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i], no_checksum)[2]
         raise InputError(
             f"{name}:{no(i)}: {tok.names[tok.code[i]]}: {detail} "
             "(strict mode; drop --strict to count such lines instead)"
@@ -297,7 +319,7 @@ def read_nmea(
     for i in shown:
         detail = tok.details.get(i)
         if detail is None:
-            detail = classify_line(unworded[i])[2]
+            detail = classify_line(unworded[i], no_checksum)[2]
         first.append(RejectedLine(int(no(i)), tok.names[tok.code[i]], detail))
     if rtcm is not None:
         good = rtcm.good & (rtcm.message >= 0)
@@ -341,8 +363,18 @@ def read_nmea(
         )
         + (
             [
+                "no sentence of the log carries a '*hh' checksum (its talker sends none): "
+                f"{int(sum(parsed.values()))} sentences read unverified — a line cut short "
+                "cannot be told from a whole one"
+            ]
+            if no_checksum
+            else []
+        )
+        + (
+            [
                 f"{notes['same_time_merged']} epochs had the time of the epoch before them "
-                "(several talkers reporting one instant, $GP…/$GN…/$GA…): joined to it"
+                "(several talkers reporting one instant, $GP…/$GN…/$GA…, or a logger writing "
+                "an epoch twice): joined to it, each instant counts once"
             ]
             if notes.get("same_time_merged")
             else []

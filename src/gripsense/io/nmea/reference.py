@@ -15,7 +15,8 @@ Classification of one line (after stripping spaces, tabs and CR at both ends):
    talker); of a proprietary one its address, plus field 1 for the makers that put a sub-type
    there (``PSAT,HPR``, ``PASHR,POS``, ``PTNL,AVR``; :data:`SUBTYPED`).
 4. Checksum: no ``*`` -> *truncated* if the known sentence has fewer fields than it needs, else
-   *missing checksum*; fewer than two characters after ``*`` -> *truncated*; anything but
+   *missing checksum* (in a log none of whose sentences has a checksum, the sentence is read
+   on: ``no_checksum``); fewer than two characters after ``*`` -> *truncated*; anything but
    exactly two hex digits, or a mismatch of the XOR of the bytes between start and ``*`` ->
    *bad checksum*.
 5. Bytes outside printable ASCII -> *malformed field*.
@@ -89,13 +90,17 @@ def type_key(addr: bytes, rest: bytes) -> str | None:
     return addr[2:].decode()
 
 
-def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
+def classify_line(raw: bytes, no_checksum: bool = False) -> tuple[int, str, str, dict | None, bool]:
     r"""Classify one line.
 
     Parameters
     ----------
     raw : bytes
         The line without its ``\\n`` terminator.
+    no_checksum : bool
+        Read a sentence without ``*hh`` (bytes outside printable ASCII: *malformed field*)
+        instead of rejecting it as *missing checksum* — for a log none of whose sentences
+        carries a checksum.
 
     Returns
     -------
@@ -137,7 +142,11 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
                 None,
                 junk,
             )
-        return REJECTED, S.MISSING_CHECKSUM, "no '*hh' checksum", None, junk
+        if not no_checksum:
+            return REJECTED, S.MISSING_CHECKSUM, "no '*hh' checksum", None, junk
+        if any(b < 0x20 or b > 0x7E for b in body):
+            return REJECTED, S.MALFORMED, "bytes outside printable ASCII", None, junk
+        return _fields(key, spec, fields, junk)
     cs = s[star + 1 :]
     if len(cs) < 2:
         return REJECTED, S.TRUNCATED, "line ends inside the checksum", None, junk
@@ -157,6 +166,11 @@ def classify_line(raw: bytes) -> tuple[int, str, str, dict | None, bool]:
         return REJECTED, S.BAD_CHECKSUM, f"checksum {want:02X}, computed {x:02X}", None, junk
     if any(b < 0x20 or b > 0x7E for b in body):
         return REJECTED, S.MALFORMED, "bytes outside printable ASCII", None, junk
+    return _fields(key, spec, fields, junk)
+
+
+def _fields(key: str, spec, fields: list, junk: bool) -> tuple[int, str, str, dict | None, bool]:
+    """The outcome of a sentence with a valid structure: its type and field values."""
     if spec is None:
         return IGNORED, key, "", None, junk
     if len(fields) < spec.min_fields:
@@ -186,13 +200,15 @@ def _bad(key: str, f: S.FieldSpec, v: bytes) -> str:
     )
 
 
-def tokenize_reference(data: bytes) -> Tokens:
+def tokenize_reference(data: bytes, *, no_checksum: bool = False) -> Tokens:
     """Tokenize a buffer line by line (reference implementation).
 
     Parameters
     ----------
     data : bytes
         The whole input.
+    no_checksum : bool
+        Read sentences without a checksum (:func:`classify_line`).
 
     Returns
     -------
@@ -207,7 +223,7 @@ def tokenize_reference(data: bytes) -> Tokens:
     details: dict[int, str] = {}
     rows: dict[str, list[tuple[int, dict]]] = {k: [] for k in S.SENTENCES}
     for i, line in enumerate(lines):
-        o, lab, det, vals, j = classify_line(line)
+        o, lab, det, vals, j = classify_line(line, no_checksum)
         outcome[i] = o
         code[i] = names.setdefault(lab, len(names))
         junk[i] = j
