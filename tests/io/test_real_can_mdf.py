@@ -302,7 +302,7 @@ def test_the_vectorised_decoder_equals_cantools_on_every_bit_layout(tmp_path):
     message: the vectorised decode of random payloads equals cantools' own decode of each
     frame (the reference); frames of another length go through cantools and are rejected as
     it rejects them."""
-    from gripsense.io.canlog import _decode_rows, _vectorisable
+    from gripsense.io.canlog import FrameColumns, _decode_rows, _vectorisable
 
     p = tmp_path / "odd.dbc"
     p.write_text(_ODD_DBC)
@@ -316,7 +316,7 @@ def test_the_vectorised_decoder_equals_cantools_on_every_bit_layout(tmp_path):
         frames = [(k + 1, can.Message(timestamp=float(k), arbitration_id=msg.frame_id, data=d))
                   for k, d in enumerate(data)]  # fmt: skip
         sigs = [s.name for s in msg.signals]
-        ok, values, failed = _decode_rows(msg, frames, np.arange(n), sigs)
+        ok, values, failed = _decode_rows(msg, FrameColumns.of(frames), np.arange(n), sigs)
         assert [r for r, _ in failed] == [7] and ok.tolist() == [k for k in range(n) if k != 7]
         for s in sigs:
             ref = [float(msg.decode(data[k], decode_choices=False)[s]) for k in ok.tolist()]

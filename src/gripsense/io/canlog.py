@@ -34,6 +34,7 @@ from gripsense.io.nmea.schema import MALFORMED, TRUNCATED
 
 __all__ = [
     "CAN_SIGNALS",
+    "FrameColumns",
     "SignalPlan",
     "decode_frames",
     "load_dbc",
@@ -82,6 +83,55 @@ NOT_ASC = "not ASC"
 
 
 @dataclass
+class FrameColumns:
+    """A log's CAN frames as arrays, in frame order.
+
+    Parameters
+    ----------
+    pos : numpy.ndarray
+        Each frame's position for messages (line or frame number) [-].
+    ids : numpy.ndarray
+        Identifiers (11 or 29 bits) [-].
+    t : numpy.ndarray
+        Times [s].
+    data : numpy.ndarray
+        Payload bytes, one row per frame, zero-padded to the longest [-].
+    lens : numpy.ndarray
+        Payload lengths [bytes].
+    special : numpy.ndarray
+        Error and remote frames (ignored) [-].
+    """
+
+    pos: np.ndarray
+    ids: np.ndarray
+    t: np.ndarray
+    data: np.ndarray
+    lens: np.ndarray
+    special: np.ndarray
+
+    @classmethod
+    def of(cls, frames: list) -> FrameColumns:
+        """The columns of ``(position, frame)`` pairs (python-can messages)."""
+        n = len(frames)
+        pay = [bytes(fr.data) for _, fr in frames]
+        lens = np.fromiter((len(b) for b in pay), np.int64, n)
+        w = int(lens.max()) if n else 0
+        data = np.frombuffer(b"".join(b.ljust(w, b"\0") for b in pay), np.uint8)
+        special = np.fromiter(
+            (bool(getattr(fr, "is_error_frame", False) or getattr(fr, "is_remote_frame", False))
+             for _, fr in frames), bool, n,
+        )  # fmt: skip
+        return cls(
+            pos=np.fromiter((k for k, _ in frames), np.int64, n),
+            ids=np.fromiter((fr.arbitration_id for _, fr in frames), np.int64, n),
+            t=np.fromiter((fr.timestamp for _, fr in frames), float, n),
+            data=data.reshape(n, w),
+            lens=lens,
+            special=special,
+        )
+
+
+@dataclass
 class _Frames:
     """The frames of a CAN log and what else its bytes or lines were."""
 
@@ -92,6 +142,7 @@ class _Frames:
     notes: list[str] = field(default_factory=list)
     units: int = 0  # what the report counts beyond the frames (lines, rejected byte ranges)
     unit: str = "frames"
+    columns: FrameColumns | None = None  # the frames as arrays (MDF4 bus logs), else *frames*
 
     def reject(self, where: int, reason: str, detail: str, name: str, strict: bool) -> None:
         if strict:
@@ -482,7 +533,7 @@ def _choose_copies(
     return chosen
 
 
-def _decode_rows(msg, frames: list, rows: np.ndarray, sigs: list[str]):
+def _decode_rows(msg, c: FrameColumns, rows: np.ndarray, sigs: list[str]):
     """The signals *sigs* of message *msg* in the frames at *rows*.
 
     A frame of the message's length (≤ 8 bytes) of a message without multiplexing is decoded
@@ -499,13 +550,12 @@ def _decode_rows(msg, frames: list, rows: np.ndarray, sigs: list[str]):
     failed : list of (int, str)
         Row and cantools' error of each frame that does not decode.
     """
-    payloads = [bytes(frames[i][1].data) for i in rows.tolist()]
     size = int(msg.length)
     vector = size <= 8 and not msg.is_multiplexed() and all(
         _vectorisable(msg.get_signal_by_name(s)) for s in sigs
     )  # fmt: skip
-    lens = np.fromiter((len(b) for b in payloads), np.int64, len(payloads))
-    fast = (lens == size) if vector else np.zeros(len(payloads), bool)
+    lens = c.lens[rows]
+    fast = (lens == size) if vector else np.zeros(rows.size, bool)
     values: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     failed: list[tuple[int, str]] = []
     slow_vals: dict[str, list[float]] = {s: [] for s in sigs}
@@ -513,7 +563,8 @@ def _decode_rows(msg, frames: list, rows: np.ndarray, sigs: list[str]):
     slow_rows: list[int] = []
     for j in np.flatnonzero(~fast).tolist():
         try:
-            dec = msg.decode(payloads[j], decode_choices=False)
+            r = int(rows[j])
+            dec = msg.decode(bytes(c.data[r, : c.lens[r]]), decode_choices=False)
         except Exception as e:
             failed.append((int(rows[j]), str(e)))
             continue
@@ -524,9 +575,7 @@ def _decode_rows(msg, frames: list, rows: np.ndarray, sigs: list[str]):
     fast_idx = np.flatnonzero(fast)
     if fast_idx.size:
         buf = np.zeros((fast_idx.size, 8), np.uint8)
-        buf[:, :size] = np.frombuffer(
-            b"".join(payloads[j] for j in fast_idx.tolist()), np.uint8
-        ).reshape(fast_idx.size, size)
+        buf[:, :size] = c.data[rows[fast_idx], :size]
         le = buf.view("<u8").ravel()
         be = buf.view(">u8").ravel().astype(np.uint64)
         fast_vals = {s: _vector_signal(msg.get_signal_by_name(s), le, be) for s in sigs}
@@ -619,9 +668,9 @@ def decode_frames(
     """
     mapped = plan.mapped
     pgns = any(_key(m)[0] == "pgn" for m in plan.db.messages)  # a J1939 DBC: match by PGN
-    ids: dict[int, int] = {}
-    for _, fr in got.frames:
-        ids[fr.arbitration_id] = ids.get(fr.arbitration_id, 0) + 1
+    c = got.columns if got.columns is not None else FrameColumns.of(got.frames)
+    u, k_ = np.unique(c.ids, return_counts=True)
+    ids: dict[int, int] = dict(zip(u.tolist(), k_.tolist(), strict=True))
     counts: dict[tuple[str, int], int] = {}
     for fid, n in ids.items():
         for k in _frame_keys(fid, pgns):
@@ -635,13 +684,7 @@ def decode_frames(
         match[fid] = next((wanted[k] for k in keys if k in wanted), None)
         if match[fid] is None and not any(k in known for k in keys):
             match[fid] = False  # not in the DBC
-    frames = got.frames
-    n = len(frames)
-    fids = np.fromiter((fr.arbitration_id for _, fr in frames), np.int64, n)
-    special = np.fromiter(
-        (bool(getattr(fr, "is_error_frame", False) or getattr(fr, "is_remote_frame", False))
-         for _, fr in frames), bool, n,
-    )  # fmt: skip
+    fids, special = c.ids, c.special
     ignored: dict[str, int] = dict(got.ignored)
     if special.any():
         ignored["(error/remote frame)"] = ignored.get("(error/remote frame)", 0) + int(
@@ -671,15 +714,15 @@ def decode_frames(
         msg = msgs[mid]
         rows = np.sort(np.asarray(rows_list, np.int64))
         sigs = [s.channel for k, s in mapped.items() if chosen[k].frame_id == mid]
-        ok_rows, values, failed = _decode_rows(msg, frames, rows, sigs)
+        ok_rows, values, failed = _decode_rows(msg, c, rows, sigs)
         at = "line" if got.unit == "lines" else "frame"
         for i, e in failed:
-            k, fr = frames[i]
-            bad.append((k, f"{at} {k} (id 0x{fr.arbitration_id:X}, t = {fr.timestamp:.3f} s): "
-                           f"{msg.name} does not decode ({e})"))  # fmt: skip
+            at_k = int(c.pos[i])
+            bad.append((at_k, f"{at} {at_k} (id 0x{int(c.ids[i]):X}, t = {c.t[i]:.3f} s): "
+                              f"{msg.name} does not decode ({e})"))  # fmt: skip
         if ok_rows.size:
             parsed[msg.name] = parsed.get(msg.name, 0) + int(ok_rows.size)
-        t = np.fromiter((frames[i][1].timestamp for i in ok_rows.tolist()), float, ok_rows.size)
+        t = c.t[ok_rows]
         for sig in sigs:
             v, has = values[sig]
             series[(mid, sig)] = (t[has], v[has])
@@ -715,7 +758,7 @@ def decode_frames(
         rep.rejected[reason] = rep.rejected.get(reason, 0) + v
     rep.rejected[MALFORMED] = n_bad + got.rejected.get(MALFORMED, 0)
     rep.first_rejects = sorted(got.firsts + firsts, key=lambda r: r.line)[:20]
-    rep.total_lines = len(got.frames) + got.units
+    rep.total_lines = len(c.ids) + got.units
     if absolute and time_offset is not None:
         rep.notes.append("the log's times are absolute: --time-offset not used")
     return log

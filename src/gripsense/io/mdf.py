@@ -222,26 +222,15 @@ def _not_numbers(v: np.ndarray) -> str:
     return ""
 
 
-class _Frame:
-    """One CAN frame of an MDF4 bus log (what :func:`gripsense.io.canlog.decode_frames`
-    reads of it).
-    """
-
-    __slots__ = ("arbitration_id", "data", "timestamp")
-
-    def __init__(self, arbitration_id: int, data: bytes, timestamp: float) -> None:
-        self.arbitration_id, self.data, self.timestamp = arbitration_id, data, timestamp
-
-
 def _bus_frames(mdf, name: str, bus: dict, strict: bool):
-    """The CAN frames of an MDF4 bus log's ``CAN_DataFrame`` groups, in time order; remote
-    and error frames counted as ignored.
+    """The CAN frames of an MDF4 bus log's ``CAN_DataFrame`` groups as arrays, in time order
+    (:class:`gripsense.io.canlog.FrameColumns`); remote and error frames counted as ignored.
     """
-    from gripsense.io.canlog import _Frames
+    from gripsense.io.canlog import FrameColumns, _Frames
 
     _check_records(mdf, name, {g: None for g in bus})
     out = _Frames([])
-    ts, ids, payloads = [], [], []
+    ts, ids, datas, lens = [], [], [], []
     for gi, (kind, ci) in bus.items():
         n = int(mdf.groups[gi].channel_group.cycles_nr)
         if kind != _BUS:
@@ -268,28 +257,40 @@ def _bus_frames(mdf, name: str, bus: dict, strict: bool):
                 f"{name}: channel group {gi} ({kind}) has no ID or DataBytes field: not an "
                 "ASAM bus-logging group"
             )
+        m = len(raw)
+        if data.dtype.kind == "V":
+            data = np.frombuffer(data.tobytes(), np.uint8).reshape(m, -1)
+        elif data.dtype.kind == "O" or data.ndim != 2:  # variable-length (CAN FD) payloads
+            rows = [bytes(x) for x in data]
+            w = max((len(x) for x in rows), default=0)
+            data = np.frombuffer(b"".join(x.ljust(w, b"\0") for x in rows), np.uint8)
+            data = data.reshape(m, w)
         length = col("DataLength")
         if length is None:
             length = col("DLC")
-        fid = raw.astype(np.uint64) & 0x1FFFFFFF
-        if data.dtype.kind == "V":
-            data = np.frombuffer(data.tobytes(), np.uint8).reshape(len(data), -1)
-        for k in range(len(fid)):
-            row = data[k]
-            b = bytes(row)
-            if length is not None:
-                b = b[: int(length[k])]
-            payloads.append(b)
-        ids.append(fid)
+        n_bytes = np.full(m, data.shape[1], np.int64)
+        if length is not None:
+            n_bytes = np.minimum(np.asarray(length).astype(np.int64), data.shape[1])
+        ids.append(raw.astype(np.int64) & 0x1FFFFFFF)
         ts.append(np.asarray(sig.timestamps, float))
-    if ts:
-        t = np.concatenate(ts)
-        fid = np.concatenate(ids)
-        order = np.argsort(t, kind="stable")
-        out.frames = [
-            (j + 1, _Frame(int(fid[i]), payloads[i], float(t[i])))
-            for j, i in enumerate(order)
-        ]  # fmt: skip
+        datas.append(data.astype(np.uint8, copy=False))
+        lens.append(n_bytes)
+    w = max((d.shape[1] for d in datas), default=0)
+    data = np.zeros((sum(len(t) for t in ts), w), np.uint8)
+    at = 0
+    for d in datas:
+        data[at : at + len(d), : d.shape[1]] = d
+        at += len(d)
+    t = np.concatenate(ts) if ts else np.zeros(0)
+    order = np.argsort(t, kind="stable")
+    out.columns = FrameColumns(
+        pos=np.arange(1, t.size + 1),
+        ids=(np.concatenate(ids) if ids else np.zeros(0, np.int64))[order],
+        t=t[order],
+        data=data[order],
+        lens=(np.concatenate(lens) if lens else np.zeros(0, np.int64))[order],
+        special=np.zeros(t.size, bool),
+    )
     return out
 
 
