@@ -385,3 +385,25 @@ def test_without_checksums_fast_equals_reference_and_the_checksummed_read():
         if not a.report.n_rejected:  # (binary between the lines reads differently unchecked)
             assert a.epochs.equals(b.epochs), p.name
             assert a.report.parsed == b.report.parsed
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_signalk_yacht_log_one_epoch_per_cycle(engine):
+    """The issue's own file: Signal K's sample yacht log (plaka.log, first 1200 lines). Per
+    2-second cycle: VHW, VPW, VTG, MWV, VWT, an empty $IIHDT,,T, WCV, XTE, ZDA (no date), DBT,
+    GLL, GSV, HDM, a second empty $IIHDT,,T, MWD, VDR. Before issue 43 the second HDT split
+    every cycle: twice the epochs, half of them without time."""
+    path = DATA / "signalk-plaka-head.log"
+    log = read_nmea(path, engine=engine)
+    rep, ep = log.report, log.epochs
+    zda, vtg = log.sentences["ZDA"], log.sentences["VTG"]
+    assert rep.n_epochs == len(zda) and rep.epochs_without_time == 0
+    assert rep.parsed["HDT"] == 2 * len(zda)
+    # each cycle's VTG is in the epoch of the ZDA that follows it in the cycle
+    text = path.read_text().splitlines()
+    for row in vtg.itertuples(index=False):
+        nxt = next(i for i in range(row.line, len(text)) if "ZDA," in text[i]) + 1
+        assert row.epoch == zda.loc[zda["line"] == nxt, "epoch"].iloc[0]
+    assert ep["speed_mps"].notna().all() and ep["t_s"].notna().all()
+    # the log has no date (its ZDA date fields are empty): t_s, no time_utc
+    assert not rep.has_date and ep["time_utc"].isna().all()
