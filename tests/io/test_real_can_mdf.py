@@ -133,6 +133,7 @@ def test_columns_naming_a_copy_the_log_does_not_hold_reads_nothing_of_the_other(
     log = read_log(plain["canedge"], columns="heading=0x5.Heading,speed=Speed", dbc=GNSS_DBC)
     assert len(log.epochs) == 0 and log.report.balanced
     assert log.report.ignored["(no mapped signal)"] > 168  # the 0x15 frames: not mapped
+    assert any("holds no frame of gnss_attitude (id 0x5)" in n for n in log.report.notes)
     with pytest.raises(InputError, match=r"no message 'gnss_pos' carries signal 'Heading'"):
         read_log(plain["canedge"], columns="heading=gnss_pos.Heading", dbc=GNSS_DBC)
 

@@ -523,6 +523,11 @@ def _choose_copies(
                 f"{key}={pick}"
             )
         chosen[key] = (held or msgs)[0]
+        if not held:
+            plan.notes.append(
+                f"signal {plan.mapped[key].channel!r} ({key}): the log holds no frame of "
+                f"{' or '.join(_ident(m) for m in msgs)}: no values"
+            )
         if len(msgs) > 1 and held:
             others = ", ".join(f"0x{m.frame_id:X}" for m in msgs if m is not held[0])
             plan.notes.append(
