@@ -407,3 +407,26 @@ def test_signalk_yacht_log_one_epoch_per_cycle(engine):
     assert ep["speed_mps"].notna().all() and ep["t_s"].notna().all()
     # the log has no date (its ZDA date fields are empty): t_s, no time_utc
     assert not rep.has_date and ep["time_utc"].isna().all()
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_no_fix_placeholder_position_is_not_malformed(engine):
+    """GPSD's MediaTek MT3301 capture (power-up to first fix): without a fix the receiver
+    sends 8960.000000,N (89° 60') with GGA quality 0 / RMC status V. Those are well-formed
+    sentences saying "no fix" — parsed, without a position — not 43 *malformed* lines."""
+    log = read_nmea(DATA / "mtk-3301.log", engine=engine)
+    rep = log.report
+    assert rep.rejected["malformed field"] == 0
+    assert rep.parsed["GGA"] == rep.parsed["RMC"] == 11
+    ep = log.epochs
+    no_fix = ep["fix_quality"] == 0
+    assert no_fix.sum() == 7 and ep.loc[no_fix, "lat_deg"].isna().all()
+    # the first fixes, near where the file's header says it was made (52.21N 6.88E)
+    assert (ep.loc[~no_fix, "lat_deg"] - 52.21).abs().max() < 0.02
+    assert (ep.loc[~no_fix, "lon_deg"] - 6.88).abs().max() < 0.02
+    # its last GGA: 5212.981832,N,00653.104686,E
+    assert ep["lat_deg"].iloc[-1] == pytest.approx(52 + 12.981832 / 60, abs=1e-12)
+    assert ep["lon_deg"].iloc[-1] == pytest.approx(6 + 53.104686 / 60, abs=1e-12)
+    # a fixed GGA with minute 60 stays malformed
+    bad = sentence("GPGGA,120000.00,8960.0000,N,00000.0000,E,1,08,0.9,10.0,M,30.0,M,,")
+    assert read_nmea([bad], engine=engine).report.rejected["malformed field"] == 1

@@ -115,10 +115,17 @@ def _decode_one(
         c["tod_s"], b = _tod(r["time"])
         flag(b, "time")
     if key in ("GGA", "RMC"):
-        c["lat_deg"], b = _latlon(r["lat"], r["ns"], "S", "N", 90.0)
-        flag(b, "lat")
-        c["lon_deg"], b = _latlon(r["lon"], r["ew"], "W", "E", 180.0)
-        flag(b, "lon")
+        # a receiver without a fix (GGA quality 0, RMC status V) may send a placeholder
+        # position (MediaTek: 8960.000000,N — minute 60): not a malformed sentence, no position
+        no_fix = r["quality"] == 0 if key == "GGA" else r["status"] == ord("V")
+        for name, f, neg, pos, lim in (
+            ("lat", "lat", "S", "N", 90.0),
+            ("lon", "lon", "W", "E", 180.0),
+        ):
+            hemi = r["ns"] if f == "lat" else r["ew"]
+            c[f"{name}_deg"], b = _latlon(r[f], hemi, neg, pos, lim)
+            c[f"{name}_deg"][b & no_fix] = np.nan
+            flag(b & ~no_fix, name)
     if key == "GGA":
         c["fix_quality"] = r["quality"]
         c["n_sats"] = r["n_sats"]
