@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -13,8 +16,10 @@ from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.reference import tokenize_reference
 from tests.conftest import GPSD_LOGS
 
+FORMATS = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
 REAL = []
-for p in GPSD_LOGS:
+# GPSD's logs, and the proprietary sentences, RTCM-mixed and checksum-less logs of issue 43
+for p in [*GPSD_LOGS, *sorted(FORMATS.glob("*.log"))]:
     for ln in p.read_bytes().split(b"\n"):
         ln = ln.rstrip(b"\r")
         if ln.startswith((b"$", b"!")) and len(ln) < 200:
@@ -90,6 +95,17 @@ def test_fuzz_never_raises_and_accounts(lines, eol):
         assert sum(len(f) for f in log.sentences.values()) == rep.n_parsed
     a, b = tokenize_fast(data), tokenize_reference(data)
     assert_same_tokens(a, b)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(corrupted_line(), min_size=1, max_size=40), st.sampled_from([b"\n", b"\r\n"]))
+def test_fuzz_without_checksums_both_tokenizers_agree(lines, eol):
+    """Sentences read without checksums (a talker that sends none): the same line by line."""
+    data = eol.join(re.sub(rb"\*[0-9A-Fa-f]{2}$", b"", ln) for ln in lines)
+    a = tokenize_fast(data, no_checksum=True)
+    b = tokenize_reference(data, no_checksum=True)
+    assert_same_tokens(a, b)
+    assert a.details == {i: d for i, d in b.details.items() if i in a.details}
 
 
 @settings(max_examples=300, deadline=None)

@@ -430,3 +430,12 @@ def test_no_fix_placeholder_position_is_not_malformed(engine):
     # a fixed GGA with minute 60 stays malformed
     bad = sentence("GPGGA,120000.00,8960.0000,N,00000.0000,E,1,08,0.9,10.0,M,30.0,M,,")
     assert read_nmea([bad], engine=engine).report.rejected["malformed field"] == 1
+
+
+@pytest.mark.parametrize("path", sorted(DATA.glob("*.log")), ids=lambda p: p.stem)
+def test_real_files_fast_equals_reference(path):
+    a, b = read_nmea(path, engine="fast"), read_nmea(path, engine="reference")
+    assert a.report == b.report and a.report.balanced
+    assert a.epochs.equals(b.epochs)
+    for k in a.sentences:
+        assert a.sentences[k].equals(b.sentences[k]), k
