@@ -218,13 +218,21 @@ def test_ashtech_hpr(engine):
     assert math.isnan(ep["heading_deg"].iloc[1])  # float ambiguities: not a heading
 
 
-def test_furuno_and_unknown_proprietary_are_counted_not_rejected():
-    log = read_nmea(DATA / "pynmeagps-furuno.log")
-    assert log.report.ignored == {
-        "PFEC,GPatt (proprietary, not used)": 1,
-        "PFEC,GPhve (proprietary, not used)": 1,
-    }
+@pytest.mark.parametrize("engine", ENGINES)
+def test_furuno_satellite_compass_attitude(engine):
+    """pynmeagps' Furuno samples: $PFEC,GPatt (yaw, pitch, roll of a satellite compass) read
+    as pynmeagps reads it; $PFEC,GPhve (heave) counted as not used."""
+    path = DATA / "pynmeagps-furuno.log"
+    log = read_nmea(path, engine=engine)
+    assert log.report.parsed == {"PFEC,GPatt": 1}
+    assert log.report.ignored == {"PFEC,GPhve (proprietary, not used)": 1}
     assert log.report.n_rejected == 0
+    ref = _pynmeagps(path)["PFECGPatt"][0]
+    ep = log.epochs
+    assert ep["heading_deg"].iloc[0] == pytest.approx(ref.yaw)
+    assert ep["pitch_deg"].iloc[0] == pytest.approx(ref.pitch)
+    assert ep["roll_deg"].iloc[0] == pytest.approx(ref.roll)
+    assert ep["heading_source"].iloc[0] == "GPatt"
 
 
 def test_oxts_pashr_with_time_first_is_still_read():

@@ -159,6 +159,10 @@ def _decode_one(
         c["roll_deg"] = r["roll"]
         if key == "PSAT,HPR":
             c["type"] = _char(r["type"])
+    elif key == "PFEC,GPatt":
+        c["heading_deg"] = _wrap360(r["heading"])
+        c["pitch_deg"] = r["pitch"]
+        c["roll_deg"] = r["roll"]
     elif key == "PASHR,HPR":
         # an attitude from float ambiguities (flag 1) is not used; an empty flag is read
         invalid = r["ambiguity"] > 0

@@ -33,8 +33,8 @@ Merging an epoch's sentences
   (if its status is ``A``);
 * speed and course over ground: RMC (status ``A``), else VTG (mode not ``N``);
 * heading: ``$PSAT,HPR`` > ``$PASHR`` > ``$PASHR,HPR`` (fixed ambiguities) > ``$PTNL,AVR``
-  (fixed RTK) > ``$PSSN,HRP`` (mode 2, 4) > ``$PSTI,036`` (mode ``R``) > THS (mode not ``V``) >
-  HDT — ``heading_source`` says which;
+  (fixed RTK) > ``$PSSN,HRP`` (mode 2, 4) > ``$PSTI,036`` (mode ``R``) > ``$PFEC,GPatt`` > THS
+  (mode not ``V``) > HDT — ``heading_source`` says which;
 * pitch and roll: the same proprietary sentences in the same order (degrees, as the receiver
   sends them);
 * date: RMC or ZDA in the epoch, else carried from the nearest dated epoch, counting midnight
@@ -92,10 +92,17 @@ HEADING_PRIORITY = (
     "PTNL,AVR",
     "PSSN,HRP",
     "PSTI,036",
+    "PFEC,GPatt",
     "THS",
     "HDT",
 )
-_HEADING_LABEL = {"PSAT,HPR": "HPR", "PASHR,HPR": "PASHR", "PTNL,AVR": "AVR", "PSSN,HRP": "PSSN"}
+_HEADING_LABEL = {
+    "PSAT,HPR": "HPR",
+    "PASHR,HPR": "PASHR",
+    "PTNL,AVR": "AVR",
+    "PSSN,HRP": "PSSN",
+    "PFEC,GPatt": "GPatt",
+}
 # categories of ``heading_source``: the NMEA sentences, then the other formats (VBOX True_Head,
 # UBX NAV-RELPOSNED / NAV-ATT, a mapped MDF4 or CAN channel); new ones are appended
 HEADING_SOURCES = [
@@ -110,8 +117,17 @@ HEADING_SOURCES = [
     "channel",
     "AVR",
     "PSSN",
+    "GPatt",
 ]
-ATTITUDE_PRIORITY = ("PSAT,HPR", "PASHR", "PASHR,HPR", "PTNL,AVR", "PSSN,HRP", "PSTI,036")
+ATTITUDE_PRIORITY = (
+    "PSAT,HPR",
+    "PASHR",
+    "PASHR,HPR",
+    "PTNL,AVR",
+    "PSSN,HRP",
+    "PSTI,036",
+    "PFEC,GPatt",
+)
 # categories of ``yaw_rate_source``: NMEA ROT, the heading's rate, VBOX Yaw_Rate, a mapped channel
 YAW_RATE_SOURCES = ["ROT", "heading", "VBOX", "channel"]
 

@@ -6,7 +6,7 @@ which field holds what.
 
 Field numbers count the comma-separated fields after the address field (``$GPGGA`` is field 0,
 the UTC time is field 1). For sub-typed proprietary sentences (``$PSAT,HPR``, ``$PSTI,036``,
-``$PASHR,HPR``, ``$PTNL,AVR``, ``$PSSN,HRP``) the sub-type is field 1.
+``$PASHR,HPR``, ``$PTNL,AVR``, ``$PSSN,HRP``, ``$PFEC,GPatt``) the sub-type is field 1.
 """
 
 from __future__ import annotations
@@ -213,6 +213,15 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(7, "roll", NUM),
             F(10, "quality", INT),
             min_fields=10,
+        ),
+        # Furuno satellite compass $PFEC,GPatt: yaw (true heading), pitch, roll [deg]; no time
+        _spec(
+            "PFEC,GPatt",
+            False,
+            F(2, "heading", NUM),
+            F(3, "pitch", NUM),
+            F(4, "roll", NUM),
+            min_fields=2,
         ),
         # Septentrio $PSSN,HRP: time, date ddmmyy, heading, roll, pitch, their standard
         # deviations, satellites, mode (0 none, 1/3 float, 2/4 fixed ambiguities), ...; used
