@@ -14,10 +14,13 @@ fix_quality        GGA fix quality (0 none, 1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK fl
 n_sats, hdop       satellites used, horizontal dilution of precision (GGA)
 speed_mps          speed over ground [m/s]
 course_deg         course over ground, clockwise from true north [deg]
-heading_deg        true heading, clockwise from true north [deg] (HDT, THS, HPR, PASHR, PSTI,036)
-heading_source     which sentence gave the heading: ``HPR``, ``PASHR``, ``PSTI``, ``THS``, ``HDT``
-pitch_deg          pitch [deg] as sent by the receiver (HPR, PASHR, PSTI,036)
-roll_deg           roll [deg] as sent by the receiver (HPR, PASHR, PSTI,036)
+heading_deg        true heading, clockwise from true north [deg] (HDT, THS and the proprietary
+                   attitude sentences: PSAT,HPR, PASHR, PASHR,HPR, PTNL,AVR, PSSN,HRP,
+                   PSTI,036, PFEC,GPatt)
+heading_source     which sentence gave the heading: ``HPR``, ``PASHR``, ``AVR``, ``PSSN``,
+                   ``PSTI``, ``GPatt``, ``THS``, ``HDT``
+pitch_deg          pitch [deg] as sent by the receiver (the proprietary attitude sentences)
+roll_deg           roll [deg] as sent by the receiver (the proprietary attitude sentences)
 rot_deg_per_min    rate of turn as NMEA sends it: [deg/min], positive = turning to starboard
 yaw_rate_rps       ISO 8855 yaw rate [rad/s], positive counter-clockwise seen from above:
                    -ROT·π/10800 when ROT is present, else -d(heading)/dt
