@@ -30,7 +30,8 @@ def simulate(
         typer.Option(
             "--format",
             help="format of the emulated logs: nmea | vbo (VBOX) | ubx (u-blox UBX with the "
-            "NMEA sentences) | mf4 (MDF4); vbo and mf4 carry the steering channel inside",
+            "NMEA sentences) | mf4 (MDF4) | rosbag2 (a ROS 2 bag folder, MCAP); vbo and mf4 carry "
+            "the steering channel inside",
         ),
     ] = "nmea",
 ) -> None:

@@ -14,6 +14,7 @@ FORMAT_LIBRARIES = {
     "asammdf": "asammdf",
     "can": "python-can",
     "cantools": "cantools",
+    "rosbags": "rosbags",
 }
 """Module -> PyPI distribution of the ``formats`` extra."""
 

@@ -11,6 +11,8 @@ CAN BLF         ``LOGG`` signature                           python-can + cantoo
 CAN ASC         ``date``/``base hex`` header of a Vector ASC python-can + cantools (``--dbc``)
 VBOX VBO        ``[column names]`` / ``File created on``     by hand (:mod:`gripsense.io.vbo`)
 UBX (+ NMEA)    a UBX frame with a good checksum             compiled scan (:mod:`gripsense.io.ubx`)
+ROS bag         ``#ROSBAG V2.0``, MCAP or sqlite3 magic; a    rosbags (:mod:`gripsense.io.rosbag`)
+                ROS 2 bag folder (``metadata.yaml``)
 NMEA 0183       anything else                                :func:`gripsense.io.read_nmea`
 ==============  ===========================================  ====================================
 
@@ -43,7 +45,7 @@ __all__ = [
     "write_nmea_lines",
 ]
 
-FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc")
+FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc", "rosbag")
 """Format names of :func:`detect_format` (and ``--format`` of ``gripsense simulate``)."""
 
 
@@ -92,6 +94,7 @@ def detect_format(head: bytes) -> str:
     str
         One of :data:`FORMATS`.
     """
+    from gripsense.io.rosbag import is_rosbag
     from gripsense.io.ubx import is_ubx
     from gripsense.io.vbo import is_vbo
 
@@ -99,6 +102,8 @@ def detect_format(head: bytes) -> str:
         return "mf4"
     if head.startswith(b"LOGG"):
         return "blf"
+    if is_rosbag(head):
+        return "rosbag"
     start = head[:4096].lstrip().lower()
     if start.startswith(b"date ") or b"\nbase hex" in start[:2048] or start.startswith(b"base "):
         return "asc"
@@ -153,6 +158,14 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     if options is not None and kw:
         raise TypeError("read_log: give options or keyword fields, not both")
     p = Path(path)
+    if p.is_dir():
+        from gripsense.io.rosbag import is_rosbag_dir, read_rosbag
+
+        if not is_rosbag_dir(p):
+            raise InputError(f"{p}: a folder, not a log (a ROS 2 bag folder holds metadata.yaml)")
+        log = read_rosbag(p, columns=o.columns, time_offset=o.time_offset, strict=o.strict)
+        log.report.channels = channel_rates(log.epochs)
+        return log
     # one read: the format is recognised from the first bytes, which the reader continues
     # from (a pipe or FIFO is read once; a device is refused)
     src = InputStream(p, "file")
@@ -173,7 +186,9 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
             )
         if fmt in ("blf", "asc") and o.dbc is None:
             raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
-        by_path = fmt == "mf4" and not src.gzip and not src.stream  # asammdf reads the file
+        by_path = (
+            fmt in ("mf4", "rosbag") and not src.gzip and not src.stream
+        )  # the library reads it
         inp = None
         if not by_path:
             lines = o.max_lines if fmt in ("nmea", "vbo", "asc") else None
@@ -202,6 +217,12 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         log = read_mdf(p, None if by_path else data, columns=o.columns,
                        time_offset=o.time_offset, strict=o.strict, dbc=o.dbc)  # fmt: skip
         log.report.notes[:0] = notes
+    elif fmt == "rosbag":
+        from gripsense.io.rosbag import read_rosbag
+
+        log = read_rosbag(p, None if by_path else data, columns=o.columns,
+                          time_offset=o.time_offset, strict=o.strict)  # fmt: skip
+        log.report.notes[:0] = notes
     else:
         from gripsense.io.canlog import read_can
 
@@ -213,9 +234,9 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
     unused = [
         flag
         for flag, given, used_by in (
-            ("--columns", o.columns, ("vbo", "mf4", "blf", "asc")),
+            ("--columns", o.columns, ("vbo", "mf4", "blf", "asc", "rosbag")),
             ("--dbc", o.dbc, ("blf", "asc", "mf4")),  # MDF4: its raw CAN frames
-            ("--time-offset", o.time_offset, ("mf4", "blf", "asc")),
+            ("--time-offset", o.time_offset, ("mf4", "blf", "asc", "rosbag")),
         )
         if given is not None and fmt not in used_by
     ]
@@ -255,9 +276,9 @@ def log_steer(epochs, steering_ratio: float | None, name: str = "log"):
     return None
 
 
-WRITABLE = ("nmea", "vbo", "ubx", "mf4")
+WRITABLE = ("nmea", "vbo", "ubx", "mf4", "rosbag2")
 """Formats :func:`write_log` writes (``gripsense simulate --format``)."""
-SUFFIXES = {"nmea": ".nmea.gz", "vbo": ".vbo", "ubx": ".ubx", "mf4": ".mf4"}
+SUFFIXES = {"nmea": ".nmea.gz", "vbo": ".vbo", "ubx": ".ubx", "mf4": ".mf4", "rosbag2": "_rosbag2"}
 """File suffix of each writable format."""
 
 
@@ -278,10 +299,10 @@ def write_log(
         ``course_deg``, ``heading_deg``, ``yaw_rate_rps``.
     path : str or Path
         Output file.
-    fmt : {"nmea", "vbo", "ubx", "mf4"}
+    fmt : {"nmea", "vbo", "ubx", "mf4", "rosbag2"}
         Format: NMEA (the *nmea_lines*, gzip when the name ends in ``.gz``), VBOX ``.vbo``
         (written by hand), UBX (pyubx2; the NMEA lines interleaved as a receiver sends them) or
-        MDF4 (asammdf).
+        MDF4 (asammdf) or a ROS 2 bag folder (rosbags' writer, MCAP storage).
     nmea_lines : list of str, optional
         The receiver's NMEA sentences (needed for ``nmea``; interleaved in ``ubx``).
     steer : pandas.DataFrame, optional
@@ -317,6 +338,11 @@ def write_log(
         return mdf_columns(
             steering=steer is not None, torque=steer is not None and "torque_Nm" in steer
         )
+    if fmt == "rosbag2":
+        from gripsense.io.rosbag import ROSBAG2_COLUMNS, write_rosbag2
+
+        write_rosbag2(epochs, path)
+        return ROSBAG2_COLUMNS
     raise InputError(f"--format {fmt!r}: use one of {', '.join(WRITABLE)}")
 
 

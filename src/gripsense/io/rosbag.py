@@ -1,0 +1,573 @@
+"""ROS bags: ROS 1 ``.bag``, ROS 2 ``.db3`` (sqlite3) and ``.mcap``, read with ``rosbags``.
+
+No ROS install is needed: :mod:`rosbags` reads the three containers and decodes their messages
+with a type store built from the bag's own message definitions (a ROS 1 bag's connection
+headers and a ROS 2 MCAP file carry them; a ``.db3`` bag falls back to the ROS 2 Humble types).
+
+The common message types are understood out of the box (:data:`ROS_TYPES`):
+
+======================================================  ==========================================
+message type                                            gives
+======================================================  ==========================================
+``sensor_msgs/NavSatFix``                               lat, lon, alt (no fix: not used)
+``geometry_msgs/TwistStamped``, ``…WithCovariance…``    course and speed from the ENU velocity
+``sensor_msgs/Imu``                                     yaw rate (``angular_velocity.z``, ISO)
+``nmea_msgs/Sentence``                                  the sentences, through the NMEA reader
+``ublox_msgs/NavRELPOSNED(9)``                          heading (``relPosHeading`` when valid)
+``ublox_msgs/NavPVT``                                   lat, lon, alt, course, speed
+``novatel_oem7_msgs/HEADING2``                          heading (``SOL_COMPUTED`` only)
+``novatel_oem7_msgs/BESTVEL``                           course, speed (``SOL_COMPUTED`` only)
+``novatel_oem7_msgs/INSPVA``                            lat, lon, alt, heading, course, speed
+                                                        (INS status good, free or aligned)
+======================================================  ==========================================
+
+``--columns`` maps a topic the way it maps a channel: ``heading=/gps/heading`` takes the
+heading a known type gives; ``heading=/gps/heading.data:deg`` a field (dotted path) of any
+type, with its unit; a ``std_msgs`` number (``Float64``…) is its ``data``. What ``--columns``
+does not map is taken from the known types (the topic with most messages for each key). Time
+is the header stamp (``header.stamp``), else the time the bag recorded the message.
+
+Every message is counted: used, ignored (its topic not mapped, or no valid value: no fix, a
+heading flagged invalid) or rejected (it did not decode).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from gripsense.errors import InputError
+from gripsense.io.channels import Channel, ChannelSpec, parse_channel_spec
+from gripsense.io.formats import require
+from gripsense.io.measurement import log_from_channels
+from gripsense.io.nmea.reader import NmeaLog
+from gripsense.io.nmea.schema import MALFORMED, REASONS
+
+__all__ = [
+    "ROSBAG2_COLUMNS",
+    "ROS_TYPES",
+    "is_rosbag",
+    "is_rosbag_dir",
+    "read_rosbag",
+    "write_rosbag2",
+]
+
+ROS1_MAGIC = b"#ROSBAG V2.0"
+MCAP_MAGIC = b"\x89MCAP"
+SQLITE_MAGIC = b"SQLite format 3\x00"
+
+
+def is_rosbag(head: bytes) -> str | None:
+    """The ROS bag container of a file from its first bytes.
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes.
+
+    Returns
+    -------
+    str or None
+        ``"bag"`` (ROS 1), ``"mcap"``, ``"db3"`` (ROS 2 sqlite3) or None.
+    """
+    if head.startswith(ROS1_MAGIC):
+        return "bag"
+    if head.startswith(MCAP_MAGIC):
+        return "mcap"
+    if head.startswith(SQLITE_MAGIC):
+        return "db3"
+    return None
+
+
+def is_rosbag_dir(path: Path) -> bool:
+    """A ROS 2 bag folder: a directory with ``metadata.yaml``.
+
+    Parameters
+    ----------
+    path : Path
+        The path given.
+
+    Returns
+    -------
+    bool
+    """
+    return path.is_dir() and (path / "metadata.yaml").is_file()
+
+
+def _norm(msgtype: str) -> str:
+    """``sensor_msgs/msg/NavSatFix`` and ``sensor_msgs/NavSatFix`` -> ``sensor_msgs/NavSatFix``."""
+    return msgtype.replace("/msg/", "/")
+
+
+def _get(msg, path: str):
+    for part in path.split("."):
+        msg = getattr(msg, part)
+    return msg
+
+
+def _num(x) -> float:
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _navsatfix(m) -> dict[str, float]:
+    if int(m.status.status) < 0:  # STATUS_NO_FIX
+        return {}
+    return {"lat": m.latitude, "lon": m.longitude, "alt": m.altitude}
+
+
+def _enu(v) -> dict[str, float]:
+    """Course (clockwise from north) and speed of an ENU velocity (REP 103/105: x east, y
+    north): the convention of ``nmea_navsat_driver``'s and ``gps_common``'s velocity topics.
+    """
+    e, n = float(v.x), float(v.y)
+    return {"course": math.degrees(math.atan2(e, n)) % 360.0, "speed": math.hypot(e, n)}
+
+
+def _field(msg, fpath: str, name: str, tp: _Topic, key: str) -> float:
+    """A mapped field's value; a field that is not a number is an error naming it."""
+    try:
+        v = _get(msg, fpath)
+    except AttributeError:
+        fields = ", ".join(f for f in getattr(msg, "__dataclass_fields__", {}) if f[0] != "_")
+        raise InputError(
+            f"{name}: topic {tp.name!r} ({tp.msgtype}) has no field {fpath!r} for {key} in "
+            f"--columns; its fields: {fields}"
+        ) from None
+    if isinstance(v, bool | int | float | np.number):
+        return float(v)
+    what = "text" if isinstance(v, str) else f"{type(v).__name__} values"
+    raise InputError(
+        f"{name}: topic {tp.name!r} field {fpath!r} ({key}) holds {what}, not numbers; map a "
+        "field of numbers with --columns (e.g. heading=/TOPIC.FIELD:deg)"
+    )
+
+
+def _relposned(m) -> dict[str, float]:
+    flags = int(m.flags)
+    if not hasattr(m, "relPosHeading") or not (flags & 0x100):  # relPosHeadingValid
+        return {}
+    return {"heading": m.relPosHeading * 1e-5}
+
+
+def _navpvt(m) -> dict[str, float]:
+    if not (int(m.flags) & 0x01):  # gnssFixOK
+        return {}
+    out = {"lat": m.lat * 1e-7, "lon": m.lon * 1e-7, "alt": m.height * 1e-3,
+           "course": m.heading * 1e-5, "speed": m.gSpeed * 1e-3}  # fmt: skip
+    if int(m.flags) & 0x20:  # headVehValid
+        out["heading"] = m.headVeh * 1e-5
+    return out
+
+
+_INS_GOOD = (3, 6, 7)  # INS_SOLUTION_GOOD, INS_SOLUTION_FREE, INS_ALIGNMENT_COMPLETE
+
+
+def _solved(m) -> bool:
+    """A NovAtel log whose solution status is SOL_COMPUTED (0)."""
+    return int(m.sol_status.status) == 0
+
+
+def _heading2(m) -> dict[str, float]:
+    return {"heading": m.heading} if _solved(m) else {}
+
+
+def _bestvel(m) -> dict[str, float]:
+    return {"course": m.trk_gnd, "speed": m.hor_speed} if _solved(m) else {}
+
+
+def _inspva(m) -> dict[str, float]:
+    if int(m.status.status) not in _INS_GOOD:  # aligning, inactive …: azimuth 0, not a heading
+        return {}
+    e, n = float(m.east_velocity), float(m.north_velocity)
+    out = {"lat": m.latitude, "lon": m.longitude, "alt": m.height, "heading": m.azimuth}
+    return {**out, "course": math.degrees(math.atan2(e, n)) % 360.0, "speed": math.hypot(e, n)}
+
+
+@dataclass(frozen=True)
+class RosType:
+    """What a known message type gives.
+
+    Parameters
+    ----------
+    keys : dict
+        ``--columns`` key -> the unit of the value :attr:`values` gives for it.
+    values : callable
+        Message -> key -> value (an empty dict: the message has no valid value).
+    """
+
+    keys: dict[str, str]
+    values: object
+
+
+_POS = {"lat": "deg", "lon": "deg", "alt": "m"}
+_VEL = {"course": "deg", "speed": "m/s"}
+ROS_TYPES: dict[str, RosType] = {
+    "novatel_oem7_msgs/HEADING2": RosType({"heading": "deg"}, _heading2),
+    "ublox_msgs/NavRELPOSNED9": RosType({"heading": "deg"}, _relposned),
+    "ublox_msgs/NavRELPOSNED": RosType({"heading": "deg"}, _relposned),
+    "novatel_oem7_msgs/BESTVEL": RosType(_VEL, _bestvel),
+    "geometry_msgs/TwistStamped": RosType(_VEL, lambda m: _enu(m.twist.linear)),
+    "geometry_msgs/TwistWithCovarianceStamped": RosType(_VEL, lambda m: _enu(m.twist.twist.linear)),
+    "sensor_msgs/NavSatFix": RosType(_POS, _navsatfix),
+    "ublox_msgs/NavPVT": RosType({**_POS, **_VEL, "heading": "deg"}, _navpvt),
+    "ublox_msgs/NavPVT7": RosType({**_POS, **_VEL, "heading": "deg"}, _navpvt),
+    "novatel_oem7_msgs/INSPVA": RosType({**_POS, **_VEL, "heading": "deg"}, _inspva),
+    "sensor_msgs/Imu": RosType({"yaw_rate": "rad/s"}, lambda m: {"yaw_rate": m.angular_velocity.z}),
+}
+"""Known message type (without ``/msg/``) -> what it gives, in order of preference."""
+
+NMEA_TYPE = "nmea_msgs/Sentence"
+_KNOWN_SHORT = (
+    "NavSatFix, TwistStamped, Imu, nmea_msgs/Sentence, u-blox NavPVT/NavRELPOSNED, "
+    "NovAtel HEADING2/BESTVEL/INSPVA"
+)
+_NUMBER_TYPES = {f"std_msgs/{t}" for t in ("Float64", "Float32", "Int32", "Int16", "Int64")}
+
+ROSBAG2_COLUMNS = "heading=/gps/heading:deg"
+"""The ``--columns`` that read a bag of :func:`write_rosbag2` (its other topics are known
+types)."""
+
+
+@dataclass
+class _Topic:
+    """What is read from one topic: (key, source) pairs, and the accounting."""
+
+    name: str
+    msgtype: str
+    count: int
+    reads: list[tuple[str, str | None, str | None]] = field(default_factory=list)
+    # (key, field path or None for the known type's value, unit or None)
+    t: list[float] = field(default_factory=list)
+    values: dict[str, list[float]] = field(default_factory=dict)
+    used: int = 0
+    invalid: int = 0
+    bad: int = 0
+    first_bad: str = ""
+
+
+def _stamp(msg, logtime_ns: int) -> float:
+    """The header stamp [s], else the bag's record time."""
+    h = getattr(msg, "header", None)
+    st = getattr(h, "stamp", None) if h is not None else None
+    if st is not None:
+        sec = getattr(st, "sec", None)
+        if sec is not None and (sec or st.nanosec):
+            return (sec * 1_000_000_000 + st.nanosec) * 1e-9  # as the record time
+    return logtime_ns * 1e-9
+
+
+@contextlib.contextmanager
+def _quiet():
+    """Keep rosbags' log lines (warnings on odd definitions) quiet: the notes say more."""
+    lg = logging.getLogger("rosbags")
+    level = lg.level
+    lg.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        lg.setLevel(level)
+
+
+def _open(path: Path, name: str):
+    """An opened ``rosbags`` AnyReader, or one InputError naming the file and the reason."""
+    require("rosbags", "reading ROS bags")
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    try:
+        reader = AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+        reader.open()
+    except Exception as e:
+        raise InputError(f"{name}: not a readable ROS bag ({type(e).__name__}: {e})") from None
+    return reader
+
+
+def read_rosbag(
+    path: str | Path,
+    data: bytes | None = None,
+    *,
+    columns: str | dict | None = None,
+    time_offset: float | None = None,
+    strict: bool = False,
+) -> NmeaLog:
+    """Read a ROS bag's GNSS topics into the epoch table (see the module documentation).
+
+    Parameters
+    ----------
+    path : str or Path
+        The bag: a ROS 1 ``.bag``, a ROS 2 ``.db3`` or ``.mcap`` file, or a ROS 2 bag folder.
+    data : bytes, optional
+        Its (decompressed) content, when read from a pipe or a gzip file.
+    columns : str or dict, optional
+        ``key=TOPIC[.field.path][:unit],…`` (:mod:`gripsense.io.channels`); keys not mapped
+        are taken from the known message types.
+    time_offset : float, optional
+        Seconds since 1970 UTC added to the stamps, for a bag whose stamps are not UTC [s].
+    strict : bool
+        Raise at the first message that does not decode.
+
+    Returns
+    -------
+    NmeaLog
+        The epoch table; ``report.unit`` is ``messages``.
+    """
+    name = str(path)
+    p = Path(path)
+    scratch = None
+    if data is not None:  # a pipe or a gzip file: rosbags reads files
+        scratch = Path(tempfile.mkdtemp(prefix="gripsense-rosbag-"))
+        kind = is_rosbag(data[:16]) or "bag"
+        p = scratch / f"bag.{kind}"
+        p.write_bytes(data)
+    try:
+        with _quiet():
+            reader = _open(p, name)
+            try:
+                return _read(reader, name, columns, time_offset, strict)
+            finally:
+                reader.close()
+    finally:
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
+
+
+def _plan(reader, name: str, columns) -> tuple[dict[str, _Topic], dict[str, ChannelSpec], list]:
+    """Which topic gives each key: the ``--columns`` ones, then the known types'."""
+    counts: dict[str, int] = {}
+    types: dict[str, str] = {}
+    for c in reader.connections:
+        counts[c.topic] = counts.get(c.topic, 0) + int(c.msgcount)
+        types[c.topic] = _norm(c.msgtype)
+    topics = {t: _Topic(t, types[t], counts[t]) for t in counts}
+    mapped = parse_channel_spec(columns)
+    notes: list[str] = []
+    for key, spec in mapped.items():
+        topic, _, fpath = spec.channel.partition(".")
+        if topic not in topics:
+            import difflib
+
+            close = difflib.get_close_matches(topic, list(topics), n=3, cutoff=0.5)
+            hint = f" (did you mean {', '.join(close)}?)" if close else ""
+            raise InputError(
+                f"{name}: no topic {topic!r} for {key} in --columns{hint}; the bag has "
+                f"{len(topics)} topics: "
+                + ", ".join(f"{t} ({topics[t].msgtype})" for t in sorted(topics)[:15])
+            )
+        tp = topics[topic]
+        known = ROS_TYPES.get(tp.msgtype)
+        if not fpath:
+            if tp.msgtype in _NUMBER_TYPES:
+                fpath = "data"
+            elif known is None or key not in known.keys:
+                gives = f"it gives {', '.join(known.keys)}" if known else "not a type known here"
+                raise InputError(
+                    f"{name}: topic {topic!r} ({tp.msgtype}) for {key}: {gives}; name its field "
+                    f"with --columns {key}={topic}.FIELD:UNIT (e.g. {key}={topic}.data:deg)"
+                )
+        tp.reads.append((key, fpath or None, None if fpath else known.keys[key]))  # type: ignore[union-attr]
+    for msgtype, rt in ROS_TYPES.items():
+        for key in rt.keys:
+            if key in mapped:
+                continue
+            cands = [t for t in topics.values() if t.msgtype == msgtype and t.count]
+            if not cands:
+                continue
+            best = max(cands, key=lambda t: t.count)
+            mapped[key] = ChannelSpec(key, best.name, 1.0, None)
+            best.reads.append((key, None, rt.keys[key]))
+            others = [t.name for t in cands if t is not best]
+            if others:
+                notes.append(f"{key} from {best.name}; also in {', '.join(others)} (not read)")
+    return topics, mapped, notes
+
+
+def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
+    topics, mapped, notes = _plan(reader, name, columns)
+    nmea = [t for t in topics.values() if t.msgtype == NMEA_TYPE and t.count]
+    if nmea and not any(k in mapped for k in ("heading", "course", "speed")):
+        return _read_nmea_topics(reader, name, topics, nmea, strict)
+    reading = {t.name: t for t in topics.values() if t.reads}
+    if not reading:  # (no connections: rosbags would yield every message)
+        raise InputError(
+            f"{name}: no topic of a GNSS type known here ({_KNOWN_SHORT}); map a topic with "
+            "--columns heading=/TOPIC.FIELD:deg,… "
+            "(docs/ingest.md); the bag has "
+            + ", ".join(
+                f"{t.name} ({t.msgtype})"
+                for t in sorted(topics.values(), key=lambda t: t.name)[:15]
+            )
+        )
+    conns = [c for c in reader.connections if c.topic in reading]
+    for conn, logtime, raw in reader.messages(connections=conns):
+        tp = reading[conn.topic]
+        try:
+            msg = reader.deserialize(raw, conn.msgtype)
+            t = _stamp(msg, logtime)
+            known = ROS_TYPES.get(tp.msgtype)
+            given = known.values(msg) if known is not None else {}  # type: ignore[operator]
+            vals = {}
+            for key, fpath, _ in tp.reads:
+                vals[key] = _field(msg, fpath, name, tp, key) if fpath else _num(given.get(key))
+        except InputError:
+            raise
+        except Exception as e:
+            detail = f"message {tp.bad + tp.used + tp.invalid + 1} of {tp.name}: {e}"
+            if strict:
+                raise InputError(f"{name}: {MALFORMED}: {detail} (strict mode)") from None
+            tp.bad += 1
+            tp.first_bad = tp.first_bad or detail
+            continue
+        if not any(math.isfinite(v) for v in vals.values()):
+            tp.invalid += 1
+            continue
+        tp.used += 1
+        tp.t.append(t)
+        for key, v in vals.items():
+            tp.values.setdefault(key, []).append(v)
+    found = {}
+    for tp in reading.values():
+        tt = np.asarray(tp.t, float)
+        for key, _, unit in tp.reads:
+            vv = np.asarray(tp.values.get(key, []), float)
+            # no unit (a field --columns names): the unit after its colon, or an error asking
+            found[key] = Channel(mapped[key].channel, tt, vv, unit or "")
+    # strict is not passed on: a key a used message lacks (a NavPVT without a valid vehicle
+    # heading) is no malformed message; those that did not decode were judged above
+    log = log_from_channels(mapped, found, name=name, fmt=_fmt(reader), start_s=0.0,
+                            time_offset=time_offset, notes=notes,
+                            unit="messages")  # fmt: skip
+    _account(log, topics)
+    return log
+
+
+def _fmt(reader) -> str:
+    return "ROS 1 bag" if getattr(reader, "is2", False) is False else "ROS 2 bag"
+
+
+def _account(log: NmeaLog, topics: dict[str, _Topic]) -> None:
+    """Every message of the bag in the report: used per topic, ignored, rejected."""
+    r = log.report
+    parsed, ignored = {}, {}
+    rejected = dict.fromkeys(REASONS, 0)
+    firsts = []
+    for tp in topics.values():
+        if not tp.reads:
+            if tp.count:
+                ignored[f"{tp.name} ({tp.msgtype}, not mapped)"] = tp.count
+            continue
+        keys = ", ".join(k for k, _, _ in tp.reads)
+        parsed[f"{tp.name} ({keys})"] = tp.used
+        if tp.invalid:
+            ignored[f"{tp.name} (no valid value: no fix or flagged invalid)"] = tp.invalid
+        if tp.bad:
+            rejected[MALFORMED] += tp.bad
+            from gripsense.io.nmea.accounting import RejectedLine
+
+            firsts.append(RejectedLine(0, MALFORMED, tp.first_bad))
+    r.parsed = dict(sorted(parsed.items()))
+    r.ignored = dict(sorted(ignored.items()))
+    r.rejected = rejected
+    r.first_rejects = firsts[:20]
+    r.total_lines = sum(parsed.values()) + sum(ignored.values()) + sum(rejected.values())
+
+
+def _read_nmea_topics(reader, name: str, topics, nmea: list[_Topic], strict: bool) -> NmeaLog:
+    """The bag's ``nmea_msgs/Sentence`` messages through the NMEA reader, in record order."""
+    from gripsense.io.nmea.reader import read_nmea
+
+    keep = {t.name for t in nmea}
+    conns = [c for c in reader.connections if c.topic in keep]
+    lines = []
+    bad = 0
+    for conn, _, raw in reader.messages(connections=conns):
+        try:
+            lines.append(str(reader.deserialize(raw, conn.msgtype).sentence))
+        except Exception as e:
+            if strict:
+                raise InputError(f"{name}: {MALFORMED}: a {NMEA_TYPE} message ({e})") from None
+            bad += 1
+    log = read_nmea(lines, strict=strict)
+    r = log.report
+    r.source = name
+    r.format = f"{_fmt(reader)} ({NMEA_TYPE})"
+    r.unit = "messages"
+    for tp in topics.values():
+        if tp.name not in keep and tp.count:
+            r.ignored[f"{tp.name} ({tp.msgtype}, not mapped)"] = tp.count
+            r.total_lines += tp.count
+    if bad:
+        r.rejected[MALFORMED] = r.rejected.get(MALFORMED, 0) + bad
+        r.total_lines += bad
+    r.notes.append(f"NMEA sentences of {', '.join(sorted(keep))}")
+    return log
+
+
+def write_rosbag2(epochs, path: str | Path) -> None:
+    """Write an epoch table as a ROS 2 bag (MCAP storage) with rosbags' writer.
+
+    Topics: ``/gps/fix`` (``sensor_msgs/NavSatFix``), ``/gps/vel``
+    (``geometry_msgs/TwistStamped``, ENU), ``/imu/data`` (``sensor_msgs/Imu``: the yaw rate)
+    and ``/gps/heading`` (``std_msgs/Float64``, degrees: :data:`ROSBAG2_COLUMNS`), each message
+    recorded at its epoch's time, the stamped ones stamped with it.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
+        ``heading_deg``, ``yaw_rate_rps`` (ISO).
+    path : str or Path
+        The bag folder to create (replaced if it exists).
+    """
+    require("rosbags", "writing ROS bags")
+    import pandas as pd
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    T = ts.types
+    path = Path(path)
+    if path.exists():
+        shutil.rmtree(path) if path.is_dir() else path.unlink()
+    ns = pd.DatetimeIndex(epochs["time_utc"]).as_unit("ns").asi8
+    names = ("lat_deg", "lon_deg", "alt_m", "speed_mps", "course_deg", "heading_deg")
+    col = {c: epochs[c].to_numpy(float) for c in (*names, "yaw_rate_rps")}
+    course = np.deg2rad(col["course_deg"])
+    ve, vn = col["speed_mps"] * np.sin(course), col["speed_mps"] * np.cos(course)
+    Time, Header, Vec = T["builtin_interfaces/msg/Time"], T["std_msgs/msg/Header"], T[
+        "geometry_msgs/msg/Vector3"]  # fmt: skip
+    Status = T["sensor_msgs/msg/NavSatStatus"]
+    Quat = T["geometry_msgs/msg/Quaternion"]
+    z9 = np.zeros(9)
+    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as w:
+        c_fix = w.add_connection("/gps/fix", "sensor_msgs/msg/NavSatFix", typestore=ts)
+        c_vel = w.add_connection("/gps/vel", "geometry_msgs/msg/TwistStamped", typestore=ts)
+        c_imu = w.add_connection("/imu/data", "sensor_msgs/msg/Imu", typestore=ts)
+        c_hdg = w.add_connection("/gps/heading", "std_msgs/msg/Float64", typestore=ts)
+        for i, t in enumerate(ns):
+            t = int(t)
+            h = Header(Time(t // 1_000_000_000, t % 1_000_000_000), "gps")
+            fix = T["sensor_msgs/msg/NavSatFix"](
+                h, Status(0, 1), col["lat_deg"][i], col["lon_deg"][i], col["alt_m"][i], z9, 0
+            )
+            vel = T["geometry_msgs/msg/TwistStamped"](
+                h, T["geometry_msgs/msg/Twist"](Vec(ve[i], vn[i], 0.0), Vec(0.0, 0.0, 0.0))
+            )
+            imu = T["sensor_msgs/msg/Imu"](
+                h, Quat(0.0, 0.0, 0.0, 1.0), -np.ones(9), Vec(0.0, 0.0, col["yaw_rate_rps"][i]),
+                z9, Vec(0.0, 0.0, 0.0), z9,
+            )  # fmt: skip
+            hdg = T["std_msgs/msg/Float64"](float(np.mod(col["heading_deg"][i], 360.0)))
+            w.write(c_fix, t, ts.serialize_cdr(fix, "sensor_msgs/msg/NavSatFix"))
+            w.write(c_vel, t, ts.serialize_cdr(vel, "geometry_msgs/msg/TwistStamped"))
+            w.write(c_imu, t, ts.serialize_cdr(imu, "sensor_msgs/msg/Imu"))
+            w.write(c_hdg, t, ts.serialize_cdr(hdg, "std_msgs/msg/Float64"))
