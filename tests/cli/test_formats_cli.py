@@ -44,7 +44,7 @@ def test_simulate_each_format_and_read_it_back(tmp_path):
     sc = tmp_path / "sc.toml"
     sc.write_text(SCENARIO)
     fronts = {}
-    for fmt in ("nmea", "vbo", "ubx", "mf4"):
+    for fmt in ("nmea", "vbo", "ubx", "mf4", "rosbag2"):
         out = tmp_path / fmt
         r = cli("simulate", str(sc), "-o", str(out), "--format", fmt)
         assert r.returncode == 0, r.stderr
@@ -53,8 +53,8 @@ def test_simulate_each_format_and_read_it_back(tmp_path):
         assert log.exists() and ("nmea" in c) == (fmt == "nmea")
         cols = c.get("columns")
         columns = ["--columns", cols] if isinstance(cols, str) else []
-        # VBOX and MDF4 carry the steering channel inside; NMEA and UBX need the CSV
-        steer = ["--steer-csv", str(out / c["steer"])] if fmt in ("nmea", "ubx") else []
+        # VBOX and MDF4 carry the steering channel inside; NMEA, UBX and ROS bags need the CSV
+        steer = ["--steer-csv", str(out / c["steer"])] if fmt in ("nmea", "ubx", "rosbag2") else []
         r = cli("ingest", str(log), *columns)
         assert r.returncode == 0, r.stderr
         assert "balanced: yes" in r.stdout and "channels:" in r.stdout

@@ -138,7 +138,8 @@ def old_column_flags(used: list[str], columns: str | None, example: str) -> bool
 
 
 LOG_COLUMNS_HELP = (
-    "channels of a VBOX, MDF4 or CAN log: heading=…,course=…,speed=…, optionally lat=…,lon=…,"
+    "channels of a VBOX, MDF4 or CAN log or topics of a ROS bag (/topic.field): heading=…,"
+    "course=…,speed=…, optionally lat=…,lon=…,"
     "yaw_rate=…,steer=…:deg,steering_wheel=…:deg,torque=…:Nm (units after ':', else the "
     "file's; docs/ingest.md)"
 )

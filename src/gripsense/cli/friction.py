@@ -34,7 +34,9 @@ RECEIVER_HELP = (
 def friction(
     log: Annotated[
         Path | None,
-        typer.Argument(help="log of the drive: NMEA, VBOX .vbo, UBX, MDF4 or CAN (plain or .gz)"),
+        typer.Argument(
+            help="log of the drive: NMEA, VBOX .vbo, UBX, MDF4, CAN or a ROS bag (plain or .gz)"
+        ),
     ] = None,
     vehicle: Annotated[
         Path | None, typer.Option("--vehicle", help="vehicle description (TOML)")

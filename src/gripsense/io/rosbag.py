@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, ChannelSpec, parse_channel_spec
+from gripsense.io.channels import CHANNEL_KEYS, Channel, ChannelSpec, parse_channel_spec
 from gripsense.io.formats import require
 from gripsense.io.measurement import log_from_channels
 from gripsense.io.nmea.reader import NmeaLog
@@ -441,6 +441,10 @@ def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
             vv = np.asarray(tp.values.get(key, []), float)
             # no unit (a field --columns names): the unit after its colon, or an error asking
             found[key] = Channel(mapped[key].channel, tt, vv, unit or "")
+    # the epochs on the heading's (else the speed's, the course's, the position's) time base, a
+    # 100 Hz IMU's yaw rate interpolated onto them, not the position onto the IMU's
+    order = list(CHANNEL_KEYS)
+    found = dict(sorted(found.items(), key=lambda kv: order.index(kv[0])))
     # strict is not passed on: a key a used message lacks (a NavPVT without a valid vehicle
     # heading) is no malformed message; those that did not decode were judged above
     log = log_from_channels(mapped, found, name=name, fmt=_fmt(reader), start_s=0.0,
