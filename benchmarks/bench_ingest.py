@@ -29,7 +29,9 @@ NAV-RELPOSNED decode, NMEA between the frames, accounting, epochs) against pyubx
 channels, units, resampling onto the heading's epochs) against asammdf's own
 ``MDF.to_dataframe`` of the same channels (target: no slower); CAN BLF against python-can
 reading plus cantools' per-frame ``decode_message`` (the path gripsense takes, so ≈ 1×); VBOX
-against NMEA of the same drive (no reference library exists).
+against NMEA of the same drive (no reference library exists); a ROS 2 bag (``simulate --format
+rosbag2``: NavSatFix, TwistStamped, Imu, heading; MCAP) against rosbags' own ``AnyReader``
+reading and decoding the same messages (target: no slower).
 
 Usage: python benchmarks/bench_ingest.py --formats [--minutes 30] [--repeat 3]
 """
@@ -196,6 +198,28 @@ def _drive(minutes: float):
     return pd.concat(eps, ignore_index=True), lines0 * reps
 
 
+def _bench_ros(ep, d: Path, best) -> tuple:
+    """The ROS 2 bag row: gripsense's reader against rosbags' AnyReader decoding every message
+    of the bag (the four topics gripsense reads)."""
+    from rosbags.highlevel import AnyReader
+
+    from gripsense.io.log import read_log
+    from gripsense.io.rosbag import ROSBAG2_COLUMNS, write_rosbag2
+
+    bag = d / "d_rosbag2"
+    write_rosbag2(ep, bag)
+    g = best(lambda: read_log(bag, columns=ROSBAG2_COLUMNS))
+
+    def rosbags_all():
+        with AnyReader([bag]) as r:
+            for c, _, raw in r.messages():
+                r.deserialize(raw, c.msgtype)
+
+    r = best(rosbags_all)
+    size = sum(f.stat().st_size for f in bag.iterdir())
+    return ("ROS 2 bag (MCAP, 4 topics)", size, g, "rosbags AnyReader + deserialize", r, 1.0)
+
+
 def bench_formats(minutes: float, repeat: int) -> None:
     """The ``--formats`` table (see the module documentation)."""
     import io
@@ -268,6 +292,7 @@ def bench_formats(minutes: float, repeat: int) -> None:
     r = best(lambda: read_log(d / "d.nmea"))
     rows.append(("VBOX VBO (hand-written reader)", (d / "d.vbo").stat().st_size, g,
                  "gripsense NMEA, same drive", r, None))  # fmt: skip
+    rows.append(_bench_ros(ep, d, best))
     print(f"\n{'format':38s} {'MB':>6s} {'gripsense':>10s} {'reference':>32s} {'ratio':>7s}")
     for name, size, g, ref, r, target in rows:
         verdict = "" if target is None else (" met" if r / g >= target else " NOT met")
