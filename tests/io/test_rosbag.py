@@ -347,3 +347,27 @@ def test_messages_of_varying_length_decode_one_by_one_to_the_same_values(tmp_pat
         np.testing.assert_array_equal(log.sentences["lat"]["t_s"], np.delete(t, 7))
         np.testing.assert_array_equal(ref, lat)
         assert log.report.ignored == {"/fix (no valid value: no fix or flagged invalid)": 1}
+
+
+def test_an_mcap_file_not_from_ros_is_one_line(tmp_path):
+    """MCAP with JSON messages (Foxglove's own profile-less files): one line, no traceback."""
+    mcap_writer = pytest.importorskip("mcap.writer")
+    path = tmp_path / "json.mcap"
+    with path.open("wb") as f:
+        w = mcap_writer.Writer(f)
+        w.start()
+        sid = w.register_schema(name="Pos", encoding="jsonschema", data=b'{"type":"object"}')
+        cid = w.register_channel(topic="/pos", message_encoding="json", schema_id=sid)
+        w.add_message(channel_id=cid, log_time=0, data=b'{"lat": 48}', publish_time=0)
+        w.finish()
+    r = cli("ingest", path)
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+    assert (
+        "an MCAP file not recorded by ROS" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    )
+
+
+def test_a_real_bag_leaves_stderr_empty():
+    r = cli("ingest", ROS / "bestpos.bag")
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert "balanced: yes" in r.stdout

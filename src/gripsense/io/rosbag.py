@@ -478,6 +478,12 @@ def _open(path: Path, name: str):
         reader = AnyReader([path], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
         reader.open()
     except Exception as e:
+        if "profile is not ros" in str(e).lower():
+            raise InputError(
+                f"{name}: an MCAP file not recorded by ROS ({e}): its messages are not ROS "
+                "messages (JSON, Protobuf …); export the GNSS channels to CSV and read them "
+                "with friction --table"
+            ) from None
         raise InputError(f"{name}: not a readable ROS bag ({type(e).__name__}: {e})") from None
     return reader
 
