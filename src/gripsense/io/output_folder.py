@@ -760,23 +760,31 @@ class ResultWriter:
         parent = self.folder.parent
         try:
             parent.mkdir(parents=True, exist_ok=True)
-            self.tmp = Path(tempfile.mkdtemp(prefix=f".gripsense-{self.folder.name}-", dir=parent))
+            with signals_deferred():  # the folder and its name together, or neither
+                self.tmp = Path(
+                    tempfile.mkdtemp(prefix=f".gripsense-{self.folder.name}-", dir=parent)
+                )
         except OSError as e:
             raise InputError(
                 f"{self.folder}: cannot create the output folder ({e.strerror or e})"
             ) from None
+        except BaseException:  # a signal that waited for the folder: it goes with the run
+            _remove_tree(self.tmp)
+            raise
         return self.tmp
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        # a signal waits until the result is installed (or its temporary folder removed)
-        with signals_deferred():
-            try:
-                if exc_type is None:
-                    self._finish()
-            finally:
-                _CLAIMS.pop(_key(self.folder), None)  # a failed run's check is not the next's
-                if self.tmp is not None:
-                    shutil.rmtree(self.tmp, ignore_errors=True)
+        # a signal waits until the result is installed (or its temporary folder removed); one
+        # that lands before the wait begins still finds the temporary folder removed
+        try:
+            with signals_deferred():
+                try:
+                    if exc_type is None:
+                        self._finish()
+                finally:
+                    _CLAIMS.pop(_key(self.folder), None)  # a failed run's check is not the next's
+        finally:
+            _remove_tree(self.tmp)
 
     def _finish(self) -> None:
         from gripsense._version import __version__
@@ -810,6 +818,21 @@ class ResultWriter:
             raise InputError(
                 f"{self.folder}: cannot write the result ({e.strerror or e})"
             ) from None
+
+
+def _remove_tree(path: Path | None) -> None:
+    """Remove a temporary folder of gripsense's whole, even when a signal lands during the
+    removal (the removal is finished, then the signal raised).
+    """
+    pending: BaseException | None = None
+    while path is not None:
+        try:
+            shutil.rmtree(path, ignore_errors=True)
+            break
+        except BaseException as e:  # KeyboardInterrupt / SystemExit mid-way: finish first
+            pending = pending or e
+    if pending is not None:
+        raise pending
 
 
 def write_result_folder(
