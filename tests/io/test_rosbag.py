@@ -371,3 +371,79 @@ def test_a_real_bag_leaves_stderr_empty():
     r = cli("ingest", ROS / "bestpos.bag")
     assert r.returncode == 0 and r.stderr == "", r.stderr
     assert "balanced: yes" in r.stdout
+
+
+NAVPVT = """uint32 iTOW
+uint16 year
+uint8 month
+uint8 day
+uint8 hour
+uint8 min
+uint8 sec
+uint8 valid
+uint32 tAcc
+int32 nano
+uint8 fixType
+uint8 flags
+uint8 flags2
+uint8 numSV
+int32 lon
+int32 lat
+int32 height
+int32 hMSL
+uint32 hAcc
+uint32 vAcc
+int32 velN
+int32 velE
+int32 velD
+int32 gSpeed
+int32 heading
+uint32 sAcc
+uint32 headAcc
+uint16 pDOP
+uint8[6] reserved1
+int32 headVeh
+int16 magDec
+uint16 magAcc
+"""
+
+
+def test_ublox_navpvt_in_its_units_and_flags(tmp_path):
+    """ublox_msgs/NavPVT (the ublox driver's definition): 1e-7 deg, mm, mm/s, 1e-5 deg as the
+    u-blox interface description gives them; headVeh only with headVehValid (0x20), nothing
+    without gnssFixOK (0x01)."""
+    t0 = 1_700_000_000 * 10**9
+    rows = [  # lon, lat, hMSL, gSpeed, heading (of motion), headVeh, flags
+        (113_456_789, 481_234_567, 512_345, 12_345, 9_000_000, 9_100_000, 0x21),
+        (113_456_799, 481_234_577, 512_300, 12_400, 9_010_000, 9_110_000, 0x21),
+        (0, 0, 0, 0, 0, 0, 0x00),
+    ]
+
+    def pvt(r, fl):
+        lon, lat, hmsl, gs, hd, hv, _ = r
+        return lambda T: T["ublox_msgs/msg/NavPVT"](
+            0, 2023, 11, 14, 22, 13, 20, 0, 0, 0, 3, fl, 0, 12, lon, lat, hmsl + 48_000, hmsl,
+            0, 0, 0, 0, 0, gs, hd, 0, 0, 0, np.zeros(6, np.uint8), hv, 0, 0,
+        )  # fmt: skip
+
+    # a dual-antenna (headVehValid) receiver, then a single antenna (headVeh never valid)
+    for name, valid in (("dual", 0x21), ("single", 0x01)):
+        bag = tmp_path / f"{name}.bag"
+        msgs = [(t0 + i * 10**8, pvt(r, r[6] and valid)) for i, r in enumerate(rows)]
+        _write_ros1(bag, {"/ublox/navpvt": ("ublox_msgs/msg/NavPVT", NAVPVT, msgs)})
+        log = read_log(bag)
+        ep = log.epochs
+        assert len(ep) == 2
+        np.testing.assert_allclose(ep["lat_deg"], [48.1234567, 48.1234577], atol=1e-12)
+        np.testing.assert_allclose(ep["lon_deg"], [11.3456789, 11.3456799], atol=1e-12)
+        np.testing.assert_allclose(ep["alt_m"], [512.345, 512.300], atol=1e-9)
+        np.testing.assert_allclose(ep["speed_mps"], [12.345, 12.400], atol=1e-9)
+        np.testing.assert_allclose(ep["course_deg"], [90.0, 90.1], atol=1e-9)
+        if name == "dual":
+            np.testing.assert_allclose(ep["heading_deg"], [91.0, 91.1], atol=1e-9)
+        else:
+            assert ep["heading_deg"].isna().all()
+            assert any("heading: /ublox/navpvt gives none" in x for x in log.report.notes)
+        assert log.report.ignored == {
+            "/ublox/navpvt (no valid value: no fix or flagged invalid)": 1
+        }

@@ -175,7 +175,7 @@ def _navpvt(m) -> dict[str, np.ndarray]:
     out = {
         "lat": _w(ok, np.asarray(m.lat, float) * 1e-7),
         "lon": _w(ok, np.asarray(m.lon, float) * 1e-7),
-        "alt": _w(ok, np.asarray(m.height, float) * 1e-3),
+        "alt": _w(ok, np.asarray(m.hMSL, float) * 1e-3),  # above MSL, as the UBX reader
         "course": _w(ok, np.asarray(m.heading, float) * 1e-5),
         "speed": _w(ok, np.asarray(m.gSpeed, float) * 1e-3),
     }
@@ -621,6 +621,14 @@ def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
                 vals[key] = _field_column(cols, fpath, name, tp, key)
             else:
                 vals[key] = np.asarray(given.get(key, np.full(n, np.nan)), float)
+        for key, fpath, _ in list(tp.reads):
+            if n and fpath is None and not np.isfinite(vals[key]).any() and len(vals) > 1:
+                # a key the type gives only when flagged valid, and never is (NavPVT's vehicle
+                # heading from a single antenna): not a channel of NaN that would empty the
+                # epochs (they are the heading's)
+                notes.append(f"{key}: {tp.name} gives none (never flagged valid); not used")
+                del vals[key]
+                tp.reads.remove((key, fpath, _))
         tt = cols.stamps()
         good = cols.keep & np.any([np.isfinite(v) for v in vals.values()], axis=0)
         tp.used = int(good.sum())
