@@ -193,13 +193,27 @@ def test_nmea_sentences_in_a_bag_read_as_the_nmea_file(tmp_path):
     def sentence(i, s):
         return lambda T: T["nmea_msgs/msg/Sentence"](_header(T, t0 + i * 10**7), s)
 
+    def vel(i):
+        def make(T):
+            lin = T["geometry_msgs/msg/Vector3"](1.0, 2.0, 0.0)
+            twist = T["geometry_msgs/msg/Twist"](lin, T["geometry_msgs/msg/Vector3"](0, 0, 0))
+            return T["geometry_msgs/msg/TwistStamped"](_header(T, t0 + i * 10**8), twist)
+
+        return make
+
     msgs = [(t0 + i * 10**7, sentence(i, s)) for i, s in enumerate(lines)]
     bag = tmp_path / "nmea.bag"
-    _write_ros1(bag, {"/nmea_sentence": ("nmea_msgs/msg/Sentence", SENTENCE, msgs)})
+    # as nmea_navsat_driver records: the sentences, and the velocity it made of them
+    vels = [(t0 + i * 10**8, vel(i)) for i in range(3)]
+    _write_ros1(bag, {
+        "/nmea_sentence": ("nmea_msgs/msg/Sentence", SENTENCE, msgs),
+        "/vel": ("geometry_msgs/msg/TwistStamped", "", vels),
+    })  # fmt: skip
     a, b = read_log(bag), read_log(nmea)
     pd.testing.assert_frame_equal(a.epochs, b.epochs)
     assert a.report.format == "ROS 1 bag (nmea_msgs/Sentence)"
-    assert a.report.total_lines == len(lines) and a.report.unit == "messages"
+    assert a.report.total_lines == len(lines) + 3 and a.report.unit == "messages"
+    assert a.report.ignored["/vel (geometry_msgs/TwistStamped, not mapped)"] == 3
 
 
 NAVSATFIX = """std_msgs/Header header
@@ -447,3 +461,13 @@ def test_ublox_navpvt_in_its_units_and_flags(tmp_path):
         assert log.report.ignored == {
             "/ublox/navpvt (no valid value: no fix or flagged invalid)": 1
         }
+
+
+def test_gps_common_gpsfix_track_and_speed():
+    """bestpos.bag's gps_common/GPSFix mapped by topic: track and speed as rosbags reads them."""
+    log = read_log(ROS / "bestpos.bag", columns="course=/gps/gps,speed=/gps/gps")
+    _, track = _rosbags(ROS / "bestpos.bag", "/gps/gps", lambda m: m.track)
+    _, speed = _rosbags(ROS / "bestpos.bag", "/gps/gps", lambda m: m.speed)
+    np.testing.assert_allclose(log.sentences["course"]["value"], np.mod(track, 360), atol=0)
+    np.testing.assert_allclose(log.sentences["speed"]["value"], speed, atol=0)
+    assert "/gps/gps (course, speed)" in log.report.parsed

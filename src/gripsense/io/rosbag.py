@@ -10,6 +10,7 @@ The common message types are understood out of the box (:data:`ROS_TYPES`):
 message type                                            gives
 ======================================================  ==========================================
 ``sensor_msgs/NavSatFix``                               lat, lon, alt (no fix: not used)
+``gps_common/GPSFix``                                   lat, lon, alt, course (track), speed
 ``geometry_msgs/TwistStamped``, ``…WithCovariance…``    course and speed from the ENU velocity
 ``sensor_msgs/Imu``                                     yaw rate (``angular_velocity.z``, ISO)
 ``nmea_msgs/Sentence``                                  the sentences, through the NMEA reader
@@ -130,6 +131,17 @@ def _navsatfix(m) -> dict[str, np.ndarray]:
     return {"lat": _w(ok, m.latitude), "lon": _w(ok, m.longitude), "alt": _w(ok, m.altitude)}
 
 
+def _gpsfix(m) -> dict[str, np.ndarray]:
+    """``gps_common/GPSFix``: ``track`` degrees from north, ``speed`` m/s over ground."""
+    ok = _int(m.status.status) >= 0  # STATUS_NO_FIX is -1
+    return {
+        **{k: _w(ok, v) for k, v in (("lat", m.latitude), ("lon", m.longitude))},
+        "alt": _w(ok, m.altitude),
+        "course": _w(ok, np.mod(np.asarray(m.track, float), 360.0)),
+        "speed": _w(ok, m.speed),
+    }
+
+
 def _enu(v) -> dict[str, np.ndarray]:
     """Course (clockwise from north) and speed of an ENU velocity (REP 103/105: x east, y
     north): the convention of ``nmea_navsat_driver``'s and ``gps_common``'s velocity topics.
@@ -239,6 +251,7 @@ ROS_TYPES: dict[str, RosType] = {
     "geometry_msgs/TwistStamped": RosType(_VEL, lambda m: _enu(m.twist.linear)),
     "geometry_msgs/TwistWithCovarianceStamped": RosType(_VEL, lambda m: _enu(m.twist.twist.linear)),
     "sensor_msgs/NavSatFix": RosType(_POS, _navsatfix),
+    "gps_common/GPSFix": RosType({**_POS, **_VEL}, _gpsfix),
     "ublox_msgs/NavPVT": RosType({**_POS, **_VEL, "heading": "deg"}, _navpvt),
     "ublox_msgs/NavPVT7": RosType({**_POS, **_VEL, "heading": "deg"}, _navpvt),
     "novatel_oem7_msgs/INSPVA": RosType({**_POS, **_VEL, "heading": "deg"}, _inspva),
@@ -590,7 +603,7 @@ def _plan(reader, name: str, columns) -> tuple[dict[str, _Topic], dict[str, Chan
 def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
     topics, mapped, notes = _plan(reader, name, columns)
     nmea = [t for t in topics.values() if t.msgtype == NMEA_TYPE and t.count]
-    if nmea and not any(k in mapped for k in ("heading", "course", "speed")):
+    if nmea and "heading" not in mapped:  # the sentences carry HDT, RMC, VTG …
         return _read_nmea_topics(reader, name, topics, nmea, strict)
     reading = {t.name: t for t in topics.values() if t.reads}
     if not reading:  # (no connections: rosbags would yield every message)
