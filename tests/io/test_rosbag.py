@@ -471,3 +471,28 @@ def test_gps_common_gpsfix_track_and_speed():
     np.testing.assert_allclose(log.sentences["course"]["value"], np.mod(track, 360), atol=0)
     np.testing.assert_allclose(log.sentences["speed"]["value"], speed, atol=0)
     assert "/gps/gps (course, speed)" in log.report.parsed
+
+
+def test_a_real_outdoor_bag_takes_the_gnss_time_base_not_the_imus(tmp_path):
+    """robot_localization's Husky test bag (cut to its first 10 s, gzip): 100 Hz IMU, 2.5 Hz
+    NavSatFix, Odometry. The epochs are the fixes; the IMU's yaw rate is interpolated onto
+    them (np.interp on rosbags' own values), the odometry counted as not read."""
+    gz = ROS / "robot_localization_test1_10s.bag.gz"
+    plain = tmp_path / "rl.bag"
+    plain.write_bytes(gzip.decompress(gz.read_bytes()))
+    log = read_log(gz)
+    t_fix, lat = _rosbags(plain, "/fix", lambda m: m.latitude)
+    t_imu, wz = _rosbags(plain, "/imu/data", lambda m: m.angular_velocity.z)
+    ep = log.epochs
+    assert len(ep) == len(t_fix) == 25
+    np.testing.assert_allclose(ep["time_utc"].astype("int64").to_numpy() / 1e9, t_fix, atol=1e-6)
+    np.testing.assert_array_equal(ep["lat_deg"], lat)
+    # (times of 1.4e9 s hold ~0.2 µs: the interpolation agrees to ~1e-7 rad/s)
+    np.testing.assert_allclose(ep["yaw_rate_rps"], np.interp(t_fix, t_imu, wz), atol=1e-6)
+    assert np.abs(ep["yaw_rate_rps"]).max() > 0.02  # a rate, not zeros
+    rep = log.report
+    assert rep.total_lines == 426 and rep.parsed == {
+        "/fix (lat, lon, alt)": 25,
+        "/imu/data (yaw_rate)": 301,
+    }
+    assert rep.ignored == {"/husky_velocity_controller/odom (nav_msgs/Odometry, not mapped)": 100}
