@@ -6,7 +6,7 @@ passes rarely reach the grip limit, so a pass rarely gives a value of μ; issue 
 cell combine what every pass says (measured grips, upper ends, values) into a range, and sets
 targets on a simulated fleet. This is that fleet and its score card.
 
-The network (:func:`gripsense.sim.fleet_data.write_road_network`): five cars — CommonRoad's
+The network (:func:`gripsense.fleet.network.write_road_network`): five cars — CommonRoad's
 single-track and multi-body models (vehicle 2, Pacejka tyres) and gripsense's simulator on three
 Magic Formula truth tyres — each with its own vehicle file (stiffness declared 5–10 % off, to
 ±20 %), receiver (``white-0.3`` or ``rtk``) and calibration learned from three everyday drives of
@@ -68,7 +68,7 @@ TARGETS = {
 
 def network(outdir: Path, quick: bool, seed: int, workers: int):
     """The simulated fleet in *outdir* (made, or reused when made with the same options)."""
-    from gripsense.sim import fleet_data as F
+    from gripsense.fleet import network as F
 
     cars = [c for c in F.NETWORK_CARS if not quick or c.name in QUICK_CARS]
     bends = [b for b in F.network_bends() if not quick or b.name in QUICK_BENDS]
@@ -248,7 +248,7 @@ def identical(a: pd.DataFrame, b: pd.DataFrame) -> tuple[bool, str]:
 def run(quick: bool, keep: str | None, seed: int, csv: str | None) -> None:
     """Make (or reuse) the network, run the fleet with 2 and 1 workers, print the score card."""
     from gripsense.fleet import run_fleet
-    from gripsense.sim.fleet_data import GRIPPY_MU
+    from gripsense.fleet.network import GRIPPY_MU
 
     pd.set_option("display.width", 200)
     pd.set_option("display.max_columns", 20)

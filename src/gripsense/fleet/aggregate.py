@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.stats import chi2
 
 from gripsense.constants import CHI2_1_90, Z90
 from gripsense.estimate.evidence import (
@@ -20,7 +21,7 @@ from gripsense.estimate.evidence import (
     reduce_groups,
 )
 from gripsense.estimate.options import WindowOptions
-from gripsense.estimate.profile import STRAINED_REL, _chi2_ppf
+from gripsense.estimate.profile import STRAINED_REL
 from gripsense.physics.surface import UNDETERMINED, slippery_call, surface_class_interval
 
 __all__ = [
@@ -284,7 +285,8 @@ def _statement(curves, c_ids, n_cells, b0, o: WindowOptions, grid):
     """
     hi, lo_m, hi_p, lo_p = (np.full(n_cells, np.inf) for _ in range(4))
     lo_m[c_ids], hi[c_ids], _ = curve_range(curves, grid, CHI2_1_90)
-    lo_p[c_ids], hi_p[c_ids], _ = curve_range(curves, grid, _chi2_ppf(float(o.point_level), 1))
+    point = float(chi2.ppf(float(o.point_level), 1))
+    lo_p[c_ids], hi_p[c_ids], _ = curve_range(curves, grid, point)
     has = np.zeros(n_cells, bool)
     has[c_ids] = True
     hi_raw = hi.copy()

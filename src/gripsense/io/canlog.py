@@ -132,7 +132,7 @@ class FrameColumns:
 
 
 @dataclass
-class _Frames:
+class CanFrames:
     """The frames of a CAN log and what else its bytes or lines were."""
 
     frames: list  # (position, can.Message): line number (ASC) or frame number (BLF)
@@ -152,7 +152,7 @@ class _Frames:
             self.firsts.append(RejectedLine(where, reason, detail))
 
 
-def _blf_frames(name: str, data: bytes, strict: bool) -> _Frames:
+def _blf_frames(name: str, data: bytes, strict: bool) -> CanFrames:
     """The frames of a BLF log, every byte range accounted for.
 
     The outer object structure is walked here: the file header (its size must fit the file),
@@ -168,7 +168,7 @@ def _blf_frames(name: str, data: bytes, strict: bool) -> _Frames:
     can = require("can", "reading CAN logs")
     from can.io import blf
 
-    out = _Frames([])
+    out = CanFrames([])
     n = len(data)
     fh = blf.FILE_HEADER_STRUCT
     ob = blf.OBJ_HEADER_BASE_STRUCT
@@ -272,7 +272,7 @@ class _Lines:
             yield self.lines[i]
 
 
-def _asc_frames(name: str, data: bytes, strict: bool) -> _Frames:
+def _asc_frames(name: str, data: bytes, strict: bool) -> CanFrames:
     """The frames of an ASC log, every line accounted for: a frame, an event or header line
     (ignored), or rejected — a line python-can cannot read (``malformed field``), a last line
     without its end (``truncated``: the log was cut off inside it, said in the notes) or a
@@ -281,7 +281,7 @@ def _asc_frames(name: str, data: bytes, strict: bool) -> _Frames:
     can = require("can", "reading CAN logs")
     text = data.decode("utf-8", errors="replace")
     lines = text.splitlines()
-    out = _Frames([], unit="lines")
+    out = CanFrames([], unit="lines")
     head = [ln for ln in lines[:8] if re.match(r"\s*(date\s|base\s)", ln, re.IGNORECASE)]
     head.append("internal events logged")
     used: set[int] = set()
@@ -330,7 +330,7 @@ def _asc_frames(name: str, data: bytes, strict: bool) -> _Frames:
     return out
 
 
-def _frames(path: Path, data: bytes, fmt: str, strict: bool = False) -> _Frames:
+def _frames(path: Path, data: bytes, fmt: str, strict: bool = False) -> CanFrames:
     name = str(path)
     try:
         return (_blf_frames if fmt == "blf" else _asc_frames)(name, data, strict)
@@ -638,7 +638,7 @@ def _vector_signal(sig, le: np.ndarray, be: np.ndarray) -> np.ndarray:
 
 def decode_frames(
     name: str,
-    got: _Frames,
+    got: CanFrames,
     plan: SignalPlan,
     *,
     fmt_name: str,
@@ -652,7 +652,7 @@ def decode_frames(
     ----------
     name : str
         The log, for messages.
-    got : _Frames
+    got : CanFrames
         Its frames (``(position, frame)``: ``arbitration_id``, ``data``, ``timestamp`` [s])
         and accounting.
     plan : SignalPlan

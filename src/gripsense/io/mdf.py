@@ -226,10 +226,10 @@ def _bus_frames(mdf, name: str, bus: dict, strict: bool):
     """The CAN frames of an MDF4 bus log's ``CAN_DataFrame`` groups as arrays, in time order
     (:class:`gripsense.io.canlog.FrameColumns`); remote and error frames counted as ignored.
     """
-    from gripsense.io.canlog import FrameColumns, _Frames
+    from gripsense.io.canlog import CanFrames, FrameColumns
 
     _check_records(mdf, name, {g: None for g in bus})
-    out = _Frames([])
+    out = CanFrames([])
     ts, ids, datas, lens = [], [], [], []
     for gi, (kind, ci) in bus.items():
         n = int(mdf.groups[gi].channel_group.cycles_nr)

@@ -1,4 +1,4 @@
-"""The simulated road network of the fleet benchmark (``gripsense.sim.fleet_data.
+"""The simulated road network of the fleet benchmark (``gripsense.fleet.network.
 write_road_network``), checked from what a user would read: the logs (their positions and times
 as the NMEA reader decodes them), the vehicle files and calibrations, and the truth table against
 the bends' declared μ and the drivers' stated speeds.
@@ -21,10 +21,7 @@ import pytest
 from gripsense.config import Vehicle
 from gripsense.config.calibration import calibrated_vehicle, read_calibration
 from gripsense.constants import G0
-from gripsense.fleet.run import account_inputs, read_vehicle_map
-from gripsense.io import read_nmea
-from gripsense.sim.commonroad import commonroad_vehicle
-from gripsense.sim.fleet_data import (
+from gripsense.fleet.network import (
     DRY_AY_G,
     GRIPPY_MU,
     NETWORK_BUCKETS,
@@ -33,6 +30,9 @@ from gripsense.sim.fleet_data import (
     network_bends,
     write_road_network,
 )
+from gripsense.fleet.run import account_inputs, read_vehicle_map
+from gripsense.io import read_nmea
+from gripsense.sim.commonroad import commonroad_vehicle
 
 CARS = [c for c in NETWORK_CARS if c.name in ("cr-std", "sedan")]
 BENDS = [b for b in network_bends() if b.name in ("b1", "b4")]
