@@ -308,6 +308,13 @@ def test_simulate_rosbag2_reads_back_as_the_nmea_log_and_as_rosbags_reads_it(tmp
     r = cli("ingest", bag, "--columns", c["columns"])
     assert r.returncode == 0 and r.stderr == "", r.stderr
     assert "balanced: yes" in r.stdout
+    n_msgs = int(r.stdout.split(" messages; balanced")[0].rsplit("= ", 1)[1])
+    # the bag folder replayed by live as any epoch log
+    vehicle = tmp_path / "rosbag2" / "vehicle.toml"
+    r = cli("live", "--replay", bag, "--columns", c["columns"], "--vehicle", vehicle,
+            "--speed", "0")  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert f"{n_msgs} messages ({n_msgs} parsed, 0 ignored, 0 rejected)" in r.stdout
     a = read_log(bag, columns=c["columns"]).epochs
     b = read_log(tmp_path / "nmea" / outs["nmea"]["log"]).epochs
     assert len(a) == len(b) > 100

@@ -270,6 +270,8 @@ def open_replay(path: str | Path, speed: float = 1.0, log_options=None):
     """
     from gripsense.io.log import detect_format
 
+    if Path(path).is_dir():  # a ROS 2 bag folder (read_log says if it is not one)
+        return EpochReplay(path, speed=speed, log_options=log_options)
     data, _ = read_log_bytes(path)
     if detect_format(data[:65536]) in ("nmea", "ubx"):
         return ReplaySource(path, speed=speed)
