@@ -25,7 +25,8 @@ __all__ = ["calibrate"]
 
 def calibrate(
     logs: Annotated[
-        list[Path], typer.Argument(help="logs of everyday driving (NMEA, VBOX, UBX, MDF4, CAN)")
+        list[Path],
+        typer.Argument(help="logs of everyday driving (NMEA, VBOX, UBX, MDF4, CAN, ROS bags)"),
     ],
     vehicle: Annotated[Path, typer.Option("--vehicle", help="vehicle description (TOML)")],
     output: Annotated[

@@ -31,7 +31,9 @@ def live(
     tcp: Annotated[str | None, typer.Option(help="HOST:PORT of a receiver streaming NMEA")] = None,
     replay: Annotated[
         Path | None,
-        typer.Option(help="Replay a log file: NMEA, UBX, VBOX, MDF4 or CAN (plain or .gz)"),
+        typer.Option(
+            help="Replay a log file: NMEA, UBX, VBOX, MDF4, CAN or a ROS bag (plain or .gz)"
+        ),
     ] = None,
     speed: Annotated[float, typer.Option(help="Replay speed (1 = real time, 0 = max)")] = 1.0,
     method: Annotated[
