@@ -373,6 +373,7 @@ def test_messages_of_varying_length_decode_one_by_one_to_the_same_values(tmp_pat
 def test_an_mcap_file_not_from_ros_is_one_line(tmp_path):
     """MCAP with JSON messages (Foxglove's own profile-less files): one line, no traceback."""
     from mcap import writer as mcap_writer  # a test dependency: the format's own writer
+
     path = tmp_path / "json.mcap"
     with path.open("wb") as f:
         w = mcap_writer.Writer(f)
