@@ -111,15 +111,22 @@ def _say(signum: int) -> None:
 
 
 def _stopped(signum: int) -> NoReturn:
-    """End a run stopped by a signal: its one line and exit status 128 + the signal."""
-    try:
-        sys.stderr.flush()
-    except (OSError, ValueError):
-        pass
-    _say(signum)
+    """End a run stopped by a signal: its one line and exit status 128 + the signal.
+
+    Every ``finally`` on the way out has run (unfinished outputs removed, clusters closed); the
+    process then ends without the interpreter's teardown: a signal that landed while numba or
+    llvmlite initialised can leave their C state half-built, and tearing that down crashed the
+    process (exit −11 after half the line) one time in many.
+    """
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, _leave)
-    sys.exit(128 + signum)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+    _say(signum)
+    os._exit(128 + signum)
 
 
 def main() -> None:
