@@ -395,44 +395,16 @@ def _receiver_table(name: str) -> str:
 
 
 def _commonroad_toml(car: Car) -> str:
-    """The vehicle file a user would write for CommonRoad's vehicle 2 (the values of
-    :func:`gripsense.sim.commonroad.commonroad_vehicle`, as text).
+    """The vehicle file a user would write for CommonRoad's vehicle 2
+    (:func:`gripsense.sim.commonroad.commonroad_vehicle_toml`).
     """
-    from gripsense.data import sample_path
-    from gripsense.sim.commonroad import commonroad_vehicle
+    from gripsense.sim.commonroad import commonroad_vehicle_toml
 
-    v = commonroad_vehicle(stiffness_error=car.stiffness_error,
-                           stiffness_uncertainty=car.stiffness_uncertainty)  # fmt: skip
-    vals = {
-        "name": f'"{car.name}: CommonRoad vehicle 2 ({car.model})"',
-        "mass_kg": f"{v.mass_kg!r}",
-        "front_weight_fraction": f"{v.front_weight_fraction!r}",
-        "wheelbase_m": f"{v.wheelbase_m!r}",
-        "cg_height_m": f"{v.cg_height_m!r}",
-        "track_front_m": f"{v.track_front_m!r}",
-        "track_rear_m": f"{v.track_rear_m!r}",
-        "drive": f'"{v.drive}"',
-    }
-    lines, skip = [], False
-    for line in Path(sample_path("corolla_sim.toml")).read_text(encoding="utf-8").splitlines():
-        head = line.strip()
-        if head.startswith("["):
-            skip = head.startswith("[tyre")
-        if skip or head.startswith("#"):
-            continue
-        key = head.split("=")[0].strip()
-        lines.append(f"{key} = {vals[key]}" if key in vals else line)
-    lines.insert(lines.index("[vehicle]") + 1, f"yaw_inertia_kgm2 = {v.yaw_inertia_kgm2!r}")
-    for axle, t in v.tyres.items():
-        lines += [
-            "",
-            f"[tyre.{axle}]",
-            f"width_m = {t.width_m!r}",
-            f"cornering_stiffness_N_per_rad = {t.cornering_stiffness_N_per_rad!r}",
-            f"stiffness_uncertainty = {t.stiffness_uncertainty!r}",
-            f"contact_length = {{ fixed_m = {t.contact_length_m!r} }}",
-        ]
-    return "\n".join(lines) + "\n"
+    return commonroad_vehicle_toml(
+        stiffness_error=car.stiffness_error,
+        stiffness_uncertainty=car.stiffness_uncertainty,
+        name=f"{car.name}: CommonRoad vehicle 2 ({car.model})",
+    )
 
 
 def car_vehicle_toml(car: Car) -> str:

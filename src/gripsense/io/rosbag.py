@@ -37,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import math
+import os
 import shutil
 import tempfile
 from dataclasses import dataclass, field
@@ -739,7 +740,7 @@ def write_rosbag2(epochs, path: str | Path) -> None:
         ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
         ``heading_deg``, ``yaw_rate_rps`` (ISO).
     path : str or Path
-        The bag folder to create (replaced if it exists).
+        The bag folder to create (it must not exist: nothing is replaced).
     """
     require("rosbags", "writing ROS bags")
     import pandas as pd
@@ -749,8 +750,8 @@ def write_rosbag2(epochs, path: str | Path) -> None:
     ts = get_typestore(Stores.ROS2_HUMBLE)
     T = ts.types
     path = Path(path)
-    if path.exists():
-        shutil.rmtree(path) if path.is_dir() else path.unlink()
+    if os.path.lexists(path):  # never replaced: the folder may hold what gripsense did not write
+        raise InputError(f"{path}: exists; a ROS 2 bag is written into a new folder")
     ns = pd.DatetimeIndex(epochs["time_utc"]).as_unit("ns").asi8
     names = ("lat_deg", "lon_deg", "alt_m", "speed_mps", "course_deg", "heading_deg")
     col = {c: epochs[c].to_numpy(float) for c in (*names, "yaw_rate_rps")}

@@ -44,6 +44,7 @@ __all__ = [
     "commonroad_drive",
     "commonroad_result",
     "commonroad_vehicle",
+    "commonroad_vehicle_toml",
     "cr_circle",
     "cr_constant_radius",
     "cr_everyday",
@@ -73,12 +74,16 @@ def _params(mu: float):
     return p
 
 
-def commonroad_vehicle(
-    *, stiffness_error: float = 0.0, stiffness_uncertainty: float = 0.15
-) -> Vehicle:
-    """The vehicle file a user would write for CommonRoad's vehicle 2: its mass, yaw inertia,
-    CG position and height, tracks and wheel radius; per axle the cornering stiffness at the
-    static load as measured (|p_ky1| F_z per wheel), the default load sensitivity and shape.
+def commonroad_vehicle_toml(
+    *,
+    stiffness_error: float = 0.0,
+    stiffness_uncertainty: float = 0.15,
+    name: str = "CommonRoad vehicle 2 (single-track drift model)",
+) -> str:
+    """The vehicle file a user would write for CommonRoad's vehicle 2, as text: its mass, yaw
+    inertia, CG position and height, tracks and wheel radius; per axle the cornering stiffness
+    at the static load as measured (|p_ky1| F_z per wheel), the default load sensitivity and
+    shape.
 
     Parameters
     ----------
@@ -86,13 +91,14 @@ def commonroad_vehicle(
         Relative error of the declared cornering stiffness [-].
     stiffness_uncertainty : float
         Declared 1σ of the stiffness [-].
+    name : str
+        The vehicle's ``name``.
 
     Returns
     -------
-    Vehicle
-        The description (antenna as in the bundled sedan).
+    str
+        The TOML text (antenna as in the bundled sedan).
     """
-    import tomllib
     from pathlib import Path
 
     p = _params(1.0)
@@ -100,7 +106,7 @@ def commonroad_vehicle(
     base = Path(sample_path("corolla_sim.toml")).read_text(encoding="utf-8")
     lines, skip = [], False
     vals = {
-        "name": '"CommonRoad vehicle 2 (single-track drift model)"',
+        "name": f'"{name}"',
         "mass_kg": f"{p.m:.3f}",
         "front_weight_fraction": f"{p.b / wb:.5f}",
         "wheelbase_m": f"{wb:.5f}",
@@ -131,9 +137,33 @@ def commonroad_vehicle(
             f"stiffness_uncertainty = {stiffness_uncertainty}",
             "contact_length = { fixed_m = 0.14 }",
         ]
-    return Vehicle.from_dict(
-        tomllib.loads("\n".join(lines) + "\n"), source="CommonRoad vehicle 2 (as a user would)"
+    return "\n".join(lines) + "\n"
+
+
+def commonroad_vehicle(
+    *, stiffness_error: float = 0.0, stiffness_uncertainty: float = 0.15
+) -> Vehicle:
+    """The vehicle file a user would write for CommonRoad's vehicle 2
+    (:func:`commonroad_vehicle_toml`), read.
+
+    Parameters
+    ----------
+    stiffness_error : float
+        Relative error of the declared cornering stiffness [-].
+    stiffness_uncertainty : float
+        Declared 1σ of the stiffness [-].
+
+    Returns
+    -------
+    Vehicle
+        The description (antenna as in the bundled sedan).
+    """
+    import tomllib
+
+    text = commonroad_vehicle_toml(
+        stiffness_error=stiffness_error, stiffness_uncertainty=stiffness_uncertainty
     )
+    return Vehicle.from_dict(tomllib.loads(text), source="CommonRoad vehicle 2 (as a user would)")
 
 
 @dataclasses.dataclass

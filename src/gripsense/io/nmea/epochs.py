@@ -119,15 +119,7 @@ HEADING_SOURCES = [
     "PSSN",
     "GPatt",
 ]
-ATTITUDE_PRIORITY = (
-    "PSAT,HPR",
-    "PASHR",
-    "PASHR,HPR",
-    "PTNL,AVR",
-    "PSSN,HRP",
-    "PSTI,036",
-    "PFEC,GPatt",
-)
+ATTITUDE_PRIORITY = tuple(s for s in HEADING_PRIORITY if s not in ("THS", "HDT"))
 # categories of ``yaw_rate_source``: NMEA ROT, the heading's rate, VBOX Yaw_Rate, a mapped channel
 YAW_RATE_SOURCES = ["ROT", "heading", "VBOX", "channel"]
 
