@@ -121,13 +121,15 @@ def breakdown(drives: list[Path], tmp: Path, method: str, n_logs: int, dt_total:
     (scaled to the run's number of logs), DuckDB aggregation on the 2-worker result, and the
     rest of the 2-worker run (cluster start, scheduling, map page) as the remainder."""
     from gripsense.config import Vehicle
+    from gripsense.estimate.options import WindowOptions
     from gripsense.fleet.aggregate import aggregate_cells
     from gripsense.fleet.tasks import _cells
     from gripsense.io.output_folder import write_parquet
     from gripsense.pipeline import FrictionRun
 
     veh = Vehicle.from_toml(VEHICLE)
-    run = FrictionRun(veh, method=method, receiver="rtk")
+    # as a fleet task runs it: the windows' statements, no drive profile
+    run = FrictionRun(veh, method=method, receiver="rtk", window=WindowOptions(drive=False))
     t = dict.fromkeys(("ingest", "estimation", "rows + H3", "Parquet"), 0.0)
     for p in drives:
         t0 = time.perf_counter()

@@ -104,7 +104,8 @@ def _reference_nll(mu, shape, w):
     rho = slow_correlation(w["mid"], pri.tau_s)
     pd_, pe = np.zeros(n), np.zeros(n)
     K._prior_delta(rho, pri.delta, pd_, pe)
-    ctx = (int(shape), f, df, inv_dx, b, w["p0"], pri.mean, pri.sd, pd_, pe)
+    pre = K.workspace(b)[0][K._PRE :]  # the bins' constants (ln C, ln Fz, ln cos δ)
+    ctx = (int(shape), f, df, inv_dx, b, pre, w["p0"], pri.mean, pri.sd, pd_, pe)
     r, v, jd = np.zeros(n), np.zeros(n), np.zeros(n)
     jg = np.zeros((n, K.NG))
 
@@ -163,7 +164,7 @@ def _converged_profile(w, shapes):
     grid = _grid(o)
     pen = _shape_penalty()[shapes]
     rho = slow_correlation(w["mid"], pri.tau_s)
-    ws, wm, wj = K.workspace(n)
+    ws, wm, wj = K.workspace(b)
     th, dl = np.empty(K.NG), np.zeros(n)
     best = np.full(grid.size, np.inf)
     for s, p in zip(shapes, pen, strict=True):
@@ -276,7 +277,7 @@ def test_stop_above_ends_a_minimisation_after_one_step(demo_window):
     f, df, inv_dx = curve_lookup()
     pri, b = w["pri"], w["bins"]
     rho = slow_correlation(w["mid"], pri.tau_s)
-    ws, wm, wj = K.workspace(1)
+    ws, wm, wj = K.workspace(b)
     th, dl = np.empty(K.NG), np.zeros(1)
     mu = 0.6 * float(b[0, 9])  # too small for the measured force: a long minimisation
     vals = []
@@ -381,7 +382,10 @@ def test_slip_spread_adds_the_jensen_gap_and_a_timing_term():
         b[0, 13] = spread
         r, v = np.zeros(1), np.zeros(1)
         jg, jd = np.zeros((1, K.NG)), np.zeros(1)
-        K._residuals(mu, np.zeros(K.NG), np.zeros(1), brush, f, df, inv_dx, b, 0.0, r, v, jg, jd)
+        pre = K.workspace(b)[0][K._PRE :]
+        K._residuals(
+            mu, np.zeros(K.NG), np.zeros(1), brush, f, df, inv_dx, b, pre, 0.0, r, v, jg, jd
+        )
         return v[0]
 
     def closed_form(mu):

@@ -249,3 +249,34 @@ def test_window_table_per_window():
     none, _ = estimate_windows(res.wheels.iloc[:0], uv, noise=res.noise, options=o)
     assert list(none.columns) == list(WINDOW_COLUMNS) and len(none) == 0
     pd.testing.assert_index_equal(none.columns, windows.columns)
+
+
+def test_windows_only_keeps_every_window_and_the_measured_grip():
+    """``WindowOptions(drive=False)`` (what a fleet task runs) gives the same windows as the
+    full run and the same measured grip per axle; the summary states no model range for the
+    drive (``fit`` "not profiled", the lower end the measured grip, no upper end) rather than
+    one it did not compute."""
+    import pandas as pd
+
+    from gripsense.estimate.axle_window import estimate_windows
+    from gripsense.estimate.options import NOT_PROFILED
+
+    mu = 0.5
+    d = simulate_drive(
+        "sedan", "mf-book", None, mu, receiver="rtk", seed=3, circle=(limit_speed(mu, 30, 0.9), 30)
+    )
+    uv = user_vehicle(truth_vehicle("sedan"), "mf-book")
+    res = estimate(d, uv, "rtk")
+    full_w, full_s = estimate_windows(res.wheels, uv, noise=res.noise, options=WindowOptions())
+    win, summ = estimate_windows(
+        res.wheels, uv, noise=res.noise, options=WindowOptions(drive=False)
+    )
+    assert (full_w["analysed"]).any()
+    pd.testing.assert_frame_equal(win, full_w)
+    assert (full_s["fit"] != NOT_PROFILED).all()
+    assert (summ["fit"] == NOT_PROFILED).all()
+    for c in ("grip_used", "grip_used_lower", "n", "n_windows", "n_screened"):
+        np.testing.assert_array_equal(summ[c].to_numpy(), full_s[c].to_numpy())
+    np.testing.assert_array_equal(summ["mu_low"].to_numpy(), summ["grip_used_lower"].to_numpy())
+    assert np.isinf(summ["mu_high"]).all() and summ["mu"].isna().all()
+    assert not summ["observable"].any()

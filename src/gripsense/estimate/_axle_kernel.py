@@ -62,6 +62,9 @@ SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
 STOP_ABOVE = 30.0  # −log L units above the profile's minimum (or an upper bound of it): a
 # deviance of 60, nine times the highest interval level (χ²₁ 99 %: 6.63)
 TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
+TOL_NLL_FEW = 1e-3  # the same for windows of up to NFEW bins: a deviance of 0.002, a fiftieth of
+# a stored curve's step (DEVIANCE_STEP); each (μ, shape) of them starts one grid step from its
+# minimum and converges in two steps, the third only moved it by less (10-15 % of their time)
 TIMING_SPREAD = 0.35  # of a bin's slip spread: force and slip ~0.1 s apart in a 1 s bin
 # (receiver latency, lag, yaw-acceleration smoothing) move the force by F' α̇ 0.1 s ≈ 0.35 F' s_α
 NG = 9  # ln s, κ, λ, q, ε, c (slip offset), ς (steer scale), η (μ load sensitivity), d (drive)
@@ -84,8 +87,10 @@ def _lookup(tab_f, tab_df, shape, inv_dx, x):
 
 
 @njit(cache=True, nogil=True, **_NO_RT)
-def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_out, jd_out):
-    """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin."""
+def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_out, j_out, jd_out):
+    """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin (``pre``:
+    the bins' constants, :func:`workspace`).
+    """
     ln_s, kap, lam, q, eps, c_off, st_sc, eta = (
         th[0],
         th[1],
@@ -101,15 +106,16 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
     for k in range(n):
         ay = b[k, 10]
         dfz = 0.5 * (b[k, 3] - b[k, 2])
-        fzs = b[k, 11]
         # loads after the load-transfer error; the friction of each wheel falls with its load
         # (Fz/F̄z)^−η, normalised so that μ stays the axle's load-weighted friction (two
         # wheels: scalars, no arrays, so a call allocates nothing)
         fzp0 = max(b[k, 2] - lam * dfz, 1.0)
         fzp1 = max(b[k, 3] + lam * dfz, 1.0)
         fbar = 0.5 * (fzp0 + fzp1)
-        lr0 = np.log(fzp0 / fbar)
-        lr1 = np.log(fzp1 / fbar)
+        ln0, ln1 = np.log(fzp0), np.log(fzp1)  # the only logarithms of a bin (the rest: pre)
+        ln_bar = np.log(fbar)
+        lr0 = ln0 - ln_bar
+        lr1 = ln1 - ln_bar
         g0 = np.exp(-eta * lr0)
         g1 = np.exp(-eta * lr1)
         den = fzp0 * g0 + fzp1 * g1
@@ -124,15 +130,15 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         d_q = 0.0
         d_eta = 0.0
         for w in range(2):
-            fz = b[k, 2 + w]
             sgn_load = -1.0 if w == 0 else 1.0
             fzw = fzp0 if w == 0 else fzp1
             lrw = lr0 if w == 0 else lr1
             m_w = mw0 if w == 0 else mw1
             ae = b[k, w] - dl[k] - c_off + kap * ay + st_sc * b[k, 12]
             t = abs(np.tan(ae))
-            ln_fs = np.log(fzw / fzs)
-            lnc = ln_s + np.log(b[k, 4 + w]) + p0 * np.log(fzw / fz) + q * ln_fs
+            ln_fzw = ln0 if w == 0 else ln1
+            ln_fs = ln_fzw - pre[_PRE_LN_FZS, k]
+            lnc = ln_s + pre[_PRE_LN_C + w, k] + p0 * (ln_fzw - pre[_PRE_LN_FZ + w, k]) + q * ln_fs
             cp = np.exp(lnc)
             x = cp * t / (m_w * fzw)
             f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
@@ -152,8 +158,8 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
             d_q += sg * m_w * fzw * df * x * ln_fs
             # ∂F/∂μ_w = Fz (f − x f'),  ∂ln μ_w/∂η = −ln(Fz/F̄z) + Σ Fz g ln(Fz/F̄z) / Σ Fz g
             d_eta += sg * fzw * (f - x * df) * m_w * (-lrw + dden / den)
-        cosd = np.cos(b[k, 12])
-        fk = b[k, 6] * cosd**d_drive
+        ln_cos = pre[_PRE_LN_COS, k]
+        fk = b[k, 6] * np.exp(d_drive * ln_cos)  # cos^d δ
         r_out[k] = fk * (1.0 + eps) - fm
         v_out[k] = (
             b[k, 7] ** 2
@@ -170,7 +176,7 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r_out, v_out, j_
         j_out[k, 5] = -g_sum
         j_out[k, 6] = g_sum * b[k, 12]
         j_out[k, 7] = -d_eta
-        j_out[k, 8] = fk * (1.0 + eps) * np.log(cosd)
+        j_out[k, 8] = fk * (1.0 + eps) * ln_cos
         jd_out[k] = -g_sum
     return 0
 
@@ -191,11 +197,12 @@ def _prior_delta(rho, sd, pd, pe):
 
 @njit(cache=True, nogil=True, **_NO_RT)
 def _objective(mu, th, dl, ctx, r, v, jg, jd):
-    """−log L at (θ, δ); ``ctx`` = (shape, f table, f' table, 1/dx, bins, p0, prior mean,
-    prior sd, δ prior diagonal, δ prior off-diagonal); fills r, v and the Jacobians.
+    """−log L at (θ, δ); ``ctx`` = (shape, f table, f' table, 1/dx, bins, the bins' constants,
+    p0, prior mean, prior sd, δ prior diagonal, δ prior off-diagonal); fills r, v and the
+    Jacobians.
     """
-    shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe = ctx
-    _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, p0, r, v, jg, jd)
+    shape, tab_f, tab_df, inv_dx, b, pre, p0, prior_m, prior_s, pd, pe = ctx
+    _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r, v, jg, jd)
     n = b.shape[0]
     nll = 0.0
     for k in range(n):
@@ -241,13 +248,28 @@ def _cholesky_solve(a, x):
     return 0
 
 
+_PRE = 16 + 2 * NG  # the first row of the bins' constants in the per-bin work array
+_PRE_LN_C, _PRE_LN_FZ, _PRE_LN_FZS, _PRE_LN_COS = 0, 2, 4, 5  # ln C_L, ln C_R; ln Fz_L, ln Fz_R
+
+
 @njit(cache=True, nogil=True)
-def workspace(n):
-    """Work arrays of :func:`profile_nll` for n bins (per-bin rows, small matrices, and the
-    Jacobians with their bins along the first axis, C-contiguous for the inner loops).
+def workspace(b):
+    """Work arrays of :func:`profile_nll` for the bins *b* (per-bin rows, small matrices, and
+    the Jacobians with their bins along the first axis, C-contiguous for the inner loops).
+
+    The per-bin rows end with the bins' constants, computed here once rather than at every
+    evaluation of the objective: ln C_w, ln Fz_w, ln Fz_static and ln cos δ.
     """
+    n = b.shape[0]
     m = max(n, 1)
-    return np.zeros((16 + 2 * NG, m)), np.zeros((4 + 2 * NG, NG + 1)), np.zeros((3, m, NG))
+    ws = np.zeros((_PRE + 6, m))
+    for k in range(n):
+        for w in range(2):
+            ws[_PRE + _PRE_LN_C + w, k] = np.log(b[k, 4 + w])
+            ws[_PRE + _PRE_LN_FZ + w, k] = np.log(b[k, 2 + w])
+        ws[_PRE + _PRE_LN_FZS, k] = np.log(b[k, 11])
+        ws[_PRE + _PRE_LN_COS, k] = np.log(np.cos(b[k, 12]))
+    return ws, np.zeros((4 + 2 * NG, NG + 1)), np.zeros((3, m, NG))
 
 
 @njit(cache=True, nogil=True, inline="always", **_NO_RT)
@@ -495,6 +517,7 @@ def profile_nll(
     allocates nothing.
     """
     n = b.shape[0]
+    tol = TOL_NLL_FEW if n <= NFEW else TOL_NLL
     th = wm[0, :NG]
     dl = ws[0]
     _copy(th, th0)
@@ -502,7 +525,7 @@ def profile_nll(
     r, v, jd, pd, pe = ws[1], ws[2], ws[3], ws[4], ws[5]
     jg, jg_t, h_gd = wj[0, :n], wj[1, :n], wj[2, :n]
     _prior_delta(rho, prior_d, pd, pe)
-    ctx = (shape, tab_f, tab_df, inv_dx, b, p0, prior_m, prior_s, pd, pe)
+    ctx = (shape, tab_f, tab_df, inv_dx, b, ws[_PRE:], p0, prior_m, prior_s, pd, pe)
     best = _objective(mu, th, dl, ctx, r, v, jg, jd)
     _copy(th_out, th)
     _copy(dl_out, dl)
@@ -589,7 +612,7 @@ def profile_nll(
             pred -= g_g[a] * (trial_th[a] - th[a])
         for k in range(n):
             pred -= g_d[k] * (trial_dl[k] - dl[k])
-        if 0.5 * pred < TOL_NLL:
+        if 0.5 * pred < tol:
             break
         val = _objective(mu, trial_th, trial_dl, ctx, r_t, v_t, jg_t, jd_t)
         if val < best:
@@ -605,7 +628,7 @@ def profile_nll(
             _copy(th_out, th)
             _copy(dl_out, dl)
             lam = max(lam * 0.1, 1e-6)
-            if improvement < TOL_NLL:
+            if improvement < tol:
                 break
         else:
             lam *= 10.0
@@ -680,6 +703,38 @@ def merge_runs(t0, t1, n, data, tol, noise_cols, slip_z, drift_sd, tau_s, model_
     return mid, out
 
 
+@njit(cache=True, nogil=True, **_NO_RT)
+def _grid_point(im, mu_grid, shapes, shape_pen, b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
+                inv_dx, p0, iters, out_nll, out_th, out_dl, out_shape, floor, stop_margin, warm,
+                warm_d, last, last_best, active, th, dl, ws, wm, wj):  # fmt: skip
+    """One μ of :func:`profile_grid`: every shape still ``active`` minimised from its warm
+    start (skipped where it was ``SKIP_MARGIN`` worse than the best at the previous μ, except at
+    every fourth μ). Returns the best value (inf when no shape was minimised).
+    """
+    best = np.inf
+    for si in range(shapes.size):
+        if not active[si]:
+            continue
+        if im % 4 != 0 and last[si] > last_best + SKIP_MARGIN:
+            continue
+        stop = floor + stop_margin - shape_pen[si]
+        nll = profile_nll(mu_grid[im], shapes[si], b, rho, prior_m, prior_s, prior_d, tab_f,
+                          tab_df, inv_dx, p0, warm[si], warm_d[si], iters, th, dl, ws, wm, wj,
+                          stop)  # fmt: skip
+        if nll <= stop:
+            _copy(warm[si], th)
+            _copy(warm_d[si], dl)
+        nll += shape_pen[si]
+        last[si] = nll
+        if nll < best:
+            best = nll
+            _copy(out_th[im], th)
+            _copy(out_dl[im], dl)
+            out_shape[im] = shapes[si]
+    out_nll[im] = best
+    return best
+
+
 @njit(cache=True, nogil=True)
 def profile_grid(
     mu_grid,
@@ -713,66 +768,74 @@ def profile_grid(
     upper bound of the minimum (*floor*, ``np.inf`` if none is known; the profile's value at
     μ = *probe* when it is positive; and the lowest value so far) after a step
     ends there, and its nuisances are not passed on as the next μ's start
-    (``docs/physics.md`` §15.3). Windows of more than ``NFEW`` bins are minimised fully at
-    every μ: their nuisances converge only along the warm-started path.
+    (``docs/physics.md`` §15.3).
+
+    A window of up to ``NFEW`` bins with a *probe* is swept from the probe's minimisations (of
+    every shape, from the prior mean) up the grid, then down it. A shape whose minimisation
+    stopped is not minimised further along that sweep: down, less grip carries the measured
+    force still worse; up, a still more linear curve explains the data no better. A sweep ends
+    when no shape is left, and the μ it did not reach get ``inf`` (points the profile excluded,
+    far above every level). Windows of more than ``NFEW`` bins are minimised fully at every μ,
+    up the grid from its first: their nuisances converge only along the warm-started path.
     """
     n = b.shape[0]
-    ws, wm, wj = workspace(n)
-    warm = np.empty((shapes.size, NG))
-    warm_d = np.zeros((shapes.size, n))
-    last = np.zeros(shapes.size)
+    ws, wm, wj = workspace(b)
+    ns = shapes.size
+    warm = np.empty((ns, NG))
+    warm_d = np.zeros((ns, n))
+    last = np.zeros(ns)
+    active = np.ones(ns, dtype=np.bool_)
     th = np.empty(NG)
     dl = np.zeros(n)
     n_mu = mu_grid.size
-    last_best = 0.0
-    for si in range(shapes.size):
+    for si in range(ns):
         _copy(warm[si], prior_m)
-    short = n <= NFEW  # long windows need the warm starts of every μ to converge
-    if short and probe > 0.0:
-        for si in range(shapes.size):
-            nll = profile_nll(probe, shapes[si], b, rho, prior_m, prior_s, prior_d, tab_f,
-                              tab_df, inv_dx, p0, warm[si], warm_d[si], iters, th, dl, ws, wm,
-                              wj, np.inf)  # fmt: skip
-            floor = min(floor, nll + shape_pen[si])
-    for im in range(n_mu):
-        best = 1e300
-        for si in range(shapes.size):
-            if im % 4 != 0 and last[si] > last_best + SKIP_MARGIN:
-                continue
-            stop = floor + stop_margin - shape_pen[si] if short else np.inf
-            nll = profile_nll(
-                mu_grid[im],
-                shapes[si],
-                b,
-                rho,
-                prior_m,
-                prior_s,
-                prior_d,
-                tab_f,
-                tab_df,
-                inv_dx,
-                p0,
-                warm[si],
-                warm_d[si],
-                iters,
-                th,
-                dl,
-                ws,
-                wm,
-                wj,
-                stop,
-            )
-            if nll <= stop:
-                _copy(warm[si], th)
-                _copy(warm_d[si], dl)
-            nll += shape_pen[si]
-            last[si] = nll
-            if nll < best:
-                best = nll
-                _copy(out_th[im], th)
-                _copy(out_dl[im], dl)
-                out_shape[im] = shapes[si]
-        out_nll[im] = best
-        last_best = best
-        floor = min(floor, best)
+    if n > NFEW or probe <= 0.0:  # long windows need the warm starts of every μ to converge
+        stop_margin = np.inf if n > NFEW else stop_margin
+        last_best = 0.0
+        for im in range(n_mu):
+            last_best = _grid_point(im, mu_grid, shapes, shape_pen, b, rho, prior_m, prior_s,
+                                    prior_d, tab_f, tab_df, inv_dx, p0, iters, out_nll, out_th,
+                                    out_dl, out_shape, floor, stop_margin, warm, warm_d, last,
+                                    last_best, active, th, dl, ws, wm, wj)  # fmt: skip
+            floor = min(floor, last_best)
+        return 0
+    # the probe's minimisation of every shape: an upper bound of the minimum, and the start of
+    # both sweeps
+    probe_th = np.empty((ns, NG))
+    probe_d = np.zeros((ns, n))
+    probe_v = np.empty(ns)
+    for si in range(ns):
+        nll = profile_nll(probe, shapes[si], b, rho, prior_m, prior_s, prior_d, tab_f, tab_df,
+                          inv_dx, p0, warm[si], warm_d[si], iters, th, dl, ws, wm, wj,
+                          np.inf)  # fmt: skip
+        _copy(probe_th[si], th)
+        _copy(probe_d[si], dl)
+        probe_v[si] = nll + shape_pen[si]
+        floor = min(floor, probe_v[si])
+    i0 = 0
+    while i0 < n_mu and mu_grid[i0] < probe:
+        i0 += 1
+    for direction in (1, -1):
+        for si in range(ns):
+            _copy(warm[si], probe_th[si])
+            _copy(warm_d[si], probe_d[si])
+            last[si] = probe_v[si]
+            active[si] = True
+        last_best = floor
+        im = i0 if direction > 0 else i0 - 1
+        while 0 <= im < n_mu:
+            if not active.any():
+                out_nll[im] = np.inf
+            else:
+                best = _grid_point(im, mu_grid, shapes, shape_pen, b, rho, prior_m, prior_s,
+                                   prior_d, tab_f, tab_df, inv_dx, p0, iters, out_nll, out_th,
+                                   out_dl, out_shape, floor, stop_margin, warm, warm_d, last,
+                                   last_best, active, th, dl, ws, wm, wj)  # fmt: skip
+                for si in range(ns):  # a shape that stopped here stops further along
+                    if active[si] and last[si] > floor + stop_margin:
+                        active[si] = False
+                last_best = best
+                floor = min(floor, best)
+            im += direction
     return 0

@@ -34,7 +34,7 @@ from gripsense.config import Vehicle
 from gripsense.estimate.bins import AxleBins, axle_bins
 from gripsense.estimate.grip import drive_bound, grip_bins
 from gripsense.estimate.noise import NoiseModel
-from gripsense.estimate.options import WindowOptions
+from gripsense.estimate.options import NOT_PROFILED, WindowOptions
 from gripsense.estimate.profile import (
     UNCHANGED,
     ProfileCache,
@@ -198,6 +198,7 @@ def estimate_windows(
             tb = torque_bins(wheels, vehicle, o.bin_s, o.min_samples)
             if tb is not None and tb.t0.size:
                 check_channel(tb, vehicle)
+            if tb is not None and tb.t0.size and o.drive:  # the torque speaks to the drive only
                 grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
                 torque = torque_profile(tb, vehicle, grid, tol=o.steady_tolerance)
                 read = torque_read(tb, torque)
@@ -209,7 +210,20 @@ def estimate_windows(
             "grip_used": g_max,
             "grip_used_lower": g_lower,
         }
-        if analysed_bins.any():
+        if analysed_bins.any() and not o.drive:  # the windows' statements only (the fleet)
+            summ.append(
+                {
+                    **base,
+                    "mu": np.nan,
+                    "mu_low": base["grip_used_lower"],
+                    "mu_high": np.inf,
+                    "observable": False,
+                    "fit": NOT_PROFILED,
+                    "limited_by": "the drive was not profiled (its windows were)",
+                    "torque_note": "",
+                }
+            )
+        elif analysed_bins.any():
             mid, merged = merge_bins(
                 ab.t0[analysed_bins],
                 ab.t1[analysed_bins],

@@ -8,7 +8,10 @@ from dataclasses import dataclass, field
 
 from gripsense.estimate.noise import NoiseModel
 
-__all__ = ["FrictionOptions", "WindowOptions"]
+__all__ = ["NOT_PROFILED", "FrictionOptions", "WindowOptions"]
+
+NOT_PROFILED = "not profiled"
+"""The summary's ``fit`` where the drive was not profiled (:attr:`WindowOptions.drive`)."""
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,10 @@ class WindowOptions:
     min_utilisation : float
         A value is given only when the measured-grip bound is at least this fraction of the
         interval's upper end (data near the limit) [-].
+    drive : bool
+        Profile the whole drive per axle (the summary's range and value). ``False`` keeps the
+        windows and the summary's measured grip only, with ``fit`` :data:`NOT_PROFILED`: what
+        ``gripsense fleet`` needs, which combines the windows' statements per road cell.
     """
 
     window_s: float = 3.0
@@ -114,3 +121,4 @@ class WindowOptions:
     iterations: int = 3
     bound_level: float = 0.99
     min_utilisation: float = 0.5
+    drive: bool = True

@@ -135,7 +135,7 @@ def shape_evidence(
         return None
     rho = slow_correlation(mid, pri.tau_s)
     tabs = learn_tables()
-    ws, wm, wj = K.workspace(n)
+    ws, wm, wj = K.workspace(b)
     work = (ws, wm, wj, np.empty(K.NG), np.zeros(n))
     lo = max(float(np.max(b[:, 9])), float(o.mu_min))  # μ below the measured grip: not carried
     hi = float(o.mu_max)

@@ -230,9 +230,11 @@ def process_log(
     GripsenseError
         With the reason when the log cannot be used.
     """
+    from gripsense.estimate.options import WindowOptions
     from gripsense.pipeline import FrictionRun
 
-    run = FrictionRun(vehicle, method=method, receiver=receiver)
+    # a cell combines the windows' statements: the drive's own profile is not needed
+    run = FrictionRun(vehicle, method=method, receiver=receiver, window=WindowOptions(drive=False))
     res = run.run_log(path, since=since, log_options=log_options,
                       steer_csv=_steer_csv(path),
                       steer_columns=steer_columns)  # fmt: skip
@@ -250,7 +252,7 @@ def process_log(
     est = res.estimates()
     e = est["epoch"].to_numpy(int)
     rows = est.drop(columns=["epoch", "t_start", "t_end"]).assign(
-        time_utc=ep["time_utc"].to_numpy()[e],
+        time_utc=ep["time_utc"].array.take(e),  # tz-aware: no object array of the whole log
         t_s=ep["t_s"].to_numpy(float)[e],
         lat_deg=ep["lat_deg"].to_numpy(float)[e],
         lon_deg=ep["lon_deg"].to_numpy(float)[e],
