@@ -513,8 +513,8 @@ def profile_nll(
 
     Returns the minimum (the variances v are re-evaluated at each point: the effective-variance
     method, without a log-variance term); ``th_out``/``dl_out`` receive the nuisances. ``ws``,
-    ``wm`` and ``wj`` are work arrays (:func:`workspace`), so a call
-    allocates nothing.
+    ``wm`` and ``wj`` are work arrays (:func:`workspace` of the same bins *b*: ``ws`` also
+    holds their constants), so a call allocates nothing.
     """
     n = b.shape[0]
     tol = TOL_NLL_FEW if n <= NFEW else TOL_NLL
