@@ -248,7 +248,7 @@ def process_log(
         out.attrs.update(steering)
         return out
     if not np.isfinite(ep["lat_deg"].to_numpy(float)).any():
-        raise GripsenseError("no position fix in the log (GGA/RMC)")
+        raise GripsenseError("no position fix in the log (NMEA GGA/RMC/GNS/GLL)")
     est = res.estimates()
     e = est["epoch"].to_numpy(int)
     rows = est.drop(columns=["epoch", "t_start", "t_end"]).assign(
