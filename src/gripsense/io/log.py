@@ -11,6 +11,7 @@ CAN BLF         ``LOGG`` signature                           python-can + cantoo
 CAN ASC         ``date``/``base hex`` header of a Vector ASC python-can + cantools (``--dbc``)
 VBOX VBO        ``[column names]`` / ``File created on``     by hand (:mod:`gripsense.io.vbo`)
 UBX (+ NMEA)    a UBX frame with a good checksum             compiled scan (:mod:`gripsense.io.ubx`)
+NovAtel ASCII   ``#…A,…;…*crc32`` lines with good CRCs        by hand (:mod:`gripsense.io.novatel`)
 ROS bag         ``#ROSBAG V2.0``, MCAP or sqlite3 magic; a    rosbags (:mod:`gripsense.io.rosbag`)
                 ROS 2 bag folder (``metadata.yaml``)
 NMEA 0183       anything else                                :func:`gripsense.io.read_nmea`
@@ -45,7 +46,7 @@ __all__ = [
     "write_nmea_lines",
 ]
 
-FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc", "rosbag")
+FORMATS = ("nmea", "ubx", "vbo", "mf4", "blf", "asc", "rosbag", "novatel")
 """Format names of :func:`detect_format` (and ``--format`` of ``gripsense simulate``)."""
 
 
@@ -94,6 +95,7 @@ def detect_format(head: bytes) -> str:
     str
         One of :data:`FORMATS`.
     """
+    from gripsense.io.novatel import is_novatel
     from gripsense.io.rosbag import is_rosbag
     from gripsense.io.ubx import is_ubx
     from gripsense.io.vbo import is_vbo
@@ -111,6 +113,8 @@ def detect_format(head: bytes) -> str:
         return "vbo"
     if is_ubx(head):
         return "ubx"
+    if is_novatel(head):
+        return "novatel"
     return "nmea"
 
 
@@ -191,7 +195,7 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         )  # the library reads it
         inp = None
         if not by_path:
-            lines = o.max_lines if fmt in ("nmea", "vbo", "asc") else None
+            lines = o.max_lines if fmt in ("nmea", "vbo", "asc", "novatel") else None
             inp = src.read(o.max_bytes, lines, count_rest=fmt == "nmea")
     finally:
         src.close()
@@ -204,6 +208,11 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
         from gripsense.io.ubx import parse_ubx
 
         log = parse_ubx(data, str(p), strict=o.strict)
+        log.report.notes[:0] = notes
+    elif fmt == "novatel":
+        from gripsense.io.novatel import parse_novatel
+
+        log = parse_novatel(data, str(p), strict=o.strict)
         log.report.notes[:0] = notes
     elif fmt == "vbo":
         from gripsense.io.vbo import decode_vbo, parse_vbo

@@ -1,0 +1,474 @@
+"""NovAtel OEM ASCII logs (``#HEADING2A,…;…*crc32`` lines), as OEM6/OEM7 receivers
+(PwrPak7D, SMART7, OEM7720 …) log them.
+
+A line is ``#NAME,port,sequence,idle,time status,week,seconds,receiver status,reserved,
+software build;field,field,…*xxxxxxxx``: the header, the body and the 32-bit CRC of everything
+between ``#`` and ``*`` (NovAtel's CRC-32: reflected polynomial 0xEDB88320, register starting
+at 0, no final inversion; OEM7 Commands and Logs Reference Manual, "32-Bit CRC"). A log with a
+short header (``%NAME,week,seconds;…*crc``: INSPVAS …) is read the same way. gripsense reads:
+
+===================  ======================================================================
+log                  what is read
+===================  ======================================================================
+BESTPOS              latitude, longitude, height above mean sea level, satellites in the
+                     solution, fix quality (from the position type) — ``SOL_COMPUTED`` only
+BESTVEL              speed (``hor_spd``) and course over ground (``trk_gnd``) —
+                     ``SOL_COMPUTED`` and a velocity type other than ``NONE``
+HEADING, HEADING2,   true heading of the antenna baseline (``heading``) and its standard
+DUALANTENNAHEADING   deviation — ``SOL_COMPUTED`` and a position type other than ``NONE``
+INSPVA, INSPVAS      the INS azimuth as the heading only when the log has no HEADING log, and
+                     position, speed and course only when it has no BESTPOS / BESTVEL —
+                     INS status ``INS_SOLUTION_GOOD``, ``INS_SOLUTION_FREE`` or
+                     ``INS_ALIGNMENT_COMPLETE``
+===================  ======================================================================
+
+Lines are grouped into epochs by the header's GPS week and seconds; UTC is GPS time less the
+GPS−UTC leap seconds of that date (:func:`gps_to_utc`). Every line is accounted for: read
+(``parsed``), a valid line not used (``ignored``: another log, a solution not computed, a
+receiver prompt ``<OK`` / ``[COM1]``, an NMEA sentence on the same port, abbreviated ASCII
+``<…`` lines, which carry no CRC), or rejected: ``bad checksum`` (a bad CRC), ``missing
+checksum``, ``malformed field``, ``truncated`` (the file ends inside the line) or
+``not NovAtel ASCII``.
+"""
+
+from __future__ import annotations
+
+import re
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from gripsense.errors import InputError
+from gripsense.io.epoch_table import build_epochs
+from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.reader import NmeaLog
+from gripsense.io.nmea.schema import (
+    BAD_CHECKSUM,
+    BLANK,
+    MALFORMED,
+    MISSING_CHECKSUM,
+    REASONS,
+    TRUNCATED,
+)
+
+__all__ = [
+    "LEAP_SECONDS",
+    "NOT_NOVATEL",
+    "crc32",
+    "gps_to_utc",
+    "is_novatel",
+    "parse_novatel",
+    "write_novatel",
+]
+
+NOT_NOVATEL = "not NovAtel ASCII"
+"""Reject reason of a line that is neither a NovAtel log, a prompt nor an NMEA sentence."""
+
+_GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "s")
+_WEEK_S = 604_800.0
+
+LEAP_SECONDS = (
+    ("1981-07-01", 1),
+    ("1982-07-01", 2),
+    ("1983-07-01", 3),
+    ("1985-07-01", 4),
+    ("1988-01-01", 5),
+    ("1990-01-01", 6),
+    ("1991-01-01", 7),
+    ("1992-07-01", 8),
+    ("1993-07-01", 9),
+    ("1994-07-01", 10),
+    ("1996-01-01", 11),
+    ("1997-07-01", 12),
+    ("1999-01-01", 13),
+    ("2006-01-01", 14),
+    ("2009-01-01", 15),
+    ("2012-07-01", 16),
+    ("2015-07-01", 17),
+    ("2017-01-01", 18),
+)
+"""(UTC date from which it holds, GPS − UTC [s]): IERS Bulletin C; none since 2017."""
+
+# GPS seconds (since 1980-01-06) at which each offset starts: the UTC date + the new offset
+_LEAP_AT = np.array(
+    [(np.datetime64(d, "s") - _GPS_EPOCH).astype(float) + n for d, n in LEAP_SECONDS]
+)
+_LEAP_N = np.array([n for _, n in LEAP_SECONDS], dtype=float)
+
+
+def gps_to_utc(week: np.ndarray, seconds: np.ndarray) -> np.ndarray:
+    """UTC seconds since 1970 of a GPS week and time of week.
+
+    GPS time runs without leap seconds from 1980-01-06 00:00 UTC; UTC = GPS − (GPS − UTC),
+    the offset of :data:`LEAP_SECONDS` in force at that instant.
+
+    Parameters
+    ----------
+    week : numpy.ndarray
+        GPS week number (full, not modulo 1024) [week].
+    seconds : numpy.ndarray
+        Seconds of the week [s].
+
+    Returns
+    -------
+    numpy.ndarray
+        Seconds since 1970-01-01 UTC [s].
+    """
+    gps = np.asarray(week, float) * _WEEK_S + np.asarray(seconds, float)
+    k = np.searchsorted(_LEAP_AT, gps, side="right")
+    leap = np.where(k > 0, _LEAP_N[np.maximum(k - 1, 0)], 0.0)
+    return gps - leap + float(_GPS_EPOCH.astype("datetime64[s]").astype(np.int64))
+
+
+def crc32(data: bytes) -> int:
+    """NovAtel's 32-bit CRC of a message (OEM7 Commands and Logs Reference Manual, "32-Bit
+    CRC": reflected polynomial 0xEDB88320, register starting at 0, no final inversion).
+
+    Parameters
+    ----------
+    data : bytes
+        The bytes between ``#`` (or ``%``) and ``*`` of an ASCII log [bytes].
+
+    Returns
+    -------
+    int
+        The CRC [-].
+    """
+    # zlib's CRC-32 is the same register with the start and the end inverted: undo both
+    return zlib.crc32(data, 0xFFFFFFFF) ^ 0xFFFFFFFF
+
+
+_LINE = re.compile(rb"^([#%])([A-Z0-9_]+?)A,([^;]*);(.*)$")
+_CRC = re.compile(rb"^(.*)\*([0-9A-Fa-f]{8})\s*$")
+
+
+def is_novatel(head: bytes) -> bool:
+    """Whether the first bytes of a file are a NovAtel ASCII log: more lines of NovAtel logs
+    (``#…A,…;…*crc`` or ``%…A,…;…*crc``) with a good CRC than NMEA sentences.
+
+    Parameters
+    ----------
+    head : bytes
+        The first 64 KiB or so.
+
+    Returns
+    -------
+    bool
+        True for a NovAtel ASCII log.
+    """
+    good = nmea = 0
+    for raw in head.splitlines()[:400]:
+        line = raw.strip()
+        if line[:1] in (b"$", b"!"):
+            nmea += 1
+            continue
+        m = _CRC.match(line)
+        if m and _LINE.match(m.group(1)) and crc32(m.group(1)[1:]) == int(m.group(2), 16):
+            good += 1
+    return good > 0 and good >= nmea
+
+
+# position type -> GGA fix quality (1 autonomous, 2 differential, 4 RTK fixed, 5 RTK float)
+_FIX = {
+    "SINGLE": 1,
+    "PSRDIFF": 2,
+    "WAAS": 2,
+    "PROPAGATED": 1,
+    "L1_FLOAT": 5,
+    "IONOFREE_FLOAT": 5,
+    "NARROW_FLOAT": 5,
+    "PPP_CONVERGING": 5,
+    "PPP": 5,
+    "PPP_BASIC_CONVERGING": 5,
+    "PPP_BASIC": 5,
+    "L1_INT": 4,
+    "WIDE_INT": 4,
+    "NARROW_INT": 4,
+    "RTK_DIRECT_INS": 4,
+    "INS_SBAS": 2,
+    "INS_PSRSP": 1,
+    "INS_PSRDIFF": 2,
+    "INS_RTKFLOAT": 5,
+    "INS_RTKFIXED": 4,
+    "INS_PPP_CONVERGING": 5,
+    "INS_PPP": 5,
+}
+_INS_GOOD = ("INS_SOLUTION_GOOD", "INS_SOLUTION_FREE", "INS_ALIGNMENT_COMPLETE")
+_HEADINGS = ("HEADING", "HEADING2", "DUALANTENNAHEADING")
+# log -> fewest body fields
+_MIN_FIELDS = {
+    "BESTPOS": 15,
+    "BESTVEL": 6,
+    "HEADING": 8,
+    "HEADING2": 8,
+    "DUALANTENNAHEADING": 8,
+    "INSPVA": 12,
+    "INSPVAS": 12,
+}
+
+
+def _body(name: str, f: list[str]) -> tuple[dict[str, float], str]:
+    """The values a known log gives, or why it gives none ('' when it gives them).
+
+    Raises ValueError on a field that is not a number.
+    """
+    if name == "BESTPOS":
+        if f[0] != "SOL_COMPUTED" or f[1] == "NONE":
+            return {}, f"solution {f[0]}, position {f[1]}"
+        return {
+            "lat_deg": float(f[2]),
+            "lon_deg": float(f[3]),
+            "alt_m": float(f[4]),
+            "n_sats": float(int(f[14])),
+            "fix_quality": float(_FIX.get(f[1], 1)),
+        }, ""
+    if name == "BESTVEL":
+        if f[0] != "SOL_COMPUTED" or f[1] == "NONE":
+            return {}, f"solution {f[0]}, velocity {f[1]}"
+        return {"speed_mps": float(f[4]), "course_deg": float(f[5])}, ""
+    if name in _HEADINGS:
+        if f[0] != "SOL_COMPUTED" or f[1] == "NONE":
+            return {}, f"solution {f[0]}, position {f[1]}"
+        return {"heading_deg": float(f[3]), "heading_acc_deg": float(f[6])}, ""
+    # INSPVA / INSPVAS: week, seconds, lat, lon, height, v_n, v_e, v_u, roll, pitch, azimuth
+    vals = [float(x) for x in f[2:11]]
+    if f[11] not in _INS_GOOD:
+        return {}, f"INS status {f[11]}"
+    vn, ve = vals[3], vals[4]
+    return {
+        "ins_lat": vals[0],
+        "ins_lon": vals[1],
+        "ins_speed": float(np.hypot(vn, ve)),
+        "ins_course": float(np.mod(np.degrees(np.arctan2(ve, vn)), 360.0)),
+        "ins_heading": vals[8],
+    }, ""
+
+
+def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False) -> NmeaLog:
+    """Read a NovAtel ASCII log into the epoch table.
+
+    Parameters
+    ----------
+    data : bytes
+        The log's bytes.
+    name : str
+        File name, for messages.
+    strict : bool
+        Raise at the first rejected line instead of counting it.
+
+    Returns
+    -------
+    NmeaLog
+        ``epochs``, ``report`` (lines) and ``sentences`` (per log read, its decoded rows with
+        the 1-based ``line``, GPS ``week`` and ``seconds``).
+    """
+    parsed: dict[str, int] = {}
+    ignored: dict[str, int] = {}
+    rejected = dict.fromkeys(REASONS, 0)
+    rejected[NOT_NOVATEL] = 0
+    first: list[RejectedLine] = []
+
+    def reject(no: int, reason: str, detail: str) -> None:
+        rejected[reason] += 1
+        if strict:
+            raise InputError(f"{name}: line {no}: {reason}: {detail} (strict mode)")
+        if len(first) < 20:
+            first.append(RejectedLine(no, reason, detail))
+
+    def ignore(key: str) -> None:
+        ignored[key] = ignored.get(key, 0) + 1
+
+    rows: dict[str, list[dict[str, float]]] = {}
+    lines = data.split(b"\n")
+    if lines and lines[-1] == b"":
+        lines.pop()
+    cut_last = bool(data) and not data.endswith(b"\n")
+    for i, raw in enumerate(lines):
+        no = i + 1
+        line = raw.strip()
+        if not line:
+            ignore(BLANK)
+            continue
+        lead = line[:1]
+        if lead == b"$" or lead == b"!":
+            ignore("NMEA sentence (not read in a NovAtel log)")
+            continue
+        if lead == b"<":
+            ignore("NovAtel abbreviated ASCII or reply (no CRC: log the ...A form)")
+            continue
+        if lead == b"[" and line.endswith(b"]"):
+            ignore("NovAtel port prompt")
+            continue
+        if lead not in (b"#", b"%"):
+            reject(no, NOT_NOVATEL, f"{line[:40]!r} is not a NovAtel ASCII log line")
+            continue
+        m = _CRC.match(line)
+        if m is None:
+            if cut_last and i == len(lines) - 1:
+                reject(no, TRUNCATED, "the file ends inside the line")
+            elif b"*" in line:
+                reject(no, MALFORMED, "the CRC after '*' is not 8 hexadecimal digits")
+            else:
+                reject(no, MISSING_CHECKSUM, "no '*' and 32-bit CRC at the end of the line")
+            continue
+        msg, want = m.group(1), int(m.group(2), 16)
+        got = crc32(msg[1:])
+        if got != want:
+            reject(no, BAD_CHECKSUM, f"bad CRC: the line says {want:08x}, its bytes give {got:08x}")
+            continue
+        lm = _LINE.match(msg)
+        if lm is None:
+            reject(no, MALFORMED, "not NAME…A,header;body: no ';' after the header")
+            continue
+        short = lm.group(1) == b"%"
+        log = lm.group(2).decode("ascii")
+        header = lm.group(3).decode("ascii", "replace").split(",")
+        if log not in _MIN_FIELDS:
+            ignore(f"NovAtel {log}")
+            continue
+        body = lm.group(4).decode("ascii", "replace").split(",")
+        try:
+            if short:
+                week, sec, tstat = int(header[0]), float(header[1]), "FINESTEERING"
+            else:
+                if len(header) < 9:
+                    raise ValueError(f"a header of {len(header)} fields, not 9 or more")
+                week, sec, tstat = int(header[4]), float(header[5]), header[3]
+            if len(body) < _MIN_FIELDS[log]:
+                raise ValueError(f"{len(body)} fields, {_MIN_FIELDS[log]} or more expected")
+            vals, why = _body(log, body)
+        except (ValueError, IndexError) as e:
+            reject(no, MALFORMED, f"{log}: {e}")
+            continue
+        if tstat == "UNKNOWN" or week <= 0:
+            ignore(f"NovAtel {log} (receiver time unknown)")
+            continue
+        if why:
+            ignore(f"NovAtel {log} (not used: {why.split(',')[0]})")
+            continue
+        parsed[f"NovAtel {log}"] = parsed.get(f"NovAtel {log}", 0) + 1
+        rows.setdefault(log, []).append({"line": no, "week": week, "seconds": sec, **vals})
+
+    sentences = {f"NovAtel {k}": pd.DataFrame(v) for k, v in rows.items()}
+    epochs, hsrc_note = _epochs(rows)
+    notes = [hsrc_note] if hsrc_note else []
+    report = IngestReport(
+        source=name,
+        total_lines=len(lines),
+        parsed=dict(sorted(parsed.items())),
+        ignored=dict(sorted(ignored.items())),
+        rejected=rejected,
+        first_rejects=first,
+        n_epochs=len(epochs),
+        epochs_without_time=int(epochs["t_s"].isna().sum()),
+        has_date=bool(len(epochs)),
+        notes=notes,
+        format="NovAtel ASCII",
+        unit="lines",
+    )
+    return NmeaLog(epochs=epochs, report=report, sentences=sentences)
+
+
+def _epochs(rows: dict[str, list[dict[str, float]]]) -> tuple[pd.DataFrame, str]:
+    """One epoch per GPS (week, seconds) of the logs read, in time order; and a note on where
+    the heading came from when INSPVA gave it.
+    """
+    if not rows:
+        return build_epochs({}, np.zeros(0), has_date=True, heading_source="channel"), ""
+    frames = {k: pd.DataFrame(v) for k, v in rows.items()}
+    keys = np.concatenate(
+        [
+            np.round((f["week"] * _WEEK_S + f["seconds"]).to_numpy(float) * 1000)
+            for f in frames.values()
+        ]
+    )
+    order = np.unique(keys)
+    n = order.size
+    values: dict[str, np.ndarray] = {}
+
+    def put(f: pd.DataFrame, src: str, dst: str) -> None:
+        k = np.searchsorted(
+            order, np.round((f["week"] * _WEEK_S + f["seconds"]).to_numpy(float) * 1000)
+        )
+        out = values.setdefault(dst, np.full(n, np.nan))
+        v = f[src].to_numpy(float)
+        fill = np.isnan(out[k])
+        out[k[fill]] = v[fill]
+
+    for log in ("BESTPOS",):
+        if log in frames:
+            for c in ("lat_deg", "lon_deg", "alt_m", "n_sats", "fix_quality"):
+                put(frames[log], c, c)
+    if "BESTVEL" in frames:
+        put(frames["BESTVEL"], "speed_mps", "speed_mps")
+        put(frames["BESTVEL"], "course_deg", "course_deg")
+    has_heading = False
+    for log in _HEADINGS:
+        if log in frames:
+            put(frames[log], "heading_deg", "heading_deg")
+            put(frames[log], "heading_acc_deg", "heading_acc_deg")
+            has_heading = True
+    note = ""
+    for log in ("INSPVA", "INSPVAS"):
+        if log not in frames:
+            continue
+        f = frames[log]
+        if "BESTPOS" not in frames:
+            put(f, "ins_lat", "lat_deg")
+            put(f, "ins_lon", "lon_deg")
+        if "BESTVEL" not in frames:
+            put(f, "ins_speed", "speed_mps")
+            put(f, "ins_course", "course_deg")
+        if not has_heading:
+            put(f, "ins_heading", "heading_deg")
+            note = f"heading: the INS azimuth of {log} (the log has no HEADING/HEADING2)"
+    seconds = gps_to_utc(np.floor(order / 1000 / _WEEK_S), np.mod(order / 1000, _WEEK_S))
+    ep = build_epochs(values, seconds, has_date=True, heading_source="channel")
+    return ep, note
+
+
+def write_novatel(epochs: pd.DataFrame, path: str | Path, *, heading_acc_deg: float = 0.2) -> None:
+    """Write an epoch table as a NovAtel dual-antenna receiver logs it in ASCII: BESTPOS,
+    BESTVEL and HEADING2 per epoch, each with its CRC-32.
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
+        ``heading_deg``.
+    path : str or Path
+        Output file.
+    heading_acc_deg : float
+        The heading standard deviation the logs state [deg].
+    """
+    t = pd.DatetimeIndex(epochs["time_utc"]).tz_convert(None)
+    utc = (t - pd.Timestamp("1970-01-01")).total_seconds().to_numpy()
+    # GPS time: UTC + the offset in force (the UTC instant + n is past the step's GPS time)
+    epoch0 = float(_GPS_EPOCH.astype(np.int64))
+    gps_guess = utc - epoch0
+    k = np.searchsorted(_LEAP_AT - _LEAP_N, gps_guess, side="right")
+    gps = gps_guess + np.where(k > 0, _LEAP_N[np.maximum(k - 1, 0)], 0.0)
+    week = np.floor(gps / _WEEK_S).astype(int)
+    sec = gps - week * _WEEK_S
+    cols = [epochs[c].to_numpy(float) for c in ("lat_deg", "lon_deg", "alt_m", "speed_mps",
+                                                "course_deg", "heading_deg")]  # fmt: skip
+    out = []
+
+    def line(log: str, w: int, s: float, body: str) -> str:
+        msg = f"{log}A,COM1,0,80.0,FINESTEERING,{w},{s:.3f},02000000,b1f6,16809;{body}"
+        return f"#{msg}*{crc32(msg.encode('ascii')):08x}"
+
+    for i in range(len(t)):
+        la, lo, alt, spd, crs, hdg = (c[i] for c in cols)
+        w, s = int(week[i]), float(sec[i])
+        out.append(line("BESTPOS", w, s, f"SOL_COMPUTED,NARROW_INT,{la:.11f},{lo:.11f},{alt:.4f},"
+                        '-17.0000,WGS84,0.0100,0.0100,0.0200,"0",1.000,0.000,20,18,18,18,00,'
+                        "06,33,33"))  # fmt: skip
+        out.append(line("BESTVEL", w, s, f"SOL_COMPUTED,DOPPLER_VELOCITY,0.150,0.000,{spd:.4f},"
+                        f"{np.mod(crs, 360.0):.6f},0.0000,0.0"))  # fmt: skip
+        out.append(line("HEADING2", w, s, f"SOL_COMPUTED,NARROW_INT,1.000000000,"
+                        f"{np.mod(hdg, 360.0):.9f},0.000000000,0,{heading_acc_deg:.9f},"
+                        '0.400000000,"R222","AAAA",18,17,17,16,0,01,0,33'))  # fmt: skip
+    Path(path).write_text("".join(s + "\r\n" for s in out), encoding="ascii", newline="")
