@@ -217,3 +217,24 @@ def test_the_same_drive_as_nmea(tmp_path):
     for c, tol in (("lat_deg", 1e-10), ("lon_deg", 1e-10), ("alt_m", 1e-4),
                    ("speed_mps", 1e-4), ("course_deg", 1e-6), ("heading_deg", 1e-8)):  # fmt: skip
         np.testing.assert_allclose(ep[c], ref[c], atol=tol, err_msg=c)
+
+
+def test_a_log_of_bad_crcs_is_still_novatel_each_line_rejected(tmp_path):
+    """Recognised by the lines' shape, not their CRCs: a damaged log is not "nothing usable"
+    NMEA but NovAtel with every bad line named."""
+    bad = [ln[:-8] + "00000000" for ln in _lines(DRIVERS)]
+    (tmp_path / "bad.asc").write_text("\r\n".join(bad) + "\r\n")
+    r = read_log(tmp_path / "bad.asc").report
+    assert r.format == "NovAtel ASCII" and r.rejected["bad checksum"] == 14 and r.balanced
+
+
+def test_strict_names_the_line_in_one_line(tmp_path):
+    from tests.cli.inprocess import cli
+
+    lines = _lines(DRIVERS)
+    lines[3] = lines[3].replace("51.15", "51.16")
+    (tmp_path / "s.asc").write_text("\r\n".join(lines) + "\r\n")
+    r = cli("ingest", tmp_path / "s.asc", "--strict")
+    assert r.returncode != 0 and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert "s.asc: line 4: bad checksum: bad CRC" in r.stderr

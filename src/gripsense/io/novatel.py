@@ -145,8 +145,10 @@ _CRC = re.compile(rb"^(.*)\*([0-9A-Fa-f]{8})\s*$")
 
 
 def is_novatel(head: bytes) -> bool:
-    """Whether the first bytes of a file are a NovAtel ASCII log: more lines of NovAtel logs
-    (``#…A,…;…*crc`` or ``%…A,…;…*crc``) with a good CRC than NMEA sentences.
+    """Whether the first bytes of a file are a NovAtel ASCII log: more lines shaped as NovAtel
+    logs (``#NAMEA,header;body*xxxxxxxx`` or ``%NAMEA,week,seconds;body*xxxxxxxx``) than NMEA
+    sentences. The CRCs are not required here: a damaged log is still read as NovAtel, its bad
+    lines rejected one by one.
 
     Parameters
     ----------
@@ -165,7 +167,7 @@ def is_novatel(head: bytes) -> bool:
             nmea += 1
             continue
         m = _CRC.match(line)
-        if m and _LINE.match(m.group(1)) and crc32(m.group(1)[1:]) == int(m.group(2), 16):
+        if m and _LINE.match(m.group(1)):
             good += 1
     return good > 0 and good >= nmea
 
