@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from gripsense.errors import InputError
 from gripsense.io import read_log, read_nmea
 from gripsense.io.log import detect_format
-from gripsense.io.novatel import crc32, gps_to_utc, parse_novatel, write_novatel
+from gripsense.io.novatel import crc32, gps_to_utc, is_novatel, parse_novatel, write_novatel
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "novatel"
 STARTUP = DATA / "edie_startup.asc"  # an OEM7 receiver's first 15 s: TIMEA + BESTPOSA at 1 Hz
@@ -238,3 +238,21 @@ def test_strict_names_the_line_in_one_line(tmp_path):
     assert r.returncode != 0 and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
     assert "s.asc: line 4: bad checksum: bad CRC" in r.stderr
+
+
+def test_a_log_after_a_port_prompt_on_the_same_line_is_read():
+    """NovAtel's console writes ``[USB1]`` before a log's first line (real lines of NovAtel
+    EDIE's ``src/decoders/oem/test/resources/BESTUTMBIN.GPS``, MIT): the log is read, the bare
+    prompt and the ``<OK`` reply ignored."""
+    text = (
+        b"<OK\r\n[USB1]#BESTUTMA,USB1,0,73.0,FINESTEERING,2237,270605.000,1a000000,a40a,17007;"
+        b"SOL_COMPUTED,WAAS,11,U,5670746.0187,707662.0088,1098.7489,-17.0000,WGS84,0.8816,"
+        b'0.6843,1.9549,"131",4.000,0.000,30,9,9,9,0,06,00,03*16afb629\r\n[USB1]\r\n'
+        b"[USB1]#HEADING2A,COM1,0,39.5,FINESTEERING;SOL_COMPUTED*00000000\r\n"
+        + DRIVERS.read_bytes().splitlines()[10]
+    )
+    r = parse_novatel(text, "p.asc").report
+    assert r.balanced and r.total_lines == 5 and r.junk_prefix_lines == 1
+    assert r.ignored["NovAtel BESTUTM"] == 1 and r.ignored["NovAtel port prompt"] == 1
+    assert r.rejected["bad checksum"] == 1 and r.parsed == {"NovAtel HEADING2": 1}
+    assert is_novatel(text)

@@ -25,7 +25,8 @@ INSPVA, INSPVAS      the INS azimuth as the heading only when the log has no HEA
 Lines are grouped into epochs by the header's GPS week and seconds; UTC is GPS time less the
 GPS−UTC leap seconds of that date (:func:`gps_to_utc`). Every line is accounted for: read
 (``parsed``), a valid line not used (``ignored``: another log, a solution not computed, a
-receiver prompt ``<OK`` / ``[COM1]``, an NMEA sentence on the same port, abbreviated ASCII
+reply ``<OK`` or a port prompt ``[COM1]`` (a log after
+the prompt on the same line is read), an NMEA sentence on the same port, abbreviated ASCII
 ``<…`` lines, which carry no CRC), or rejected: ``bad checksum`` (a bad CRC), ``missing
 checksum``, ``malformed field``, ``truncated`` (the file ends inside the line) or
 ``not NovAtel ASCII``.
@@ -142,6 +143,7 @@ def crc32(data: bytes) -> int:
 
 _LINE = re.compile(rb"^([#%])([A-Z0-9_]+?)A,([^;]*);(.*)$")
 _CRC = re.compile(rb"^(.*)\*([0-9A-Fa-f]{8})\s*$")
+_PROMPT = re.compile(rb"^\[[A-Za-z0-9_]+\]")  # the port prompt a console puts before a log
 
 
 def is_novatel(head: bytes) -> bool:
@@ -162,7 +164,7 @@ def is_novatel(head: bytes) -> bool:
     """
     good = nmea = 0
     for raw in head.splitlines()[:400]:
-        line = raw.strip()
+        line = _PROMPT.sub(b"", raw.strip())
         if line[:1] in (b"$", b"!"):
             nmea += 1
             continue
@@ -272,8 +274,11 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
     rejected[NOT_NOVATEL] = 0
     first: list[RejectedLine] = []
 
+    prefixed = [False, 0]  # this line came after a port prompt; such lines read or ignored
+
     def reject(no: int, reason: str, detail: str) -> None:
         rejected[reason] += 1
+        prefixed[1] -= prefixed[0]
         if strict:
             raise InputError(f"{name}: line {no}: {reason}: {detail} (strict mode)")
         if len(first) < 20:
@@ -289,19 +294,23 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
     cut_last = bool(data) and not data.endswith(b"\n")
     for i, raw in enumerate(lines):
         no = i + 1
+        prefixed[0] = False
         line = raw.strip()
         if not line:
             ignore(BLANK)
             continue
+        if line[:1] == b"[" and (pm := _PROMPT.match(line)) is not None:
+            if pm.end() == len(line):
+                ignore("NovAtel port prompt")
+                continue
+            line = line[pm.end() :].lstrip()  # "[COM1]#BESTPOSA,…": the log after the prompt
+            prefixed[:] = [True, prefixed[1] + 1]
         lead = line[:1]
         if lead == b"$" or lead == b"!":
             ignore("NMEA sentence (not read in a NovAtel log)")
             continue
         if lead == b"<":
             ignore("NovAtel abbreviated ASCII or reply (no CRC: log the ...A form)")
-            continue
-        if lead == b"[" and line.endswith(b"]"):
-            ignore("NovAtel port prompt")
             continue
         if lead not in (b"#", b"%"):
             reject(no, NOT_NOVATEL, f"{line[:40]!r} is not a NovAtel ASCII log line")
@@ -363,6 +372,7 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         ignored=dict(sorted(ignored.items())),
         rejected=rejected,
         first_rejects=first,
+        junk_prefix_lines=prefixed[1],
         n_epochs=len(epochs),
         epochs_without_time=int(epochs["t_s"].isna().sum()),
         has_date=bool(len(epochs)),
