@@ -256,3 +256,26 @@ def test_a_log_after_a_port_prompt_on_the_same_line_is_read():
     assert r.ignored["NovAtel BESTUTM"] == 1 and r.ignored["NovAtel port prompt"] == 1
     assert r.rejected["bad checksum"] == 1 and r.parsed == {"NovAtel HEADING2": 1}
     assert is_novatel(text)
+
+
+def test_inspvax_gives_the_heading_only_without_a_heading_log():
+    """The OEM7 manual's INSPVAX example: INS status, position type, lat, lon, height,
+    undulation, north/east/up velocity, roll, pitch, azimuth …; its azimuth is the heading of a
+    log without HEADING/HEADING2, and a HEADING2 log beats it."""
+    ins = (
+        b"#INSPVAXA,COM1,0,73.5,FINESTEERING,1695,309428.000,00000040,4e77,43562;"
+        b"INS_SOLUTION_GOOD,INS_PSRSP,51.11637873403,-114.03825114994,1063.6093,-16.9000,"
+        b"-0.0845,-0.0464,-0.0127,0.138023492,0.069459386,90.000923268,0.9428,0.6688,1.4746,"
+        b"0.0430,0.0518,0.0521,0.944295466,0.944567084,1.000131845,3,0*e877c178"
+    )
+    log = parse_novatel(ins + b"\r\n", "i.asc")
+    ep = log.epochs.iloc[0]
+    assert log.report.parsed == {"NovAtel INSPVAX": 1}
+    assert ep["heading_deg"] == 90.000923268 and "INSPVAX" in log.report.notes[0]
+    assert (ep["lat_deg"], ep["lon_deg"]) == (51.11637873403, -114.03825114994)
+    assert ep["speed_mps"] == pytest.approx((0.0845**2 + 0.0464**2) ** 0.5, rel=1e-12)
+    # moving south-west: north −0.0845, east −0.0464 m/s
+    assert ep["course_deg"] == pytest.approx(180 + np.degrees(np.arctan(0.0464 / 0.0845)))
+    both = parse_novatel(ins + b"\r\n" + DRIVERS.read_bytes().splitlines()[10], "b.asc")
+    assert both.epochs["heading_deg"].dropna().tolist() == [178.347869873]
+    assert both.report.notes == []

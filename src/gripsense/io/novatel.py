@@ -16,8 +16,8 @@ BESTVEL              speed (``hor_spd``) and course over ground (``trk_gnd``) �
                      ``SOL_COMPUTED`` and a velocity type other than ``NONE``
 HEADING, HEADING2,   true heading of the antenna baseline (``heading``) and its standard
 DUALANTENNAHEADING   deviation — ``SOL_COMPUTED`` and a position type other than ``NONE``
-INSPVA, INSPVAS      the INS azimuth as the heading only when the log has no HEADING log, and
-                     position, speed and course only when it has no BESTPOS / BESTVEL —
+INSPVA, INSPVAS,     the INS azimuth as the heading only when the log has no HEADING log, and
+INSPVAX              position, speed and course only when it has no BESTPOS / BESTVEL —
                      INS status ``INS_SOLUTION_GOOD``, ``INS_SOLUTION_FREE`` or
                      ``INS_ALIGNMENT_COMPLETE``
 ===================  ======================================================================
@@ -210,6 +210,7 @@ _MIN_FIELDS = {
     "DUALANTENNAHEADING": 8,
     "INSPVA": 12,
     "INSPVAS": 12,
+    "INSPVAX": 12,
 }
 
 
@@ -236,10 +237,12 @@ def _body(name: str, f: list[str]) -> tuple[dict[str, float], str]:
         if f[0] != "SOL_COMPUTED" or f[1] == "NONE":
             return {}, f"solution {f[0]}, position {f[1]}"
         return {"heading_deg": float(f[3]), "heading_acc_deg": float(f[6])}, ""
-    # INSPVA / INSPVAS: week, seconds, lat, lon, height, v_n, v_e, v_u, roll, pitch, azimuth
-    vals = [float(x) for x in f[2:11]]
-    if f[11] not in _INS_GOOD:
-        return {}, f"INS status {f[11]}"
+    if name == "INSPVAX":  # INS status, position type, lat, lon, height, undulation, v_n, …
+        status, vals = f[0], [float(x) for x in (*f[2:5], *f[6:12])]
+    else:  # INSPVA(S): week, seconds, lat, lon, height, v_n, v_e, v_u, roll, pitch, azimuth
+        status, vals = f[11], [float(x) for x in f[2:11]]
+    if status not in _INS_GOOD:
+        return {}, f"INS status {status}"
     vn, ve = vals[3], vals[4]
     return {
         "ins_lat": vals[0],
@@ -423,7 +426,7 @@ def _epochs(rows: dict[str, list[dict[str, float]]]) -> tuple[pd.DataFrame, str]
             put(frames[log], "heading_acc_deg", "heading_acc_deg")
             has_heading = True
     note = ""
-    for log in ("INSPVA", "INSPVAS"):
+    for log in ("INSPVA", "INSPVAS", "INSPVAX"):
         if log not in frames:
             continue
         f = frames[log]
