@@ -14,6 +14,7 @@ from io import BytesIO
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from pynmeagps import NMEAReader
 from pyubx2 import NMEA_PROTOCOL, RTCM3_PROTOCOL, UBX_PROTOCOL, UBXReader
@@ -267,12 +268,14 @@ def test_rtcm3_frames_between_sentences_are_counted_as_rtcm(engine):
     assert got == {m: ref.count(m) for m in ref}
     assert rep.n_rejected == 0 and rep.balanced
     assert rep.unit == "lines and frames"
-    assert rep.parsed == {"RMC": 1} and rep.ignored["GLL"] == 1
+    assert rep.parsed == {"RMC": 1, "GLL": 1}  # (GLL read since issue 43, too)
     # the RMC is on line 11 of the file (the frames hold line-end bytes)
     data = path.read_bytes()
     line = data[: data.index(b"$GNRMC")].count(b"\n") + 1
     assert log.sentences["RMC"]["line"].tolist() == [line]
-    assert log.epochs["time_utc"].iloc[0].isoformat().startswith("2022-02-08T08:41:59")
+    # the GLL (084158.00) and the RMC (084159.00, dated 080222) are two epochs
+    times = [t.isoformat() for t in log.epochs["time_utc"]]
+    assert times == ["2022-02-08T08:41:58+00:00", "2022-02-08T08:41:59+00:00"]
 
 
 def test_rtcm3_frame_with_a_bad_crc_is_one_rejected_frame(tmp_path):
@@ -292,7 +295,7 @@ def test_ubx_stream_with_rtcm3_counts_the_frames():
     """The same stream with its UBX frame goes to the UBX reader, whose NMEA part counts the
     RTCM3 frames instead of *not NMEA* lines."""
     rep = read_log(DATA / "pyubx2-mixed-rtcm3.log").report
-    assert rep.parsed == {"RMC": 1, "UBX NAV-PVT": 1}
+    assert rep.parsed == {"GLL": 1, "RMC": 1, "UBX NAV-PVT": 1}
     assert sum(v for k, v in rep.ignored.items() if k.startswith("RTCM3")) == 7
     assert rep.n_rejected == 0 and rep.balanced
 
@@ -400,19 +403,36 @@ def test_signalk_yacht_log_one_epoch_per_cycle(engine):
     """The issue's own file: Signal K's sample yacht log (plaka.log, first 1200 lines). Per
     2-second cycle: VHW, VPW, VTG, MWV, VWT, an empty $IIHDT,,T, WCV, XTE, ZDA (no date), DBT,
     GLL, GSV, HDM, a second empty $IIHDT,,T, MWD, VDR. Before issue 43 the second HDT split
-    every cycle: twice the epochs, half of them without time."""
+    every cycle: twice the epochs, half of them without time.
+
+    Since GLL is read (its time groups the burst as GGA's does): in 17 of the 75 cycles the
+    GLL's fix time is one second after the ZDA's (the plotter's clock lags), and the GLL starts
+    an epoch of its own there — as a GGA with that time would."""
     path = DATA / "signalk-plaka-head.log"
     log = read_nmea(path, engine=engine)
     rep, ep = log.report, log.epochs
-    zda, vtg = log.sentences["ZDA"], log.sentences["VTG"]
-    assert rep.n_epochs == len(zda) and rep.epochs_without_time == 0
-    assert rep.parsed["HDT"] == 2 * len(zda)
-    # each cycle's VTG is in the epoch of the ZDA that follows it in the cycle
+    zda, vtg, gll = log.sentences["ZDA"], log.sentences["VTG"], log.sentences["GLL"]
     text = path.read_text().splitlines()
+    # the times as the file writes them (ZDA field 1, GLL field 5), cycle by cycle
+    t_zda = [ln.split(",")[1] for ln in text if ln.startswith("$GPZDA")]
+    t_gll = [ln.split(",")[5] for ln in text if ln.startswith("$GPGLL")]
+    late = [a != b for a, b in zip(t_zda, t_gll, strict=True)]
+    assert len(late) == 75 and sum(late) == 17
+    assert rep.n_epochs == len(zda) + sum(late) and rep.epochs_without_time == 0
+    assert rep.parsed["HDT"] == 2 * len(zda)
+    # each cycle's GLL is in its ZDA's epoch where their times agree, else in one of its own
+    z_ep, g_ep = zda["epoch"].to_numpy(), gll["epoch"].to_numpy()
+    assert ((g_ep == z_ep) == ~np.array(late)).all()
+    # each VTG (no time of its own) is in a timed epoch of its cycle: that of the ZDA after it,
+    # or that of the last timed sentence (ZDA or GLL) before it — one VTG per epoch
+    timed = pd.concat([zda[["line", "epoch"]], gll[["line", "epoch"]]]).sort_values("line")
     for row in vtg.itertuples(index=False):
         nxt = next(i for i in range(row.line, len(text)) if "ZDA," in text[i]) + 1
-        assert row.epoch == zda.loc[zda["line"] == nxt, "epoch"].iloc[0]
-    assert ep["speed_mps"].notna().all() and ep["t_s"].notna().all()
+        before = timed.loc[timed["line"] < row.line, "epoch"]
+        allowed = {zda.loc[zda["line"] == nxt, "epoch"].iloc[0], *before.tail(1)}
+        assert row.epoch in allowed, row
+    assert vtg["epoch"].is_unique and ep["speed_mps"].notna().sum() == 75
+    assert ep["t_s"].notna().all() and ep["lat_deg"].notna().sum() == 75
     # the log has no date (its ZDA date fields are empty): t_s, no time_utc
     assert not rep.has_date and ep["time_utc"].isna().all()
 
@@ -477,7 +497,7 @@ def test_every_parsed_sentence_as_pynmeagps_decodes_it(path):
             raw = lines[row.line - 1].rstrip(b"\r")
             text = raw[max(raw.rfind(b"$"), 0) :]
             m = NMEAReader.parse(text, validate=VALCKSUM)
-            if key in ("GGA", "RMC") and not math.isnan(row.lat_deg):
+            if key in ("GGA", "RMC", "GLL", "GNS") and not math.isnan(row.lat_deg):
                 assert _same(row.lat_deg, m.lat) and _same(row.lon_deg, m.lon), text
             if key == "RMC" and not math.isnan(row.speed_mps):
                 assert _same(row.speed_mps, _pyn_num(m.spd) * 1852 / 3600, 1e-12), text

@@ -4,7 +4,9 @@ Conversions done here, once, for every sentence type:
 
 * ``hhmmss.sss`` -> seconds of the UTC day; ``ddmmyy`` / ZDA day, month, year -> days since
   1970-01-01 (two-digit years: 80-99 -> 19xx, 00-79 -> 20xx);
-* ``ddmm.mmmm`` + N/S, ``dddmm.mmmm`` + E/W -> signed decimal degrees;
+* ``ddmm.mmmm`` + N/S, ``dddmm.mmmm`` + E/W -> signed decimal degrees; GLL's and GNS's
+  position is NaN where the sentence itself says it is no fix (GLL status V or mode N, GNS
+  mode letters all N), and their mode becomes ``fix_quality`` on GGA's scale (A 1, D 2, …);
 * speed over ground: knots x 1852/3600 -> m/s (VTG falls back to its km/h field);
 * headings are kept in compass degrees (clockwise from true north), wrapped to [0, 360);
 * rate of turn is kept as NMEA sends it: degrees per minute, positive = turning to starboard.
@@ -18,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gripsense.io.nmea.schema import SENTENCES
+from gripsense.io.nmea.schema import MODE_QUALITY, SENTENCES
 
 __all__ = ["KNOT", "decode_all"]
 
@@ -88,6 +90,11 @@ def _wrap360(h: np.ndarray) -> np.ndarray:
     return out
 
 
+# byte of a mode letter -> fix quality on GGA's scale (schema.MODE_QUALITY); NaN: no letter
+_MODE_Q = np.full(256, np.nan)
+for _k, _q in MODE_QUALITY.items():
+    _MODE_Q[ord(_k)] = _q
+del _k, _q
 _CHARS = np.array([None] + [chr(i) for i in range(1, 256)], dtype=object)
 
 
@@ -114,10 +121,21 @@ def _decode_one(
     if "time" in r:
         c["tod_s"], b = _tod(r["time"])
         flag(b, "time")
-    if key in ("GGA", "RMC"):
-        # a receiver without a fix (GGA quality 0, RMC status V) may send a placeholder
+    no_fix = np.zeros(n, dtype=bool)
+    if key == "GLL":
+        # a position only with status A and a mode other than N (no mode: NMEA before 2.3)
+        quality = _MODE_Q[r["mode"]]
+        no_fix = (r["status"] != ord("A")) | (quality == 0)
+        c["fix_quality"] = np.where(no_fix, 0.0, quality)
+    elif key == "GNS":
+        # no fix when every mode letter is N (or the mode field is empty)
+        no_fix = ~(r["mode"] > 0)
+        c["fix_quality"] = r["mode"]
+    if key in ("GGA", "RMC", "GLL", "GNS"):
+        # a receiver without a fix (GGA quality 0, RMC status V …) may send a placeholder
         # position (MediaTek: 8960.000000,N — minute 60): not a malformed sentence, no position
-        no_fix = r["quality"] == 0 if key == "GGA" else r["status"] == ord("V")
+        if key in ("GGA", "RMC"):
+            no_fix = r["quality"] == 0 if key == "GGA" else r["status"] == ord("V")
         for name, f, neg, pos, lim in (
             ("lat", "lat", "S", "N", 90.0),
             ("lon", "lon", "W", "E", 180.0),
@@ -126,6 +144,8 @@ def _decode_one(
             c[f"{name}_deg"], b = _latlon(r[f], hemi, neg, pos, lim)
             c[f"{name}_deg"][b & no_fix] = np.nan
             flag(b & ~no_fix, name)
+            if key in ("GLL", "GNS"):  # GGA's and RMC's flags are applied per epoch
+                c[f"{name}_deg"][no_fix] = np.nan
     if key == "GGA":
         c["fix_quality"] = r["quality"]
         c["n_sats"] = r["n_sats"]
@@ -137,6 +157,13 @@ def _decode_one(
         c["course_deg"] = _wrap360(r["cog"])
         c["day"], b = _ddmmyy(r["date"])
         flag(b, "date")
+    elif key == "GNS":
+        c["n_sats"] = r["n_sats"]
+        c["hdop"] = r["hdop"]
+        c["alt_m"] = np.where(no_fix, np.nan, r["alt"])
+    elif key == "GLL":
+        c["status"] = _char(r["status"])
+        c["mode"] = _char(r["mode"])
     elif key == "VTG":
         sp = np.where(np.isnan(r["sog_kn"]), r["sog_kmh"] / 3.6, r["sog_kn"] * KNOT)
         invalid = r["mode"] == ord("N")

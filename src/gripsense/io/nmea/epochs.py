@@ -3,11 +3,11 @@
 The grouping rule
 -----------------
 A receiver sends a burst of sentences per measurement epoch. Sentences with a UTC time (GGA,
-RMC, ZDA and the proprietary attitude sentences) say which epoch they belong to; HDT, THS, ROT
-and VTG (and a timed sentence whose time field is empty) do not. Receivers order their bursts
-differently: Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the position), Saab and
-SkyTraq send the heading *after* RMC. gripsense therefore reads the log in order and starts a new
-epoch when
+RMC, GNS, GLL, ZDA and the proprietary attitude sentences) say which epoch they belong to;
+HDT, THS, ROT and VTG (and a timed sentence whose time field is empty) do not. Receivers order
+their bursts differently: Hemisphere sends ``HDT, GGA, VTG, ZDA`` (heading *before* the
+position), Saab and SkyTraq send the heading *after* RMC. gripsense therefore reads the log in
+order and starts a new epoch when
 
 (a) a sentence carries a time different from the current epoch's time (an epoch with no time yet
     takes the first time that arrives), or
@@ -29,8 +29,13 @@ loop :func:`epoch_boundaries_loop` is its reference in the tests.
 
 Merging an epoch's sentences
 ----------------------------
-* position, altitude, fix quality, satellites, HDOP: GGA (if its fix quality is not 0), else RMC
-  (if its status is ``A``);
+* position: from one sentence, the first of GGA (fix quality not 0), RMC (status ``A``), GNS
+  (a mode letter other than ``N``), GLL (status ``A``, mode not ``N``) that has one — receivers
+  that send only GLL (instrument buses, yachts) or GNS (multi-constellation receivers) are
+  placed too;
+* altitude: GGA (fix quality not 0), else GNS (with a fix); satellites, HDOP: GGA, else GNS;
+  fix quality: GGA's, else GNS's or GLL's mode letter on GGA's scale (A 1, D 2, P 3, R 4,
+  F 5, E 6, M 7, S 8; N 0);
 * speed and course over ground: RMC (status ``A``), else VTG (mode not ``N``);
 * heading: ``$PSAT,HPR`` > ``$PASHR`` > ``$PASHR,HPR`` (fixed ambiguities) > ``$PTNL,AVR``
   (fixed RTK) > ``$PSSN,HRP`` (mode 2, 4) > ``$PSTI,036`` (mode ``R``) > ``$PFEC,GPatt`` > THS
@@ -585,18 +590,29 @@ def assemble_epochs(
     gga_ok = tables["GGA"]["fix_quality"] != 0 if size["GGA"] else None
     rmc_ok = (tables["RMC"]["status"] == "A") if size["RMC"] else None
 
+    # GLL and GNS carry NaN where they say they have no fix (decode.py)
+    pos_sources = [
+        (k, ok)
+        for k, ok in (("GGA", gga_ok), ("RMC", rmc_ok), ("GNS", None), ("GLL", None))
+        if size[k]
+    ]
+
     def position() -> tuple[np.ndarray, np.ndarray]:
-        if size["GGA"] and size["RMC"]:
-            # the position comes from one sentence: GGA where it has a latitude, else RMC
-            gga_lat = col("GGA", "lat_deg", gga_ok)
-            use_gga = ~np.isnan(gga_lat)
-            lat = np.where(use_gga, gga_lat, col("RMC", "lat_deg", rmc_ok))
-            return lat, np.where(
-                use_gga, col("GGA", "lon_deg", gga_ok), col("RMC", "lon_deg", rmc_ok)
-            )
+        if len(pos_sources) > 1:
+            # the position comes from one sentence: the first source (GGA, RMC, GNS, GLL)
+            # where it has a latitude
+            k, ok = pos_sources[0]
+            lat, lon = col(k, "lat_deg", ok), col(k, "lon_deg", ok)
+            assert lat is not None and lon is not None
+            for k, ok in pos_sources[1:]:
+                la, lo = col(k, "lat_deg", ok), col(k, "lon_deg", ok)
+                take = np.isnan(lat) & ~np.isnan(la)
+                lat[take] = la[take]
+                lon[take] = lo[take]
+            return lat, lon
         return (
-            first_of(("GGA", "lat_deg", gga_ok), ("RMC", "lat_deg", rmc_ok)),
-            first_of(("GGA", "lon_deg", gga_ok), ("RMC", "lon_deg", rmc_ok)),
+            first_of(*((k, "lat_deg", ok) for k, ok in pos_sources)),
+            first_of(*((k, "lon_deg", ok) for k, ok in pos_sources)),
         )
 
     def headings() -> tuple[np.ndarray, np.ndarray]:
@@ -612,10 +628,12 @@ def assemble_epochs(
     attitude = ATTITUDE_PRIORITY
     jobs = {
         "position": position,
-        "alt_m": lambda: first_of(("GGA", "alt_m", gga_ok)),
-        "fix_quality": lambda: first_of(("GGA", "fix_quality")),
-        "n_sats": lambda: first_of(("GGA", "n_sats")),
-        "hdop": lambda: first_of(("GGA", "hdop")),
+        "alt_m": lambda: first_of(("GGA", "alt_m", gga_ok), ("GNS", "alt_m")),
+        "fix_quality": lambda: first_of(
+            ("GGA", "fix_quality"), ("GNS", "fix_quality"), ("GLL", "fix_quality")
+        ),
+        "n_sats": lambda: first_of(("GGA", "n_sats"), ("GNS", "n_sats")),
+        "hdop": lambda: first_of(("GGA", "hdop"), ("GNS", "hdop")),
         "speed_mps": lambda: first_of(("RMC", "speed_mps", rmc_ok), ("VTG", "speed_mps")),
         "course_deg": lambda: first_of(("RMC", "course_deg", rmc_ok), ("VTG", "course_deg")),
         "heading": headings,

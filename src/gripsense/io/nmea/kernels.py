@@ -27,7 +27,28 @@ CS_BAD = 7  # bad checksum
 UNPRINTABLE = 8  # malformed field: bytes outside printable ASCII
 NO_STAR_BIN = 9  # no checksum, and bytes outside printable ASCII
 
-KIND_CODES = {S.NUM: 0, S.UNUM: 1, S.INT: 2, S.TIME: 3, S.DATE: 4, S.CHAR: 5}
+KIND_CODES = {S.NUM: 0, S.UNUM: 1, S.INT: 2, S.TIME: 3, S.DATE: 4, S.CHAR: 5, S.MODES: 6}
+# byte -> fix quality of a mode letter (schema.MODE_QUALITY), -1: not a mode letter
+_MODE_Q = np.full(256, -1.0)
+for _k, _q in S.MODE_QUALITY.items():
+    _MODE_Q[ord(_k)] = _q
+del _k, _q
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _modes(buf, a, n, table):
+    """A ``modes`` field buf[a:a+n] (n >= 1): ``(1, quality of its first letter that is not N,
+    0 when all are N)``, or ``(0, 0.0)`` when a byte is not a mode letter (see
+    :func:`gripsense.io.nmea.schema.mode_quality`).
+    """
+    v = 0.0
+    for q in range(a, a + n):
+        x = table[buf[q]]
+        if x < 0:
+            return 0, 0.0
+        if v == 0.0:
+            v = x
+    return 1, v
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -214,13 +235,16 @@ def _numeric(buf, a, n, kind, pow10):
     Returns ``(status, value)``: status 0 = bad pattern, 1 = value exact, 2 = pattern good but
     the value needs the caller's exact conversion. Patterns: ``num`` digits with at most one
     dot and an optional leading sign, ``unum`` the same without sign, ``int`` digits only,
-    ``time`` hhmmss with optional .s*, ``date`` ddmmyy.
+    ``time`` hhmmss with optional .s*, ``date`` ddmmyy; ``modes`` (code 6) mode letters
+    (:func:`_modes`).
 
     The value is Clinger's fast path: with the integer m of the significant digits at most
     2**53 and at most 22 decimals d, m and 10**d are exact doubles and IEEE division rounds
     m / 10**d correctly — the double Python's ``float`` gives for the text. Longer fields
     (more than ~16 significant digits, which NMEA does not send) get status 2.
     """
+    if kind == 6:
+        return _modes(buf, a, n, _MODE_Q)
     p = a
     e = a + n
     neg = False

@@ -50,6 +50,7 @@ _PATTERNS = {
     S.INT: re.compile(rb"[0-9]+"),
     S.TIME: re.compile(rb"[0-9]{6}(?:\.[0-9]*)?"),
     S.DATE: re.compile(rb"[0-9]{6}"),
+    S.MODES: re.compile(b"[" + "".join(S.MODE_QUALITY).encode() + b"]+"),
 }
 _ADDR = re.compile(rb"[A-Z0-9]+")
 _SUB = re.compile(rb"[A-Za-z0-9]+")  # a sub-type may be mixed case (Furuno $PFEC,GPatt)
@@ -188,7 +189,7 @@ def _fields(key: str, spec, fields: list, junk: bool) -> tuple[int, str, str, di
         elif not v:
             values[f.name] = np.nan
         elif _PATTERNS[f.kind].fullmatch(v):
-            values[f.name] = float(v)
+            values[f.name] = S.mode_quality(v) if f.kind == S.MODES else float(v)
         else:
             return REJECTED, S.MALFORMED, _bad(key, f, v), None, junk
     return PARSED, key, "", values, junk

@@ -14,10 +14,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 __all__ = [
+    "MODE_QUALITY",
     "REASONS",
     "SENTENCES",
     "FieldSpec",
     "SentenceSpec",
+    "mode_quality",
 ]
 
 # Reject reasons, in the words the report uses.
@@ -43,7 +45,35 @@ INT = "int"  # digits only
 TIME = "time"  # hhmmss(.s*) as a number
 DATE = "date"  # ddmmyy as a number
 CHAR = "char"  # one character or empty
-KINDS = (NUM, UNUM, INT, TIME, DATE, CHAR)
+MODES = "modes"  # GNS mode letters, one per constellation (``AANN``): stored as a GGA quality
+KINDS = (NUM, UNUM, INT, TIME, DATE, CHAR, MODES)
+
+# NMEA mode indicator letter -> fix quality on GGA's scale (0 no fix, 1 autonomous, 2
+# differential, 3 precise, 4 RTK fixed, 5 RTK float, 6 estimated, 7 manual, 8 simulator);
+# NMEA 0183 4.11, GNS and GLL "mode indicator". A ``modes`` field is stored as the quality of
+# its first letter that is not N (0 when every letter is N; NaN when the field is empty); a
+# letter outside this table makes the field malformed.
+MODE_QUALITY = {"N": 0, "A": 1, "D": 2, "P": 3, "R": 4, "F": 5, "E": 6, "M": 7, "S": 8}
+
+
+def mode_quality(letters: bytes) -> float:
+    """Fix quality on GGA's scale of a ``modes`` field (see :data:`MODE_QUALITY`).
+
+    Parameters
+    ----------
+    letters : bytes
+        The field's letters, at least one, each a key of :data:`MODE_QUALITY` [-].
+
+    Returns
+    -------
+    float
+        The quality of the first letter that is not ``N``; 0.0 when all are ``N`` [-].
+    """
+    for b in letters:
+        q = MODE_QUALITY[chr(b)]
+        if q:
+            return float(q)
+    return 0.0
 
 
 @dataclass(frozen=True)
@@ -57,7 +87,7 @@ class FieldSpec:
     name : str
         Name of the raw column.
     kind : str
-        One of ``num``, ``unum``, ``int``, ``time``, ``date``, ``char``.
+        One of ``num``, ``unum``, ``int``, ``time``, ``date``, ``char``, ``modes``.
     allowed : str
         For ``char`` fields, the characters allowed (empty string: any printable character).
     """
@@ -127,6 +157,37 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(7, "sog_kn", NUM),
             F(8, "cog", NUM),
             F(9, "date", DATE),
+        ),
+        # GLL: lat, N/S, lon, E/W, time, status A/V, [mode A/D/E/M/S/N …] (NMEA 2.3+); the
+        # position counts only with status A and a mode other than N. (NMEA 1.5's GLL without
+        # time and status is truncated: nothing in it says the position is valid.)
+        _spec(
+            "GLL",
+            True,
+            F(1, "lat", UNUM),
+            F(2, "ns", CHAR, "NS"),
+            F(3, "lon", UNUM),
+            F(4, "ew", CHAR, "EW"),
+            F(5, "time", TIME),
+            F(6, "status", CHAR, "AV"),
+            F(7, "mode", CHAR, "".join(MODE_QUALITY)),
+            min_fields=6,
+        ),
+        # GNS: time, lat, N/S, lon, E/W, mode letters (one per constellation, GP GL GA BD …),
+        # satellites, HDOP, altitude (MSL) [m], geoid separation, age of corrections, station,
+        # [navigational status]; no fix when every mode letter is N
+        _spec(
+            "GNS",
+            True,
+            F(1, "time", TIME),
+            F(2, "lat", UNUM),
+            F(3, "ns", CHAR, "NS"),
+            F(4, "lon", UNUM),
+            F(5, "ew", CHAR, "EW"),
+            F(6, "mode", MODES),
+            F(7, "n_sats", INT),
+            F(8, "hdop", NUM),
+            F(9, "alt", NUM),
         ),
         # VTG (NMEA 2.x+): COG true, T, COG magnetic, M, SOG kn, N, SOG km/h, K, [mode]
         _spec(
