@@ -279,3 +279,15 @@ def test_inspvax_gives_the_heading_only_without_a_heading_log():
     both = parse_novatel(ins + b"\r\n" + DRIVERS.read_bytes().splitlines()[10], "b.asc")
     assert both.epochs["heading_deg"].dropna().tolist() == [178.347869873]
     assert both.report.notes == []
+
+
+def test_a_time_out_of_range_is_malformed_and_a_bom_is_no_line():
+    msg = (
+        "HEADING2A,COM1,0,39.5,FINESTEERING,99999999999,422892.200,02040000,f9bf,6521;"
+        "SOL_COMPUTED,NARROW_INT,0.9,178.3,-1.3,0,0.26,0.39"
+    )
+    line = f"#{msg}*{_manual_crc(msg.encode()):08x}".encode()
+    r = parse_novatel(line, "t.asc").report
+    assert r.rejected["malformed field"] == 1 and "out of range" in r.first_rejects[0].detail
+    r = parse_novatel(b"\xef\xbb\xbf" + DRIVERS.read_bytes(), "t.asc").report
+    assert r.n_parsed == 12 and r.n_rejected == 0

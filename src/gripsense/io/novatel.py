@@ -291,6 +291,8 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         ignored[key] = ignored.get(key, 0) + 1
 
     rows: dict[str, list[dict[str, float]]] = {}
+    if data.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte-order mark a Windows tool wrote
+        data = data[3:]
     lines = data.split(b"\n")
     if lines and lines[-1] == b"":
         lines.pop()
@@ -350,6 +352,8 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
                 if len(header) < 9:
                     raise ValueError(f"a header of {len(header)} fields, not 9 or more")
                 week, sec, tstat = int(header[4]), float(header[5]), header[3]
+            if not (0 <= week < 10_000 and 0.0 <= sec < _WEEK_S):
+                raise ValueError(f"GPS week {week}, seconds {sec} out of range")
             if len(body) < _MIN_FIELDS[log]:
                 raise ValueError(f"{len(body)} fields, {_MIN_FIELDS[log]} or more expected")
             vals, why = _body(log, body)
