@@ -9,9 +9,10 @@ column             meaning
 time_utc           UTC time (tz-aware); NaT when the epoch has no time or the log no date
 t_s                seconds from the first epoch with a time [s]
 lat_deg, lon_deg   WGS-84 latitude, longitude [deg], north and east positive
-alt_m              altitude above mean sea level (GGA) [m]
-fix_quality        GGA fix quality (0 none, 1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK float, ...)
-n_sats, hdop       satellites used, horizontal dilution of precision (GGA)
+alt_m              altitude above mean sea level (GGA, else GNS) [m]
+fix_quality        GGA fix quality (0 none, 1 GPS, 2 DGPS, 4 RTK fixed, 5 RTK float, ...);
+                   else GNS's or GLL's mode letter on that scale (A 1, D 2, R 4, F 5, ...)
+n_sats, hdop       satellites used, horizontal dilution of precision (GGA, else GNS)
 speed_mps          speed over ground [m/s]
 course_deg         course over ground, clockwise from true north [deg]
 heading_deg        true heading, clockwise from true north [deg] (HDT, THS and the proprietary
