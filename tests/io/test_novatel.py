@@ -291,3 +291,14 @@ def test_a_time_out_of_range_is_malformed_and_a_bom_is_no_line():
     assert r.rejected["malformed field"] == 1 and "out of range" in r.first_rejects[0].detail
     r = parse_novatel(b"\xef\xbb\xbf" + DRIVERS.read_bytes(), "t.asc").report
     assert r.n_parsed == 12 and r.n_rejected == 0
+
+
+@pytest.mark.parametrize("field, value", [(2, "91.0"), (3, "nan"), (4, "inf")])
+def test_a_value_no_receiver_gives_is_malformed(field, value):
+    line = _lines(DRIVERS)[6]  # BESTPOS: lat, lon, height at body fields 2, 3, 4
+    head, body = line[1:].split("*")[0].split(";")
+    f = body.split(",")
+    f[field] = value
+    msg = f"{head};{','.join(f)}"
+    r = parse_novatel(f"#{msg}*{_manual_crc(msg.encode()):08x}".encode(), "v.asc").report
+    assert r.rejected["malformed field"] == 1 and "outside" in r.first_rejects[0].detail

@@ -214,6 +214,31 @@ _MIN_FIELDS = {
 }
 
 
+_RANGES = {
+    "lat_deg": (-90.0, 90.0),
+    "lon_deg": (-180.0, 180.0),
+    "alt_m": (-1e5, 1e7),
+    "speed_mps": (0.0, 1e4),
+    "course_deg": (-360.0, 360.0),
+    "heading_deg": (-360.0, 360.0),
+    "heading_acc_deg": (0.0, 360.0),
+    "ins_lat": (-90.0, 90.0),
+    "ins_lon": (-180.0, 180.0),
+    "ins_speed": (0.0, 1e4),
+    "ins_heading": (-360.0, 360.0),
+}
+
+
+def _check_ranges(vals: dict[str, float]) -> None:
+    """Raise ValueError naming the first value that no receiver gives (NaN, ±inf, a latitude
+    beyond ±90° …).
+    """
+    for k, v in vals.items():
+        lo, hi = _RANGES.get(k, (-np.inf, np.inf))
+        if not lo <= v <= hi:
+            raise ValueError(f"{k.removeprefix('ins_')} {v} outside [{lo:g}, {hi:g}]")
+
+
 def _body(name: str, f: list[str]) -> tuple[dict[str, float], str]:
     """The values a known log gives, or why it gives none ('' when it gives them).
 
@@ -357,6 +382,7 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
             if len(body) < _MIN_FIELDS[log]:
                 raise ValueError(f"{len(body)} fields, {_MIN_FIELDS[log]} or more expected")
             vals, why = _body(log, body)
+            _check_ranges(vals)
         except (ValueError, IndexError) as e:
             reject(no, MALFORMED, f"{log}: {e}")
             continue
