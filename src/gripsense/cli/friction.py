@@ -35,7 +35,8 @@ def friction(
     log: Annotated[
         Path | None,
         typer.Argument(
-            help="log of the drive: NMEA, VBOX .vbo, UBX, MDF4, CAN or a ROS bag (plain or .gz)"
+            help="log of the drive: NMEA, VBOX .vbo, UBX, NovAtel ASCII, MDF4, CAN or a ROS bag "
+            "(plain or .gz)"
         ),
     ] = None,
     vehicle: Annotated[

@@ -169,8 +169,8 @@ def ingest(
     log: Annotated[
         Path,
         typer.Argument(
-            help="log: NMEA, VBOX .vbo, UBX, MDF4, CAN BLF/ASC or a ROS bag (.bag, .db3, .mcap "
-            "or its folder) (plain or .gz); a pipe, or - "
+            help="log: NMEA, VBOX .vbo, UBX, NovAtel ASCII, MDF4, CAN BLF/ASC or a ROS bag "
+            "(.bag, .db3, .mcap or its folder) (plain or .gz); a pipe, or - "
             "for standard input"
         ),
     ],
