@@ -5,6 +5,7 @@ drive written as NovAtel ASCII against its NMEA."""
 
 from __future__ import annotations
 
+import gzip
 from pathlib import Path
 
 import numpy as np
@@ -157,7 +158,7 @@ def test_abbreviated_short_prompts_nmea_and_damage_are_each_counted():
             "[COM1]",
             "<HEADING2 COM1 0 39.5 FINESTEERING 1622 422892.200 02040000 f9bf 6521",
             "<     SOL_COMPUTED NARROW_INT 0.927607417 178.347869873 -1.3037414550 0 0.261901051",
-            "$GPHDT,178.35,T*0C",
+            "$GPHDT,178.35,T*0D",  # read by the NMEA reader: no time, so no epoch to join
             "",
             good[4],  # %INSPVASA: a short header, read (INS not aligned: ignored with why)
             good[10],
@@ -171,9 +172,9 @@ def test_abbreviated_short_prompts_nmea_and_damage_are_each_counted():
     assert r.balanced and r.total_lines == 12
     assert r.ignored["NovAtel abbreviated ASCII or reply (no CRC: log the ...A form)"] == 3
     assert r.ignored["NovAtel port prompt"] == 1 and r.ignored["(blank)"] == 1
-    assert r.ignored["NMEA sentence (not read in a NovAtel log)"] == 1
     assert r.ignored["NovAtel INSPVAS (not used: INS status WAITING_AZIMUTH)"] == 1
-    assert r.parsed == {"NovAtel HEADING2": 1}
+    assert r.parsed == {"NovAtel HEADING2": 1, "HDT": 1}
+    assert "1 NMEA epochs not used: no NovAtel log at their UTC time" in r.notes
     assert r.rejected["missing checksum"] == 1 and r.rejected["bad checksum"] == 1
     assert r.rejected["not NovAtel ASCII"] == 1 and r.rejected["truncated"] == 1
 
@@ -302,3 +303,35 @@ def test_a_value_no_receiver_gives_is_malformed(field, value):
     msg = f"{head};{','.join(f)}"
     r = parse_novatel(f"#{msg}*{_manual_crc(msg.encode()):08x}".encode(), "v.asc").report
     assert r.rejected["malformed field"] == 1 and "outside" in r.first_rejects[0].detail
+
+
+def test_nmea_on_the_same_port_fills_what_the_novatel_logs_lack():
+    """A receiver logging BESTPOSA and BESTVELA with GPHDT, GPGGA, GPRMC … on one port (no
+    HEADING2): the heading and the rate of turn come from the NMEA at the same UTC time, every
+    line is counted by the reader that read it, a rejected NMEA line named by its file line."""
+    from gripsense.data import path as data_path
+
+    nmea = gzip.decompress(data_path("demo/case001.nmea.gz").read_bytes()).decode().splitlines()
+    ref = read_nmea(data_path("demo/case001.nmea.gz")).epochs
+    novatel = write_novatel(ref, None, logs=("BESTPOS", "BESTVEL"))
+    per = len(nmea) // len(ref)
+    assert per * len(ref) == len(nmea)
+    lines = []
+    for k in range(len(ref)):
+        lines += novatel[2 * k : 2 * k + 2] + nmea[k * per : (k + 1) * per]
+    lines[5] = lines[5][:-2] + "00"  # a bad NMEA checksum
+    log = parse_novatel(("\r\n".join(lines) + "\r\n").encode(), "mixed.asc")
+    r, ep = log.report, log.epochs
+    assert r.balanced and r.total_lines == len(lines)
+    assert r.parsed["NovAtel BESTPOS"] == len(ref) and r.parsed["HDT"] == len(ref) - (
+        "HDT" in lines[5]
+    )
+    assert r.rejected["bad checksum"] == 1 and r.first_rejects[0].line == 6
+    assert len(ep) == len(ref) and (ep["time_utc"] == ref["time_utc"]).all()
+    ok = ep["heading_deg"].notna().to_numpy()
+    assert ok.sum() >= len(ref) - 1
+    np.testing.assert_allclose(ep["heading_deg"][ok], ref["heading_deg"][ok], atol=1e-9)
+    assert (ep["heading_source"][ok] == ref["heading_source"][ok]).all()
+    rot = (ref["yaw_rate_source"] == "ROT").to_numpy() & (ep["yaw_rate_source"] == "ROT").to_numpy()
+    assert rot.sum() >= len(ref) - 2
+    np.testing.assert_allclose(ep["yaw_rate_rps"][rot], ref["yaw_rate_rps"][rot])

@@ -44,7 +44,7 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.io.epoch_table import build_epochs
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import NmeaLog
+from gripsense.io.nmea.reader import NmeaLog, read_nmea
 from gripsense.io.nmea.schema import (
     BAD_CHECKSUM,
     BLANK,
@@ -316,6 +316,8 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         ignored[key] = ignored.get(key, 0) + 1
 
     rows: dict[str, list[dict[str, float]]] = {}
+    nmea_lines: list[bytes] = []  # NMEA sentences the receiver logged on the same port
+    nmea_no: list[int] = []
     if data.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte-order mark a Windows tool wrote
         data = data[3:]
     lines = data.split(b"\n")
@@ -337,7 +339,11 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
             prefixed[:] = [True, prefixed[1] + 1]
         lead = line[:1]
         if lead == b"$" or lead == b"!":
-            ignore("NMEA sentence (not read in a NovAtel log)")
+            if b"\r" in line:  # two sentences on one line: the NMEA reader would split it
+                ignore("NMEA sentence (not read: a carriage return inside the line)")
+            else:
+                nmea_lines.append(line)
+                nmea_no.append(no)
             continue
         if lead == b"<":
             ignore("NovAtel abbreviated ASCII or reply (no CRC: log the ...A form)")
@@ -396,8 +402,34 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         rows.setdefault(log, []).append({"line": no, "week": week, "seconds": sec, **vals})
 
     sentences = {f"NovAtel {k}": pd.DataFrame(v) for k, v in rows.items()}
-    epochs, hsrc_note = _epochs(rows)
-    notes = [hsrc_note] if hsrc_note else []
+    notes: list[str] = []
+    nlog = None
+    if nmea_lines:
+        nlog = read_nmea(b"\n".join(nmea_lines) + b"\n", decompress=False)
+        rn = nlog.report
+        if rn.total_lines != len(nmea_lines):  # not one line each: count them, read none
+            ignored["NMEA sentence (not read in a NovAtel log)"] = len(nmea_lines)
+            nlog, nmea_lines = None, []
+    if nlog is not None:
+        rn = nlog.report
+        prefixed[1] += rn.junk_prefix_lines
+        for src, dst in ((rn.parsed, parsed), (rn.ignored, ignored), (rn.rejected, rejected)):
+            for k, v in src.items():
+                dst[k] = dst.get(k, 0) + v
+        for r in rn.first_rejects:
+            at = nmea_no[r.line - 1]
+            if strict:
+                raise InputError(f"{name}: line {at}: {r.reason}: NMEA: {r.detail} (strict mode)")
+            if len(first) < 20:
+                first.append(RejectedLine(at, r.reason, f"NMEA: {r.detail}"))
+        first[:] = sorted(first, key=lambda r: r.line)[:20]
+        notes += rn.notes
+        sentences.update(
+            {k: v.assign(line=np.asarray(nmea_no)[v["line"].to_numpy(int) - 1])
+             for k, v in nlog.sentences.items() if len(v)}
+        )  # fmt: skip
+    epochs, more = _epochs(rows, nlog)
+    notes += more
     report = IngestReport(
         source=name,
         total_lines=len(lines),
@@ -416,12 +448,36 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
 
 
-def _epochs(rows: dict[str, list[dict[str, float]]]) -> tuple[pd.DataFrame, str]:
-    """One epoch per GPS (week, seconds) of the logs read, in time order; and a note on where
-    the heading came from when INSPVA gave it.
+def _nmea_tod_ms(nlog: NmeaLog) -> np.ndarray:
+    """UTC time of day of each NMEA epoch [ms] (from its timed sentences; −1 where none)."""
+    tod = np.full(len(nlog.epochs), -1, dtype=np.int64)
+    for df in nlog.sentences.values():
+        if not len(df) or "tod_s" not in df.columns:
+            continue
+        ep = df["epoch"].to_numpy(float)
+        t = df["tod_s"].to_numpy(float)
+        ok = np.isfinite(ep) & np.isfinite(t) & (ep >= 0)
+        k = ep[ok].astype(np.int64)
+        ms = np.round(t[ok] * 1000).astype(np.int64)
+        free = tod[k] < 0
+        tod[k[free]] = ms[free]
+    return tod
+
+
+def _epochs(
+    rows: dict[str, list[dict[str, float]]], nlog: NmeaLog | None = None
+) -> tuple[pd.DataFrame, list[str]]:
+    """One epoch per GPS (week, seconds) of the logs read, in time order, with what the NMEA
+    sentences on the same port add at the same UTC time; and notes (where the heading came from
+    when INSPVA gave it, NMEA epochs at other times).
     """
     if not rows:
-        return build_epochs({}, np.zeros(0), has_date=True, heading_source="channel"), ""
+        notes = []
+        if nlog is not None and len(nlog.epochs):
+            notes.append(
+                f"{len(nlog.epochs)} NMEA epochs not used: no NovAtel log gives their date"
+            )
+        return build_epochs({}, np.zeros(0), has_date=True, heading_source="channel"), notes
     frames = {k: pd.DataFrame(v) for k, v in rows.items()}
     keys = np.concatenate(
         [
@@ -455,7 +511,7 @@ def _epochs(rows: dict[str, list[dict[str, float]]]) -> tuple[pd.DataFrame, str]
             put(frames[log], "heading_deg", "heading_deg")
             put(frames[log], "heading_acc_deg", "heading_acc_deg")
             has_heading = True
-    note = ""
+    notes = []
     for log in ("INSPVA", "INSPVAS", "INSPVAX"):
         if log not in frames:
             continue
@@ -468,13 +524,67 @@ def _epochs(rows: dict[str, list[dict[str, float]]]) -> tuple[pd.DataFrame, str]
             put(f, "ins_course", "course_deg")
         if not has_heading:
             put(f, "ins_heading", "heading_deg")
-            note = f"heading: the INS azimuth of {log} (the log has no HEADING/HEADING2)"
+            has_heading = True
+            notes.append(f"heading: the INS azimuth of {log} (the log has no HEADING/HEADING2)")
     seconds = gps_to_utc(np.floor(order / 1000 / _WEEK_S), np.mod(order / 1000, _WEEK_S))
-    ep = build_epochs(values, seconds, has_date=True, heading_source="channel")
-    return ep, note
+    from_nmea = np.zeros(n, dtype=bool)
+    hsrc_nmea = None
+    yaw_src = None
+    if nlog is not None and len(nlog.epochs):
+        ne = nlog.epochs
+        tod = _nmea_tod_ms(nlog)
+        mine = np.mod(np.round(seconds * 1000).astype(np.int64), 86_400_000)
+        srt = np.argsort(tod, kind="stable")
+        k = np.clip(np.searchsorted(tod, mine, sorter=srt), 0, tod.size - 1)
+        match = srt[k]
+        has = tod[match] == mine
+        rows_n = match[has]
+        for c in ("lat_deg", "lon_deg", "alt_m", "fix_quality", "n_sats", "hdop", "speed_mps",
+                  "course_deg", "heading_deg", "pitch_deg", "roll_deg"):  # fmt: skip
+            out = values.setdefault(c, np.full(n, np.nan))
+            v = ne[c].to_numpy(float)[rows_n]
+            fill = np.isnan(out[has]) & ~np.isnan(v)
+            idx = np.flatnonzero(has)[fill]
+            out[idx] = v[fill]
+            if c == "heading_deg":
+                from_nmea[idx] = True
+        hsrc_nmea = ne["heading_source"].to_numpy(object)
+        rot = (ne["yaw_rate_source"] == "ROT").to_numpy()[rows_n]
+        if rot.any():  # the receiver's own rate of turn beats the heading's difference
+            yaw = np.full(n, np.nan)
+            yaw[np.flatnonzero(has)[rot]] = ne["yaw_rate_rps"].to_numpy(float)[rows_n[rot]]
+            values["yaw_rate_rps"] = yaw
+            values["rot_deg_per_min"] = np.full(n, np.nan)
+            values["rot_deg_per_min"][np.flatnonzero(has)[rot]] = ne["rot_deg_per_min"].to_numpy(
+                float
+            )[rows_n[rot]]
+            yaw_src = "ROT"
+        used = np.zeros(len(ne), dtype=bool)
+        used[rows_n] = True
+        if (~used).any():
+            notes.append(
+                f"{int((~used).sum())} NMEA epochs not used: no NovAtel log at their UTC time"
+            )
+        if from_nmea.any():
+            notes.append(f"heading: NMEA on {int(from_nmea.sum())} epochs (no NovAtel heading)")
+        hsrc_nmea = (hsrc_nmea, match, has)
+    ep = build_epochs(values, seconds, has_date=True, heading_source="channel",
+                      yaw_rate_source=yaw_src)  # fmt: skip
+    if hsrc_nmea is not None and from_nmea.any():
+        src, match, _ = hsrc_nmea
+        col = ep["heading_source"].to_numpy(object)
+        col[from_nmea] = src[match[from_nmea]]
+        ep["heading_source"] = pd.Categorical(col, categories=ep["heading_source"].cat.categories)
+    return ep, notes
 
 
-def write_novatel(epochs: pd.DataFrame, path: str | Path, *, heading_acc_deg: float = 0.2) -> None:
+def write_novatel(
+    epochs: pd.DataFrame,
+    path: str | Path | None,
+    *,
+    logs: tuple[str, ...] = ("BESTPOS", "BESTVEL", "HEADING2"),
+    heading_acc_deg: float = 0.2,
+) -> list[str]:
     """Write an epoch table as a NovAtel dual-antenna receiver logs it in ASCII: BESTPOS,
     BESTVEL and HEADING2 per epoch, each with its CRC-32.
 
@@ -483,10 +593,17 @@ def write_novatel(epochs: pd.DataFrame, path: str | Path, *, heading_acc_deg: fl
     epochs : pandas.DataFrame
         ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
         ``heading_deg``.
-    path : str or Path
-        Output file.
+    path : str or Path or None
+        Output file (CR LF line ends); None writes nothing.
+    logs : tuple of str
+        The logs of each epoch, in this order (of ``BESTPOS``, ``BESTVEL``, ``HEADING2``).
     heading_acc_deg : float
         The heading standard deviation the logs state [deg].
+
+    Returns
+    -------
+    list of str
+        The lines, without line ends.
     """
     t = pd.DatetimeIndex(epochs["time_utc"]).tz_convert(None)
     utc = (t - pd.Timestamp("1970-01-01")).total_seconds().to_numpy()
@@ -508,12 +625,16 @@ def write_novatel(epochs: pd.DataFrame, path: str | Path, *, heading_acc_deg: fl
     for i in range(len(t)):
         la, lo, alt, spd, crs, hdg = (c[i] for c in cols)
         w, s = int(week[i]), float(sec[i])
-        out.append(line("BESTPOS", w, s, f"SOL_COMPUTED,NARROW_INT,{la:.11f},{lo:.11f},{alt:.4f},"
-                        '-17.0000,WGS84,0.0100,0.0100,0.0200,"0",1.000,0.000,20,18,18,18,00,'
-                        "06,33,33"))  # fmt: skip
-        out.append(line("BESTVEL", w, s, f"SOL_COMPUTED,DOPPLER_VELOCITY,0.150,0.000,{spd:.4f},"
-                        f"{np.mod(crs, 360.0):.6f},0.0000,0.0"))  # fmt: skip
-        out.append(line("HEADING2", w, s, f"SOL_COMPUTED,NARROW_INT,1.000000000,"
-                        f"{np.mod(hdg, 360.0):.9f},0.000000000,0,{heading_acc_deg:.9f},"
-                        '0.400000000,"R222","AAAA",18,17,17,16,0,01,0,33'))  # fmt: skip
-    Path(path).write_text("".join(s + "\r\n" for s in out), encoding="ascii", newline="")
+        body = {
+            "BESTPOS": f"SOL_COMPUTED,NARROW_INT,{la:.11f},{lo:.11f},{alt:.4f},-17.0000,WGS84,"
+            '0.0100,0.0100,0.0200,"0",1.000,0.000,20,18,18,18,00,06,33,33',
+            "BESTVEL": f"SOL_COMPUTED,DOPPLER_VELOCITY,0.150,0.000,{spd:.4f},"
+            f"{np.mod(crs, 360.0):.6f},0.0000,0.0",
+            "HEADING2": f"SOL_COMPUTED,NARROW_INT,1.000000000,{np.mod(hdg, 360.0):.9f},"
+            f'0.000000000,0,{heading_acc_deg:.9f},0.400000000,"R222","AAAA",18,17,17,16,0,01,'
+            "0,33",
+        }
+        out += [line(log, w, s, body[log]) for log in logs]
+    if path is not None:
+        Path(path).write_text("".join(s + "\r\n" for s in out), encoding="ascii", newline="")
+    return out
