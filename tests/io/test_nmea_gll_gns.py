@@ -259,3 +259,53 @@ def test_live_equals_batch(name):
         batch.report.n_epochs,
     )
     assert ep["lat_deg"].notna().sum() > 0
+
+
+# --- the fleet ------------------------------------------------------------------------------
+
+
+def _positions_moved(lines: list[str], to: str) -> str:
+    """The demo drive with its positions moved from GGA into GNS (mode DD: differential, as
+    the GGA's quality 2) or GLL (status A, mode D), and RMC's position fields emptied: the
+    same numbers, in the sentences of a receiver without GGA."""
+    out = []
+    for ln in lines:
+        f = ln[1 : ln.index("*")].split(",")
+        if f[0].endswith("GGA"):
+            t, lat, ns, lon, ew, _q, sats, hdop, alt = f[1:10]
+            if to == "GNS":
+                body = f"GNGNS,{t},{lat},{ns},{lon},{ew},DD,{sats},{hdop},{alt},30.000,1.0,0001"
+            else:
+                body = f"GPGLL,{lat},{ns},{lon},{ew},{t},A,D"
+            out.append(sentence(body))
+        elif f[0].endswith("RMC"):
+            f[3:7] = ["", "", "", ""]
+            out.append(sentence(",".join(f)))
+        else:
+            out.append(ln)
+    return "\n".join(out) + "\n"
+
+
+@pytest.mark.parametrize("to", ["GNS", "GLL"])
+def test_fleet_places_a_log_whose_positions_are_in_gns_or_gll(tmp_path, to):
+    """The fleet's task on the demo drive and on the same drive with its positions in GNS or
+    GLL only: the same rows (cells, windows, numbers). Before issue 43: "no position fix in
+    the log (GGA/RMC)"."""
+    import gzip
+
+    import gripsense
+    from gripsense.config import Vehicle
+    from gripsense.fleet.tasks import process_log
+
+    data = Path(gripsense.__file__).parent / "data"
+    lines = gzip.decompress((data / "demo" / "case001.nmea.gz").read_bytes()).decode()
+    lines = lines.splitlines()
+    vehicle = Vehicle.from_toml(data / "corolla_sim.toml")
+    a, b = tmp_path / "gga.nmea", tmp_path / f"{to}.nmea"
+    a.write_text("\n".join(lines) + "\n")
+    b.write_text(_positions_moved(lines, to))
+    assert read_nmea(b).report.parsed.get("GGA", 0) == 0
+    rows_a = process_log(str(a), vehicle, vehicle_id="car")
+    rows_b = process_log(str(b), vehicle, vehicle_id="car")
+    assert len(rows_a) > 0
+    pd.testing.assert_frame_equal(rows_a.drop(columns="log"), rows_b.drop(columns="log"))
