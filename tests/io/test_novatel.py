@@ -174,7 +174,7 @@ def test_abbreviated_short_prompts_nmea_and_damage_are_each_counted():
     assert r.ignored["NovAtel port prompt"] == 1 and r.ignored["(blank)"] == 1
     assert r.ignored["NovAtel INSPVAS (not used: INS status WAITING_AZIMUTH)"] == 1
     assert r.parsed == {"NovAtel HEADING2": 1, "HDT": 1}
-    assert "1 NMEA epochs not used: no NovAtel log at their UTC time" in r.notes
+    assert "1 NMEA epochs not used: no time of day" in r.notes
     assert r.rejected["missing checksum"] == 1 and r.rejected["bad checksum"] == 1
     assert r.rejected["not NovAtel ASCII"] == 1 and r.rejected["truncated"] == 1
 
@@ -306,9 +306,10 @@ def test_a_value_no_receiver_gives_is_malformed(field, value):
 
 
 def test_nmea_on_the_same_port_fills_what_the_novatel_logs_lack():
-    """A receiver logging BESTPOSA and BESTVELA with GPHDT, GPGGA, GPRMC … on one port (no
-    HEADING2): the heading and the rate of turn come from the NMEA at the same UTC time, every
-    line is counted by the reader that read it, a rejected NMEA line named by its file line."""
+    """A receiver logging BESTPOSA and BESTVELA at 5 Hz with GPHDT, GPGGA, GPRMC … at 10 Hz on
+    one port (no HEADING2): the heading and the rate of turn come from the NMEA at the same UTC
+    time, the NMEA epochs between the NovAtel ones are epochs of their own, every line is
+    counted by the reader that read it, a rejected NMEA line named by its file line."""
     from gripsense.data import path as data_path
 
     nmea = gzip.decompress(data_path("demo/case001.nmea.gz").read_bytes()).decode().splitlines()
@@ -318,20 +319,38 @@ def test_nmea_on_the_same_port_fills_what_the_novatel_logs_lack():
     assert per * len(ref) == len(nmea)
     lines = []
     for k in range(len(ref)):
-        lines += novatel[2 * k : 2 * k + 2] + nmea[k * per : (k + 1) * per]
+        lines += (novatel[2 * k : 2 * k + 2] if k % 2 == 0 else []) + nmea[k * per : (k + 1) * per]
     lines[5] = lines[5][:-2] + "00"  # a bad NMEA checksum
     log = parse_novatel(("\r\n".join(lines) + "\r\n").encode(), "mixed.asc")
     r, ep = log.report, log.epochs
     assert r.balanced and r.total_lines == len(lines)
-    assert r.parsed["NovAtel BESTPOS"] == len(ref) and r.parsed["HDT"] == len(ref) - (
-        "HDT" in lines[5]
-    )
+    assert r.parsed["NovAtel BESTPOS"] == (len(ref) + 1) // 2 and r.parsed["ROT"] == len(ref)
     assert r.rejected["bad checksum"] == 1 and r.first_rejects[0].line == 6
     assert len(ep) == len(ref) and (ep["time_utc"] == ref["time_utc"]).all()
     ok = ep["heading_deg"].notna().to_numpy()
     assert ok.sum() >= len(ref) - 1
     np.testing.assert_allclose(ep["heading_deg"][ok], ref["heading_deg"][ok], atol=1e-9)
     assert (ep["heading_source"][ok] == ref["heading_source"][ok]).all()
+    for c in ("lat_deg", "lon_deg", "speed_mps", "course_deg"):
+        np.testing.assert_allclose(ep[c], ref[c], atol=1e-4, err_msg=c)
     rot = (ref["yaw_rate_source"] == "ROT").to_numpy() & (ep["yaw_rate_source"] == "ROT").to_numpy()
     assert rot.sum() >= len(ref) - 2
     np.testing.assert_allclose(ep["yaw_rate_rps"][rot], ref["yaw_rate_rps"][rot])
+
+
+def test_a_few_novatel_logs_among_more_nmea_are_read_with_it(tmp_path):
+    """One BESTVELA per six NMEA sentences: recognised as NovAtel (today: NMEA, the NovAtel
+    lines comments), the NMEA read too; a plain NMEA log stays NMEA."""
+    from gripsense.data import path as data_path
+
+    nmea = gzip.decompress(data_path("demo/case001.nmea.gz").read_bytes()).decode().splitlines()
+    ref = read_nmea(data_path("demo/case001.nmea.gz")).epochs
+    vel = write_novatel(ref, None, logs=("BESTVEL",))
+    lines = []
+    for k in range(len(ref)):
+        lines += [vel[k], *nmea[6 * k : 6 * k + 6]]
+    (tmp_path / "m.log").write_text("\r\n".join(lines) + "\r\n")
+    log = read_log(tmp_path / "m.log")
+    assert log.report.format == "NovAtel ASCII + NMEA 0183" and log.report.balanced
+    assert log.report.parsed["NovAtel BESTVEL"] == len(ref) and len(log.epochs) == len(ref)
+    assert detect_format("\r\n".join(nmea[:600]).encode()) == "nmea"

@@ -11,7 +11,8 @@ CAN BLF         ``LOGG`` signature                           python-can + cantoo
 CAN ASC         ``date``/``base hex`` header of a Vector ASC python-can + cantools (``--dbc``)
 VBOX VBO        ``[column names]`` / ``File created on``     by hand (:mod:`gripsense.io.vbo`)
 UBX (+ NMEA)    a UBX frame with a good checksum             compiled scan (:mod:`gripsense.io.ubx`)
-NovAtel ASCII   ``#NAMEA,…;…*crc32`` lines, more than NMEA   by hand (:mod:`gripsense.io.novatel`)
+NovAtel ASCII   ``#NAMEA,…;…*crc32`` lines, as many as NMEA  by hand (:mod:`gripsense.io.novatel`)
+(+ NMEA)        sentences, or one read log with a good CRC
 ROS bag         ``#ROSBAG V2.0``, MCAP or sqlite3 magic; a    rosbags (:mod:`gripsense.io.rosbag`)
                 ROS 2 bag folder (``metadata.yaml``)
 NMEA 0183       anything else                                :func:`gripsense.io.read_nmea`

@@ -25,11 +25,12 @@ INSPVAX              position, speed and course only when it has no BESTPOS / BE
 Lines are grouped into epochs by the header's GPS week and seconds; UTC is GPS time less the
 GPS−UTC leap seconds of that date (:func:`gps_to_utc`). Every line is accounted for: read
 (``parsed``), a valid line not used (``ignored``: another log, a solution not computed, a
-reply ``<OK`` or a port prompt ``[COM1]`` (a log after
-the prompt on the same line is read), an NMEA sentence on the same port, abbreviated ASCII
-``<…`` lines, which carry no CRC), or rejected: ``bad checksum`` (a bad CRC), ``missing
-checksum``, ``malformed field``, ``truncated`` (the file ends inside the line) or
-``not NovAtel ASCII``.
+reply ``<OK`` or a port prompt ``[COM1]`` (a log after the prompt on the same line is
+read), abbreviated ASCII ``<…`` lines, which carry no CRC), or rejected: ``bad checksum`` (a
+bad CRC), ``missing checksum``, ``malformed field``, ``truncated`` (the file ends inside the
+line) or ``not NovAtel ASCII``. NMEA sentences logged on the same port are read by
+:func:`gripsense.io.read_nmea` (counted under their types) and fill what the NovAtel logs lack
+at the same UTC time; their epochs at other times are epochs of their own.
 """
 
 from __future__ import annotations
@@ -147,10 +148,11 @@ _PROMPT = re.compile(rb"^\[[A-Za-z0-9_]+\]")  # the port prompt a console puts b
 
 
 def is_novatel(head: bytes) -> bool:
-    """Whether the first bytes of a file are a NovAtel ASCII log: more lines shaped as NovAtel
-    logs (``#NAMEA,header;body*xxxxxxxx`` or ``%NAMEA,week,seconds;body*xxxxxxxx``) than NMEA
-    sentences. The CRCs are not required here: a damaged log is still read as NovAtel, its bad
-    lines rejected one by one.
+    """Whether the first bytes of a file are a NovAtel ASCII log: lines shaped as NovAtel logs
+    (``#NAMEA,header;body*xxxxxxxx`` or ``%NAMEA,week,seconds;body*xxxxxxxx``) at least as many
+    as the NMEA sentences — the CRCs not required, so that a damaged log is still read as
+    NovAtel, its bad lines rejected one by one — or, among more NMEA sentences, one log gripsense
+    reads (BESTPOS, HEADING2 …) with a good CRC: the NovAtel reader reads the NMEA too.
 
     Parameters
     ----------
@@ -162,16 +164,19 @@ def is_novatel(head: bytes) -> bool:
     bool
         True for a NovAtel ASCII log.
     """
-    good = nmea = 0
+    shaped = nmea = known = 0
     for raw in head.splitlines()[:400]:
         line = _PROMPT.sub(b"", raw.strip())
         if line[:1] in (b"$", b"!"):
             nmea += 1
             continue
         m = _CRC.match(line)
-        if m and _LINE.match(m.group(1)):
-            good += 1
-    return good > 0 and good >= nmea
+        lm = _LINE.match(m.group(1)) if m else None
+        if m and lm:
+            shaped += 1
+            if lm.group(2).decode() in _MIN_FIELDS and crc32(m.group(1)[1:]) == int(m.group(2), 16):
+                known += 1
+    return shaped > 0 and (shaped >= nmea or known > 0)
 
 
 # position type -> GGA fix quality (1 autonomous, 2 differential, 4 RTK fixed, 5 RTK float)
@@ -442,7 +447,7 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         epochs_without_time=int(epochs["t_s"].isna().sum()),
         has_date=bool(len(epochs)),
         notes=notes,
-        format="NovAtel ASCII",
+        format="NovAtel ASCII" + (" + NMEA 0183" if nlog is not None else ""),
         unit="lines",
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
@@ -472,12 +477,9 @@ def _epochs(
     when INSPVA gave it, NMEA epochs at other times).
     """
     if not rows:
-        notes = []
         if nlog is not None and len(nlog.epochs):
-            notes.append(
-                f"{len(nlog.epochs)} NMEA epochs not used: no NovAtel log gives their date"
-            )
-        return build_epochs({}, np.zeros(0), has_date=True, heading_source="channel"), notes
+            return nlog.epochs, []  # only the NMEA gave epochs
+        return build_epochs({}, np.zeros(0), has_date=True, heading_source="channel"), []
     frames = {k: pd.DataFrame(v) for k, v in rows.items()}
     keys = np.concatenate(
         [
@@ -527,55 +529,112 @@ def _epochs(
             has_heading = True
             notes.append(f"heading: the INS azimuth of {log} (the log has no HEADING/HEADING2)")
     seconds = gps_to_utc(np.floor(order / 1000 / _WEEK_S), np.mod(order / 1000, _WEEK_S))
-    from_nmea = np.zeros(n, dtype=bool)
-    hsrc_nmea = None
+    src = np.full(n, -1, dtype=np.int64)  # the NMEA epoch joined to each row
+    from_nmea = np.zeros(n, dtype=bool)  # rows whose heading the NMEA gave
     yaw_src = None
     if nlog is not None and len(nlog.epochs):
-        ne = nlog.epochs
-        tod = _nmea_tod_ms(nlog)
-        mine = np.mod(np.round(seconds * 1000).astype(np.int64), 86_400_000)
-        srt = np.argsort(tod, kind="stable")
-        k = np.clip(np.searchsorted(tod, mine, sorter=srt), 0, tod.size - 1)
-        match = srt[k]
-        has = tod[match] == mine
-        rows_n = match[has]
-        for c in ("lat_deg", "lon_deg", "alt_m", "fix_quality", "n_sats", "hdop", "speed_mps",
-                  "course_deg", "heading_deg", "pitch_deg", "roll_deg"):  # fmt: skip
-            out = values.setdefault(c, np.full(n, np.nan))
-            v = ne[c].to_numpy(float)[rows_n]
-            fill = np.isnan(out[has]) & ~np.isnan(v)
-            idx = np.flatnonzero(has)[fill]
-            out[idx] = v[fill]
-            if c == "heading_deg":
-                from_nmea[idx] = True
-        hsrc_nmea = ne["heading_source"].to_numpy(object)
-        rot = (ne["yaw_rate_source"] == "ROT").to_numpy()[rows_n]
-        if rot.any():  # the receiver's own rate of turn beats the heading's difference
-            yaw = np.full(n, np.nan)
-            yaw[np.flatnonzero(has)[rot]] = ne["yaw_rate_rps"].to_numpy(float)[rows_n[rot]]
-            values["yaw_rate_rps"] = yaw
-            values["rot_deg_per_min"] = np.full(n, np.nan)
-            values["rot_deg_per_min"][np.flatnonzero(has)[rot]] = ne["rot_deg_per_min"].to_numpy(
-                float
-            )[rows_n[rot]]
+        values, seconds, src, more = _join_nmea(values, seconds, nlog)
+        from_nmea = values.pop("_from_nmea_heading").astype(bool)
+        notes += more
+        if "yaw_rate_rps" in values:
             yaw_src = "ROT"
-        used = np.zeros(len(ne), dtype=bool)
-        used[rows_n] = True
-        if (~used).any():
-            notes.append(
-                f"{int((~used).sum())} NMEA epochs not used: no NovAtel log at their UTC time"
-            )
-        if from_nmea.any():
-            notes.append(f"heading: NMEA on {int(from_nmea.sum())} epochs (no NovAtel heading)")
-        hsrc_nmea = (hsrc_nmea, match, has)
     ep = build_epochs(values, seconds, has_date=True, heading_source="channel",
                       yaw_rate_source=yaw_src)  # fmt: skip
-    if hsrc_nmea is not None and from_nmea.any():
-        src, match, _ = hsrc_nmea
+    if nlog is not None and from_nmea.any():
+        hsrc = nlog.epochs["heading_source"].to_numpy(object)
         col = ep["heading_source"].to_numpy(object)
-        col[from_nmea] = src[match[from_nmea]]
+        col[from_nmea] = hsrc[src[from_nmea]]
         ep["heading_source"] = pd.Categorical(col, categories=ep["heading_source"].cat.categories)
     return ep, notes
+
+
+_FROM_NMEA = ("lat_deg", "lon_deg", "alt_m", "fix_quality", "n_sats", "hdop", "speed_mps",
+              "course_deg", "heading_deg", "pitch_deg", "roll_deg")  # fmt: skip
+
+
+def _join_nmea(
+    values: dict[str, np.ndarray], seconds: np.ndarray, nlog: NmeaLog
+) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, list[str]]:
+    """The NovAtel rows filled from the NMEA epochs at the same UTC time (to the millisecond),
+    then the NMEA epochs at other times as rows of their own (their date: the NMEA's own, else
+    the NovAtel epochs' day that puts them nearest to one), in time order.
+
+    Returns the values (with ``_from_nmea_heading``: rows whose heading the NMEA gave), the UTC
+    seconds, the NMEA epoch of each row (−1: none) and notes.
+    """
+    ne = nlog.epochs
+    n = seconds.size
+    tod = _nmea_tod_ms(nlog)
+    utc_n = ne["time_utc"]
+    abs_n = np.full(len(ne), np.nan)
+    known = utc_n.notna().to_numpy()
+    if known.any():
+        abs_n[known] = (
+            (utc_n[known].dt.tz_convert(None) - pd.Timestamp("1970-01-01"))
+            .dt.total_seconds()
+            .to_numpy()
+        )
+    mine = np.mod(np.round(seconds * 1000).astype(np.int64), 86_400_000)
+    srt = np.argsort(tod, kind="stable")
+    k = np.clip(np.searchsorted(tod, mine, sorter=srt), 0, tod.size - 1)
+    match = srt[k]
+    has = (tod[match] == mine) & (mine >= 0)
+    src = np.where(has, match, -1)
+    used = np.zeros(len(ne), dtype=bool)
+    used[match[has]] = True
+    # the NMEA epochs at other times, dated
+    rest = np.flatnonzero(~used)
+    when = abs_n[rest]
+    undated = np.isnan(when) & (tod[rest] >= 0)
+    if undated.any():
+        srt_s = np.sort(seconds)
+        best = np.full(int(undated.sum()), np.nan)
+        gap = np.full(best.size, np.inf)
+        for day in np.unique(np.floor(seconds / 86400.0)):
+            cand = day * 86400.0 + tod[rest[undated]] / 1000.0
+            j = np.clip(np.searchsorted(srt_s, cand), 1, max(srt_s.size - 1, 1))
+            d = np.minimum(
+                np.abs(srt_s[j - 1] - cand), np.abs(srt_s[np.minimum(j, srt_s.size - 1)] - cand)
+            )
+            better = d < gap
+            best[better], gap[better] = cand[better], d[better]
+        when[undated] = best
+    timed = ~np.isnan(when)
+    extra = rest[timed]
+    notes = []
+    if (~timed).any():
+        notes.append(f"{int((~timed).sum())} NMEA epochs not used: no time of day")
+    m = n + extra.size
+    out: dict[str, np.ndarray] = {}
+    for c in set(values) | set(_FROM_NMEA):
+        v = np.full(m, np.nan)
+        if c in values:
+            v[:n] = values[c]
+        if c in _FROM_NMEA:
+            nv = ne[c].to_numpy(float)
+            fill = has & np.isnan(v[:n])
+            v[:n][fill] = nv[match[fill]]
+            v[n:] = nv[extra]
+            if c == "heading_deg":
+                out["_from_nmea_heading"] = np.concatenate(
+                    [fill & ~np.isnan(v[:n]), ~np.isnan(v[n:])]
+                )
+        out[c] = v
+    src = np.concatenate([src, extra])
+    rot = np.zeros(m, dtype=bool)
+    rot[src >= 0] = (ne["yaw_rate_source"] == "ROT").to_numpy()[src[src >= 0]]
+    if rot.any():  # the receiver's own rate of turn beats the heading's difference
+        for c in ("yaw_rate_rps", "rot_deg_per_min"):
+            v = np.full(m, np.nan)
+            v[rot] = ne[c].to_numpy(float)[src[rot]]
+            out[c] = v
+    secs = np.concatenate([seconds, when[timed]])
+    order = np.argsort(secs, kind="stable")
+    out = {c: v[order] for c, v in out.items()}
+    nh = int(out["_from_nmea_heading"].sum())
+    if nh:
+        notes.append(f"heading: NMEA on {nh} epochs (no NovAtel heading at their time)")
+    return out, secs[order], src[order], notes
 
 
 def write_novatel(
