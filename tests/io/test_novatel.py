@@ -354,3 +354,33 @@ def test_a_few_novatel_logs_among_more_nmea_are_read_with_it(tmp_path):
     assert log.report.format == "NovAtel ASCII + NMEA 0183" and log.report.balanced
     assert log.report.parsed["NovAtel BESTVEL"] == len(ref) and len(log.epochs) == len(ref)
     assert detect_format("\r\n".join(nmea[:600]).encode()) == "nmea"
+
+
+def _mixed_lines() -> list[str]:
+    from gripsense.data import path as data_path
+
+    nmea = gzip.decompress(data_path("demo/case001.nmea.gz").read_bytes()).decode().splitlines()
+    nov = write_novatel(read_nmea(data_path("demo/case001.nmea.gz")).epochs[:30], None)
+    out = []
+    for k in range(30):
+        out += nov[3 * k : 3 * k + 3] + nmea[6 * k : 6 * k + 6]
+    return out
+
+
+_MIXED = ("\r\n".join(_mixed_lines()) + "\r\n").encode()
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    flips=st.lists(st.tuples(st.integers(0, len(_MIXED) - 1), st.integers(1, 255)), max_size=8),
+    start=st.integers(0, len(_MIXED) // 2),
+)
+def test_fuzz_novatel_with_nmea_every_line_counted(flips, start):
+    data = bytearray(_MIXED[start:])
+    for at, x in flips:
+        if at < len(data):
+            data[at] ^= x
+    log = parse_novatel(bytes(data), "f.asc")
+    assert log.report.balanced
+    t = log.epochs["time_utc"].dropna()
+    assert t.is_monotonic_increasing
