@@ -123,9 +123,10 @@ def _decode_one(
         flag(b, "time")
     no_fix = np.zeros(n, dtype=bool)
     if key == "GLL":
-        # a position only with status A and a mode other than N (no mode: NMEA before 2.3)
+        # a position only with status A and a mode that is a fix letter (not N) or absent
+        # (NMEA before 2.3); an unknown letter is no fix
         quality = _MODE_Q[r["mode"]]
-        no_fix = (r["status"] != ord("A")) | (quality == 0)
+        no_fix = (r["status"] != ord("A")) | (quality == 0) | ((r["mode"] > 0) & np.isnan(quality))
         c["fix_quality"] = np.where(no_fix, 0.0, quality)
     elif key == "GNS":
         # no fix when every mode letter is N (or the mode field is empty)

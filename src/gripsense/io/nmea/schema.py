@@ -159,8 +159,9 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(9, "date", DATE),
         ),
         # GLL: lat, N/S, lon, E/W, time, status A/V, [mode A/D/E/M/S/N …] (NMEA 2.3+); the
-        # position counts only with status A and a mode other than N. (NMEA 1.5's GLL without
-        # time and status is truncated: nothing in it says the position is valid.)
+        # position counts only with status A and a mode that is empty or a fix letter (not N).
+        # Status and mode may be any letter (Magellan's eXplorist sends status N, mode V: no
+        # fix). NMEA 1.5's GLL without time and status is truncated: nothing says it is valid.
         _spec(
             "GLL",
             True,
@@ -169,8 +170,8 @@ SENTENCES: dict[str, SentenceSpec] = {
             F(3, "lon", UNUM),
             F(4, "ew", CHAR, "EW"),
             F(5, "time", TIME),
-            F(6, "status", CHAR, "AV"),
-            F(7, "mode", CHAR, "".join(MODE_QUALITY)),
+            F(6, "status", CHAR),
+            F(7, "mode", CHAR),
             min_fields=6,
         ),
         # GNS: time, lat, N/S, lon, E/W, mode letters (one per constellation, GP GL GA BD …),
