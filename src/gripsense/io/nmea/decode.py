@@ -5,8 +5,9 @@ Conversions done here, once, for every sentence type:
 * ``hhmmss.sss`` -> seconds of the UTC day; ``ddmmyy`` / ZDA day, month, year -> days since
   1970-01-01 (two-digit years: 80-99 -> 19xx, 00-79 -> 20xx);
 * ``ddmm.mmmm`` + N/S, ``dddmm.mmmm`` + E/W -> signed decimal degrees; GLL's and GNS's
-  position is NaN where the sentence itself says it is no fix (GLL status V or mode N, GNS
-  mode letters all N), and their mode becomes ``fix_quality`` on GGA's scale (A 1, D 2, …);
+  position is NaN where the sentence itself says it is no fix (GLL status not A, or a mode
+  that is not a fix letter; GNS mode letters all N), and their mode becomes ``fix_quality``
+  on GGA's scale (A 1, D 2, …);
 * speed over ground: knots x 1852/3600 -> m/s (VTG falls back to its km/h field);
 * headings are kept in compass degrees (clockwise from true north), wrapped to [0, 360);
 * rate of turn is kept as NMEA sends it: degrees per minute, positive = turning to starboard.

@@ -30,9 +30,9 @@ loop :func:`epoch_boundaries_loop` is its reference in the tests.
 Merging an epoch's sentences
 ----------------------------
 * position: from one sentence, the first of GGA (fix quality not 0), RMC (status ``A``), GNS
-  (a mode letter other than ``N``), GLL (status ``A``, mode not ``N``) that has one — receivers
-  that send only GLL (instrument buses, yachts) or GNS (multi-constellation receivers) are
-  placed too;
+  (a mode letter other than ``N``), GLL (status ``A``, a fix mode or none) that has one —
+  receivers that send only GLL (instrument buses, yachts) or GNS (multi-constellation
+  receivers) are placed too;
 * altitude: GGA (fix quality not 0), else GNS (with a fix); satellites, HDOP: GGA, else GNS;
   fix quality: GGA's, else GNS's or GLL's mode letter on GGA's scale (A 1, D 2, P 3, R 4,
   F 5, E 6, M 7, S 8; N 0);
