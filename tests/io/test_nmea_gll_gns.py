@@ -316,3 +316,24 @@ def test_fleet_places_a_log_whose_positions_are_in_gns_or_gll(tmp_path, to):
     rows_b = process_log(str(b), vehicle, vehicle_id="car")
     assert len(rows_a) > 0
     pd.testing.assert_frame_equal(rows_a.drop(columns="log"), rows_b.drop(columns="log"))
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+def test_gns_per_constellation_sentences_join_the_combined_one(engine):
+    """NMEA 4.x: the combined ``$GNGNS`` with the position, then ``$GPGNS`` / ``$GLGNS`` with
+    null position fields and their own satellites: one epoch per time, the combined
+    sentence's position, altitude, satellites and HDOP."""
+    bodies = []
+    for k in range(2):
+        t = f"12000{k}.00"
+        bodies += [
+            f"GNGNS,{t},48{k:02d}.000,N,01101.000,E,AAN,14,0.6,51{k}.0,47.0,,,V",
+            f"GPGNS,{t},,,,,A,08,0.9,,,,,V",
+            f"GLGNS,{t},,,,,A,06,1.1,,,,,V",
+        ]
+    log = read_nmea([sentence(b) for b in bodies], engine=engine)
+    assert log.report.n_epochs == 2 and log.report.parsed == {"GNS": 6}
+    ep = log.epochs
+    assert ep["lat_deg"].tolist() == [48.0, 48 + 1 / 60]
+    assert ep["alt_m"].tolist() == [510.0, 511.0]
+    assert ep["n_sats"].tolist() == [14.0, 14.0] and ep["hdop"].tolist() == [0.6, 0.6]
