@@ -61,6 +61,8 @@ _NO_RT = _no_runtime()
 SKIP_MARGIN = 15.0  # −log L units; a deviance of 30 above the best
 STOP_ABOVE = 30.0  # −log L units above the profile's minimum (or an upper bound of it): a
 # deviance of 60, nine times the highest interval level (χ²₁ 99 %: 6.63)
+DROP_ABOVE = 13.0  # −log L units above an upper bound of the minimum: a deviance of 26, above
+# every stored one (a curve caps at 25.5, DEVIANCE_CAP) and four times the 99 % level
 TOL_NLL = 1e-4  # −log L units: a step that gains less ends the minimisation
 TOL_NLL_FEW = 1e-3  # the same for windows of up to NFEW bins: a deviance of 0.002, a fiftieth of
 # a stored curve's step (DEVIANCE_STEP); each (μ, shape) of them starts one grid step from its
@@ -771,8 +773,9 @@ def profile_grid(
     (``docs/physics.md`` §15.3).
 
     A window of up to ``NFEW`` bins with a *probe* is swept from the probe's minimisations (of
-    every shape, from the prior mean) up the grid, then down it. A shape whose minimisation
-    stopped is not minimised further along that sweep: down, less grip carries the measured
+    every shape, from the prior mean) up the grid, then down it. A shape more than
+    :data:`DROP_ABOVE` above the upper bound of the minimum (with *stop_margin* ``np.inf``:
+    never) is not minimised further along that sweep: down, less grip carries the measured
     force still worse; up, a still more linear curve explains the data no better. A sweep ends
     when no shape is left, and the μ it did not reach get ``inf`` (points the profile excluded,
     far above every level). Windows of more than ``NFEW`` bins are minimised fully at every μ,
@@ -813,6 +816,7 @@ def profile_grid(
         _copy(probe_d[si], dl)
         probe_v[si] = nll + shape_pen[si]
         floor = min(floor, probe_v[si])
+    drop = min(stop_margin, DROP_ABOVE) if stop_margin < np.inf else np.inf
     i0 = 0
     while i0 < n_mu and mu_grid[i0] < probe:
         i0 += 1
@@ -832,8 +836,8 @@ def profile_grid(
                                    prior_d, tab_f, tab_df, inv_dx, p0, iters, out_nll, out_th,
                                    out_dl, out_shape, floor, stop_margin, warm, warm_d, last,
                                    last_best, active, th, dl, ws, wm, wj)  # fmt: skip
-                for si in range(ns):  # a shape that stopped here stops further along
-                    if active[si] and last[si] > floor + stop_margin:
+                for si in range(ns):  # a shape beyond every stored value stops here
+                    if active[si] and last[si] > floor + drop:
                         active[si] = False
                 last_best = best
                 floor = min(floor, best)
