@@ -337,3 +337,20 @@ def test_gns_per_constellation_sentences_join_the_combined_one(engine):
     assert ep["lat_deg"].tolist() == [48.0, 48 + 1 / 60]
     assert ep["alt_m"].tolist() == [510.0, 511.0]
     assert ep["n_sats"].tolist() == [14.0, 14.0] and ep["hdop"].tolist() == [0.6, 0.6]
+
+
+@pytest.mark.parametrize("name", ["sounder.log", "ericsson-gru04-02-70sec.log"])
+def test_replay_is_paced_by_gll_and_gns_times(name):
+    """``gripsense live --replay`` paces a log by its sentences' times: a GLL-only log (time in
+    field 5) and a GNS log (field 1) carry their times as pynmea2 reads them."""
+    from gripsense.live.sources import _pieces
+
+    pieces = _pieces((DATA / name).read_bytes())
+    n = 0
+    for line, tod in pieces:
+        text = line.decode("ascii").strip()
+        if text[3:7] in ("GLL,", "GNS,"):
+            t = pynmea2.parse(text).timestamp
+            assert tod == pytest.approx(t.hour * 3600 + t.minute * 60 + t.second, abs=1e-9)
+            n += 1
+    assert n == sum(1 for ln, _ in pieces if ln[3:7] in (b"GLL,", b"GNS,")) > 70

@@ -26,13 +26,16 @@ __all__ = [
     "parse_host_port",
 ]
 
-_TIME = re.compile(rb"^\s*\$..(?:GGA|RMC|ZDA),(\d{2})(\d{2})(\d{2}(?:\.\d*)?)")
+# the time of day of GGA, RMC, ZDA, GNS (field 1) and GLL (field 5) lines
+_TIME = re.compile(
+    rb"^\s*\$..(?:(?:GGA|RMC|ZDA|GNS),|GLL(?:,[^,*]*){4},)(\d{2})(\d{2})(\d{2}(?:\.\d*)?)"
+)
 _BACKOFF = (0.1, 5.0)
 
 
 class ReplaySource:
     """Replay a log (plain or gzip) at ``speed`` × real time (0 = as fast as possible), paced
-    by the time-of-day fields of GGA/RMC/ZDA lines.
+    by the time-of-day fields of GGA/RMC/ZDA/GNS/GLL lines.
 
     Parameters
     ----------
@@ -118,7 +121,7 @@ class ReplaySource:
 
 def _pieces(data: bytes) -> list[tuple[bytes, float | None]]:
     """The log cut into the pieces a replay sends, each with its time of day when it has one:
-    NMEA lines (GGA/RMC/ZDA times) and UBX frames (NAV-PVT's UTC time of day).
+    NMEA lines (GGA/RMC/ZDA/GNS/GLL times) and UBX frames (NAV-PVT's UTC time of day).
     """
     from gripsense.io.ubx import scan_frames
 
