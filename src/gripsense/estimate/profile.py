@@ -90,7 +90,7 @@ def deviance_curve(
     bytes
         One unsigned byte per grid point: the deviance in steps of :data:`DEVIANCE_STEP`.
     """
-    q = np.floor(np.minimum(np.nan_to_num(dev, nan=np.inf), 1e6) / DEVIANCE_STEP)
+    q = np.floor(np.minimum(np.where(np.isnan(dev), np.inf, dev), 1e6) / DEVIANCE_STEP)
     q = np.clip(q, 0, DEVIANCE_CAP).astype(np.uint8)
     if not lower_trusted:
         q[:i_best] = 0

@@ -96,13 +96,19 @@ def linear_explains(grip, linear, stiffness_band, tolerance=0.0) -> bool:
     """
     y = np.atleast_1d(np.abs(np.asarray(grip, dtype=float)))
     k = np.atleast_1d(np.asarray(linear, dtype=float))
-    y, k = np.broadcast_arrays(y, k)
-    tol = np.broadcast_to(np.asarray(tolerance, dtype=float), y.shape)
-    if not np.all((k > 0) | (y <= tol)):
+    if y.shape != k.shape:
+        y, k = np.broadcast_arrays(y, k)
+    tol = np.asarray(tolerance, dtype=float)
+    if tol.shape != y.shape:
+        tol = np.broadcast_to(tol, y.shape)
+    pos = k > 0
+    if not np.all(pos | (y <= tol)):
         return False
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s_lo = np.max(np.where(k > 0, (y - tol) / k, -np.inf), initial=stiffness_band[0])
-        s_hi = np.min(np.where(k > 0, (y + tol) / k, np.inf), initial=stiffness_band[1])
+    if not pos.any():  # every point explained by a zero force: any stiffness of the band
+        return bool(stiffness_band[0] <= stiffness_band[1])
+    kp = k[pos]  # (a small-array path: this runs once per window of the profile)
+    s_lo = max(float(np.max((y[pos] - tol[pos]) / kp)), stiffness_band[0])
+    s_hi = min(float(np.min((y[pos] + tol[pos]) / kp)), stiffness_band[1])
     return bool(s_lo <= s_hi)
 
 
