@@ -10,6 +10,7 @@ the family.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cache
 
@@ -464,7 +465,7 @@ def profile_mu(
     shp_f = np.empty(m, dtype=np.int64)
     # every μ of the grid, warm-started upwards (a coarser pass lets the nuisances fall behind:
     # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
-    probe = float(np.clip(1.1 * b[:, 9].max(), fine[0], fine[-1])) if n else -1.0
+    probe = min(max(1.1 * float(b[:, 9].max()), float(fine[0])), float(fine[-1])) if n else -1.0
     rho = slow_correlation(t0, pri.tau_s)
     K.profile_grid(
         fine, ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx,
@@ -478,23 +479,25 @@ def profile_mu(
     im = int(np.argmin(nll))
     mu_hat = float(mu_g[im])
     if 0 < im < n_mu - 1:
-        x0, x1, x2 = np.log(mu_g[im - 1 : im + 2])
-        y0, y1, y2 = nll[im - 1 : im + 2]
+        x0, x1, x2 = (math.log(float(x)) for x in mu_g[im - 1 : im + 2])
+        y0, y1, y2 = (float(y) for y in nll[im - 1 : im + 2])
         den = (x0 - x1) * (x0 - x2) * (x1 - x2)
         a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
         bq = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
         if a > 0:
-            mu_hat = float(np.exp(np.clip(-bq / (2 * a), x0, x2)))
+            mu_hat = math.exp(min(max(-bq / (2 * a), x0), x2))
     lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
     hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
     lo_p = _crossing(mu_g, dev, level, im, -1)
     hi_p = _crossing(mu_g, dev, level, im, +1)
     n_bins = bins.shape[0]
     z = (th[im] - pri.mean) / pri.sd
+    az = np.abs(z)
+    z_max = float(az.max())
     fit = "ok"
     if 2.0 * nll[im] > _chi2_ppf(0.999, max(n_bins, 1)) + float(np.sum(z**2)):
         fit = "inconsistent"
-    elif im == 0 or np.max(np.abs(z)) > 3.0 or np.max(np.abs(dl[im])) > 3.5 * pri.delta:
+    elif im == 0 or z_max > 3.0 or float(np.abs(dl[im]).max()) > 3.5 * pri.delta:
         fit = "edge"  # the data are explained only at the edge of what the priors allow
     observable = bool(fit == "ok" and np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
     # a value needs data near the limit: below utilisation ~0.5 every curve of the family is
@@ -545,7 +548,7 @@ def profile_mu(
         "friction load sensitivity",
         "drive force on the steered axle",
     )
-    limited = names[int(np.argmax(np.abs(z)))] if np.max(np.abs(z)) > 1.0 else "tyre shape"
+    limited = names[int(np.argmax(az))] if z_max > 1.0 else "tyre shape"
     if strained:
         limited = "tyre model strained (its upper end reaches the measured grip)"
     elif not observable and fit == "ok" and far_from_limit:
@@ -624,7 +627,7 @@ def profile_mu(
         "fit": fit,
         "mu_best": mu_hat,
         "stiffness_scale": float(np.exp(th[im, 0])),
-        "heading_bias_deg": float(np.rad2deg(np.mean(dl[im]))),
+        "heading_bias_deg": math.degrees(float(dl[im].sum()) / dl.shape[1]),
         "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
         "load_transfer_error": float(th[im, 2]),
         "shape": members[int(shp[im])].name,
