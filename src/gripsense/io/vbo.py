@@ -3,7 +3,9 @@
 The format (Racelogic, "VBO file format"): a text file with an optional preamble line
 (``File created on 31/07/2006 @ 09:55:20``), then sections ``[header]`` (one channel title per
 line, e.g. ``velocity kmh``), ``[channel units]`` (the units of the module/CAN channels),
-``[comments]``, ``[module information]``, ``[column names]`` (one line, space separated) and
+``[comments]``, ``[module information]``, ``[column names]`` (space separated; one line, or
+several when a VBOX 3i / Video / Touch wraps a long list or a tool writes one name a line: the
+words of every line, in order, matched to the rows' fields and ``[header]``'s channels) and
 ``[data]`` (one space-separated row per sample). Conventions of the standard channels:
 
 ===============  =========================================================================
@@ -291,8 +293,12 @@ def parse_vbo(
     names_lines = sec.body("column names")
     if not names_lines:
         raise InputError(f"{name}:{sec.start['column names'] + 2}: [column names] is empty")
-    cols = names_lines[0][1].split()
+    # the names are the words of every line of the section: VBOX 3i / Video / Touch wrap a
+    # long channel list, some tools write one name per line
+    cols = [w for _, ln in names_lines for w in ln.split()]
     names_line = names_lines[0][0] + 1
+    n_names_lines = len(names_lines)
+    on_lines = f" on {n_names_lines} lines" if n_names_lines > 1 else ""
     d0 = sec.start["data"] + 1
     rows = sec.lines[d0:]
     # the rows' field count (the commonest of the first rows): [column names] must match it
@@ -305,8 +311,8 @@ def parse_vbo(
         if fixed is None:
             spaced = ", ".join(repr(t) for t in titles if " " in t.strip())
             raise InputError(
-                f"{name}:{names_line}: [column names] has {len(cols)} names but the rows have "
-                f"{nfield} fields"
+                f"{name}:{names_line}: [column names] has {len(cols)} names{on_lines} but the "
+                f"rows have {nfield} fields"
                 + (
                     f" and [header] lists {len(titles)} channels"
                     if titles
@@ -322,6 +328,13 @@ def parse_vbo(
             f"[column names]: {', '.join(repr(j) for j in joined)} "
             f"{'holds a space: read as one channel' if one else 'hold spaces: each read as one'}"
             f", as [header] lists {'it' if one else 'them'} ({nfield} channels)"
+        )
+    if n_names_lines > 1:
+        titles = [t for _, t in sec.body("header")]
+        structure_notes.append(
+            f"[column names] spans {n_names_lines} lines: read as one list of {len(cols)} "
+            f"names (the rows' {nfield} fields"
+            + (f", [header]'s {len(titles)} channels)" if titles else ")")
         )
     ncol = len(cols)
     role: dict[str, int] = {}
