@@ -117,7 +117,7 @@ def test_a_mismatch_is_one_line_naming_file_section_and_counts(tmp_path):
     from tests.cli.inprocess import cli
 
     r = cli("ingest", path)
-    assert r.returncode != 0 and "Traceback" not in r.stderr
+    assert r.returncode == 2 and "Traceback" not in r.stderr
     err = [ln for ln in r.stderr.splitlines() if ln.strip()]
     assert len(err) == 1 and "lost.vbo" in err[0] and "[column names] has 48 names" in err[0]
 
