@@ -607,20 +607,27 @@ def _vectorisable(sig) -> bool:
     return not sig.is_float or sig.length in (32, 64)
 
 
-def _vector_signal(sig, le: np.ndarray, be: np.ndarray) -> np.ndarray:
-    """A signal's physical values from the frames' 8 data bytes read as one little-endian
-    (*le*) and one big-endian (*be*) 64-bit word each: Intel signals from their least
-    significant bit (``start``), Motorola signals from their most significant bit (DBC
-    sawtooth numbering); two's complement when signed, IEEE float when float; then
-    ``raw × scale + offset`` (cantools' linear conversion).
+def _vector_raw(sig, le: np.ndarray, be: np.ndarray) -> np.ndarray:
+    """A signal's raw bits (unsigned, ``uint64``) from the frames' 8 data bytes read as one
+    little-endian (*le*) and one big-endian (*be*) 64-bit word each: Intel signals from their
+    least significant bit (``start``), Motorola signals from their most significant bit (DBC
+    sawtooth numbering).
     """
     n = int(sig.length)
     mask = np.uint64((1 << n) - 1) if n < 64 else np.uint64(0xFFFFFFFFFFFFFFFF)
     if sig.byte_order == "little_endian":
-        raw = (le >> np.uint64(sig.start)) & mask
-    else:
-        msb = 8 * (sig.start // 8) + (7 - sig.start % 8)  # bit from byte 0's MSB
-        raw = (be >> np.uint64(64 - msb - n)) & mask
+        return (le >> np.uint64(sig.start)) & mask
+    msb = 8 * (sig.start // 8) + (7 - sig.start % 8)  # bit from byte 0's MSB
+    return (be >> np.uint64(64 - msb - n)) & mask
+
+
+def _vector_signal(sig, le: np.ndarray, be: np.ndarray) -> np.ndarray:
+    """A signal's physical values from its raw bits (:func:`_vector_raw`): two's complement
+    when signed, IEEE float when float; then ``raw × scale + offset`` (cantools' linear
+    conversion).
+    """
+    n = int(sig.length)
+    raw = _vector_raw(sig, le, be)
     x: np.ndarray
     if sig.is_float:
         word = raw.astype(np.uint32).view(np.float32) if n == 32 else raw.view(np.float64)
@@ -634,6 +641,86 @@ def _vector_signal(sig, le: np.ndarray, be: np.ndarray) -> np.ndarray:
     else:
         x = raw.astype(float)
     return x * float(sig.scale) + float(sig.offset)
+
+
+J1939_NOT_AVAILABLE, J1939_ERROR, J1939_RESERVED = 3, 2, 1
+"""Codes of :func:`j1939_range`: the raw value is not a value of the parameter."""
+
+
+def j1939_range(raw: np.ndarray, length: int) -> np.ndarray:
+    """Which raw values of an unsigned J1939 parameter are not values (SAE J1939-71 §5.1.4,
+    transmitted signal ranges; ``docs/ingest.md`` "J1939 'not available' values").
+
+    A parameter of whole bytes is judged by its most significant byte: 0x00–0xFA valid,
+    0xFB–0xFD parameter-specific indicators and reserved, 0xFE error indicator, 0xFF not
+    available (1 byte: 0xFB–0xFD, 0xFE, 0xFF; 2 bytes: 0xFB00–0xFDFF, 0xFE00–0xFEFF,
+    0xFF00–0xFFFF; 4 bytes likewise). A discrete parameter of 2–7 bits (J1939-71 discrete
+    states: ``10`` error, ``11`` not available for 2 bits) and any other length of ≥ 2
+    bits: all ones not available, all ones minus one error. A 1-bit signal has no such
+    values.
+
+    Parameters
+    ----------
+    raw : numpy.ndarray
+        Raw (unscaled, unsigned) values [-].
+    length : int
+        The signal's length [bit].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``int8`` per value: 0 a value, :data:`J1939_RESERVED`, :data:`J1939_ERROR` or
+        :data:`J1939_NOT_AVAILABLE`.
+    """
+    r = np.asarray(raw, np.uint64)
+    out = np.zeros(r.shape, np.int8)
+    n = int(length)
+    if n < 2 or n > 64:
+        return out
+    if n % 8 == 0:
+        top = r >> np.uint64(n - 8)
+        out[(top >= 0xFB) & (top <= 0xFD)] = J1939_RESERVED
+        out[top == 0xFE] = J1939_ERROR
+        out[top == 0xFF] = J1939_NOT_AVAILABLE
+    else:
+        ones = np.uint64((1 << n) - 1)
+        out[r == ones - np.uint64(1)] = J1939_ERROR
+        out[r == ones] = J1939_NOT_AVAILABLE
+    return out
+
+
+def _j1939_raw(msg, sig, c: FrameColumns, rows: np.ndarray) -> np.ndarray:
+    """The raw bits of an unsigned integer signal in the (decoded) frames at *rows*:
+    vectorised (:func:`_vector_raw`) when the signal lies in the first 8 bytes, else by
+    cantools (``scaling=False``) frame by frame.
+    """
+    end = _last_bit(sig)
+    if end <= 64 and not sig.multiplexer_ids and c.data.shape[1] > 0:
+        buf = np.zeros((rows.size, 8), np.uint8)
+        w = min(8, c.data.shape[1])
+        buf[:, :w] = c.data[rows, :w]
+        return _vector_raw(sig, buf.view("<u8").ravel(), buf.view(">u8").ravel().astype(np.uint64))
+    out = np.zeros(rows.size, np.uint64)
+    for j, r in enumerate(rows.tolist()):
+        dec = msg.decode(bytes(c.data[r, : c.lens[r]]), decode_choices=False, scaling=False)
+        out[j] = int(dec.get(sig.name, 0))
+    return out
+
+
+def _last_bit(sig) -> int:
+    """One past the last bit (from byte 0's least significant bit, byte-wise) a signal uses."""
+    n = int(sig.length)
+    if sig.byte_order == "little_endian":
+        return int(sig.start) + n
+    msb = 8 * (sig.start // 8) + (7 - sig.start % 8)
+    return msb + n  # in big-endian numbering: bytes covered up to (msb + n) // 8
+
+
+def _is_j1939_parameter(msg, sig) -> bool:
+    """Whether a signal is judged by :func:`j1939_range`: an unsigned integer signal of a
+    J1939 message (``ProtocolType "J1939"``, 29-bit identifier: matched by PGN).
+    """
+    return _key(msg)[0] == "pgn" and not sig.is_float and not sig.is_signed and sig.length >= 2
 
 
 def decode_frames(
@@ -715,6 +802,7 @@ def decode_frames(
     parsed: dict[str, int] = {}
     bad: list[tuple[int, str]] = []  # (frame position, detail) of the frames that do not decode
     series: dict[tuple[int, str], tuple[np.ndarray, np.ndarray]] = {}
+    na: dict[str, np.ndarray] = {}  # J1939 signal -> frames per j1939_range code
     for mid, rows_list in rows_of.items():
         msg = msgs[mid]
         rows = np.sort(np.asarray(rows_list, np.int64))
@@ -730,6 +818,14 @@ def decode_frames(
         t = c.t[ok_rows]
         for sig in sigs:
             v, has = values[sig]
+            dsig = msg.get_signal_by_name(sig)
+            if _is_j1939_parameter(msg, dsig) and has.any():
+                code = np.zeros(ok_rows.size, np.int8)
+                code[has] = j1939_range(_j1939_raw(msg, dsig, c, ok_rows[has]), dsig.length)
+                if code.any():
+                    v = np.where(code > 0, np.nan, v)
+                    k_na = na.setdefault(sig, np.zeros(4, np.int64))
+                    k_na += np.bincount(code, minlength=4)
             series[(mid, sig)] = (t[has], v[has])
     bad.sort(key=lambda b: b[0])
     if strict and bad:
@@ -737,12 +833,23 @@ def decode_frames(
     n_bad = len(bad)
     firsts = [RejectedLine(k, MALFORMED, d) for k, d in bad[:20]]
     found = {}
+    whole: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # with the J1939 non-values as NaN
     for key, spec in mapped.items():
         msg = chosen[key]
         ts, vs = series.get((msg.frame_id, spec.channel), (np.zeros(0), np.zeros(0)))
         unit = msg.get_signal_by_name(spec.channel).unit
-        found[key] = Channel(spec.channel, np.asarray(ts, float), np.asarray(vs, float),
-                             str(unit or ""))  # fmt: skip
+        ts, vs = np.asarray(ts, float), np.asarray(vs, float)
+        if spec.channel in na:  # J1939 non-values: not used, not malformed (counted in notes)
+            whole[key] = (ts, vs)
+            keep_v = ~np.isnan(vs)  # an unsigned integer signal is NaN only here
+            ts, vs = ts[keep_v], vs[keep_v]
+        found[key] = Channel(spec.channel, ts, vs, str(unit or ""))
+    na_notes = [
+        f"{int(k[1:].sum())} frames with 'not available' values of {sig} (SAE J1939-71 raw "
+        f"ranges: {int(k[J1939_NOT_AVAILABLE])} not available, {int(k[J1939_ERROR])} error "
+        f"indicator, {int(k[J1939_RESERVED])} reserved): no value, not used"
+        for sig, k in sorted(na.items())
+    ]
     if start_s is None:
         t_all = np.concatenate([c.t for c in found.values()]) if found else np.zeros(0)
         absolute = bool(t_all.size and np.nanmin(t_all) > _ABSOLUTE_AFTER)
@@ -753,8 +860,12 @@ def decode_frames(
     log = log_from_channels(
         mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
         strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
-        unit=got.unit, notes=got.notes + plan.notes,
+        unit=got.unit, notes=got.notes + plan.notes + na_notes,
     )  # fmt: skip
+    import pandas as pd
+
+    for key, (ts, vs) in whole.items():  # the per-frame rows keep the non-values, as NaN
+        log.sentences[key] = pd.DataFrame({"t_s": ts, "value": vs}, copy=False)
     log.report.steering = plan.steering
     # frames, not samples: the parsed count is per message
     rep = log.report
