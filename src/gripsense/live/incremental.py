@@ -21,6 +21,7 @@ every burst are not affected.
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from collections import Counter, deque
 
 import numpy as np
@@ -29,6 +30,8 @@ import pandas as pd
 from gripsense.io import read_nmea
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.reader import N_FIRST_REJECTS, _frame_detail
+from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream
 
 ACCOUNT_BATCH = 20_000
 """Received lines are counted in batches of at most this many (or when the report is read)."""
@@ -84,6 +87,20 @@ class LiveIngest:
         self._starts: deque[int] = deque(maxlen=64)  # first lines of recently emitted epochs
         self._aligned = True  # the tail starts where an epoch starts in the batch reading
         self.last_data_monotonic: float | None = None
+        # RTCM 3 frames between the sentences: cut out of the bytes before the lines are split,
+        # as the batch reader does (a frame's bytes hold line ends by chance)
+        self._rtcm = RtcmStream()
+        self._n_frames = 0
+        self._frame_rejects: list[RejectedLine] = []
+        self._text_bytes = 0  # bytes of text (the stream without its frames) so far
+        self._text_lines = 0  # line ends in that text
+        self._text_at_line_start = True  # the text so far ends with a line end (or is empty)
+        self._removed = 0  # frame bytes cut out so far
+        # text line -> stream line: from text line _shift_from[j] on, _shift[j] more line ends
+        # (those inside the frames before it); entries before the pending lines are merged
+        self._shift_from: list[int] = []
+        self._shift: list[int] = []
+        self._shift_base = 0
 
     # ------------------------------------------------------------------ input
     def feed(self, data: bytes) -> pd.DataFrame:
@@ -96,7 +113,17 @@ class LiveIngest:
         """
         if not data:
             return self._empty()
-        buf = self._partial + data
+        text, frames = self._rtcm.feed(data)
+        if frames is not None:
+            self._count_frames(frames, text)
+        self._advance_text(text)
+        return self._emit(final=False) if self._lines_of(text) else self._empty()
+
+    def _lines_of(self, text: bytes) -> bool:
+        """Split the text (the stream without its frames) into lines; whether any completed."""
+        if not text:
+            return False
+        buf = self._partial + text
         parts = buf.split(b"\n")
         self._partial = parts.pop()
         if self._dropping and parts:
@@ -116,7 +143,7 @@ class LiveIngest:
             if len(self._first_rejects) < 20:
                 self._first_rejects.append(
                     RejectedLine(
-                        self._n_lines,
+                        self._stream_line(self._n_lines - 1) + 1,
                         S.OVER_LIMIT,
                         f"longer than {self.max_line_bytes} bytes without a line end; dropped",
                     )
@@ -124,10 +151,15 @@ class LiveIngest:
             self._dropping = True
         if self._dropping:
             self._partial = b""
-        return self._emit(final=False) if parts else self._empty()
+        return bool(parts)
 
     def finish(self) -> pd.DataFrame:
         """End of stream: the partial last line counts as a line; emit every remaining epoch."""
+        text, frames = self._rtcm.feed(b"", final=True)
+        if frames is not None:
+            self._count_frames(frames, text)
+        self._advance_text(text)
+        self._lines_of(text)
         if self._partial:
             line = [self._partial]
             self._partial = b""
@@ -136,6 +168,58 @@ class LiveIngest:
             self._n_lines += 1
         self._account()
         return self._emit(final=True)
+
+    # ------------------------------------------------------------------ RTCM 3 frames
+    def _count_frames(self, frames: RtcmFrames, text: bytes) -> None:
+        """Count the frames as the batch reader does (good: ignored per message number; CRC
+        not matching: rejected, *bad checksum*) and note where each was cut out of the text.
+        """
+        self._n_frames += frames.size
+        good = frames.good & (frames.message >= 0)
+        for m in frames.message[good].tolist():
+            self._ignored[f"RTCM3 {m}"] += 1
+        empty = int((frames.good & (frames.message < 0)).sum())
+        if empty:
+            self._ignored["RTCM3 (empty)"] += empty
+        lines, inner = self._rtcm.line, self._rtcm.inner_newlines
+        lengths = frames.end - frames.start
+        removed = self._removed + np.concatenate([[0], np.cumsum(lengths)[:-1]])
+        tb = np.frombuffer(text, dtype=np.uint8)
+        nl = np.flatnonzero(tb == 10)
+        for k in range(frames.size):
+            if not frames.good[k]:
+                self._rejected[S.BAD_CHECKSUM] += 1
+                if len(self._frame_rejects) < N_FIRST_REJECTS:
+                    self._frame_rejects.append(
+                        RejectedLine(
+                            int(lines[k]) + 1,
+                            S.BAD_CHECKSUM,
+                            f"byte {frames.start[k]}: {_frame_detail(frames, k)}",
+                        )
+                    )
+            if inner[k] == 0:
+                continue
+            # the text line the frame was cut in; the lines starting at or after the cut are
+            # that many line ends further on in the stream
+            at = int(frames.start[k] - removed[k]) - self._text_bytes  # offset in *text*
+            ends_before = self._text_lines + int(np.searchsorted(nl, at, side="left"))
+            line_start = tb[at - 1] == 10 if at > 0 else self._text_at_line_start
+            first = ends_before if line_start else ends_before + 1
+            self._shift_from.append(first)
+            prev = self._shift[-1] if self._shift else self._shift_base
+            self._shift.append(prev + int(inner[k]))
+        self._removed += int(lengths.sum())
+
+    def _advance_text(self, text: bytes) -> None:
+        self._text_bytes += len(text)
+        self._text_lines += text.count(b"\n")
+        if text:
+            self._text_at_line_start = text.endswith(b"\n")
+
+    def _stream_line(self, line: int) -> int:
+        """0-based line of the stream of 0-based text line *line* (frames hold line ends)."""
+        j = bisect_right(self._shift_from, line)
+        return line + (self._shift[j - 1] if j else self._shift_base)
 
     # ------------------------------------------------------------------ accounting
     def _queue(self, lines: list[bytes]) -> None:
@@ -161,23 +245,42 @@ class LiveIngest:
         self._junk += rep.junk_prefix_lines
         for r in rep.first_rejects:
             if len(self._first_rejects) < 20:
-                self._first_rejects.append(type(r)(r.line + start, r.reason, r.detail))
+                line = self._stream_line(r.line - 1 + start) + 1
+                self._first_rejects.append(type(r)(line, r.reason, r.detail))
+        # later lookups are of later lines: merge the shifts before them (bounded memory)
+        j = bisect_right(self._shift_from, self._n_lines)
+        if j:
+            self._shift_base = self._shift[j - 1]
+            del self._shift_from[:j], self._shift[:j]
 
     @property
     def report(self) -> IngestReport:
         """Line accounting so far (equals the batch report once :meth:`finish` was called)."""
         self._account()
+        first = self._first_rejects
+        if self._frame_rejects:
+            first = sorted(first + self._frame_rejects, key=lambda r: r.line)
+        nf = self._n_frames
         return IngestReport(
             source=self.source,
-            total_lines=self._n_lines,
+            total_lines=self._n_lines + nf,
             parsed=dict(sorted(self._parsed.items())),
             ignored=dict(sorted(self._ignored.items())),
             rejected={k: int(v) for k, v in self._rejected.items()},
-            first_rejects=list(self._first_rejects),
+            first_rejects=first[:N_FIRST_REJECTS],
             junk_prefix_lines=self._junk,
             n_epochs=self._n_epochs,
             epochs_without_time=self._no_time,
             has_date=self._has_date,
+            notes=(
+                [
+                    f"{nf} RTCM3 frames between the sentences (the receiver's corrections), "
+                    "each counted as one unit"
+                ]
+                if nf
+                else []
+            ),
+            unit="lines and frames" if nf else "lines",
         )
 
     # ------------------------------------------------------------------ epochs

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["RtcmFrames", "crc24q", "split_rtcm"]
+__all__ = ["RtcmFrames", "RtcmStream", "crc24q", "split_rtcm"]
 
 PREAMBLE = 0xD3
 _POLY = 0x1864CFB
@@ -86,9 +86,29 @@ def _good_at(buf, i, table):
 
 
 @njit(cache=True, nogil=True)
-def _scan(buf, table, start, end, good):
+def _good_undecided(buf, i):
+    """Whether the bytes that tell if a good frame starts at *i* have not all arrived."""
+    n = buf.size
+    if i >= n:
+        return True
+    if buf[i] != 0xD3:
+        return False
+    if i + 2 > n:
+        return True
+    if (buf[i + 1] & 0xFC) != 0:
+        return False
+    if i + 3 > n:
+        return True
+    return i + 6 + (((buf[i + 1] & 3) << 8) | buf[i + 2]) > n
+
+
+@njit(cache=True, nogil=True)
+def _scan_upto(buf, table, start, end, good, final):
     """Frames from the first preamble on: writes ``start``/``end`` (byte offsets) and ``good``
-    (CRC checks) and returns their number.
+    (CRC checks); returns their number and the offset from which the bytes are undecided
+    (``buf.size`` when *final*: the end of *buf* is the end of the stream; else the first
+    byte whose reading needs bytes not yet arrived — a scan resumed there with more bytes
+    decides every byte as one scan over the whole stream does).
     """
     n = buf.size
     k = 0
@@ -100,6 +120,8 @@ def _scan(buf, table, start, end, good):
         ln = ((buf[i + 1] & 3) << 8) | buf[i + 2]
         e = i + 6 + ln
         if e > n:
+            if not final:
+                return k, i
             i += 1
             continue
         want = (np.uint32(buf[e - 3]) << 16) | (np.uint32(buf[e - 2]) << 8) | np.uint32(buf[e - 1])
@@ -109,6 +131,8 @@ def _scan(buf, table, start, end, good):
             # a damaged frame only where the stream resumes right after it with a sentence or
             # a frame and no line inside it starts a sentence (else these are other bytes)
             ok = False
+            if not final and (e + 4 > n or (not _sentence_at(buf, e) and _good_undecided(buf, e))):
+                return k, i
             if e >= n or not (_sentence_at(buf, e) or _good_at(buf, e, table)):
                 i += 1
                 continue
@@ -125,7 +149,12 @@ def _scan(buf, table, start, end, good):
         good[k] = ok
         k += 1
         i = e
-    return k
+    if not final:
+        while i < n:
+            if buf[i] == 0xD3:
+                return k, i
+            i += 1
+    return k, n
 
 
 @dataclass
@@ -159,6 +188,36 @@ class RtcmFrames:
         return pos + removed[np.searchsorted(text_at, pos, side="right")]
 
 
+def _split(data: bytes, final: bool) -> tuple[bytes, RtcmFrames | None, int]:
+    """The frames of *data* cut out up to the first undecided byte (see :func:`_scan_upto`):
+    the text before it, the frames and that offset.
+    """
+    first = data.find(b"\xd3")
+    if first < 0:
+        return data, None, len(data)
+    buf = np.frombuffer(data, dtype=np.uint8)
+    cap = (buf.size - first) // 6 + 1
+    start = np.empty(cap, dtype=np.int64)
+    end = np.empty(cap, dtype=np.int64)
+    good = np.empty(cap, dtype=np.bool_)
+    k, stop = _scan_upto(buf[first:], _CRC_TABLE, start, end, good, final)
+    k, stop = int(k), int(stop) + first
+    if k == 0:
+        return data[:stop], None, stop
+    start, end, good = start[:k] + first, end[:k] + first, good[:k]
+    msg = np.where(
+        end - start > 7,
+        (buf[np.minimum(start + 3, buf.size - 1)].astype(np.int64) << 4)
+        | (buf[np.minimum(start + 4, buf.size - 1)].astype(np.int64) >> 4),
+        -1,
+    )
+    d = np.zeros(stop + 1, dtype=np.int64)
+    np.add.at(d, start, 1)
+    np.add.at(d, end, -1)
+    keep = np.cumsum(d[:-1]) == 0
+    return buf[:stop][keep].tobytes(), RtcmFrames(start, end, good, msg), stop
+
+
 def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
     """Cut the RTCM 3 frames out of a byte stream.
 
@@ -174,26 +233,63 @@ def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
     frames : RtcmFrames or None
         The frames cut out (None: none).
     """
-    first = data.find(b"\xd3")
-    if first < 0:
-        return data, None
-    buf = np.frombuffer(data, dtype=np.uint8)
-    cap = (buf.size - first) // 6 + 1
-    start = np.empty(cap, dtype=np.int64)
-    end = np.empty(cap, dtype=np.int64)
-    good = np.empty(cap, dtype=np.bool_)
-    k = int(_scan(buf[first:], _CRC_TABLE, start, end, good))
-    if k == 0:
-        return data, None
-    start, end, good = start[:k] + first, end[:k] + first, good[:k]
-    msg = np.where(
-        end - start > 7,
-        (buf[np.minimum(start + 3, buf.size - 1)].astype(np.int64) << 4)
-        | (buf[np.minimum(start + 4, buf.size - 1)].astype(np.int64) >> 4),
-        -1,
-    )
-    d = np.zeros(buf.size + 1, dtype=np.int64)
-    np.add.at(d, start, 1)
-    np.add.at(d, end, -1)
-    keep = np.cumsum(d[:-1]) == 0
-    return buf[keep].tobytes(), RtcmFrames(start, end, good, msg)
+    text, frames, _ = _split(data, final=True)
+    return text, frames
+
+
+class RtcmStream:
+    """:func:`split_rtcm` on a stream that arrives in pieces (a receiver's socket or serial
+    port): each :meth:`feed` returns the text and the frames decided so far and keeps the bytes
+    whose reading needs more of the stream (a frame cut across two reads, at most two frames'
+    bytes), so the frames and the text equal :func:`split_rtcm` on the whole stream however it
+    is cut.
+
+    Frame offsets are in the whole stream; per frame of the last :meth:`feed`, :attr:`line`
+    is the 0-based line of the stream its first byte is on and :attr:`inner_newlines` the
+    line ends among its bytes.
+    """
+
+    def __init__(self) -> None:
+        self._held = b""
+        self._offset = 0  # offset in the stream of the first held byte
+        self._newlines = 0  # line ends in the stream before the first held byte
+        self.line = np.zeros(0, dtype=np.int64)
+        self.inner_newlines = np.zeros(0, dtype=np.int64)
+
+    def feed(self, data: bytes, final: bool = False) -> tuple[bytes, RtcmFrames | None]:
+        """Add bytes; return the text and the frames decided so far.
+
+        Parameters
+        ----------
+        data : bytes
+            The next bytes of the stream.
+        final : bool
+            The stream ends after *data*: every byte is decided.
+
+        Returns
+        -------
+        text : bytes
+            The stream's bytes decided by this call, without the frames.
+        frames : RtcmFrames or None
+            The frames completed by this call, offsets in the whole stream (None: none).
+        """
+        buf = self._held + data if self._held else data
+        text, frames, stop = _split(buf, final)
+        self._held = buf[stop:]
+        if frames is not None:
+            nl = np.flatnonzero(np.frombuffer(buf, dtype=np.uint8)[:stop] == 10)
+            at = np.searchsorted(nl, frames.start, side="left")
+            self.line = self._newlines + at
+            self.inner_newlines = np.searchsorted(nl, frames.end, side="left") - at
+            frames.start += self._offset
+            frames.end += self._offset
+        else:
+            self.line = self.inner_newlines = np.zeros(0, dtype=np.int64)
+        self._newlines += buf.count(b"\n", 0, stop)
+        self._offset += stop
+        return text, frames
+
+    @property
+    def held(self) -> int:
+        """Bytes kept until more of the stream arrives [bytes]."""
+        return len(self._held)
