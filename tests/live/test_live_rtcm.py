@@ -202,6 +202,7 @@ def drive_with_rtcm(tmp_path_factory) -> tuple[bytes, dict[str, int]]:
     return data, {m: ids.count(m) for m in set(ids)}
 
 
+@pytest.mark.slow  # simulates a drive
 def test_simulated_drive_with_frames_equals_batch(drive_with_rtcm):
     data, ref = drive_with_rtcm
     ep, rep = _live(data, [], max_lines=300)
@@ -220,6 +221,7 @@ def _strip(data: bytes):
     yield text
 
 
+@pytest.mark.slow  # simulates a drive
 @settings(
     max_examples=25,
     deadline=None,
