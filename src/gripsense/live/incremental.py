@@ -10,6 +10,11 @@ Each :meth:`LiveIngest.feed`:
   central difference needs the next one) and not among the first ``hold`` of a trimmed tail
   (their earlier lines may be gone).
 
+RTCM 3 frames between the sentences are cut out of the bytes before the lines are split, with
+the batch reader's scanner (:class:`gripsense.io.nmea.rtcm.RtcmStream`; a frame cut across two
+reads is completed by the next), and counted as the batch reader counts them; reported line
+numbers are the stream's (a frame's bytes hold line ends).
+
 ``t_s`` is kept on the batch scale (seconds from the stream's first epoch) through an anchor
 epoch seen in two consecutive reads. :meth:`finish` emits the rest at the end of the stream.
 Memory is bounded by ``max_lines`` whatever the duration.
