@@ -35,8 +35,8 @@ import pandas as pd
 from gripsense.io import read_nmea
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import N_FIRST_REJECTS, _frame_detail
-from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream
+from gripsense.io.nmea.reader import N_FIRST_REJECTS
+from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream, frame_detail
 
 ACCOUNT_BATCH = 20_000
 """Received lines are counted in batches of at most this many (or when the report is read)."""
@@ -199,7 +199,7 @@ class LiveIngest:
                         RejectedLine(
                             int(lines[k]) + 1,
                             S.BAD_CHECKSUM,
-                            f"byte {frames.start[k]}: {_frame_detail(frames, k)}",
+                            f"byte {frames.start[k]}: {frame_detail(frames, k)}",
                         )
                     )
             if inner[k] == 0:

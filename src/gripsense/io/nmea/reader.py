@@ -51,7 +51,7 @@ from gripsense.io.nmea.epochs import assemble_epochs
 from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
-from gripsense.io.nmea.rtcm import RtcmFrames, split_rtcm
+from gripsense.io.nmea.rtcm import RtcmFrames, frame_detail, split_rtcm
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
@@ -201,14 +201,6 @@ def _line_numbers(text: bytes, original: bytes, rtcm: RtcmFrames) -> np.ndarray:
     return _input_line(original, rtcm.text_to_input(starts))
 
 
-def _frame_detail(rtcm: RtcmFrames, k: int) -> str:
-    """Words of a damaged RTCM3 frame."""
-    m = int(rtcm.message[k])
-    what = f"message {m}, " if m >= 0 else ""
-    n = int(rtcm.end[k] - rtcm.start[k] - 6)
-    return f"RTCM3 frame ({what}{n}-byte payload): its CRC-24Q does not match"
-
-
 def read_nmea(
     source: NmeaSource,
     *,
@@ -292,7 +284,7 @@ def read_nmea(
     if strict and rtcm is not None and bad_frames.size:
         k = int(bad_frames[0])
         raise InputError(
-            f"{name}: byte {rtcm.start[k]}: {_frame_detail(rtcm, k)} (strict mode; drop "
+            f"{name}: byte {rtcm.start[k]}: {frame_detail(rtcm, k)} (strict mode; drop "
             "--strict to count such frames instead)"
         )
     if strict and rej.size:
@@ -338,7 +330,7 @@ def read_nmea(
             at = _input_line(original, rtcm.start[bad_frames[:N_FIRST_REJECTS]])
             first += [
                 RejectedLine(int(ln) + 1, S.BAD_CHECKSUM, f"byte {rtcm.start[k]}: "
-                             + _frame_detail(rtcm, int(k)))
+                             + frame_detail(rtcm, int(k)))
                 for ln, k in zip(at.tolist(), bad_frames[:N_FIRST_REJECTS].tolist(), strict=True)
             ]  # fmt: skip
             first = sorted(first, key=lambda r: r.line)[:N_FIRST_REJECTS]

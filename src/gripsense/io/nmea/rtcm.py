@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["RtcmFrames", "RtcmStream", "crc24q", "split_rtcm"]
+__all__ = ["RtcmFrames", "RtcmStream", "crc24q", "frame_detail", "split_rtcm"]
 
 PREAMBLE = 0xD3
 _POLY = 0x1864CFB
@@ -216,6 +216,27 @@ def _split(data: bytes, final: bool) -> tuple[bytes, RtcmFrames | None, int]:
     np.add.at(d, end, -1)
     keep = np.cumsum(d[:-1]) == 0
     return buf[:stop][keep].tobytes(), RtcmFrames(start, end, good, msg), stop
+
+
+def frame_detail(frames: RtcmFrames, k: int) -> str:
+    """The words a reject gives a damaged RTCM3 frame (batch and live say the same).
+
+    Parameters
+    ----------
+    frames : RtcmFrames
+        Frames found in a stream (:func:`split_rtcm`, :class:`RtcmStream`).
+    k : int
+        Index of the frame [-].
+
+    Returns
+    -------
+    str
+        E.g. ``RTCM3 frame (message 1005, 19-byte payload): its CRC-24Q does not match``.
+    """
+    m = int(frames.message[k])
+    what = f"message {m}, " if m >= 0 else ""
+    n = int(frames.end[k] - frames.start[k] - 6)
+    return f"RTCM3 frame ({what}{n}-byte payload): its CRC-24Q does not match"
 
 
 def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
