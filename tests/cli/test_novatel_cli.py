@@ -12,28 +12,11 @@ import pytest
 from gripsense.io import read_nmea
 from gripsense.io.novatel import write_novatel
 from tests.cli.inprocess import cli
+from tests.cli.test_formats_cli import SCENARIO  # the same simulated drive
 
 pytestmark = pytest.mark.slow  # end to end: `make test-fast` skips it
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "novatel"
-
-SCENARIO = """
-[scenario]
-vehicle = "corolla_sim.toml"
-seed = 5
-[road]
-mu = 0.5
-[gnss]
-rate_hz = 10
-noise = "v100"
-[steering]
-rate_hz = 20
-[[case]]
-maneuver = "circle"
-speed_kmh = 35
-radius_m = 25
-laps = 1
-"""
 
 
 def _axles(stdout: str) -> str:

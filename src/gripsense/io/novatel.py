@@ -54,6 +54,7 @@ from gripsense.io.nmea.schema import (
     REASONS,
     TRUNCATED,
 )
+from gripsense.io.output_folder import write_file_atomic
 
 __all__ = [
     "LEAP_SECONDS",
@@ -653,7 +654,8 @@ def write_novatel(
         ``time_utc``, ``lat_deg``, ``lon_deg``, ``alt_m``, ``speed_mps``, ``course_deg``,
         ``heading_deg``.
     path : str or Path or None
-        Output file (CR LF line ends); None writes nothing.
+        Output file (CR LF line ends; written atomically, never over a file gripsense did not
+        write); None writes nothing.
     logs : tuple of str
         The logs of each epoch, in this order (of ``BESTPOS``, ``BESTVEL``, ``HEADING2``).
     heading_acc_deg : float
@@ -694,6 +696,7 @@ def write_novatel(
             "0,33",
         }
         out += [line(log, w, s, body[log]) for log in logs]
-    if path is not None:
-        Path(path).write_text("".join(s + "\r\n" for s in out), encoding="ascii", newline="")
+    if path is not None:  # atomically, never over a file gripsense did not write
+        text = "".join(s + "\r\n" for s in out)
+        write_file_atomic(path, lambda p: p.write_text(text, encoding="ascii", newline=""))
     return out
