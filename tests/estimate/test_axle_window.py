@@ -280,3 +280,36 @@ def test_windows_only_keeps_every_window_and_the_measured_grip():
     np.testing.assert_array_equal(summ["mu_low"].to_numpy(), summ["grip_used_lower"].to_numpy())
     assert np.isinf(summ["mu_high"]).all() and summ["mu"].isna().all()
     assert not summ["observable"].any()
+
+
+@pytest.mark.parametrize("u", [0.4, 0.9])
+def test_windows_without_nuisances_state_the_same(u):
+    """``WindowOptions(nuisances=False)`` (what a fleet task runs) profiles a window a linear
+    tyre explains only as far as its fit's consistency needs: every window's statement (range,
+    value, curve, fit, the reason for it) is the full profile's, and only the nuisances of
+    those windows are left out (NaN)."""
+    from gripsense.estimate.axle_window import estimate_windows
+    import pandas as pd
+
+    from gripsense.estimate.profile import LINEAR_EXPLAINS
+
+    mu = 0.8
+    d = simulate_drive(
+        "sedan", "mf-book", None, mu, receiver="rtk", seed=5, circle=(limit_speed(mu, 40, u), 40)
+    )
+    uv = user_vehicle(truth_vehicle("sedan"), "mf-book")
+    res = estimate(d, uv, "rtk")
+    full, _ = estimate_windows(res.wheels, uv, noise=res.noise, options=WindowOptions(drive=False))
+    lean, _ = estimate_windows(
+        res.wheels, uv, noise=res.noise, options=WindowOptions(drive=False, nuisances=False)
+    )
+    said = ["mu", "mu_low", "mu_high", "observable", "fit", "limited_by", "grip_used_lower"]
+    pd.testing.assert_frame_equal(lean[said], full[said])
+    assert list(lean["mu_deviance"]) == list(full["mu_deviance"])
+    skipped = lean["analysed"] & lean["stiffness_scale"].isna()
+    assert (full.loc[skipped, "limited_by"] == LINEAR_EXPLAINS).all()
+    assert full.loc[skipped, "stiffness_scale"].notna().all()
+    if u < 0.5:  # far from the limit a linear tyre explains most windows: they were skipped
+        assert skipped.sum() >= 0.5 * lean["analysed"].sum() > 0
+    kept = lean["analysed"] & ~skipped
+    pd.testing.assert_frame_equal(lean[kept], full[kept])

@@ -103,6 +103,16 @@ class WindowOptions:
         Profile the whole drive per axle (the summary's range and value). ``False`` keeps the
         windows and the summary's measured grip only, with ``fit`` :data:`NOT_PROFILED`: what
         ``gripsense fleet`` needs, which combines the windows' statements per road cell.
+    nuisances : bool
+        Profile every analysed window over the whole μ grid, also one whose upper end a linear
+        tyre explains (its statement is then the measured grip alone, its curve flat): the
+        profile's minimum gives that window's nuisances (``stiffness_scale``,
+        ``heading_bias_deg``, ``camber_slip_deg_per_g``, ``load_transfer_error``, ``shape``,
+        ``mu_best``) and tells an ``edge`` fit from an ``ok`` one. ``False`` profiles such a
+        window only as far as its fit's consistency needs (an upper bound of the profile's
+        minimum, :func:`~gripsense.estimate._axle_kernel.probe_step`): ``mu``, ``mu_low``,
+        ``mu_high``, ``observable`` and ``mu_deviance`` are the same, the nuisances NaN and the
+        fit ``ok`` (what ``gripsense fleet`` keeps of a window).
     """
 
     window_s: float = 3.0
@@ -122,3 +132,4 @@ class WindowOptions:
     bound_level: float = 0.99
     min_utilisation: float = 0.5
     drive: bool = True
+    nuisances: bool = True

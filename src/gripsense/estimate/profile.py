@@ -467,6 +467,17 @@ def profile_mu(
     # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
     probe = min(max(1.1 * float(b[:, 9].max()), float(fine[0])), float(fine[-1])) if n else -1.0
     rho = slow_correlation(t0, pri.tau_s)
+    if not o.nuisances and torque is None and 0 < n <= K.NFEW and _linear_explains(bins, pri):
+        # a linear tyre explains the data: the statement is the measured grip and a flat curve
+        # whatever the profile's shape; only the fit's consistency needs the profile, and an
+        # upper bound of its minimum below the level settles it
+        i0 = int(np.searchsorted(fine, probe))
+        top = K.probe_step(
+            probe, float(fine[i0]), ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df,
+            inv_dx, p0, o.iterations, K.STOP_ABOVE,
+        )  # fmt: skip
+        if 2.0 * top <= _chi2_ppf(0.999, n):
+            return _linear_statement(grip_lower, m)
     K.profile_grid(
         fine, ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx,
         p0, o.iterations, nll_f, th_f, dl_f, shp_f, np.inf, probe, K.STOP_ABOVE,
@@ -876,6 +887,30 @@ def profile_learned(
     # the family gave a value and the overlap is no wider than its range: the value stays
     return {**est, "mu_low": lo, "mu_high": hi, "observable": True, "mu_deviance": curve,
             "mu": float(np.clip(prior["mu"], lo, hi))}  # fmt: skip
+
+
+def _linear_statement(grip_lower: float, m: int) -> dict:
+    """:func:`profile_mu`'s answer for a window a linear tyre explains, with a consistent fit,
+    where the nuisances are not wanted (:attr:`WindowOptions.nuisances`): the measured grip as
+    the lower end, no upper end, no value, a flat curve of *m* grid points.
+    """
+    nan = float("nan")
+    return {
+        "mu": nan,
+        "mu_low": float(grip_lower) if np.isfinite(grip_lower) else 0.0,
+        "mu_high": float("inf"),
+        "observable": False,
+        "fit": "ok",
+        "mu_best": nan,
+        "stiffness_scale": nan,
+        "heading_bias_deg": nan,
+        "camber_slip_deg_per_g": nan,
+        "load_transfer_error": nan,
+        "shape": "",
+        "limited_by": LINEAR_EXPLAINS,
+        "torque_note": "",
+        "mu_deviance": bytes(m),
+    }
 
 
 def _both(a: bytes | None, b: bytes | None) -> bytes | None:

@@ -234,7 +234,12 @@ def process_log(
     from gripsense.pipeline import FrictionRun
 
     # a cell combines the windows' statements: the drive's own profile is not needed
-    run = FrictionRun(vehicle, method=method, receiver=receiver, window=WindowOptions(drive=False))
+    run = FrictionRun(
+        vehicle,
+        method=method,
+        receiver=receiver,
+        window=WindowOptions(drive=False, nuisances=False),
+    )
     res = run.run_log(path, since=since, log_options=log_options,
                       steer_csv=_steer_csv(path),
                       steer_columns=steer_columns)  # fmt: skip
