@@ -10,10 +10,11 @@ Each :meth:`LiveIngest.feed`:
   central difference needs the next one) and not among the first ``hold`` of a trimmed tail
   (their earlier lines may be gone).
 
-RTCM 3 frames between the sentences are cut out of the bytes before the lines are split, with
-the batch reader's scanner (:class:`gripsense.io.nmea.rtcm.RtcmStream`; a frame cut across two
-reads is completed by the next), and counted as the batch reader counts them; reported line
-numbers are the stream's (a frame's bytes hold line ends).
+RTCM 3 frames and Ashtech binary records (``$PASHR,MCA,`` …) between the sentences are cut
+out of the bytes before the lines are split, with the batch reader's scanner
+(:class:`gripsense.io.nmea.rtcm.RtcmStream`; a frame cut across two reads is completed by the
+next), and counted as the batch reader counts them; reported line numbers are the stream's (a
+frame's bytes hold line ends).
 
 ``t_s`` is kept on the batch scale (seconds from the stream's first epoch) through an anchor
 epoch seen in two consecutive reads. :meth:`finish` emits the rest at the end of the stream.
@@ -36,7 +37,7 @@ from gripsense.io import read_nmea
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.reader import N_FIRST_REJECTS
-from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream, frame_detail
+from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream, binary_notes, frame_detail
 
 ACCOUNT_BATCH = 20_000
 """Received lines are counted in batches of at most this many (or when the report is read)."""
@@ -96,6 +97,7 @@ class LiveIngest:
         # as the batch reader does (a frame's bytes hold line ends by chance)
         self._rtcm = RtcmStream()
         self._n_frames = 0
+        self._n_ashtech = 0  # of which Ashtech binary records
         self._frame_rejects: list[RejectedLine] = []
         self._text_bytes = 0  # bytes of text (the stream without its frames) so far
         self._text_lines = 0  # line ends in that text
@@ -180,12 +182,8 @@ class LiveIngest:
         not matching: rejected, *bad checksum*) and note where each was cut out of the text.
         """
         self._n_frames += frames.size
-        good = frames.good & (frames.message >= 0)
-        for m in frames.message[good].tolist():
-            self._ignored[f"RTCM3 {m}"] += 1
-        empty = int((frames.good & (frames.message < 0)).sum())
-        if empty:
-            self._ignored["RTCM3 (empty)"] += empty
+        self._n_ashtech += frames.n_ashtech
+        self._ignored.update(frames.ignored_counts())
         lines, inner = self._rtcm.line, self._rtcm.inner_newlines
         lengths = frames.end - frames.start
         removed = self._removed + np.concatenate([[0], np.cumsum(lengths)[:-1]])
@@ -277,14 +275,7 @@ class LiveIngest:
             n_epochs=self._n_epochs,
             epochs_without_time=self._no_time,
             has_date=self._has_date,
-            notes=(
-                [
-                    f"{nf} RTCM3 frames between the sentences (the receiver's corrections), "
-                    "each counted as one unit"
-                ]
-                if nf
-                else []
-            ),
+            notes=binary_notes(nf, self._n_ashtech),
             unit="lines and frames" if nf else "lines",
         )
 

@@ -46,12 +46,19 @@ import pandas as pd
 from gripsense.errors import InputError
 from gripsense.io.nmea import schema as S
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.nmea.ashtech import ASHTECH_IDS
 from gripsense.io.nmea.decode import decode_all
 from gripsense.io.nmea.epochs import assemble_epochs
 from gripsense.io.nmea.fast import tokenize_fast
 from gripsense.io.nmea.kernels import count_lines
 from gripsense.io.nmea.reference import classify_line, tokenize_reference
-from gripsense.io.nmea.rtcm import RtcmFrames, frame_detail, split_rtcm
+from gripsense.io.nmea.rtcm import (
+    RtcmFrames,
+    binary_notes,
+    first_ashtech_header,
+    frame_detail,
+    split_rtcm,
+)
 from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
 from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
@@ -184,6 +191,43 @@ def _without_checksums(tok) -> bool:
     return set(tok.counts(IGNORED)) <= {S.BLANK, S.COMMENT}
 
 
+def _tokenize(inp: ReadInput, original: bytes, engine: str, max_lines: int):
+    """Tokenize the text of *inp* (its frames cut out): the tokens, whether the log carries
+    no checksums, and *original* with the line ends the text was read with (the line
+    numbers of the frames).
+    """
+    if b"\n" not in inp.data and _cr_lines(inp.data):
+        # a logger that ends its lines with CR alone (classic Mac, some instruments)
+        inp.data = inp.data.replace(b"\r", b"\n")
+        original = original.replace(b"\r", b"\n")
+    # the fast tokenizer counts its chunks' lines before anything else and stops over the
+    # limit; then (rare) the size guard counts, cuts and the kept lines are read
+    tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
+    if tok is None:
+        _cap_lines(inp, max_lines)
+        tok = _ENGINES[engine](inp.data)
+    no_checksum = _without_checksums(tok)
+    if no_checksum:  # the talker sends none: read its sentences unverified
+        tok = (
+            tokenize_fast(inp.data, no_checksum=True)
+            if engine == "fast"
+            else tokenize_reference(inp.data, no_checksum=True)
+        )
+    return tok, no_checksum, original
+
+
+_ASHTECH_KEYS = tuple(f"PASHR,{i} " for i in ASHTECH_IDS)
+
+
+def _may_hold_ashtech(tok) -> bool:
+    """Whether an Ashtech binary record may be left in the lines: one is rejected, or named
+    like a record (a record's bytes that happen to read as a sentence).
+    """
+    if (tok.outcome == REJECTED).any():
+        return True
+    return any(k.startswith(_ASHTECH_KEYS) for k in tok.counts(IGNORED))
+
+
 def _input_line(original: bytes, pos: np.ndarray) -> np.ndarray:
     """0-based line of the input holding each byte offset *pos*."""
     nl = np.flatnonzero(np.frombuffer(original, dtype=np.uint8) == 10)
@@ -249,26 +293,22 @@ def read_nmea(
     if engine not in _ENGINES:
         raise InputError(f"read_nmea: engine={engine!r}; use one of {sorted(_ENGINES)}")
     inp = _read_source(source, max_bytes, max_lines, decompress)
-    # RTCM 3 corrections interleaved by the receiver: cut out and counted as frames
+    # RTCM 3 corrections and Ashtech binary records interleaved by the receiver: cut out and
+    # counted as frames; records before the first RTCM 3 preamble are looked for only when a
+    # line is rejected or named like one (a record left in the text always is; pure NMEA
+    # costs no pass)
     original = inp.data
-    inp.data, rtcm = split_rtcm(original)
-    if b"\n" not in inp.data and _cr_lines(inp.data):
-        # a logger that ends its lines with CR alone (classic Mac, some instruments)
-        inp.data = inp.data.replace(b"\r", b"\n")
-        original = original.replace(b"\r", b"\n")  # (the line numbers of the frames)
-    # the fast tokenizer counts its chunks' lines before anything else and stops over the
-    # limit; then (rare) the size guard counts, cuts and the kept lines are read
-    tok = tokenize_fast(inp.data, max_lines=max_lines) if engine == "fast" else None
-    if tok is None:
-        _cap_lines(inp, max_lines)
-        tok = _ENGINES[engine](inp.data)
-    no_checksum = _without_checksums(tok)
-    if no_checksum:  # the talker sends none: read its sentences unverified
-        tok = (
-            tokenize_fast(inp.data, no_checksum=True)
-            if engine == "fast"
-            else tokenize_reference(inp.data, no_checksum=True)
-        )
+    extra_lines, read_notes = inp.extra_lines, inp.notes
+    for ashtech in (False, True):
+        inp.data, rtcm = split_rtcm(original, ashtech=ashtech)
+        inp.extra_lines, inp.notes = extra_lines, read_notes
+        tok, no_checksum, original_lines = _tokenize(inp, original, engine, max_lines)
+        if ashtech or not _may_hold_ashtech(tok):
+            break
+        d3 = original.find(b"\xd3")
+        if first_ashtech_header(original, None if d3 < 0 else d3) < 0:
+            break
+    original = original_lines
     data, name = inp.data, inp.name
     line_no = _line_numbers(data, original, rtcm) if rtcm is not None else None
 
@@ -318,12 +358,8 @@ def read_nmea(
             detail = classify_line(unworded[i], no_checksum)[2]
         first.append(RejectedLine(int(no(i)), tok.names[tok.code[i]], detail))
     if rtcm is not None:
-        good = rtcm.good & (rtcm.message >= 0)
-        for m, c in zip(*np.unique(rtcm.message[good], return_counts=True), strict=True):
-            ignored[f"RTCM3 {m}"] = ignored.get(f"RTCM3 {m}", 0) + int(c)
-        empty = int((rtcm.good & (rtcm.message < 0)).sum())
-        if empty:
-            ignored["RTCM3 (empty)"] = empty
+        for lab, c in rtcm.ignored_counts().items():
+            ignored[lab] = ignored.get(lab, 0) + c
         ignored = dict(sorted(ignored.items()))
         if bad_frames.size:
             rejected_c[S.BAD_CHECKSUM] = rejected_c.get(S.BAD_CHECKSUM, 0) + int(bad_frames.size)
@@ -375,14 +411,7 @@ def read_nmea(
             if notes.get("same_time_merged")
             else []
         )
-        + (
-            [
-                f"{n_frames} RTCM3 frames between the sentences (the receiver's corrections), "
-                "each counted as one unit"
-            ]
-            if n_frames
-            else []
-        ),
+        + binary_notes(n_frames, rtcm.n_ashtech if rtcm is not None else 0),
         unit="lines and frames" if n_frames else "lines",
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)

@@ -1,4 +1,5 @@
-"""RTCM 3 frames between NMEA sentences (receivers that interleave their corrections).
+"""RTCM 3 frames and Ashtech binary records between NMEA sentences (receivers that interleave
+their corrections or raw data).
 
 An RTCM 3 frame (RTCM 10403.3, §4) is the preamble ``0xD3``, 6 reserved zero bits, a 10-bit
 payload length *L* (at most 1023), *L* payload bytes (the first 12 bits: the message number)
@@ -12,17 +13,43 @@ out of the stream before its lines are read:
   not is counted as rejected (*bad checksum*);
 * any other byte stays in the text and is read as NMEA (where it is *not NMEA*, as before).
 
-Pure NMEA holds no ``0xD3`` byte, so the scan costs one ``bytes.find`` there.
+Ashtech binary records (``$PASHR,MCA,`` + a fixed-length binary structure + CR LF;
+:mod:`gripsense.io.nmea.ashtech`) are found by the same scan and follow the same rules: a
+good checksum is one unit, ignored under ``Ashtech binary <id>``; a structure whose CR LF is
+in place but whose checksum fails, followed by a sentence, is rejected (*bad checksum*).
+
+Pure NMEA holds no ``0xD3`` byte and no ``$PASHR,``, so the scan costs two ``bytes.find``
+there.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-__all__ = ["RtcmFrames", "RtcmStream", "crc24q", "frame_detail", "split_rtcm"]
+from gripsense.io.nmea.ashtech import (
+    ASHTECH_IDS,
+    HEADER,
+    HEADER_LEN,
+    ashtech_label,
+    ashtech_size,
+    checksum_ok,
+    header_at,
+    record_end,
+)
+
+__all__ = [
+    "RtcmFrames",
+    "RtcmStream",
+    "binary_notes",
+    "crc24q",
+    "first_ashtech_header",
+    "frame_detail",
+    "split_rtcm",
+]
 
 PREAMBLE = 0xD3
 _POLY = 0x1864CFB
@@ -103,57 +130,102 @@ def _good_undecided(buf, i):
 
 
 @njit(cache=True, nogil=True)
-def _scan_upto(buf, table, start, end, good, final):
-    """Frames from the first preamble on: writes ``start``/``end`` (byte offsets) and ``good``
-    (CRC checks); returns their number and the offset from which the bytes are undecided
-    (``buf.size`` when *final*: the end of *buf* is the end of the stream; else the first
-    byte whose reading needs bytes not yet arrived — a scan resumed there with more bytes
-    decides every byte as one scan over the whole stream does).
+def _resumes(buf, e, table, final):
+    """After a damaged frame or record ending at byte *e*: 1 the stream resumes there with a
+    sentence or a good frame, 0 it does not, -1 undecided (bytes not yet arrived).
+    """
+    n = buf.size
+    if not final and (e + 4 > n or (not _sentence_at(buf, e) and _good_undecided(buf, e))):
+        return -1
+    if e >= n or not (_sentence_at(buf, e) or _good_at(buf, e, table)):
+        return 0
+    return 1
+
+
+@njit(cache=True, nogil=True)
+def _starts_inside(buf, a, b):
+    r"""Whether a line inside bytes ``a:b`` starts a sentence (``\n`` then ``$`` or ``!``)."""
+    for j in range(a, b):
+        if buf[j] == 10 and (buf[j + 1] == 36 or buf[j + 1] == 33):
+            return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def _scan_upto(buf, table, start, end, good, kind, final):
+    """Frames and Ashtech binary records from the first candidate on: writes
+    ``start``/``end`` (byte offsets), ``good`` (CRC or checksum checks) and ``kind`` (-1: an
+    RTCM 3 frame, else the Ashtech type code); returns their number and the offset from which
+    the bytes are undecided (``buf.size`` when *final*: the end of *buf* is the end of the
+    stream; else the first byte whose reading needs bytes not yet arrived — a scan resumed
+    there with more bytes decides every byte as one scan over the whole stream does).
     """
     n = buf.size
     k = 0
     i = 0
-    while i + 6 <= n:
-        if buf[i] != 0xD3 or (buf[i + 1] & 0xFC) != 0:
-            i += 1
-            continue
-        ln = ((buf[i + 1] & 3) << 8) | buf[i + 2]
-        e = i + 6 + ln
-        if e > n:
-            if not final:
-                return k, i
-            i += 1
-            continue
-        want = (np.uint32(buf[e - 3]) << 16) | (np.uint32(buf[e - 2]) << 8) | np.uint32(buf[e - 1])
-        if _crc(buf, i, e - 3, table) == want:
-            ok = True
-        else:
-            # a damaged frame only where the stream resumes right after it with a sentence or
-            # a frame and no line inside it starts a sentence (else these are other bytes)
-            ok = False
-            if not final and (e + 4 > n or (not _sentence_at(buf, e) and _good_undecided(buf, e))):
-                return k, i
-            if e >= n or not (_sentence_at(buf, e) or _good_at(buf, e, table)):
+    while i < n:
+        b0 = buf[i]
+        if b0 == 0xD3:
+            if i + 6 > n:
+                if not final:
+                    return k, i
                 i += 1
                 continue
-            inner = False
-            for j in range(i + 3, e - 4):
-                if buf[j] == 10 and (buf[j + 1] == 36 or buf[j + 1] == 33):
-                    inner = True
-                    break
-            if inner:
+            if (buf[i + 1] & 0xFC) != 0:
+                i += 1
+                continue
+            ln = ((buf[i + 1] & 3) << 8) | buf[i + 2]
+            e = i + 6 + ln
+            if e > n:
+                if not final:
+                    return k, i
+                i += 1
+                continue
+            want = (
+                (np.uint32(buf[e - 3]) << 16) | (np.uint32(buf[e - 2]) << 8) | np.uint32(buf[e - 1])
+            )
+            ok = _crc(buf, i, e - 3, table) == want
+            code = -1
+            body = i + 3
+        elif b0 == 36:  # "$": an Ashtech binary record?
+            code = header_at(buf, i)
+            if code == -2:
+                if not final:
+                    return k, i
+                i += 1
+                continue
+            if code < 0:
+                i += 1
+                continue
+            e = record_end(code, i)
+            if e > n:
+                if not final:
+                    return k, i
+                i += 1
+                continue
+            if buf[e - 2] != 13 or buf[e - 1] != 10:
+                i += 1
+                continue
+            ok = checksum_ok(buf, code, i)
+            body = i + 11
+        else:
+            i += 1
+            continue
+        if not ok:
+            # damaged only where the stream resumes right after it with a sentence or a frame
+            # and no line inside it starts a sentence (else these are other bytes)
+            r = _resumes(buf, e, table, final)
+            if r < 0:
+                return k, i
+            if r == 0 or _starts_inside(buf, body, e - 4):
                 i += 1
                 continue
         start[k] = i
         end[k] = e
         good[k] = ok
+        kind[k] = code
         k += 1
         i = e
-    if not final:
-        while i < n:
-            if buf[i] == 0xD3:
-                return k, i
-            i += 1
     return k, n
 
 
@@ -168,18 +240,44 @@ class RtcmFrames:
     good : numpy.ndarray of bool
         Whether its CRC-24Q checks.
     message : numpy.ndarray of int64
-        Message number (first 12 payload bits; -1 for an empty payload).
+        RTCM 3: message number (first 12 payload bits; -1 for an empty payload); Ashtech: the
+        type code (:data:`~gripsense.io.nmea.ashtech.ASHTECH_IDS`).
+    ashtech : numpy.ndarray of bool
+        Whether it is an Ashtech binary record (else an RTCM 3 frame).
     """
 
     start: np.ndarray
     end: np.ndarray
     good: np.ndarray
     message: np.ndarray
+    ashtech: np.ndarray
 
     @property
     def size(self) -> int:
-        """Number of frames."""
+        """Number of frames and records."""
         return int(self.start.size)
+
+    @property
+    def n_ashtech(self) -> int:
+        """Number of Ashtech binary records."""
+        return int(self.ashtech.sum())
+
+    def label(self, k: int) -> str:
+        """What frame *k* is in the report: ``RTCM3 1005``, ``RTCM3 (empty)``,
+        ``Ashtech binary MCA``.
+        """
+        m = int(self.message[k])
+        if self.ashtech[k]:
+            return ashtech_label(m)
+        return f"RTCM3 {m}" if m >= 0 else "RTCM3 (empty)"
+
+    def ignored_counts(self) -> dict[str, int]:
+        """Good frames and records per :meth:`label` (the report's *ignored* entries)."""
+        out: dict[str, int] = {}
+        for k in np.flatnonzero(self.good).tolist():
+            lab = self.label(k)
+            out[lab] = out.get(lab, 0) + 1
+        return out
 
     def text_to_input(self, pos: np.ndarray) -> np.ndarray:
         """Byte offsets in the text without the frames -> offsets in the input."""
@@ -188,34 +286,65 @@ class RtcmFrames:
         return pos + removed[np.searchsorted(text_at, pos, side="right")]
 
 
-def _split(data: bytes, final: bool) -> tuple[bytes, RtcmFrames | None, int]:
-    """The frames of *data* cut out up to the first undecided byte (see :func:`_scan_upto`):
-    the text before it, the frames and that offset.
+_ASHTECH_HEADER = re.compile(re.escape(HEADER) + b"(?:" + "|".join(ASHTECH_IDS).encode() + b"),")
+
+
+def first_ashtech_header(data: bytes, end: int | None = None) -> int:
+    """Offset of the first Ashtech binary header (``$PASHR,MCA,`` …) in ``data[:end]``, -1 if
+    none (one pass over those bytes).
     """
-    first = data.find(b"\xd3")
-    if first < 0:
+    a = data.find(HEADER, 0, end)  # ASCII $PASHR sentences are common: look for an id after it
+    if a < 0:
+        return -1
+    m = _ASHTECH_HEADER.search(data, a, len(data) if end is None else end)
+    return -1 if m is None else m.start()
+
+
+def _split(data: bytes, final: bool, ashtech: bool = True) -> tuple[bytes, RtcmFrames | None, int]:
+    """The frames and records of *data* cut out up to the first undecided byte (see
+    :func:`_scan_upto`): the text before it, the frames and that offset. Without *ashtech*
+    the scan starts at the first RTCM 3 preamble only (records after it are still cut; the
+    batch reader looks for records before it only when a line is rejected).
+    """
+    found = [data.find(b"\xd3")]
+    if ashtech:
+        found.append(first_ashtech_header(data))
+    found = [j for j in found if j >= 0]
+    if not final:  # a header cut by the end of this piece
+        j = data.find(b"$", max(len(data) - HEADER_LEN, 0))
+        while j >= 0 and not HEADER.startswith(data[j : j + 7]):
+            j = data.find(b"$", j + 1)
+        if j >= 0:
+            found.append(j)
+    if not found:
         return data, None, len(data)
+    first = min(found)
     buf = np.frombuffer(data, dtype=np.uint8)
     cap = (buf.size - first) // 6 + 1
     start = np.empty(cap, dtype=np.int64)
     end = np.empty(cap, dtype=np.int64)
     good = np.empty(cap, dtype=np.bool_)
-    k, stop = _scan_upto(buf[first:], _CRC_TABLE, start, end, good, final)
+    kind = np.empty(cap, dtype=np.int64)
+    k, stop = _scan_upto(buf[first:], _CRC_TABLE, start, end, good, kind, final)
     k, stop = int(k), int(stop) + first
     if k == 0:
         return data[:stop], None, stop
-    start, end, good = start[:k] + first, end[:k] + first, good[:k]
+    start, end, good, kind = start[:k] + first, end[:k] + first, good[:k], kind[:k]
     msg = np.where(
-        end - start > 7,
-        (buf[np.minimum(start + 3, buf.size - 1)].astype(np.int64) << 4)
-        | (buf[np.minimum(start + 4, buf.size - 1)].astype(np.int64) >> 4),
-        -1,
+        kind >= 0,
+        kind,
+        np.where(
+            end - start > 7,
+            (buf[np.minimum(start + 3, buf.size - 1)].astype(np.int64) << 4)
+            | (buf[np.minimum(start + 4, buf.size - 1)].astype(np.int64) >> 4),
+            -1,
+        ),
     )
     d = np.zeros(stop + 1, dtype=np.int64)
     np.add.at(d, start, 1)
     np.add.at(d, end, -1)
     keep = np.cumsum(d[:-1]) == 0
-    return buf[:stop][keep].tobytes(), RtcmFrames(start, end, good, msg), stop
+    return buf[:stop][keep].tobytes(), RtcmFrames(start, end, good, msg, kind >= 0), stop
 
 
 def frame_detail(frames: RtcmFrames, k: int) -> str:
@@ -234,18 +363,57 @@ def frame_detail(frames: RtcmFrames, k: int) -> str:
         E.g. ``RTCM3 frame (message 1005, 19-byte payload): its CRC-24Q does not match``.
     """
     m = int(frames.message[k])
+    if frames.ashtech[k]:
+        return (
+            f"Ashtech binary {ASHTECH_IDS[m]} record ({ashtech_size(m)}-byte structure): its "
+            "checksum does not match"
+        )
     what = f"message {m}, " if m >= 0 else ""
     n = int(frames.end[k] - frames.start[k] - 6)
     return f"RTCM3 frame ({what}{n}-byte payload): its CRC-24Q does not match"
 
 
-def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
+def binary_notes(frames_total: int, ashtech: int) -> list[str]:
+    """The report's notes on the binary units cut out of an NMEA stream (batch and live say
+    the same).
+
+    Parameters
+    ----------
+    frames_total : int
+        RTCM 3 frames and Ashtech binary records cut out [-].
+    ashtech : int
+        Of which Ashtech binary records [-].
+
+    Returns
+    -------
+    list of str
+        One note per kind present.
+    """
+    out = []
+    rtcm = frames_total - ashtech
+    if rtcm:
+        out.append(
+            f"{rtcm} RTCM3 frames between the sentences (the receiver's corrections), "
+            "each counted as one unit"
+        )
+    if ashtech:
+        out.append(
+            f"{ashtech} Ashtech binary records ($PASHR,MCA/PBN/…: raw measurements, positions, "
+            "ephemerides) between the sentences, each counted as one unit, not used"
+        )
+    return out
+
+
+def split_rtcm(data: bytes, ashtech: bool = True) -> tuple[bytes, RtcmFrames | None]:
     """Cut the RTCM 3 frames out of a byte stream.
 
     Parameters
     ----------
     data : bytes
         The stream.
+    ashtech : bool
+        Look for Ashtech binary records before the first RTCM 3 preamble too (one more pass
+        over those bytes; records after it are always cut).
 
     Returns
     -------
@@ -254,7 +422,7 @@ def split_rtcm(data: bytes) -> tuple[bytes, RtcmFrames | None]:
     frames : RtcmFrames or None
         The frames cut out (None: none).
     """
-    text, frames, _ = _split(data, final=True)
+    text, frames, _ = _split(data, final=True, ashtech=ashtech)
     return text, frames
 
 
