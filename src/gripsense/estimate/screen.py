@@ -14,7 +14,13 @@ import numpy as np
 
 from gripsense.estimate.noise import NoiseModel
 
-__all__ = ["offset_residual_rad", "resolvable", "resolvable_bins"]
+__all__ = [
+    "offset_residual_rad",
+    "resolvable",
+    "resolvable_bins",
+    "resolvable_steady",
+    "steady_runs",
+]
 
 
 def offset_residual_rad(noise: NoiseModel) -> float:
@@ -45,6 +51,8 @@ def resolvable(
     noise: NoiseModel,
     z: float,
     grip_floor: float = np.inf,
+    *,
+    signed: bool = False,
 ) -> np.ndarray:
     """Windows of bins whose cornering the compass resolves, whatever the grip.
 
@@ -76,6 +84,10 @@ def resolvable(
     grip_floor : float
         A window whose largest measured grip reaches this passes too
         (``WindowOptions.screen_utilisation``) [-].
+    signed : bool
+        ᾱ_lin from the window's mean signed force, |mean(F / (C_L + C_R))|, instead of the mean
+        of each bin's |F|: for a steady stretch (one sign), whose many bins would otherwise
+        sum the force noise's rectified mean, which does not average away.
 
     Returns
     -------
@@ -86,7 +98,8 @@ def resolvable(
     if data.shape[0] == 0:
         return np.zeros(0, dtype=bool)
     m = data.shape[1]
-    slip = np.mean(np.abs(data[..., 6]) / (data[..., 4] + data[..., 5]), axis=1)
+    lin = data[..., 6] / (data[..., 4] + data[..., 5])
+    slip = np.abs(np.mean(lin, axis=1)) if signed else np.mean(np.abs(lin), axis=1)
     sig_slip = np.hypot(np.sqrt(np.sum(data[..., 8] ** 2, axis=1)) / m, offset_residual_rad(noise))
     sig_ay = np.sqrt(np.sum(np.asarray(grip_sigma, dtype=float) ** 2, axis=1)) / m
     ok = (slip >= z * sig_slip) & (np.abs(np.mean(data[..., 10], axis=1)) >= z * sig_ay)
@@ -123,3 +136,95 @@ def resolvable_bins(
     data = np.asarray(data, dtype=float)
     gs = np.asarray(grip_sigma, dtype=float)[:, None]
     return resolvable(data[:, None, :], gs, noise, z, grip_floor)
+
+
+def steady_runs(
+    t0: np.ndarray, t1: np.ndarray, grip: np.ndarray, tol: float, gap_s: float
+) -> list[np.ndarray]:
+    """Runs of consecutive bins that are one steady state: each bin starts within *gap_s* of
+    the previous one's end and its measured grip stays within *tol* of the run's first bin
+    (the rule of :func:`~gripsense.estimate.bins.merge_steady`, on the grip alone: selecting
+    on the slip would keep the runs whose noise enlarged it).
+
+    Parameters
+    ----------
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    grip : numpy.ndarray
+        Each bin's measured grip [-].
+    tol : float
+        Largest change of measured grip within a run [-].
+    gap_s : float
+        Largest gap between a bin's end and the next one's start [s].
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The bin indices of each run, in time order (every bin in exactly one run).
+    """
+    t0, t1, grip = (np.asarray(x, dtype=float) for x in (t0, t1, grip))
+    runs: list[np.ndarray] = []
+    start = 0
+    for i in range(1, t0.size + 1):
+        if i == t0.size or t0[i] - t1[i - 1] > gap_s or not abs(grip[i] - grip[start]) <= tol:
+            runs.append(np.arange(start, i))
+            start = i
+    return runs
+
+
+def resolvable_steady(
+    data: np.ndarray,
+    grip_sigma: np.ndarray,
+    t0: np.ndarray,
+    t1: np.ndarray,
+    noise: NoiseModel,
+    z: float,
+    tol: float,
+    gap_s: float,
+    min_bins: int,
+) -> np.ndarray:
+    """Bins of steady stretches whose cornering the compass resolves over the whole stretch.
+
+    A steady stretch (:func:`steady_runs`) is one point of the tyre curve, and its bins' white
+    slip noise averages over all of them: :func:`resolvable` of the stretch as one window of m
+    bins, σ_α,white / √m against the calibration's residual (``docs/physics.md`` §15.2). On ice
+    (μ 0.1, 0.08 g) a car's slip of 0.2–0.3° is below 3σ of a 3 s window's noise with a 0.3°
+    compass, and resolved over a 25 s circle once the mounting offset is known.
+
+    Parameters
+    ----------
+    data : numpy.ndarray
+        Bins, (n_bins, n_columns) in :data:`~gripsense.estimate.bins.BIN_COLUMNS` order [SI].
+    grip_sigma : numpy.ndarray
+        1σ of each bin's measured grip [-].
+    t0, t1 : numpy.ndarray
+        Bin start and end [s].
+    noise : NoiseModel
+        The run's noise model.
+    z : float
+        How many 1σ the slip and the lateral acceleration must clear [-].
+    tol : float
+        Largest change of measured grip within a stretch (``WindowOptions.steady_tolerance``) [-].
+    gap_s : float
+        Largest gap between consecutive bins of a stretch [s].
+    min_bins : int
+        Fewest bins of a stretch (a window's: shorter ones are the windows' and bins' business)
+        [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        bool per bin: in a stretch that passes.
+    """
+    data = np.asarray(data, dtype=float)
+    gs = np.asarray(grip_sigma, dtype=float)
+    ok = np.zeros(data.shape[0], dtype=bool)
+    if data.shape[0] == 0:
+        return ok
+    for run in steady_runs(t0, t1, data[:, 9], tol, gap_s):
+        if (
+            run.size >= max(min_bins, 1)
+            and resolvable(data[run][None], gs[run][None], noise, z, signed=True)[0]
+        ):
+            ok[run] = True
+    return ok
