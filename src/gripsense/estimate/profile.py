@@ -389,16 +389,27 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     prediction, and a tolerance from the force's noise and model fidelity and the slip's white
     noise, offset and drift (their 90 % edges added: the slip's offset and drift are the
     receiver's declared slow heading error, so a receiver declared with one is given more room
-    here than one declared without: ``docs/physics.md`` §15.11).
+    here than one declared without: ``docs/physics.md`` §15.11). The slip is the profile's
+    α + κ a_y at the camber prior's mean, and its 1σ also holds the camber prior's κ a_y and
+    the steering scale's ς δ (§15.3): the same slip terms as the profile's.
     """
     if bins.shape[0] == 0:
         return False
     z = 1.645
     fz = bins[:, 2] + bins[:, 3]
-    y, k = force_and_linear(bins)
+    ay, steer = bins[:, 10], bins[:, 12]
+    shifted = bins.copy()
+    shifted[:, :2] += (pri.mean[1] * ay)[:, None]  # the camber thrust's slip shift, as profiled
+    y, k = force_and_linear(shifted)
     y, k = np.abs(y), np.abs(k)
     c_sum = bins[:, 4] + bins[:, 5]
-    slip_sd = np.sqrt(bins[:, 8] ** 2 + pri.sd[5] ** 2 + pri.delta**2)
+    slip_sd = np.sqrt(
+        bins[:, 8] ** 2
+        + pri.sd[5] ** 2
+        + pri.delta**2
+        + (pri.sd[1] * ay) ** 2
+        + (pri.sd[6] * steer) ** 2
+    )
     tol = z * (np.hypot(bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
     band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
     return linear_explains(y, k, band, tol)
@@ -467,7 +478,8 @@ def profile_mu(
     # docs/physics.md §15.3); the probe just above the measured grip bounds the minimum
     probe = min(max(1.1 * float(b[:, 9].max()), float(fine[0])), float(fine[-1])) if n else -1.0
     rho = slow_correlation(t0, pri.tau_s)
-    if not o.nuisances and torque is None and 0 < n <= K.NFEW and _linear_explains(bins, pri):
+    lin = None if o.nuisances or torque is not None else _linear_explains(bins, pri)
+    if lin and 0 < n <= K.NFEW:
         # a linear tyre explains the data: the statement is the measured grip and a flat curve
         # whatever the profile's shape; only the fit's consistency needs the profile, and an
         # upper bound of its minimum below the level settles it
@@ -521,7 +533,7 @@ def profile_mu(
     # stiffness inside the prior's 90 % band, explains the data within their noise (the
     # slip's white noise and offsets, the force's noise and the model's fidelity) — a finite
     # upper end there comes from a degeneracy of the other nuisances (docs/physics.md §15.8)
-    if np.isfinite(hi) and _linear_explains(bins, pri):
+    if np.isfinite(hi) and (_linear_explains(bins, pri) if lin is None else lin):
         hi, hi_p, observable = np.inf, np.inf, False
         far_from_limit = False
     if far_from_limit:
