@@ -13,12 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gripsense.io.nmea.epochs import (
-    EPOCH_COLUMNS,
-    HEADING_SOURCES,
-    YAW_RATE_SOURCES,
-    yaw_from_heading,
-)
+from gripsense.io.nmea.epochs import EPOCH_COLUMNS, yaw_from_heading
+from gripsense.io.sources import HEADING_SOURCES, YAW_RATE_SOURCES
 
 __all__ = ["EPOCH_COLUMNS", "EXTRA_COLUMNS", "build_epochs", "channel_rates"]
 

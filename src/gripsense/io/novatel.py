@@ -31,6 +31,10 @@ bad CRC), ``missing checksum``, ``malformed field``, ``truncated`` (the file end
 line) or ``not NovAtel ASCII``. NMEA sentences logged on the same port are read by
 :func:`gripsense.io.read_nmea` (counted under their types) and fill what the NovAtel logs lack
 at the same UTC time; their epochs at other times are epochs of their own.
+
+``heading_source`` names the log that gave each epoch's heading (``HEADING``, ``HEADING2``,
+``DUALANTENNAHEADING``, ``INSPVA``, ``INSPVAS``, ``INSPVAX``; :mod:`gripsense.io.sources`), or
+the NMEA sentence where the NMEA gave it.
 """
 
 from __future__ import annotations
@@ -55,6 +59,7 @@ from gripsense.io.nmea.schema import (
     TRUNCATED,
 )
 from gripsense.io.output_folder import write_file_atomic
+from gripsense.io.sources import HEADING_SOURCES
 
 __all__ = [
     "LEAP_SECONDS",
@@ -492,7 +497,8 @@ def _epochs(
     n = order.size
     values: dict[str, np.ndarray] = {}
 
-    def put(f: pd.DataFrame, src: str, dst: str) -> None:
+    def put(f: pd.DataFrame, src: str, dst: str) -> np.ndarray:
+        """Fill *dst* where it is still NaN; the rows filled."""
         k = np.searchsorted(
             order, np.round((f["week"] * _WEEK_S + f["seconds"]).to_numpy(float) * 1000)
         )
@@ -500,6 +506,10 @@ def _epochs(
         v = f[src].to_numpy(float)
         fill = np.isnan(out[k])
         out[k[fill]] = v[fill]
+        return k[fill]
+
+    # the log that gave each row's heading (its HEADING_SOURCES code; NaN: none)
+    head_src = np.full(n, np.nan)
 
     for log in ("BESTPOS",):
         if log in frames:
@@ -511,7 +521,7 @@ def _epochs(
     has_heading = False
     for log in _HEADINGS:
         if log in frames:
-            put(frames[log], "heading_deg", "heading_deg")
+            head_src[put(frames[log], "heading_deg", "heading_deg")] = HEADING_SOURCES.index(log)
             put(frames[log], "heading_acc_deg", "heading_acc_deg")
             has_heading = True
     notes = []
@@ -526,21 +536,26 @@ def _epochs(
             put(f, "ins_speed", "speed_mps")
             put(f, "ins_course", "course_deg")
         if not has_heading:
-            put(f, "ins_heading", "heading_deg")
+            head_src[put(f, "ins_heading", "heading_deg")] = HEADING_SOURCES.index(log)
             has_heading = True
             notes.append(f"heading: the INS azimuth of {log} (the log has no HEADING/HEADING2)")
     seconds = gps_to_utc(np.floor(order / 1000 / _WEEK_S), np.mod(order / 1000, _WEEK_S))
     src = np.full(n, -1, dtype=np.int64)  # the NMEA epoch joined to each row
     from_nmea = np.zeros(n, dtype=bool)  # rows whose heading the NMEA gave
     yaw_src = None
+    values["_heading_src"] = head_src
     if nlog is not None and len(nlog.epochs):
         values, seconds, src, more = _join_nmea(values, seconds, nlog)
         from_nmea = values.pop("_from_nmea_heading").astype(bool)
         notes += more
         if "yaw_rate_rps" in values:
             yaw_src = "ROT"
+    head_src = values.pop("_heading_src")
     ep = build_epochs(values, seconds, has_date=True, heading_source="channel",
                       yaw_rate_source=yaw_src)  # fmt: skip
+    known = ~np.isnan(head_src) & ep["heading_deg"].notna().to_numpy()
+    codes = np.where(known, np.nan_to_num(head_src, nan=-1.0), -1).astype(np.int8)
+    ep["heading_source"] = pd.Categorical.from_codes(codes, categories=HEADING_SOURCES)
     if nlog is not None and from_nmea.any():
         hsrc = nlog.epochs["heading_source"].to_numpy(object)
         col = ep["heading_source"].to_numpy(object)

@@ -56,6 +56,7 @@ import pandas as pd
 from numba import njit
 
 from gripsense.io.nmea.schema import SENTENCES
+from gripsense.io.sources import HEADING_SOURCES, YAW_RATE_SOURCES
 
 __all__ = [
     "EPOCH_COLUMNS",
@@ -108,25 +109,7 @@ _HEADING_LABEL = {
     "PSSN,HRP": "PSSN",
     "PFEC,GPatt": "GPatt",
 }
-# categories of ``heading_source``: the NMEA sentences, then the other formats (VBOX True_Head,
-# UBX NAV-RELPOSNED / NAV-ATT, a mapped MDF4 or CAN channel); new ones are appended
-HEADING_SOURCES = [
-    "HPR",
-    "PASHR",
-    "PSTI",
-    "THS",
-    "HDT",
-    "VBOX",
-    "RELPOSNED",
-    "NAV-ATT",
-    "channel",
-    "AVR",
-    "PSSN",
-    "GPatt",
-]
 ATTITUDE_PRIORITY = tuple(s for s in HEADING_PRIORITY if s not in ("THS", "HDT"))
-# categories of ``yaw_rate_source``: NMEA ROT, the heading's rate, VBOX Yaw_Rate, a mapped channel
-YAW_RATE_SOURCES = ["ROT", "heading", "VBOX", "channel"]
 
 
 def epoch_boundaries_loop(
