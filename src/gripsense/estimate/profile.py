@@ -389,27 +389,16 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     prediction, and a tolerance from the force's noise and model fidelity and the slip's white
     noise, offset and drift (their 90 % edges added: the slip's offset and drift are the
     receiver's declared slow heading error, so a receiver declared with one is given more room
-    here than one declared without: ``docs/physics.md`` §15.11). The slip is the profile's
-    α + κ a_y at the camber prior's mean, and its 1σ also holds the camber prior's κ a_y and
-    the steering scale's ς δ (§15.3): the same slip terms as the profile's.
+    here than one declared without: ``docs/physics.md`` §15.11).
     """
     if bins.shape[0] == 0:
         return False
     z = 1.645
     fz = bins[:, 2] + bins[:, 3]
-    ay, steer = bins[:, 10], bins[:, 12]
-    shifted = bins.copy()
-    shifted[:, :2] += (pri.mean[1] * ay)[:, None]  # the camber thrust's slip shift, as profiled
-    y, k = force_and_linear(shifted)
+    y, k = force_and_linear(bins)
     y, k = np.abs(y), np.abs(k)
     c_sum = bins[:, 4] + bins[:, 5]
-    slip_sd = np.sqrt(
-        bins[:, 8] ** 2
-        + pri.sd[5] ** 2
-        + pri.delta**2
-        + (pri.sd[1] * ay) ** 2
-        + (pri.sd[6] * steer) ** 2
-    )
+    slip_sd = np.sqrt(bins[:, 8] ** 2 + pri.sd[5] ** 2 + pri.delta**2)
     tol = z * (np.hypot(bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
     band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
     return linear_explains(y, k, band, tol)
