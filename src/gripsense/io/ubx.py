@@ -35,6 +35,7 @@ the tests use as the reference decoder).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +47,15 @@ from gripsense.io.nmea.accounting import IngestReport, RejectedLine
 from gripsense.io.nmea.reader import NmeaLog, read_nmea
 from gripsense.io.nmea.schema import BAD_CHECKSUM, MALFORMED, REASONS, TRUNCATED
 
-__all__ = ["MESSAGES", "is_ubx", "parse_ubx", "scan_frames", "write_ubx"]
+__all__ = [
+    "MESSAGES",
+    "FrameAccount",
+    "account_frames",
+    "is_ubx",
+    "parse_ubx",
+    "scan_frames",
+    "write_ubx",
+]
 
 SYNC = b"\xb5\x62"
 MAX_PAYLOAD = 4096
@@ -383,6 +392,141 @@ _WHY = {
 _WEEK_MS = 604_800_000
 
 
+@dataclass
+class FrameAccount:
+    """What the UBX frames of a stream count for (:func:`account_frames`).
+
+    Attributes
+    ----------
+    parsed, ignored, rejected : dict
+        Label -> number of frames (``rejected``: every reason of the NMEA schema, 0 included).
+    rejects : list of (int, str, str)
+        The first 20 rejected frames in stream order: byte offset, reason, detail.
+    tables : dict
+        Message name -> column -> array of the frames read (``start``: byte offset).
+    """
+
+    parsed: dict[str, int]
+    ignored: dict[str, int]
+    rejected: dict[str, int]
+    rejects: list[tuple[int, str, str]]
+    tables: dict[str, dict[str, np.ndarray]]
+
+
+def account_frames(
+    d: np.ndarray,
+    starts: np.ndarray,
+    ends: np.ndarray,
+    lengths: np.ndarray,
+    status: np.ndarray,
+    cls: np.ndarray,
+    mid: np.ndarray,
+    *,
+    at: np.ndarray | None = None,
+    strict: bool = False,
+    name: str = "<ubx>",
+) -> FrameAccount:
+    """Count and decode UBX frames found by the scan: read, ignored (with the message name or
+    the reason a frame is not used) or rejected (with the reason) — the batch reader and the
+    live reader (which keeps the frames of a stream as they arrive) count with this.
+
+    Parameters
+    ----------
+    d : numpy.ndarray of uint8
+        Bytes holding the frames.
+    starts, ends, lengths, status : numpy.ndarray
+        Per frame: offset in *d*, offset after it, payload length field (−1: header cut off)
+        and scan status (``OK``, ``BAD_CK``, ``CUT``, ``BAD_LEN``).
+    cls, mid : numpy.ndarray
+        Per frame: class and id bytes (as read from the stream).
+    at : numpy.ndarray of int64, optional
+        Per frame: its byte offset in the stream, for messages and ``start`` (default
+        *starts*).
+    strict : bool
+        Raise :class:`~gripsense.errors.InputError` at the first rejected frame.
+    name : str
+        Source name, for messages.
+
+    Returns
+    -------
+    FrameAccount
+    """
+    from gripsense.errors import InputError
+
+    at = starts if at is None else at
+    parsed: dict[str, int] = {}
+    ignored: dict[str, int] = {}
+    rejected = dict.fromkeys(REASONS, 0)
+    bad: list[tuple[int, str, str]] = []
+    malformed: list[tuple[int, str, str]] = []
+
+    def reject(into: list, k: int, reason: str, detail: str) -> None:
+        start = int(at[k])
+        rejected[reason] = rejected.get(reason, 0) + 1
+        if strict:
+            raise InputError(f"{name}: byte {start}: UBX frame: {reason}: {detail} (strict mode)")
+        if len(into) < 20:
+            into.append((start, reason, detail))
+
+    for k in np.flatnonzero(status != OK).tolist():
+        ln = int(lengths[k])
+        what = _msg_name(int(cls[k]), int(mid[k])) if ln >= 0 else "UBX frame"
+        if status[k] == BAD_CK:
+            reject(bad, k, BAD_CHECKSUM, f"{what}, {ln}-byte payload")
+        elif status[k] == BAD_LEN:
+            last = int(at[k] + ends[k] - starts[k] - 1)
+            reject(bad, k, BAD_LENGTH, f"{what}: its length field says {ln} bytes, which "
+                   f"do not fit what follows; bytes {at[k]}–{last} skipped, read on "
+                   "from the next frame or sentence")  # fmt: skip
+        else:
+            reject(bad, k, TRUNCATED, f"{what}: the stream ends inside the frame")
+    good = status == OK
+    tables: dict[str, dict[str, np.ndarray]] = {}
+    why_counts: dict[str, int] = {}
+    for (c, i), (mname, accepted) in MESSAGES.items():
+        sel = good & (cls == c) & (mid == i)
+        if not sel.any():
+            continue
+        ln_ok = sel & (lengths == accepted[0])
+        for k in np.flatnonzero(sel & ~ln_ok).tolist():
+            ln = int(lengths[k])
+            if mname == "NAV-RELPOSNED" and ln == 40:
+                key = "UBX NAV-RELPOSNED v0 (no heading)"
+                ignored[key] = ignored.get(key, 0) + 1
+                continue
+            reject(malformed, k, MALFORMED, f"UBX {mname} with a {ln}-byte payload "
+                   f"(expected {accepted[0]})")  # fmt: skip
+        if not ln_ok.any():
+            continue
+        p = starts[ln_ok] + 6
+        unused = 0
+        if mname == "NAV-PVT":
+            cols = _pvt(d, p)
+        elif mname == "NAV-RELPOSNED":
+            cols, why = _relposned(d, p)
+            unused = int((why != 0).sum())
+            for code, label in _WHY.items():
+                nw = int((why == code).sum())
+                if nw:
+                    why_counts[label] = nw
+        else:
+            cols = _att(d, p)
+        tables[mname] = {"start": at[ln_ok], **cols}
+        if p.size > unused:
+            parsed[f"UBX {mname}"] = int(p.size - unused)
+    ignored.update(why_counts)
+    other = good.copy()
+    for c, i in MESSAGES:
+        other &= ~((cls == c) & (mid == i))
+    if other.any():
+        key2 = cls[other].astype(np.int64) * 256 + mid[other]
+        for v, nk in zip(*np.unique(key2, return_counts=True), strict=True):
+            ignored[_msg_name(int(v) // 256, int(v) % 256)] = int(nk)
+    # each list is in stream order: the first 20 of both, in stream order
+    rejects = sorted(bad + malformed, key=lambda r: r[0])[:20]
+    return FrameAccount(parsed, ignored, rejected, rejects, tables)
+
+
 def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> NmeaLog:
     """Read a UBX (or mixed UBX and NMEA) byte stream into the epoch table.
 
@@ -401,78 +545,18 @@ def parse_ubx(data: bytes, name: str = "<ubx>", *, strict: bool = False) -> Nmea
         ``epochs``, ``report`` (lines and frames) and ``sentences`` (the NMEA sentences, and
         per UBX message its decoded rows with the byte offset ``start`` of each frame).
     """
-    from gripsense.errors import InputError
-
     d = np.frombuffer(data, dtype=np.uint8)
     starts, ends, lengths, status, mask = _scan(d, MAX_PAYLOAD)
     cls = np.where(starts + 2 < d.size, d[np.minimum(starts + 2, max(d.size - 1, 0))], 0)
     mid = np.where(starts + 3 < d.size, d[np.minimum(starts + 3, max(d.size - 1, 0))], 0)
-    parsed: dict[str, int] = {}
-    ignored: dict[str, int] = {}
-    rejected = dict.fromkeys(REASONS, 0)
-    rejects: list[tuple[int, str, str]] = []
-
-    def reject(start: int, reason: str, detail: str) -> None:
-        rejected[reason] = rejected.get(reason, 0) + 1
-        if strict:
-            raise InputError(f"{name}: byte {start}: UBX frame: {reason}: {detail} (strict mode)")
-        if len(rejects) < 20:
-            rejects.append((start, reason, detail))
-
-    for k in np.flatnonzero(status != OK):
-        ln = int(lengths[k])
-        what = _msg_name(int(cls[k]), int(mid[k])) if ln >= 0 else "UBX frame"
-        if status[k] == BAD_CK:
-            reject(int(starts[k]), BAD_CHECKSUM, f"{what}, {ln}-byte payload")
-        elif status[k] == BAD_LEN:
-            reject(int(starts[k]), BAD_LENGTH, f"{what}: its length field says {ln} bytes, which "
-                   f"do not fit what follows; bytes {starts[k]}–{ends[k] - 1} skipped, read on "
-                   "from the next frame or sentence")  # fmt: skip
-        else:
-            reject(int(starts[k]), TRUNCATED, f"{what}: the stream ends inside the frame")
-    good = status == OK
-    tables: dict[str, dict[str, np.ndarray]] = {}
-    why_counts: dict[str, int] = {}
-    for (c, i), (mname, accepted) in MESSAGES.items():
-        sel = good & (cls == c) & (mid == i)
-        if not sel.any():
-            continue
-        ln_ok = sel & (lengths == accepted[0])
-        for k in np.flatnonzero(sel & ~ln_ok):
-            ln = int(lengths[k])
-            if mname == "NAV-RELPOSNED" and ln == 40:
-                key = "UBX NAV-RELPOSNED v0 (no heading)"
-                ignored[key] = ignored.get(key, 0) + 1
-                continue
-            reject(int(starts[k]), MALFORMED, f"UBX {mname} with a {ln}-byte payload "
-                   f"(expected {accepted[0]})")  # fmt: skip
-        if not ln_ok.any():
-            continue
-        at = starts[ln_ok]
-        p = at + 6
-        unused = 0
-        if mname == "NAV-PVT":
-            cols = _pvt(d, p)
-        elif mname == "NAV-RELPOSNED":
-            cols, why = _relposned(d, p)
-            unused = int((why != 0).sum())
-            for code, label in _WHY.items():
-                nw = int((why == code).sum())
-                if nw:
-                    why_counts[label] = nw
-        else:
-            cols = _att(d, p)
-        tables[mname] = {"start": at, **cols}
-        if at.size > unused:
-            parsed[f"UBX {mname}"] = int(at.size - unused)
-    ignored.update(why_counts)
-    other = good.copy()
-    for c, i in MESSAGES:
-        other &= ~((cls == c) & (mid == i))
-    if other.any():
-        key2 = cls[other].astype(np.int64) * 256 + mid[other]
-        for v, nk in zip(*np.unique(key2, return_counts=True), strict=True):
-            ignored[_msg_name(int(v) // 256, int(v) % 256)] = int(nk)
+    fr = account_frames(d, starts, ends, lengths, status, cls, mid, strict=strict, name=name)
+    parsed, ignored, rejected, rejects, tables = (
+        fr.parsed,
+        fr.ignored,
+        fr.rejected,
+        fr.rejects,
+        fr.tables,
+    )
 
     # the NMEA part: the bytes outside the frames
     text = d[~mask].tobytes()

@@ -59,6 +59,9 @@ class LiveIngest:
     max_line_bytes : int
         Longest line kept while its end has not arrived; a longer one is counted as rejected and
         dropped (bounded memory against binary junk) [bytes].
+    epochs : bool
+        Build epochs; False: only count (the live UBX reader counts the NMEA text between its
+        frames with this, and builds the epochs itself).
     """
 
     def __init__(
@@ -68,7 +71,9 @@ class LiveIngest:
         hold: int = 3,
         source: str = "<live>",
         max_line_bytes: int = 4096,
+        epochs: bool = True,
     ):
+        self._epochs = bool(epochs)
         self.max_lines = int(max_lines)
         self.max_line_bytes = int(max_line_bytes)
         self._dropping = False  # inside an over-long line: its bytes are discarded
@@ -124,7 +129,7 @@ class LiveIngest:
         if frames is not None:
             self._count_frames(frames, text)
         self._advance_text(text)
-        return self._emit(final=False) if self._lines_of(text) else self._empty()
+        return self._emit(final=False) if self._lines_of(text) and self._epochs else self._empty()
 
     def _lines_of(self, text: bytes) -> bool:
         """Split the text (the stream without its frames) into lines; whether any completed."""
@@ -139,7 +144,8 @@ class LiveIngest:
         if parts:
             lines = [p + b"\n" for p in parts]
             self._queue(lines)
-            self._tail.extend(lines)
+            if self._epochs:
+                self._tail.extend(lines)
             self._n_lines += len(lines)
         if len(self._partial) > self.max_line_bytes and not self._dropping:
             self._account()
@@ -171,10 +177,11 @@ class LiveIngest:
             line = [self._partial]
             self._partial = b""
             self._queue(line)
-            self._tail.extend(line)
+            if self._epochs:
+                self._tail.extend(line)
             self._n_lines += 1
         self._account()
-        return self._emit(final=True)
+        return self._emit(final=True) if self._epochs else self._empty()
 
     # ------------------------------------------------------------------ RTCM 3 frames
     def _count_frames(self, frames: RtcmFrames, text: bytes) -> None:

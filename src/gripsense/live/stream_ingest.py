@@ -3,10 +3,17 @@ choice between it and the NMEA ingest from the first bytes of a live source.
 
 :class:`LiveUbxIngest` has the interface of :class:`gripsense.live.incremental.LiveIngest`:
 bytes in as they arrive, final epochs out, equal to the batch reader
-(:func:`gripsense.io.ubx.parse_ubx`). The stream is cut into *units* exactly as the batch
-reader counts them: complete UBX frames, and the complete lines of the bytes between frames
-(a line interrupted by a frame continues after it). A bounded tail of units is re-read at each
-feed; an epoch (one ``iTOW``, UTC from NAV-PVT) is final when ``hold`` newer epochs exist.
+(:func:`gripsense.io.ubx.parse_ubx`). The stream is cut into *units*: complete UBX frames, and
+the complete lines of the bytes between frames (a line interrupted by a frame continues after
+it). A bounded tail of units is re-read at each feed; an epoch (one ``iTOW``, UTC from NAV-PVT)
+is final when ``hold`` newer epochs exist.
+
+The accounting is the batch reader's: each frame is counted as the scan decided it (read,
+ignored per message, rejected per reason, with its byte offset in the stream), by the batch
+reader's own counting (:func:`gripsense.io.ubx.account_frames`), and the bytes between the
+frames are counted as one NMEA stream by :class:`~gripsense.live.incremental.LiveIngest`, as
+the batch reader reads them with :func:`gripsense.io.read_nmea` (RTCM 3 frames and Ashtech
+records among them included).
 """
 
 from __future__ import annotations
@@ -17,8 +24,8 @@ import numpy as np
 import pandas as pd
 
 from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.schema import OVER_LIMIT
-from gripsense.io.ubx import SYNC, parse_ubx, scan_frames
+from gripsense.io.nmea.schema import OVER_LIMIT, REASONS
+from gripsense.io.ubx import MAX_PAYLOAD, SYNC, account_frames, parse_ubx, scan_frames
 from gripsense.live.incremental import LiveIngest
 
 __all__ = ["AutoIngest", "LiveUbxIngest"]
@@ -59,17 +66,21 @@ class LiveUbxIngest:
         self._buf = b""  # bytes not yet cut into units (a partial frame at the end)
         self._text = b""  # the partial line of the text between frames
         self._tail: deque[bytes] = deque()
-        self._n_units = 0
-        self._parsed: Counter = Counter()
-        self._ignored: Counter = Counter()
-        self._rejected: Counter = Counter()
-        self._first_rejects: list[RejectedLine] = []
+        self._over_rejects: list[RejectedLine] = []
         self._last: pd.Timestamp | None = None  # newest emitted epoch time
         self._t0: pd.Timestamp | None = None
         self._n_epochs = 0
         self._has_date = False
-        self._nmea_lines = 0
-        self._pending: list[bytes] = []  # units not yet counted
+        self._pending: list[tuple[int, bytes, int, int, int, int]] = []
+        # frames not yet counted: stream offset, bytes, length field, status, class, id
+        self._offset = 0  # stream offset of the first byte of _buf
+        self._n_frames = 0
+        self._frame_counts: tuple[Counter, Counter, Counter] = (Counter(), Counter(), Counter())
+        self._frame_rejects: list[RejectedLine] = []
+        self._over = 0  # pieces dropped over the pending limit
+        # the bytes between the frames: one NMEA stream, counted as the batch reader does
+        self._nmea = LiveIngest(source=source, epochs=False)
+        self._text_nonblank = False  # batch reads the text only when it is not all blank
         self._last_itow = -1
 
     def feed(self, data: bytes) -> pd.DataFrame:
@@ -88,55 +99,91 @@ class LiveUbxIngest:
     def finish(self) -> pd.DataFrame:
         """End of stream: pending bytes count as they are; emit every remaining epoch."""
         units = self._cut(self._buf, final=True)
+        self._nmea.finish()  # the text's last line, even without its line end
         return self._take(units, final=True)
 
     @property
     def report(self) -> IngestReport:
         """Accounting so far (equals the batch report once :meth:`finish` was called)."""
         self._account()
-        fmt = "u-blox UBX" + (" + NMEA 0183" if self._nmea_lines else "")
+        parsed, ignored, rejected = (Counter(c) for c in self._frame_counts)
+        rejected.update(dict.fromkeys(REASONS, 0))
+        first = list(self._frame_rejects)
+        nrep = self._nmea.report if self._text_nonblank else None
+        n_lines = 0
+        if nrep is not None:
+            n_lines = nrep.total_lines
+            parsed.update(nrep.parsed)
+            ignored.update(nrep.ignored)
+            rejected.update(nrep.rejected)
+            first += [
+                RejectedLine(r.line, r.reason, f"line {r.line} of the NMEA text: {r.detail}")
+                for r in nrep.first_rejects
+            ]
+        if self._over:
+            rejected[OVER_LIMIT] += self._over
+            first = (first + self._over_rejects)[:20]
         return IngestReport(
             source=self.source,
-            total_lines=self._n_units,
-            parsed=dict(sorted(self._parsed.items())),
-            ignored=dict(sorted(self._ignored.items())),
-            rejected={k: int(v) for k, v in self._rejected.items()},
-            first_rejects=list(self._first_rejects),
+            total_lines=self._n_frames + n_lines + self._over,
+            parsed=dict(sorted(parsed.items())),
+            ignored=dict(sorted(ignored.items())),
+            rejected={k: int(v) for k, v in rejected.items()},
+            first_rejects=first[:20],
+            junk_prefix_lines=nrep.junk_prefix_lines if nrep is not None else 0,
             n_epochs=self._n_epochs,
             has_date=self._has_date,
-            format=fmt,
-            unit="lines and frames" if self._nmea_lines else "frames",
+            notes=list(nrep.notes) if nrep is not None else [],
+            format="u-blox UBX" + (" + NMEA 0183" if n_lines else ""),
+            unit="lines and frames" if n_lines else "frames",
         )
 
     # ---------------------------------------------------------------- cutting into units
     def _cut(self, buf: bytes, final: bool) -> list[bytes]:
-        """Complete frames and complete text lines of *buf*, in stream order; the rest waits."""
+        """Complete frames and complete text lines of *buf*, in stream order; the rest waits.
+        The frames are queued for counting, the text goes to the NMEA count.
+        """
         fr = scan_frames(buf)
         units: list[bytes] = []
         pos = 0
         rest = b""
-        for start, status, end in zip(fr["start"], fr["status"], fr["end"], strict=True):
+        cols = (fr[c].to_numpy() for c in ("start", "end", "length", "status", "cls", "id"))
+        for start, end, length, status, c, i in zip(*cols, strict=True):
             start, end = int(start), int(end)
-            units += self._lines(buf[pos:start])
-            if end >= len(buf) and status != 0 and not final:  # cut, or no resync yet: wait
+            units += self._text_piece(buf[pos:start])
+            if status != 0 and not final and not _decided(start, end, int(length), len(buf)):
+                # cut, no resync yet, or the bytes that decide how far it reaches not all here
                 rest = buf[start:]
                 pos = len(buf)
                 break
-            units.append(buf[start:end])
+            unit = buf[start:end]
+            units.append(unit)
+            self._pending.append(
+                (self._offset + start, unit, int(length), int(status), int(c), int(i))
+            )
             pos = end
         tail = buf[pos:]
         # a lone sync byte (or the start of a header) at the end may begin a frame
         keep = 0 if final else _frame_start_suffix(tail)
-        units += self._lines(tail[: len(tail) - keep])
+        units += self._text_piece(tail[: len(tail) - keep])
         rest = rest or tail[len(tail) - keep :]
         if final and self._text:
             units.append(self._text)
             self._text = b""
+        self._offset += len(buf) - len(rest)
         self._buf = rest
         if len(self._buf) > self.max_pending_bytes:  # a frame that never completes
             self._over_limit("a frame longer than the pending limit; dropped")
+            self._offset += len(self._buf)
             self._buf = b""
         return units
+
+    def _text_piece(self, text: bytes) -> list[bytes]:
+        """Bytes between frames: counted as NMEA; their complete lines (units for the epochs)."""
+        if text:
+            self._nmea.feed(text)
+            self._text_nonblank = self._text_nonblank or bool(text.strip())
+        return self._lines(text)
 
     def _lines(self, text: bytes) -> list[bytes]:
         if not text:
@@ -149,20 +196,21 @@ class LiveUbxIngest:
         return [p + b"\n" for p in parts]
 
     def _over_limit(self, detail: str) -> None:
-        self._n_units += 1
-        self._rejected[OVER_LIMIT] += 1
-        if len(self._first_rejects) < 20:
-            self._first_rejects.append(RejectedLine(self._n_units, OVER_LIMIT, detail))
+        """A piece that never ended, dropped (memory stays bounded; the batch reader, which
+        holds the whole stream, has no such limit).
+        """
+        self._over += 1
+        if len(self._over_rejects) < 20:
+            self._over_rejects.append(
+                RejectedLine(self._offset + 1, OVER_LIMIT, f"byte {self._offset}: {detail}")
+            )
 
     # ---------------------------------------------------------------- accounting and epochs
     def _take(self, units: list[bytes], final: bool) -> pd.DataFrame:
         new_epoch = False
         if units:
-            self._pending.extend(units)
             if len(self._pending) >= ACCOUNT_BATCH:
                 self._account()
-            self._nmea_lines += sum(1 for u in units if not u.startswith(SYNC))
-            self._n_units += len(units)
             self._tail.extend(units)
             itow = max((_itow(u) for u in units), default=-1)
             new_epoch = itow > self._last_itow
@@ -178,21 +226,36 @@ class LiveUbxIngest:
         return out
 
     def _account(self) -> None:
-        """Count the pending units (batched: a read has a fixed cost)."""
+        """Count the pending frames (batched: a count has a fixed cost) with the batch
+        reader's counting, on the scan's own decisions and stream offsets.
+        """
         if not self._pending:
             return
-        units, self._pending = self._pending, []
-        start = self._n_units - len(units)
-        if units:
-            rep = parse_ubx(b"".join(units), self.source).report
-            self._parsed.update(rep.parsed)
-            self._ignored.update(rep.ignored)
-            self._rejected.update(rep.rejected)
-            for r in rep.first_rejects:
-                if len(self._first_rejects) < 20:
-                    self._first_rejects.append(
-                        RejectedLine(start + 1, r.reason, f"from unit {start + 1}: {r.detail}")
-                    )
+        frames, self._pending = self._pending, []
+        n = len(frames)
+        size = np.array([len(f[1]) for f in frames], dtype=np.int64)
+        ends = np.cumsum(size)
+        d = np.frombuffer(b"".join(f[1] for f in frames), dtype=np.uint8)
+        col = np.array([f[2:] for f in frames], dtype=np.int64).reshape(n, 4)
+        acc = account_frames(
+            d,
+            ends - size,
+            ends,
+            col[:, 0],
+            col[:, 1].astype(np.int8),
+            col[:, 2],
+            col[:, 3],
+            at=np.array([f[0] for f in frames], dtype=np.int64),
+            name=self.source,
+        )
+        self._n_frames += n
+        for mine, theirs in zip(
+            self._frame_counts, (acc.parsed, acc.ignored, acc.rejected), strict=True
+        ):
+            mine.update(theirs)
+        for s, r, det in acc.rejects:
+            if len(self._frame_rejects) < 20:
+                self._frame_rejects.append(RejectedLine(s + 1, r, f"byte {s}: {det}"))
 
     def _emit(self, final: bool) -> pd.DataFrame:
         if not self._tail:
@@ -226,6 +289,24 @@ def _itow(unit: bytes) -> int:
         return -1
     off = {0x07: 6, 0x05: 6, 0x3C: 10}.get(unit[3])
     return int.from_bytes(unit[off : off + 4], "little") if off else -1
+
+
+_LOOK = 2 * (MAX_PAYLOAD + 8) + 90
+"""Bytes after a damaged frame's claimed end that the scan may look at to decide where it ends
+(a good frame or a sentence after it, or inside the reach of a resynchronisation)."""
+
+
+def _decided(start: int, end: int, length: int, n: int) -> bool:
+    """Whether the scan's decision on a damaged frame (bad checksum or length) found in the
+    first *n* bytes of a stream is the one it takes on the whole stream: every byte the scan
+    may look at is there (a frame or sentence that more bytes would complete could otherwise
+    move the point where it resynchronises).
+    """
+    if end >= n:
+        return False
+    if length > MAX_PAYLOAD:  # the scan looked for the next frame or sentence as far as needed
+        return end + MAX_PAYLOAD + 8 + 90 <= n
+    return start + 8 + max(length, 0) + _LOOK <= n
 
 
 def _frame_start_suffix(tail: bytes) -> int:
