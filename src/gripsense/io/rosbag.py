@@ -2,7 +2,9 @@
 
 No ROS install is needed: :mod:`rosbags` reads the three containers and decodes their messages
 with a type store built from the bag's own message definitions (a ROS 1 bag's connection
-headers and a ROS 2 MCAP file carry them; a ``.db3`` bag falls back to the ROS 2 Humble types).
+headers and a ROS 2 MCAP file carry them; a ``.db3`` bag falls back to the ROS 2 Humble types,
+and for the NovAtel types below to the OEM7 driver's definitions, used only where they fit a
+message's bytes exactly).
 
 The common message types are understood out of the box (:data:`ROS_TYPES`):
 
@@ -341,11 +343,32 @@ class _Columns:
 
     def _decode_all(self, strict: bool) -> None:
         msgs, tp = [], self.tp
+        # a definition of ours (the bag has none): only where it fits the bytes exactly
+        ours = tp.msgtype_full in getattr(self.reader, "fallback_types", ())
         for i, raw in enumerate(tp.raws):
             try:
-                msgs.append(self.reader.deserialize(raw, tp.msgtype_full))
+                msg = self.reader.deserialize(raw, tp.msgtype_full)
+                if ours and bytes(self._serialize(msg)) != bytes(raw):
+                    raise ValueError("its bytes are not what the definition gives")
+                msgs.append(msg)
             except Exception as e:
-                detail = f"message {i + 1} of {tp.name}: {e}"
+                why = str(e)
+                if ours:
+                    why = (
+                        f"the bag carries no definition of {tp.msgtype_full} and the NovAtel "
+                        f"OEM7 driver's does not fit its bytes (another driver version: {e}); "
+                        "map a topic of a standard type with --columns"
+                    )
+                if (
+                    isinstance(e, KeyError)
+                    and tp.msgtype_full not in self.reader.typestore.fielddefs
+                ):
+                    why = (
+                        f"its type {tp.msgtype_full} is not defined: the bag carries no message "
+                        "definitions (ROS 2 Humble and older record none) and rosbags does not "
+                        "know it; map a topic of a standard type with --columns"
+                    )
+                detail = f"message {i + 1} of {tp.name}: {why}"
                 if strict:
                     raise InputError(f"{self.name}: {MALFORMED}: {detail} (strict mode)") from None
                 tp.bad += 1
@@ -482,6 +505,58 @@ def _quiet():
         lg.setLevel(level)
 
 
+# Definitions (fields only) of the known types rosbags does not ship, for ROS 2 bags recorded
+# without message definitions (Humble and older record none): novatel_oem7_msgs as NovAtel's
+# OEM7 driver defines them (github.com/novatel/novatel_oem7_driver, src/novatel_oem7_msgs/msg,
+# branch humble, commit 8903da2901991f99dae68c77842d07ff0ee7830c; © 2020 NovAtel Inc., MIT).
+# A bag's own definitions always win; a message whose bytes these do not fit exactly is not
+# decoded (counted as malformed), never read with a wrong layout.
+_N7 = "novatel_oem7_msgs/msg/"
+_FALLBACK_DEFS = {
+    _N7 + "Oem7Header": "string message_name\nuint16 message_id\nuint8 message_type\n"
+    "uint32 sequence_number\nuint8 time_status\nuint16 gps_week_number\n"
+    "uint32 gps_week_milliseconds\nuint32 receiver_status\nfloat32 idle_time",
+    _N7 + "SolutionStatus": "uint32 status",
+    _N7 + "PositionOrVelocityType": "uint32 type",
+    _N7 + "SolutionSource": "uint8 source",
+    _N7 + "BestExtendedSolutionStatus": "uint8 status",
+    _N7 + "InertialSolutionStatus": "uint32 status",
+    _N7 + "HEADING2": "std_msgs/Header header\nOem7Header nov_header\nSolutionStatus sol_status\n"
+    "PositionOrVelocityType pos_type\nfloat32 length\nfloat32 heading\nfloat32 pitch\n"
+    "float32 reserved\nfloat32 heading_stdev\nfloat32 pitch_stdev\nint8[4] rover_stn_id\n"
+    "int8[4] master_stn_id\nuint8 num_sv_tracked\nuint8 num_sv_in_sol\nuint8 num_sv_obs\n"
+    "uint8 num_sv_multi\nSolutionSource sol_source\nBestExtendedSolutionStatus ext_sol_status\n"
+    "uint8 galileo_beidou_sig_mask\nuint8 gps_glonass_sig_mask",
+    _N7 + "BESTVEL": "std_msgs/Header header\nOem7Header nov_header\nSolutionStatus sol_status\n"
+    "PositionOrVelocityType vel_type\nfloat32 latency\nfloat32 diff_age\nfloat64 hor_speed\n"
+    "float64 trk_gnd\nfloat64 ver_speed\nfloat32 reserved",
+    _N7 + "INSPVA": "std_msgs/Header header\nOem7Header nov_header\nfloat64 latitude\n"
+    "float64 longitude\nfloat64 height\nfloat64 north_velocity\nfloat64 east_velocity\n"
+    "float64 up_velocity\nfloat64 roll\nfloat64 pitch\nfloat64 azimuth\n"
+    "InertialSolutionStatus status",
+}
+
+
+def _add_fallback_types(reader) -> list[str]:
+    """Register :data:`_FALLBACK_DEFS` for the bag's types its type store lacks (a ROS 2 bag
+    without definitions); the types registered.
+    """
+    if not getattr(reader, "is2", False):
+        return []
+    from rosbags.typesys import get_types_from_msg
+
+    ts = reader.typestore
+    want = {c.msgtype for c in reader.connections} - set(ts.fielddefs)
+    if not want & set(_FALLBACK_DEFS):
+        return []
+    types: dict = {}
+    for t, text in _FALLBACK_DEFS.items():
+        if t not in ts.fielddefs:
+            types.update(get_types_from_msg(text, t))
+    ts.register(types)
+    return sorted(want & set(_FALLBACK_DEFS))
+
+
 def _open(path: Path, name: str):
     """An opened ``rosbags`` AnyReader, or one InputError naming the file and the reason."""
     require("rosbags", "reading ROS bags")
@@ -499,6 +574,7 @@ def _open(path: Path, name: str):
                 "with friction --table"
             ) from None
         raise InputError(f"{name}: not a readable ROS bag ({type(e).__name__}: {e})") from None
+    reader.fallback_types = _add_fallback_types(reader)  # type: ignore[attr-defined]
     return reader
 
 
@@ -628,7 +704,9 @@ def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
         cols = _Columns(reader, tp, name, strict)
         n = len(tp.raws)
         known = ROS_TYPES.get(tp.msgtype)
-        given = known.values(cols.view()) if known is not None and n else {}  # type: ignore[operator]
+        # (no message decoded: no values, each message counted as malformed with the reason)
+        decoded = cols.msg0 is not None
+        given = known.values(cols.view()) if known is not None and n and decoded else {}  # type: ignore[operator]
         vals = {}
         for key, fpath, _ in tp.reads:
             if fpath:
@@ -640,7 +718,8 @@ def _read(reader, name: str, columns, time_offset, strict: bool) -> NmeaLog:
                 # a key the type gives only when flagged valid, and never is (NavPVT's vehicle
                 # heading from a single antenna): not a channel of NaN that would empty the
                 # epochs (they are the heading's)
-                notes.append(f"{key}: {tp.name} gives none (never flagged valid); not used")
+                why = "never flagged valid" if decoded else "no message decoded"
+                notes.append(f"{key}: {tp.name} gives none ({why}); not used")
                 del vals[key]
                 tp.reads.remove((key, fpath, _))
         tt = cols.stamps()
