@@ -20,7 +20,8 @@ SNG    GLONASS ephemeris     82 bytes     sum of the 16-bit words before it (2 b
 SNW    SBAS ephemeris        76 bytes     sum of the 16-bit words before it (2 bytes)
 =====  ====================  ===========  ===============================================
 
-MCA and PBN are checked on a real receiver's output (GPSD's AC12 capture,
+(MPC: the XOR with or without the comma before the structure, which the manual's wording
+leaves open.) MCA and PBN are checked on a real receiver's output (GPSD's AC12 capture,
 ``tests/data/formats/nmea/ashtech-ac12.log``: every checksum matches); the other lengths
 and checksums are the manuals'. The same ids in ASCII form (``$PASHR,PBN,…*hh``) are
 sentences and stay in the text.
@@ -37,6 +38,7 @@ ASHTECH_IDS = ("MCA", "MPC", "PBN", "SNV", "SAL", "SNG", "SNW")
 """Ashtech binary message ids (index = the record's type code)."""
 
 HEADER = b"$PASHR,"
+_MPC = ASHTECH_IDS.index("MPC")
 _IDS = np.array([[ord(c) for c in s] for s in ASHTECH_IDS], dtype=np.uint8)
 _SIZE = np.array([37, 95, 56, 132, 70, 82, 76], dtype=np.int64)  # structure incl. checksum
 _XOR = np.array([True, True, False, False, False, False, False])  # else 16-bit word sum
@@ -99,7 +101,9 @@ def checksum_ok(buf, code, i, size=_SIZE, xor=_XOR):
         c = 0
         for j in range(a, a + s - 1):
             c ^= buf[j]
-        return c == buf[a + s - 1]
+        # MPC: the Z-Family manual's checksum "includes the last comma" (the one before the
+        # structure); either reading is taken
+        return c == buf[a + s - 1] or (code == _MPC and (c ^ 44) == buf[a + s - 1])
     c = 0
     for j in range(a, a + s - 2, 2):
         c += (np.int64(buf[j]) << 8) | np.int64(buf[j + 1])
