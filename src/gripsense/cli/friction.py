@@ -137,6 +137,7 @@ def friction(
             result = run.run_motion(motion, meta=meta)
         else:
             opts = log_options(columns, dbc, time_offset)
+            assert log is not None  # one of --table and LOG is given (checked above)
             result = run.run_log(
                 log, steer_csv=steer_csv, steer_columns=steer_columns, log_options=opts
             )
@@ -316,8 +317,8 @@ def _print_axles(result: AxleFriction) -> None:
             iv = f"≤ {hi:.2f} (upper end only)"  # as explain() and the report say it
         else:
             iv = "—"
-        nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else []
-        obs = f"{int(nw['observable'].sum())} / {len(nw)}" if len(nw) else "—"
+        nw = win[win["axle"] == rec["axle"]] if win is not None and len(win) else None
+        obs = f"{int(nw['observable'].sum())} / {len(nw)}" if nw is not None and len(nw) else "—"
         table.add_row(
             rec["axle"],
             _num(rec.get("grip_used")),

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import signal
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -210,11 +210,11 @@ def _live(
             check_live_outputs(output, overwrite=overwrite, inputs=ins)
         if replay is not None:
             src = open_replay(replay, speed, log_options(columns, dbc, time_offset))
-        elif tcp is not None:
+        elif address is not None:
             src = TcpSource(*address)
         else:
             src = SerialSource(serial, baud)
-        common = {
+        common: dict[str, Any] = {
             "stop_when": lambda _stats: state["signal"],
             "command": command_line(),
         }

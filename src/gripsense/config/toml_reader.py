@@ -5,6 +5,7 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Iterable
+from typing import NoReturn
 
 from gripsense.errors import InputError
 
@@ -41,7 +42,7 @@ class TomlReader:
             where = f"[{table}] " if table else ""
             raise InputError(f"{self.source}: {where}{k}: unknown key; {hint}")
 
-    def fail(self, table: str, key: str, msg: str):
+    def fail(self, table: str, key: str, msg: str) -> NoReturn:
         """Raise an InputError naming the file, table and key."""
         raise InputError(f"{self.source}: [{table}] {key}: {msg}")
 

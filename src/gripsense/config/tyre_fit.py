@@ -178,12 +178,12 @@ class TyreFit:
         if self.model == "pac94":
             a = self.coefficients
             c = a["a0"]
-            e = []
-            for s in (-1.0, 1.0):
-                e.append(
+            e = np.concatenate(
+                [
                     (a["a6"] * fz / 1000 + a["a7"]) * (1 - (a["a16"] * g * _DEG + a["a17"]) * s)
-                )
-            e = np.concatenate(e)
+                    for s in (-1.0, 1.0)
+                ]
+            )
             camber_peak = a["a15"] >= 0
         else:
             p = self.coefficients
@@ -251,8 +251,8 @@ class TyreFit:
             The fit (statistics that the file lacks are left empty).
         """
         model = doc.get("model")
-        names = {"pac94": PAC94_NAMES, "mf61": MF61_LATERAL}.get(model)
-        if names is None:
+        names = {"pac94": PAC94_NAMES, "mf61": MF61_LATERAL}.get(str(model))
+        if model not in ("pac94", "mf61") or names is None:
             raise InputError(f"{source}: model = {model!r}; a gripsense fit file has pac94 or mf61")
         coefs = doc.get("coefficients")
         if not isinstance(coefs, dict):

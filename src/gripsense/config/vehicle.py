@@ -73,7 +73,7 @@ WHEELS = ("front_left", "front_right", "rear_left", "rear_right")
 AXLE_OF = {w: w.split("_")[0] for w in WHEELS}
 
 _KEY_OF = {k.name: k for t in (VEHICLE, ANTENNA, TYRE, CONTACT_LENGTH) for k in t.keys}
-PLAUSIBLE = {
+PLAUSIBLE: dict[str, tuple[float, float]] = {  # type: ignore[assignment]  # every one set
     name: k.plausible
     for name, k in _KEY_OF.items()
     if k.plausible is not None and name != "fixed_m"
@@ -179,7 +179,9 @@ class Tyre:
         m = np.asarray(mass_kg, dtype=float)
         if self.contact_length_m is not None:
             return np.full(m.shape, self.contact_length_m)
-        return np.asarray(contact_length_lm(m, self.contact_a, self.contact_b), dtype=float)
+        a, b = self.contact_a, self.contact_b
+        assert a is not None and b is not None  # set whenever contact_length_m is not
+        return np.asarray(contact_length_lm(m, a, b), dtype=float)
 
     def cornering_stiffness(self, length_m) -> np.ndarray:
         """C [N/rad]: the given value, or G w l²/2 (seed 000 eq. 9.1).
@@ -192,7 +194,9 @@ class Tyre:
         length = np.asarray(length_m, dtype=float)
         if self.cornering_stiffness_N_per_rad is not None:
             return np.full(length.shape, self.cornering_stiffness_N_per_rad)
-        return 0.5 * self.tread_stiffness_N_per_m3 * self.width_m * length**2
+        g = self.tread_stiffness_N_per_m3
+        assert g is not None  # set whenever cornering_stiffness_N_per_rad is not
+        return 0.5 * g * self.width_m * length**2
 
 
 @dataclass(frozen=True)
@@ -652,7 +656,7 @@ def _tyre(r: TomlReader, t: dict, where: str, wheel_mass_kg: float) -> Tyre:
         )
     lv = CONTACT_LENGTH.read(r, cl, f"{where}.contact_length")
     a, b, fixed = lv["a"], lv["b"], lv["fixed_m"]
-    lo, hi = CONTACT_LENGTH["fixed_m"].plausible
+    lo, hi = PLAUSIBLE["contact_length_m"]
     if fixed is None and (a is None or b is None):
         r.fail(f"{where}.contact_length", "a", "give both a and b, or fixed_m")
     if fixed is None:

@@ -15,6 +15,7 @@ know which method ran.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ClassVar
@@ -299,7 +300,7 @@ class FrictionResult:
         *,
         overwrite: bool = False,
         command: str = "",
-        inputs: list[str | Path] | None = None,
+        inputs: Sequence[str | Path] | None = None,
         texts: dict[str, str] | None = None,
     ) -> dict[str, Path]:
         """Write the result folder: ``wheels.parquet``, ``summary.json`` (and

@@ -292,7 +292,7 @@ def run_fleet(
     items = _assign(logs, None if vehicle is None else str(vehicle), vmap)
     batches = [items[i : i + logs_per_task] for i in range(0, len(items), logs_per_task)]
     steers = [str(p) for p in map(steer_csv_for, logs) if not_a_log(str(p), named=True) is None]
-    inputs = [*logs, *steers, *sorted({it[1] for it in items})]
+    inputs: list[str | Path] = [*logs, *steers, *sorted({it[1] for it in items})]
     inputs += [vehicle_map] if vehicle_map else []
     if calibrate:
         _one_file_per_id(items)
@@ -340,8 +340,8 @@ def run_fleet(
         write_geojson(cells, tmp / "cells.geojson")
         write_map(cells, tmp / "map.html", title=map_title)
     names = ("cells.parquet", "cells.geojson", "map.html", "problems.csv", "logs.csv", "epochs")
-    paths = dict(zip(("cells", "geojson", "map", "problems", "logs", "epochs"), names, strict=True))
-    paths = {k: outdir / v for k, v in paths.items()}
+    keys = ("cells", "geojson", "map", "problems", "logs", "epochs")
+    paths = {k: outdir / v for k, v in zip(keys, names, strict=True)}
     if calibrations:
         paths["calibration"] = outdir / "calibration"
     return FleetResult(cells=cells, logs=logs_df, paths=paths)

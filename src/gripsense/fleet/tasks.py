@@ -36,6 +36,7 @@ import os
 import stat
 import traceback
 from pathlib import Path
+from typing import Any
 
 import numba
 import numpy as np
@@ -161,7 +162,7 @@ def _steer_csv(log: str | Path) -> Path | None:
     return steer
 
 
-def _cells(lat: np.ndarray, lon: np.ndarray, res: int) -> list[str]:
+def _cells(lat: np.ndarray, lon: np.ndarray, res: int) -> list[str | None]:
     import h3
 
     return [
@@ -248,7 +249,7 @@ def process_log(
         "front_axle": str(res.meta.get("front_axle", "")),
     }
     ep = res.epochs
-    if ep.empty:
+    if ep is None or ep.empty:
         out = pd.DataFrame(columns=ROW_COLUMNS)
         out.attrs.update(steering)
         return out
@@ -347,7 +348,7 @@ def calibration_batch(
     out = []
     try:
         for path, vfile, vid in items:
-            rec = {"log": path, "vehicle": vid, "sums": [], "problem": ""}
+            rec: dict[str, Any] = {"log": path, "vehicle": vid, "sums": [], "problem": ""}
             try:
                 if vfile not in runs:
                     veh = dataclasses.replace(Vehicle.from_toml(vfile), calibration_file=None)

@@ -138,9 +138,9 @@ def _active_set_qp(
             continue
         gp = gmat @ p
         slack = gmat @ z - hvec
-        cand = [i for i in np.where(gp < -1e-15)[0] if i not in work]
+        entering = [i for i in np.where(gp < -1e-15)[0] if i not in work]
         alpha, block = 1.0, None
-        for i in cand:
+        for i in entering:
             a_i = -slack[i] / gp[i]
             if a_i < alpha:
                 alpha, block = max(a_i, 0.0), i

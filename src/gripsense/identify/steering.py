@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -221,7 +222,7 @@ def tyre_lateral_stiffness(force_N, deflection_m) -> tuple[float, float]:
 
 def normalise_yaw_gain(
     steer_rates_dps, gains_dps2, reference_dps: float = 70.0, law: str = "ln"
-) -> dict[str, float]:
+) -> dict[str, Any]:
     """Fit the yaw gain against the steering rate and evaluate it at ``reference_dps``.
 
     ``law="ln"``: the corrected eq. 7, gain = a ln(α_v) + b (docs/physics.md §9.3; fits the seed's

@@ -938,7 +938,8 @@ def add_to_folder(folder: str | Path, name: str, text: str, *, overwrite: bool =
             if man is None:
                 raise InputError(f"{folder}: not a result folder of gripsense (no {MANIFEST})")
             listed = [str(n) for n in man.get("files", [])]
-            hashes = man.get("sha256") if isinstance(man.get("sha256"), dict) else {}
+            got = man.get("sha256")
+            hashes: dict = got if isinstance(got, dict) else {}
             if os.path.lexists(target):
                 if (
                     name not in listed

@@ -38,6 +38,7 @@ import io
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 import pandas as pd
@@ -516,13 +517,26 @@ def resolve_column(df: pd.DataFrame, ref: str, path: str | Path, key: str = "") 
     raise InputError(f"{path}: no column {ref!r} for {key} (columns: {header[:20]})")
 
 
+Required = str | tuple[str, ...] | tuple[tuple[str, ...], ...]
+"""What :func:`map_table` needs: a key, keys that go together, or alternatives of those."""
+
+
+def _alternatives(need: Required) -> tuple[tuple[str, ...], ...]:
+    """The alternatives of a :data:`Required`, each the keys that go together."""
+    if isinstance(need, str):
+        return ((need,),)
+    if isinstance(need[0], tuple):
+        return cast("tuple[tuple[str, ...], ...]", need)
+    return (cast("tuple[str, ...]", need),)
+
+
 def map_table(
     df: pd.DataFrame,
     path: str | Path,
     quantities: dict[str, Quantity],
     columns: str | dict | None = None,
     *,
-    required: tuple[str | tuple[str, ...], ...] = (),
+    required: tuple[Required, ...] = (),
     example: str = "",
     non_numeric: str = "error",
     rejected: dict[str, np.ndarray] | None = None,
@@ -570,11 +584,10 @@ def map_table(
         (:attr:`Quantity.limit`, :attr:`Quantity.typical`).
     """
     auto = columns is None or (isinstance(columns, str) and columns == "auto")
-    spec = auto_columns(df.columns, quantities) if auto else columns
+    spec = auto_columns(df.columns, quantities) if auto or columns is None else columns
     m = parse_columns(spec, quantities)
     for need in required:
-        groups = need if isinstance(need, tuple) and isinstance(need[0], tuple) else (need,)
-        groups = tuple((g,) if isinstance(g, str) else g for g in groups)
+        groups = _alternatives(need)
         if any(all(k in m for k in g) for g in groups):
             continue
         missing = [k for k in groups[0] if k not in m]

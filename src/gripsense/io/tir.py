@@ -610,7 +610,7 @@ def read_tir(source: str | Path | IO[str] | IO[bytes], *, lenient: bool = False)
             raise TirError(str(e)) from None
         if src.gzip and inp.notes:
             raise TirError(f"{path}: not a readable .gz file ({inp.notes[0]})")
-        data = inp.data
+        data: str | bytes = inp.data
         name = str(path)
     else:
         data = source.read()

@@ -47,17 +47,39 @@ class SteeringSystem(Protocol):
     units, steering-wheel inertia and damping referred to the kingpin (``ih``, ``ch``).
     """
 
-    speed_mps: float
-    lf_m: float
-    lr_m: float
-    mass_kg: float
-    yaw_inertia_kgm2: float
-    cornering_stiffness_front_N_per_rad: float
-    cornering_stiffness_rear_N_per_rad: float
-    tyre_lateral_stiffness_N_per_m: float
-    trail_m: float
-    kingpin_inertia_kgm2: float
-    kingpin_damping_Nms: float
+    # read-only (a frozen dataclass satisfies them)
+    @property
+    def speed_mps(self) -> float: ...  # noqa: D102
+
+    @property
+    def lf_m(self) -> float: ...  # noqa: D102
+
+    @property
+    def lr_m(self) -> float: ...  # noqa: D102
+
+    @property
+    def mass_kg(self) -> float: ...  # noqa: D102
+
+    @property
+    def yaw_inertia_kgm2(self) -> float: ...  # noqa: D102
+
+    @property
+    def cornering_stiffness_front_N_per_rad(self) -> float: ...  # noqa: D102
+
+    @property
+    def cornering_stiffness_rear_N_per_rad(self) -> float: ...  # noqa: D102
+
+    @property
+    def tyre_lateral_stiffness_N_per_m(self) -> float: ...  # noqa: D102
+
+    @property
+    def trail_m(self) -> float: ...  # noqa: D102
+
+    @property
+    def kingpin_inertia_kgm2(self) -> float: ...  # noqa: D102
+
+    @property
+    def kingpin_damping_Nms(self) -> float: ...  # noqa: D102
 
     @property
     def ks(self) -> float: ...  # noqa: D102

@@ -69,7 +69,7 @@ def braking_figure(runs: list) -> Figure:
             p0 = ev.t_onset + 0.3 - t0
             ax.plot([p0, p0 + ev.plateau_s], [-ev.mu, -ev.mu], color=color, lw=3, alpha=0.6)
     ax.axhline(0, color="0.5", lw=0.5)
-    mus = np.concatenate([r.events["mu"].to_numpy() for _, r in runs]) if runs else []
+    mus = np.concatenate([r.events["mu"].to_numpy() for _, r in runs]) if runs else np.array([])
     ax.set(
         xlabel="time from onset − 1 s [s]",
         ylabel="forward acceleration a_x / g [-]",

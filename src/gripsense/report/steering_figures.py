@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
+
+if TYPE_CHECKING:
+    from gripsense.identify.steering import CsResult
 
 __all__ = ["release_figure", "settling_figure", "yaw_gain_figure"]
 
@@ -48,7 +53,7 @@ def release_figure(
     return fig
 
 
-def settling_figure(results: list[tuple[str, object]], t_mean: float, t_sd: float) -> Figure:
+def settling_figure(results: list[tuple[str, CsResult]], t_mean: float, t_sd: float) -> Figure:
     """Figs. 4.2/4.5: settling time against C_s for each k_s, the measured mean ± SD band and
     the identified C_s. ``results``: (label, CsResult) pairs.
 

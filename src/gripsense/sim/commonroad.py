@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
@@ -182,7 +183,8 @@ class DrivePlan:
 
     duration_s: float
     settle_s: float
-    target: object  # t -> (yaw rate [rad/s] or None, steer [rad] or None, speed [m/s])
+    target: Callable[[float], tuple[float | None, float | None, float]]
+    # t -> (yaw rate [rad/s] or None, steer [rad] or None, speed [m/s])
 
 
 def cr_circle(speed_mps: float, radius_m: float, *, steady_s: float = 25.0) -> DrivePlan:
@@ -290,6 +292,7 @@ def cr_everyday(speed_mps: float, *, seed: int = 0, **kwargs) -> DrivePlan:
     from gripsense.sim.maneuvers import everyday
 
     m = everyday(speed_mps, seed=seed, **kwargs)
+    assert m.steer_table is not None  # an everyday drive is steered by a table
     t_tab, steer_tab = m.steer_table
 
     def target(t):
@@ -323,7 +326,7 @@ def with_corner_exits(
         The longer plan.
     """
     t_end = plan.duration_s
-    r_end, d_end, v_end = plan.target(t_end)  # type: ignore[operator]
+    r_end, d_end, v_end = plan.target(t_end)
     knots_t, knots_s = [t_end], [1.0]
     for share, hold in corner_end(unwind, other_way):
         knots_t.append(knots_t[-1] + max(abs(share - knots_s[-1]) * change_s, 0.2))
@@ -334,7 +337,7 @@ def with_corner_exits(
 
     def target(t):
         if t <= t_end:
-            return plan.target(t)  # type: ignore[operator]
+            return plan.target(t)
         share = float(np.interp(t, kt, ks))
         return (
             None if r_end is None else r_end * share,
@@ -503,7 +506,7 @@ def _simulate_mb(plan: DrivePlan, mu: float, out_hz: float = 100.0) -> SimResult
             - lift_load
         )
 
-    spun.terminal = lifts.terminal = True
+    spun.terminal = lifts.terminal = True  # type: ignore[attr-defined]  # solve_ivp's event flag
     t_out = np.arange(0.0, plan.duration_s + 1e-9, 1.0 / out_hz)
     sol = solve_ivp(
         f, (0.0, t_out[-1]), x0, t_eval=t_out, method="LSODA", rtol=1e-6, atol=1e-8,

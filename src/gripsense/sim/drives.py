@@ -328,6 +328,8 @@ def simulate_drive(
     )
     if circle is not None:
         maneuver = M.circle(circle[0], circle[1], laps=1.5, params=p)
+    if maneuver is None:
+        raise InputError("simulate_drive: give a maneuver or circle=(speed, radius)")
     res = M.run(p, maneuver, mu=mu)
     return record_drive(
         res, veh, maneuver.settle_s, receiver=receiver, seed=seed,
@@ -376,6 +378,8 @@ def record_drive(
     Drive
         The recording and the truth.
     """
+    if vehicle.cg_offset is None:
+        raise InputError(f"{vehicle.name}: the antenna's position ([antenna] x_m, y_m) is needed")
     ant = (-vehicle.cg_offset[0], -vehicle.cg_offset[1])
     log = emulate_compass(
         result, ant, noise=CompassNoise.preset(receiver), seed=seed, origin=origin, start=start

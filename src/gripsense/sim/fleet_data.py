@@ -18,6 +18,7 @@ import pandas as pd
 
 from gripsense.config import Vehicle
 from gripsense.constants import G0
+from gripsense.errors import InputError
 from gripsense.sim import maneuvers as M
 from gripsense.sim.gnss import CompassNoise, emulate_compass
 from gripsense.sim.vehicle import SimParams
@@ -53,6 +54,8 @@ def write_fleet(
     outdir = Path(outdir)
     veh = Vehicle.from_toml(vehicle_toml)
     params = SimParams.from_vehicle(veh, drive="front")
+    if veh.cg_offset is None:
+        raise InputError(f"{vehicle_toml}: [antenna] x_m and y_m are needed to simulate its logs")
     antenna = (-veh.cg_offset[0], -veh.cg_offset[1])
     noise = noise or CompassNoise.rtk()
     rows = []

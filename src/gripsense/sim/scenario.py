@@ -75,6 +75,7 @@ import re
 import warnings
 from collections.abc import Callable
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 import pandas as pd
@@ -105,7 +106,8 @@ __all__ = ["MANEUVER_KEYS", "demand_warning", "run_scenario"]
 SCENARIO_TABLES = (*(t.name for t in TABLES), "case", "grid")
 CASE_KEYS = ("maneuver", "mu", "name", "tyre", "receiver")  # besides the manoeuvre's own
 
-_ARGS = {  # maneuver -> (builder, {scenario key: (builder argument, scale)})
+_ARGS: dict[str, tuple[Callable[..., M.Maneuver], dict[str, tuple[str, float]]]] = {
+    # maneuver -> (builder, {scenario key: (builder argument, scale)})
     "circle": (
         M.circle,
         {
@@ -182,7 +184,7 @@ MANEUVER_KEYS = {kind: tuple(keys) for kind, (_, keys) in _ARGS.items()}
 ``receiver``)."""
 
 
-def _fail(src: str, where: str, msg: str):
+def _fail(src: str, where: str, msg: str) -> NoReturn:
     raise InputError(f"{src}: {where}: {msg}")
 
 
@@ -237,7 +239,7 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
     if kind not in _ARGS:
         _fail(src, where, f"maneuver = {kind!r}; use one of {sorted(_ARGS)}")
     builder, keys = _ARGS[kind]
-    kw = {}
+    kw: dict[str, object] = {}
     for k, v in spec.items():
         if k in CASE_KEYS:
             continue
@@ -259,7 +261,6 @@ def _maneuver(spec: dict, src: str, where: str, params: SimParams) -> M.Maneuver
         return builder(**kw)
     except TypeError as e:
         _fail(src, where, f"{e}")
-        raise
 
 
 def run_scenario(

@@ -4,6 +4,7 @@ covariance / "determined" analysis (``docs/physics.md`` §8.2).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -119,8 +120,8 @@ def _covariance(res, free_idx, names, lb, ub, x, dof, fy):
 class Problem:
     """Everything a fit needs besides the start and the fixed coefficients."""
 
-    model: object  # x -> (prediction, Jacobian)
-    cons: object  # x -> (c, A), c >= 0
+    model: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # x -> (prediction, Jacobian)
+    cons: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]  # x -> (c, A), c >= 0
     lb: np.ndarray
     ub: np.ndarray
     fy: np.ndarray

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -157,9 +158,10 @@ class MFTyre:
         Used in messages.
     """
 
-    params: dict[str, float]
+    params: dict[str, Any]  # as read (TYRESIDE is a word); SI floats after __post_init__
     name: str = "<tyre>"
     version: str = field(init=False)
+    _side: str = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         p = {k.upper(): v for k, v in self.params.items()}
