@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pandas as pd
 
@@ -12,7 +14,7 @@ from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
 __all__ = ["FITTERS", "fit_from_wheel_table", "wheel_fit_points"]
 
-FITTERS = {"pac94": fit_pac94, "mf61": fit_mf61_lateral}
+FITTERS: dict[str, Callable[..., TyreFit]] = {"pac94": fit_pac94, "mf61": fit_mf61_lateral}
 """Model name → fitter of scattered (α, γ, Fz, Fy) points."""
 
 
