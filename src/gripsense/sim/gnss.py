@@ -292,60 +292,148 @@ def emulate_compass(
     idx_t = np.arange(lag, len(b), step)  # time tags
     idx_v = idx_t - lag  # measured values (latency)
     t = b["t_s"].to_numpy()[idx_t]
+    tru = _antenna_truth(b, idx_v, antenna_xy)
+    m = _measure(tru, noise, 1.0 / rate_hz, rng)
+    lat0, lon0, alt0 = origin
+    lat, lon = _lat_lon(m["pn"], m["pe"], lat0, lon0)
+    lat_true, lon_true = _lat_lon(tru["ny"], tru["ex"], lat0, lon0)
+    m.update(lat=lat, lon=lon)
+    lines = _sentences(t, m, start, sentences, talker, alt0)
+    antenna = pd.DataFrame(
+        {
+            "t_s": t,
+            "heading_deg": tru["heading"],
+            "course_deg": tru["course"],
+            "speed_mps": tru["speed"],
+            "yaw_rate_rps": tru["r"],
+            "lat_deg": lat_true,
+            "lon_deg": lon_true,
+        }
+    )
+    w = result.wheels
+    tw = w["t_s"].to_numpy()
+    keep = np.isin(np.round(tw, 6), np.round(b["t_s"].to_numpy()[idx_v], 6))
+    truth = w[keep].reset_index(drop=True)
+    if lag:
+        truth["t_s"] = truth["t_s"] + lag / out_hz
     n = t.size
+    measured = pd.DataFrame(
+        {
+            "time_utc": pd.DatetimeIndex([start + dt.timedelta(seconds=float(x)) for x in t]),
+            "t_s": t,
+            "lat_deg": lat,
+            "lon_deg": lon,
+            "alt_m": np.full(n, float(alt0)),
+            "n_sats": np.full(n, 12.0),
+            "speed_mps": m["speed"],
+            "course_deg": m["course"],
+            "heading_deg": np.mod(m["hdg"], 360.0),
+            "yaw_rate_rps": -np.deg2rad(m["rot"] / 60.0),
+        }
+    )
+    return CompassLog(lines=lines, antenna=antenna, truth=truth, epochs=measured)
+
+
+def _antenna_truth(
+    b: pd.DataFrame, idx: np.ndarray, antenna_xy: tuple[float, float]
+) -> dict[str, np.ndarray]:
+    """The antenna's true position (``ex`` east, ``ny`` north [m]), velocity (``ve``, ``vn``
+    [m/s]), heading, course [deg], speed [m/s] and the yaw rate ``r`` [rad/s] at the body
+    table's rows *idx* (``docs/physics.md`` §3.1, rigid body).
+    """
     xa, ya = antenna_xy
-    psi = b["yaw_rad"].to_numpy()[idx_v]
-    X, Y = b["x_m"].to_numpy()[idx_v], b["y_m"].to_numpy()[idx_v]
-    U, V = b["u_mps"].to_numpy()[idx_v], b["v_mps"].to_numpy()[idx_v]
-    r = b["yaw_rate_rps"].to_numpy()[idx_v]
+    psi = b["yaw_rad"].to_numpy()[idx]
+    X, Y = b["x_m"].to_numpy()[idx], b["y_m"].to_numpy()[idx]
+    U, V = b["u_mps"].to_numpy()[idx], b["v_mps"].to_numpy()[idx]
+    r = b["yaw_rate_rps"].to_numpy()[idx]
     # antenna position and velocity in the world (x east, y north)
     ex = X + xa * np.cos(psi) - ya * np.sin(psi)
     ny = Y + xa * np.sin(psi) + ya * np.cos(psi)
     ua, va = U - r * ya, V + r * xa
     ve = ua * np.cos(psi) - va * np.sin(psi)
     vn = ua * np.sin(psi) + va * np.cos(psi)
-    heading_true = np.mod(90.0 - np.rad2deg(psi), 360.0)
-    course_true = np.mod(np.rad2deg(np.arctan2(ve, vn)), 360.0)
-    speed_true = np.hypot(ve, vn)
-    step_s = 1.0 / rate_hz
-    # noise
+    return {
+        "ex": ex,
+        "ny": ny,
+        "ve": ve,
+        "vn": vn,
+        "r": r,
+        "heading": np.mod(90.0 - np.rad2deg(psi), 360.0),
+        "course": np.mod(np.rad2deg(np.arctan2(ve, vn)), 360.0),
+        "speed": np.hypot(ve, vn),
+    }
+
+
+def _measure(
+    tru: dict[str, np.ndarray], noise: CompassNoise, step_s: float, rng: np.random.Generator
+) -> dict[str, np.ndarray]:
+    """What the receiver reports of the truth (:func:`_antenna_truth`): heading ``hdg`` [deg],
+    position ``pe``/``pn`` [m], course [deg], speed [m/s] and rate of turn ``rot`` [deg/min],
+    with the noise's offsets, white and Gauss–Markov errors (drawn in this order from *rng*).
+    """
+    n = tru["r"].size
     hdg = (
-        heading_true
+        tru["heading"]
         + noise.mounting_offset_deg
         + rng.normal(0, noise.heading_white_deg, n)
         + _gauss_markov(n, step_s, noise.heading_slow_deg, noise.heading_slow_tau_s, rng)
     )
     pe = (
-        ex
+        tru["ex"]
         + _gauss_markov(n, step_s, noise.position_slow_m, noise.position_slow_tau_s, rng)
         + rng.normal(0, noise.position_white_m, n)
     )
     pn = (
-        ny
+        tru["ny"]
         + _gauss_markov(n, step_s, noise.position_slow_m, noise.position_slow_tau_s, rng)
         + rng.normal(0, noise.position_white_m, n)
     )
-    ve_m = ve + rng.normal(0, noise.velocity_mps, n)
-    vn_m = vn + rng.normal(0, noise.velocity_mps, n)
-    course = np.mod(np.rad2deg(np.arctan2(ve_m, vn_m)), 360.0)
-    speed = np.hypot(ve_m, vn_m)
-    rot = -np.rad2deg(r) * 60.0 + rng.normal(0, noise.yaw_rate_dps * 60.0, n)
-    lat0, lon0, alt0 = origin
+    ve_m = tru["ve"] + rng.normal(0, noise.velocity_mps, n)
+    vn_m = tru["vn"] + rng.normal(0, noise.velocity_mps, n)
+    rot = -np.rad2deg(tru["r"]) * 60.0 + rng.normal(0, noise.yaw_rate_dps * 60.0, n)
+    return {
+        "hdg": hdg,
+        "pe": pe,
+        "pn": pn,
+        "course": np.mod(np.rad2deg(np.arctan2(ve_m, vn_m)), 360.0),
+        "speed": np.hypot(ve_m, vn_m),
+        "rot": rot,
+    }
+
+
+def _lat_lon(
+    north: np.ndarray, east: np.ndarray, lat0: float, lon0: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Latitude and longitude [deg] of local north/east offsets [m] from (*lat0*, *lon0*)
+    (WGS 84's radii of curvature at *lat0*).
+    """
     s2 = np.sin(np.deg2rad(lat0)) ** 2
     r_n = WGS84_A * (1 - WGS84_E2) / (1 - WGS84_E2 * s2) ** 1.5
     r_e = WGS84_A / np.sqrt(1 - WGS84_E2 * s2)
-    lat = lat0 + np.rad2deg(pn / r_n)
-    lon = lon0 + np.rad2deg(pe / (r_e * np.cos(np.deg2rad(lat0))))
-    lat_true = lat0 + np.rad2deg(ny / r_n)
-    lon_true = lon0 + np.rad2deg(ex / (r_e * np.cos(np.deg2rad(lat0))))
+    return lat0 + np.rad2deg(north / r_n), lon0 + np.rad2deg(
+        east / (r_e * np.cos(np.deg2rad(lat0)))
+    )
 
+
+def _sentences(
+    t: np.ndarray,
+    m: dict[str, np.ndarray],
+    start: dt.datetime,
+    sentences: tuple[str, ...],
+    talker: str,
+    alt0: float,
+) -> list[str]:
+    """The NMEA lines of every epoch (times *t* [s] after *start*) in burst order, from the
+    measured values *m* (:func:`_measure` with ``lat``/``lon``).
+    """
+    hdg, course, speed, rot = m["hdg"], m["course"], m["speed"], m["rot"]
     lines: list[str] = []
-    for k in range(n):
+    for k in range(t.size):
         when = start + dt.timedelta(seconds=float(t[k]))
         hms = when.strftime("%H%M%S") + f".{when.microsecond // 10000:02d}"
         date = when.strftime("%d%m%y")
-        la, ns = _ddmm(lat[k], "N", "S", 2)
-        lo, ew = _ddmm(lon[k], "E", "W", 3)
+        la, ns = _ddmm(m["lat"][k], "N", "S", 2)
+        lo, ew = _ddmm(m["lon"][k], "E", "W", 3)
         kn = speed[k] / KNOT
         for sname in sentences:
             if sname == "HDT":
@@ -373,35 +461,4 @@ def emulate_compass(
                 lines.append(format_sentence(f"{talker}ROT,{rot[k]:.2f},A"))
             elif sname == "HPR":
                 lines.append(format_sentence(f"PSAT,HPR,{hms},{np.mod(hdg[k], 360.0):.3f},0.00,,N"))
-    antenna = pd.DataFrame(
-        {
-            "t_s": t,
-            "heading_deg": heading_true,
-            "course_deg": course_true,
-            "speed_mps": speed_true,
-            "yaw_rate_rps": r,
-            "lat_deg": lat_true,
-            "lon_deg": lon_true,
-        }
-    )
-    w = result.wheels
-    tw = w["t_s"].to_numpy()
-    keep = np.isin(np.round(tw, 6), np.round(b["t_s"].to_numpy()[idx_v], 6))
-    truth = w[keep].reset_index(drop=True)
-    if lag:
-        truth["t_s"] = truth["t_s"] + lag / out_hz
-    measured = pd.DataFrame(
-        {
-            "time_utc": pd.DatetimeIndex([start + dt.timedelta(seconds=float(x)) for x in t]),
-            "t_s": t,
-            "lat_deg": lat,
-            "lon_deg": lon,
-            "alt_m": np.full(n, float(alt0)),
-            "n_sats": np.full(n, 12.0),
-            "speed_mps": speed,
-            "course_deg": course,
-            "heading_deg": np.mod(hdg, 360.0),
-            "yaw_rate_rps": -np.deg2rad(rot / 60.0),
-        }
-    )
-    return CompassLog(lines=lines, antenna=antenna, truth=truth, epochs=measured)
+    return lines
