@@ -27,15 +27,23 @@ __all__ = [
 ]
 
 
+TIME_SLACK_S = 1e-6
+"""A sample this close to a window's edge is inside it: time stamps relative to the log's start
+carry float rounding of ~1e-7 s (seconds since 1970 in float64), so a 10 Hz receiver's sample
+0.5 s away would fall in or out by chance, and a reconstruction of the same epochs
+(``docs/physics.md`` §14.2) with it [s]."""
+
+
 def local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
     """dy/dt by a least-squares line over the samples within ±half_s of each sample
-    (cumulative sums: O(n)); NaN where fewer than 3 samples fall in the window.
+    (cumulative sums: O(n)); NaN where fewer than 3 samples fall in the window. A sample at
+    the window's edge counts within :data:`TIME_SLACK_S` (time stamps carry float rounding).
     """
     n = t.size
     if n < 3:
         return np.full(n, np.nan)
-    lo = np.searchsorted(t, t - half_s, side="left")
-    hi = np.searchsorted(t, t + half_s, side="right")
+    lo = np.searchsorted(t, t - half_s - TIME_SLACK_S, side="left")
+    hi = np.searchsorted(t, t + half_s + TIME_SLACK_S, side="right")
     tc = t - t[0]
     yy = np.where(np.isfinite(y), y, 0.0)
     ok = np.isfinite(y).astype(float)
@@ -49,10 +57,10 @@ def local_slope(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
 
 def _local_mean(y: np.ndarray, t: np.ndarray, half_s: float) -> np.ndarray:
     """Mean of the finite samples within ±half_s of each sample (cumulative sums: O(n); NaN
-    where none is finite).
+    where none is finite; the edge within :data:`TIME_SLACK_S`).
     """
-    lo = np.searchsorted(t, t - half_s, side="left")
-    hi = np.searchsorted(t, t + half_s, side="right")
+    lo = np.searchsorted(t, t - half_s - TIME_SLACK_S, side="left")
+    hi = np.searchsorted(t, t + half_s + TIME_SLACK_S, side="right")
     ok = np.isfinite(y)
     cn = np.concatenate([[0.0], np.cumsum(ok)])
     cy = np.concatenate([[0.0], np.cumsum(np.where(ok, y, 0.0))])

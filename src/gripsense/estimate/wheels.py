@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy.linalg import solve_banded
 
 from gripsense.config import AXLE_OF, Vehicle
 from gripsense.constants import G0
@@ -162,9 +163,8 @@ def motion_from_epochs(
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
     rows = np.flatnonzero(have)
-    keep, n_same_time, n_held, n_interp = unique_epochs(epochs.iloc[rows])
-    rows = rows[keep]
-    ep = epochs.iloc[rows]
+    ep, source, counts = receiver_epochs(epochs.iloc[rows])
+    rows = rows[source]
     ts = ep["t_s"].to_numpy(float)
     ts = ts[np.isfinite(ts)]
     back = np.flatnonzero(np.diff(ts) < 0)
@@ -184,16 +184,28 @@ def motion_from_epochs(
         "epochs_used": int(rows.size),
         "epochs_missing_inputs": int(len(epochs) - rows.size),
         "epochs_aligned": alignment.n_aligned,
-        "epochs_duplicate": n_same_time,
-        "epochs_held": n_held,
-        "epochs_interpolated": n_interp,
+        **{k: v for k, v in counts.items() if k != "receiver_rate_hz"},
     }
-    if n_same_time or n_held or n_interp:
+    if np.isfinite(counts["receiver_rate_hz"]):
+        meta["receiver_rate_hz"] = counts["receiver_rate_hz"]
+    n_same_time, n_held = counts["epochs_duplicate"], counts["epochs_held"]
+    n_interp, n_res = counts["epochs_interpolated"], counts["epochs_resampled"]
+    if n_same_time or n_held or n_interp or n_res:
+        said = (
+            f"{n_same_time + n_held + n_interp + n_res} epochs collapsed: {n_same_time} repeat "
+            f"an earlier epoch's time stamp, {n_held} its measurements at a new one, {n_interp} "
+            "lie on the line between their neighbours"
+        )
+        rate = counts["receiver_rate_hz"]
+        if n_res:
+            said += (
+                f", {n_res} more are a resampling of a {rate:g} Hz receiver (its epochs, the "
+                "knots of the piecewise-linear curve they lie on, taken instead)"
+            )
+        elif np.isfinite(rate):
+            said += f" (the values held moved to the {rate:g} Hz receiver's epochs)"
         meta["epochs_collapsed"] = (
-            f"{n_same_time + n_held + n_interp} epochs collapsed: {n_same_time} repeat an "
-            f"earlier epoch's time stamp, {n_held} its measurements at a new one, {n_interp} "
-            "lie on the line between their neighbours (a logger's duplicates or resampling); "
-            "each measurement counts once"
+            f"{said} (a logger's duplicates or resampling); each measurement counts once"
         )
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"
@@ -397,10 +409,22 @@ def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int, int]:
     interpolated : int
         Epochs dropped for lying on the line between their neighbours.
     """
+    keep, same, held = _copies(epochs)
+    rest = np.flatnonzero(keep)
+    interp = np.zeros(len(epochs), dtype=bool)
+    interp[rest] = interpolated_epochs(epochs.iloc[rest])
+    keep &= ~interp
+    return keep, int(same.sum()), int(held.sum()), int(interp.sum())
+
+
+def _copies(epochs: pd.DataFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The epochs kept, and those that repeat a time stamp (also late) or hold every
+    measurement at a new one (:func:`unique_epochs`).
+    """
     n = len(epochs)
     keep = np.ones(n, dtype=bool)
     if n < 2:
-        return keep, 0, 0, 0
+        return keep, ~keep, ~keep
     t = epochs["t_s"].to_numpy(float)
     same = np.zeros(n, dtype=bool)
     same[1:] = t[1:] == t[:-1]
@@ -415,11 +439,373 @@ def unique_epochs(epochs: pd.DataFrame) -> tuple[np.ndarray, int, int, int]:
     if have and rest.size > 1:
         vals = np.column_stack([epochs[c].to_numpy(float)[rest] for c in _HELD_COLUMNS])
         held[rest[1:]] = np.all(vals[1:] == vals[:-1], axis=1)  # NaN never equal
-    rest = np.flatnonzero(~(same | held))
-    interp = np.zeros(n, dtype=bool)
-    interp[rest] = interpolated_epochs(epochs.iloc[rest])
-    keep = ~(same | held | interp)
-    return keep, int(same.sum()), int(held.sum()), int(interp.sum())
+    return ~(same | held), same, held
+
+
+RECEIVER_RATES_HZ = (1.0, 2.0, 4.0, 5.0, 8.0, 10.0, 16.0, 20.0, 25.0, 40.0, 50.0, 100.0)
+"""The epoch rates a GNSS receiver runs at: its epochs lie on a grid of whole fractions of the
+GPS second (``docs/physics.md`` §14.2) [Hz]."""
+RESAMPLE_RATIOS = (1.05, 25.0)
+"""The ratios of a log's rate to its receiver's that :func:`receiver_epochs` looks for: below
+1.05 a resampling adds too few epochs to tell, above 25 the logger writes faster than any
+format's time stamps hold [-]."""
+_SEARCH_SAMPLES = 150
+"""Epochs of each stretch the receiver's grid is searched on [-]."""
+_CHUNK_KNOTS = 20
+"""Receiver epochs per stretch on which a found grid is checked before it replaces the log's
+epochs [-]."""
+_SMOOTH = 1e-6
+"""Weight of the knots' second differences in the piecewise-linear fit (in units of half the
+resolution): it only settles knots the epochs do not determine (a ×1.1 resampling with every
+epoch half-way between two knots) [-]."""
+
+
+def _hat_fit(t: np.ndarray, y: np.ndarray, period: float, phase: float) -> tuple:
+    """Least-squares piecewise-linear fit of the columns *y* (n × m, in their tolerances'
+    units) with knots at ``phase + k period``.
+
+    Returns the knots' times and values (K × m), whether each knot is determined by the epochs
+    (its weight at least 0.2), each epoch's knot index k (it lies between knots k and k+1) and
+    the residuals (n × m) and segment slopes (n × m, per second) at the epochs.
+    """
+    s = (t - phase) / period
+    k = np.floor(s).astype(np.int64)
+    w = s - k
+    k0 = int(k[0])
+    k = k - k0
+    n_k = int(k[-1]) + 2
+    a, b = 1.0 - w, w
+    d0 = np.bincount(k, a * a, n_k) + np.bincount(k + 1, b * b, n_k)
+    d1 = np.bincount(k, a * b, n_k)[: n_k - 1]
+    rhs = np.column_stack(
+        [np.bincount(k, a * c, n_k) + np.bincount(k + 1, b * c, n_k) for c in y.T]
+    )
+    ab = np.zeros((5, n_k))
+    ab[2] = d0
+    ab[1, 1:] = d1
+    ab[3, :-1] = d1
+    if n_k >= 3:  # the second differences' penalty D^T D (rows 1, −2, 1)
+        p0 = np.zeros(n_k)
+        for off, c in enumerate((1.0, 4.0, 1.0)):
+            p0[off : n_k - 2 + off] += c
+        p1 = np.zeros(n_k - 1)
+        p1[: n_k - 2] -= 2.0
+        p1[1:] -= 2.0
+        ab[2] += _SMOOTH * p0
+        ab[1, 1:] += _SMOOTH * p1
+        ab[3, :-1] += _SMOOTH * p1
+        ab[0, 2:] += _SMOOTH
+        ab[4, :-2] += _SMOOTH
+    ab[2] += 1e-12 * max(float(d0.max()), 1.0)  # a knot no epoch touches
+    x = solve_banded((2, 2), ab, rhs, check_finite=False)
+    fitted = a[:, None] * x[k] + b[:, None] * x[k + 1]
+    # a stamp's error moves the fit by its segment's slope and, through the knots, by its
+    # neighbours': the largest of the three
+    seg = np.abs(np.diff(x, axis=0)) / period
+    seg = np.maximum(
+        seg, np.maximum(np.vstack([seg[:1], seg[:-1]]), np.vstack([seg[1:], seg[-1:]]))
+    )
+    slope = seg[np.minimum(k, seg.shape[0] - 1)]
+    knots_t = phase + (np.arange(n_k) + k0) * period
+    return knots_t, x, d0 >= 0.2, k, y - fitted, slope
+
+
+def _fit_score(t, y, e_t, period, phase, chunks: bool = False):
+    """How well the epochs lie on a piecewise-linear curve with knots on the grid: per column
+    the mean of r²/v, v = 1 (half the resolution, the units of *y*) + (slope e_t)² (a time
+    stamp off by up to e_t); the largest over the columns (per stretch of
+    :data:`_CHUNK_KNOTS` knots with *chunks*), and the fit.
+    """
+    fit = _hat_fit(t, y, period, phase)
+    _, _, support, k, r, slope = fit
+    z = r * r / (1.0 + (slope * e_t) ** 2)
+    # the knots the epochs touch are the curve's free parameters
+    touched = np.bincount(np.r_[k, k + 1], minlength=support.size) > 0
+    if not chunks:
+        n_free = t.size - int(touched.sum())
+        return (float(z.mean(axis=0).max()) if n_free > 0 else np.inf), n_free, fit
+    c = k // _CHUNK_KNOTS
+    n_c = int(c[-1]) + 1
+    cnt = np.bincount(c, minlength=n_c)
+    score = np.max([np.bincount(c, zc, n_c) for zc in z.T], axis=0) / np.maximum(cnt, 1)
+    kn = np.arange(support.size)
+    n_free = cnt - np.bincount(np.minimum(kn // _CHUNK_KNOTS, n_c - 1), touched, n_c)
+    return score, n_free, fit
+
+
+def _grid_phases(period: float, score) -> tuple[float, float]:
+    """The phase of the grid (period *period*) with the smallest *score*: 40 steps over the
+    period, then twice 20 steps around the best (not where the best of the 40 is far off: a
+    receiver's noise).
+    """
+    step = period / 40.0
+    phases = np.arange(40) * step
+    for level in range(3):
+        vals = [score(p) for p in phases]
+        best = float(phases[int(np.argmin(vals))])
+        if level == 0 and not np.min(vals) < 0.05 * np.median(vals):
+            break  # no phase stands out: no knots here
+        phases = best + np.linspace(-step, step, 21)
+        step /= 10.0
+    return best, float(np.min(vals))
+
+
+def _linear_grid(t: np.ndarray, y: np.ndarray, e_t: float) -> tuple[float, float] | None:
+    """The receiver's grid (period, phase) [s] if the epochs (strictly increasing *t* [s])
+    lie on a piecewise-linear curve whose knots are a grid of one of
+    :data:`RECEIVER_RATES_HZ`, within the columns' resolution, in a stretch of
+    :data:`_SEARCH_SAMPLES` epochs: the coarsest such grid, and never one where a grid twice as
+    coarse fits too (a stretch smoother than any receiver: a straight line at a constant speed
+    without noise). None otherwise.
+    """
+    p_log = float(np.median(np.diff(t)))
+    lo, hi = RESAMPLE_RATIOS
+    periods = sorted((1.0 / f for f in RECEIVER_RATES_HZ if lo * p_log < 1.0 / f <= hi * p_log),
+                     reverse=True)  # fmt: skip
+    n = t.size
+    if not periods or n < 20:
+        return None
+    m = _SEARCH_SAMPLES
+    starts = sorted({max(0, min(n - m, int(f * n) - m // 2)) for f in (0.5, 0.25, 0.75)})
+    for s in starts:
+        tw, yw = t[s : s + m], y[s : s + m]
+        for p in periods:
+            if tw[-1] - tw[0] < 4 * p:
+                continue
+
+            def score(phase: float, p: float = p, tw=tw, yw=yw) -> float:
+                sc, n_free, _ = _fit_score(tw, yw, e_t, p, phase)
+                return sc if n_free >= max(4, 0.04 * tw.size) else np.inf
+
+            phase, best = _grid_phases(p, score)
+            if best > 1.0:
+                continue
+            if _grid_phases(2.0 * p, lambda ph, tw=tw, yw=yw, p=p: score(ph, 2.0 * p))[1] <= 1.0:
+                break  # smoother than any receiver here: another stretch decides
+            return p, phase
+        else:
+            return None  # no grid fits the receiver's noise here
+    return None
+
+
+def _hold_grid(t: np.ndarray, change: np.ndarray) -> np.ndarray | None:
+    """The receiver's epochs behind a logger that holds the last (or writes the nearest)
+    receiver epoch at its own time stamps: the measurements change exactly when the epochs
+    (strictly increasing *t* [s]) cross a knot of a grid of one of :data:`RECEIVER_RATES_HZ`
+    (*change*: the epoch's measurements differ from the one before), within the stamps'
+    rounding (:func:`_stamp_error`), at 98 % of the changes and of the values held. Returns per
+    changing epoch its knot (the grid at the latest phase the changes allow), or None.
+    """
+    n = t.size
+    if n < 20:
+        return None
+    e = max(_stamp_error(t), 4 * STAMP_ERROR_S)
+    p_log = float(np.median(np.diff(t)))
+    lo, hi = RESAMPLE_RATIOS
+    periods = sorted((1.0 / f for f in RECEIVER_RATES_HZ if lo * p_log < 1.0 / f <= hi * p_log),
+                     reverse=True)  # fmt: skip
+    s = max(0, n // 2 - 1000)
+    tw, cw = t[s : s + 2000], change[s + 1 : s + 2000]
+    if cw.sum() < 3 or (~cw).sum() < 3:
+        return None
+    for p in periods:
+        if tw[-1] - tw[0] < 4 * p:
+            continue
+        ph = np.arange(400) * (p / 400.0)
+
+        def cell(x: np.ndarray, ph: np.ndarray = ph, p: float = p) -> np.ndarray:
+            """Per epoch and phase the grid's step it lies in."""
+            return np.floor((x[:, None] - ph) / p)
+
+        # a change: a knot in (t[i-1] - e, t[i] + e]; a value held: none in (t[i-1] + e, t[i] - e]
+        g = e + p / 400.0  # and the phase grid's step
+        crossed = cell(tw[1:] + g) - cell(tw[:-1] - g) >= 1
+        clear = cell(tw[1:] - g) == cell(tw[:-1] + g)
+        ok_c = (crossed & cw[:, None]).sum(axis=0) / cw.sum()
+        ok_h = (clear & ~cw[:, None]).sum(axis=0) / (~cw).sum()
+        j = int(np.argmax(np.minimum(ok_c, ok_h)))
+        if min(ok_c[j], ok_h[j]) < 0.98:
+            continue
+        idx = np.flatnonzero(change)
+        k = np.floor((t[idx] + e - ph[j]) / p)
+        theta = float(np.min(t[idx[1:]] - k[1:] * p))  # the latest phase the changes allow
+        # else (stamps rounded across a knot) the middle of the phases that agree
+        run = np.minimum(ok_c, ok_h) >= 0.98
+        a, b = j, j
+        while a > 0 and run[a - 1]:
+            a -= 1
+        while b < run.size - 1 and run[b + 1]:
+            b += 1
+        mid = 0.5 * float(ph[a] + ph[b])
+        for th in (_snap(theta, t), theta, _snap(mid, t), mid):
+            k = np.floor((t[idx] + e - th) / p + 1e-9)
+            knots = np.round(th + k * p, 9)
+            before = np.concatenate([[-np.inf], t[idx[1:] - 1]])
+            # each change its own knot (a knot within e of two changes is not a grid)
+            if np.all((knots > before - e) & (knots <= t[idx] + e)) and np.all(np.diff(knots) > 0):
+                return knots
+    return None
+
+
+def _snap(phase: float, t: np.ndarray) -> float:
+    """*phase* [s] on the time stamps' resolution (a receiver stamps its epochs at it, the log
+    at the same): a phase off by a fraction of a millisecond moves an epoch at a whole second
+    into the bin before.
+    """
+    q = _time_quantum(t)
+    return float(np.round(phase / q) * q) if q > 0 else phase
+
+
+def _time_quantum(t: np.ndarray) -> float:
+    """The time stamps' resolution: the coarsest of 1, 0.1, 0.01 and 0.001 s whose multiples
+    hold every stamp within :data:`STAMP_ERROR_S` (relative to the first; 0 if none) [s].
+    """
+    x = t - t[0]
+    for q in (1.0, 0.1, 0.01, 0.001):
+        if np.all(np.abs(x / q - np.round(x / q)) * q <= 4 * STAMP_ERROR_S):
+            return q
+    return 0.0
+    return None
+
+
+def _unwrapped(x: np.ndarray) -> np.ndarray:
+    """Angles [deg] made continuous by whole turns (exactly: the values' own digits stay)."""
+    d = np.diff(x)
+    return x + 360.0 * np.concatenate([[0.0], np.cumsum(-np.round(d / 360.0))])
+
+
+def _stamp_error(t: np.ndarray) -> float:
+    """How far a time stamp may lie from the time its values were made [s]: half the stamps'
+    resolution where the log's steps are rounded to it (their lengths in stamp units differ and
+    share no factor: 15 Hz in 0.01 s stamps steps 0.06 and 0.07 s, 60 Hz 0.01 and 0.02 s),
+    else :data:`STAMP_ERROR_S` (one step, or whole multiples of one: a receiver's dropouts).
+    """
+    d = np.diff(t)
+    q = _time_quantum(t) if t.size > 1 else 0.0
+    if d.size == 0 or d.min() <= 0 or q == 0:
+        return STAMP_ERROR_S
+    n = np.unique(np.round(d / q).astype(np.int64))
+    if n.size > 1 and np.gcd.reduce(n) == 1:
+        return 0.5 * q
+    return STAMP_ERROR_S
+
+
+def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dict]:
+    """The receiver's own epochs behind a log a logger copied or resampled at any rate
+    (``docs/physics.md`` §14.2): copies and held values collapsed and epochs on the line
+    between their neighbours dropped (:func:`unique_epochs`); held values at a rate that is not
+    a whole multiple of the receiver's moved to the receiver's epochs (the grid their changes
+    cross, :func:`_hold_grid`); and a linear resampling at any ratio — whose epochs lie on a
+    piecewise-linear curve with the receiver's epochs as knots, within the format's resolution
+    and the time stamps' rounding — replaced by those knots, fitted (:func:`_linear_grid`,
+    checked per stretch of :data:`_CHUNK_KNOTS` knots; a stretch that is off keeps its epochs).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        Epoch rows in time order with ``t_s`` [s] and the columns of :data:`_HELD_COLUMNS`.
+
+    Returns
+    -------
+    out : pandas.DataFrame
+        The epochs kept or reconstructed (``t_s`` [s], the measurements; a reconstructed
+        epoch's other columns are those of the nearest epoch), index reset.
+    source : numpy.ndarray of int
+        Per row of *out* the row of *epochs* it is, or the nearest one.
+    counts : dict
+        ``epochs_duplicate``, ``epochs_held``, ``epochs_interpolated`` (:func:`unique_epochs`),
+        ``epochs_resampled`` (epochs a resampling at another ratio added: the log's less the
+        receiver's) and ``receiver_rate_hz`` (the rate found, NaN if none).
+    """
+    keep, same, held = _copies(epochs)
+    counts: dict = {"epochs_duplicate": int(same.sum()), "epochs_held": int(held.sum()),
+                    "epochs_interpolated": 0, "epochs_resampled": 0,
+                    "receiver_rate_hz": float("nan")}  # fmt: skip
+    t_all = epochs["t_s"].to_numpy(float)
+    have = all(c in epochs.columns for c in _HELD_COLUMNS)
+    new_t = None
+    if have and held.any():  # held at a rate that is not a whole multiple: re-time
+        rest = np.flatnonzero(~same)
+        tr = t_all[rest]
+        if np.all(np.diff(tr) > 0):
+            knots = _hold_grid(tr, ~held[rest])
+            if knots is not None and np.all(np.diff(knots) > 0):
+                kept = tr[~held[rest]]
+                new_t = np.where(np.abs(knots - kept) > 4 * STAMP_ERROR_S, knots, kept)
+                counts["receiver_rate_hz"] = float(1.0 / np.median(np.diff(knots)))
+    rest = np.flatnonzero(keep)
+    interp = np.zeros(len(epochs), dtype=bool)
+    if new_t is None:
+        interp[rest] = interpolated_epochs(epochs.iloc[rest])
+        counts["epochs_interpolated"] = int(interp.sum())
+    source = np.flatnonzero(keep & ~interp)
+    out = epochs.iloc[source].reset_index(drop=True)
+    if interp.any() and source.size > 1:  # the receiver's epochs, kept: their rate
+        counts["receiver_rate_hz"] = float(1.0 / np.median(np.diff(t_all[source])))
+    if new_t is not None:
+        out["t_s"] = new_t
+        return out, source, counts
+    if not have or len(out) < 20:
+        return out, source, counts
+    t = out["t_s"].to_numpy(float)
+    raw = [out[c].to_numpy(float) for c in _HELD_COLUMNS]
+    if not (np.all(np.diff(t) > 0) and all(np.isfinite(x).all() for x in raw)):
+        return out, source, counts
+    units = []
+    cols = []
+    for c, x in zip(_HELD_COLUMNS, raw, strict=True):
+        u = max(0.5 * _quantum(x, _QUANTUM_CAP[c]), 64 * EPS * max(float(np.max(np.abs(x))), 1.0))
+        xu = _unwrapped(x) if c in _ANGLE_COLUMNS else x
+        units.append(u)
+        cols.append((xu - xu[0]) / u)
+    y = np.column_stack(cols)
+    # the stamps' rounding is seen in the log's own steps, before any epoch was dropped
+    t_log = t_all[~same]
+    e_t = _stamp_error(t_log) if np.all(np.diff(t_log) > 0) else _stamp_error(t)
+    grid = _linear_grid(t, y, e_t)
+    if grid is None:
+        return out, source, counts
+    p, phase = grid
+    score, n_free, fit = _fit_score(t, y, e_t, p, phase, chunks=True)
+    good = (score <= 1.0) & (n_free >= 2)
+    knots_t, _, support, k, _, _ = fit
+    # the receiver stamps its epochs on the stamps' resolution: a phase within half of it is
+    # the logger's rounding of its own times
+    q = _time_quantum(t)
+    snapped = _snap(phase, t)
+    if abs(snapped - phase) <= 0.5 * q + 4 * STAMP_ERROR_S:
+        knots_t = knots_t + (snapped - phase)
+    knots_t = np.round(knots_t, 9)
+    if not good.any():
+        return out, source, counts
+    # the knots of the stretches that fit, each the receiver's epoch; the other stretches keep
+    # the log's epochs; every float measurement fitted by the same curve
+    kn = np.arange(knots_t.size)
+    chunk_of_knot = np.minimum(kn // _CHUNK_KNOTS, good.size - 1)
+    use_knot = support & good[chunk_of_knot] & (knots_t >= t[0] - p) & (knots_t <= t[-1] + p)
+    keep_epoch = ~good[k // _CHUNK_KNOTS]
+    t_new = np.concatenate([knots_t[use_knot], t[keep_epoch]])
+    order = np.argsort(t_new, kind="stable")
+    t_new = t_new[order]
+    if not np.all(np.diff(t_new) > 0):
+        return out, source, counts
+    nearest = np.clip(np.searchsorted(t, t_new), 1, t.size - 1)
+    nearest -= (t_new - t[nearest - 1]) < (t[nearest] - t_new)
+    rec = out.iloc[nearest].reset_index(drop=True)
+    rec["t_s"] = t_new
+    num = [c for c in out.columns if c != "t_s" and pd.api.types.is_float_dtype(out[c])
+           and np.isfinite(out[c].to_numpy(float)).all()]  # fmt: skip
+    vals = np.column_stack(
+        [_unwrapped(out[c].to_numpy(float)) if c in _ANGLE_COLUMNS else out[c].to_numpy(float)
+         for c in num]
+    )  # fmt: skip
+    _, xk, _, _, _, _ = _hat_fit(t, vals - vals[0], p, phase)
+    fitted = np.concatenate([xk[use_knot] + vals[0], vals[keep_epoch]])[order]
+    for j, c in enumerate(num):
+        rec[c] = np.mod(fitted[:, j], 360.0) if c in _ANGLE_COLUMNS else fitted[:, j]
+    counts["epochs_resampled"] = int(len(out) - len(rec))
+    counts["receiver_rate_hz"] = 1.0 / p
+    return rec, source[nearest], counts
 
 
 _ESTIMATED = ("slide_point_m", "force_ratio", "mu", "kappa_beta", "mu_sigma")
