@@ -377,8 +377,6 @@ def render_report(
     epochs = epochs if epochs is not None else result.epochs
     ingest = ingest if ingest is not None else result.ingest
     vehicle = vehicle if vehicle is not None else result.vehicle
-    w = result.wheels
-    windows = result.windows
     conds = result.conditions()
     ct = result.condition_table(conds)
     m = result.meta
@@ -387,6 +385,24 @@ def render_report(
     s = result.summary
     source = str(record.get("source") or "")
     title = title or (f"Friction — {source}" if source else "Tyre-road friction report")
+    out = [_head(title, m, method, record, receivers), intro_html, "<h2>Result</h2>"]
+    cal = record.get("calibration") if isinstance(record.get("calibration"), dict) else None
+    out += _result_section(result, s, cal)
+    out += _figures_section(result, epochs, conds, ct, max_conditions)
+    out.append("<h2>Data quality</h2>")
+    out.append(_quality(epochs, ingest))
+    if "heading_offset_deg" in m:
+        out.append(
+            f"<p>Heading offset used: {m['heading_offset_deg']:.2f}° "
+            f"({html.escape(str(m.get('heading_offset_source', '')))}).</p>"
+        )
+    out += _method_section(result, vehicle, record, method)
+    out.append("</body></html>")
+    return "\n".join(out)
+
+
+def _head(title: str, m: dict, method: str, record: dict, receivers: list[str] | None) -> str:
+    """The page's head, title and the line naming vehicle, method, receiver and calibration."""
     rx = html.escape(str(m.get("receiver", "not stated")))
     if receivers and sorted(set(receivers)) != [str(m.get("receiver"))]:
         rx_text = (
@@ -400,18 +416,23 @@ def render_report(
     cal_text = (
         f" · calibration <code>{html.escape(str(cal.get('file', '?')))}</code>" if cal else ""
     )
-    out = [
-        f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
-        "<meta name='generator' content='gripsense report'>"
-        f"<title>{html.escape(title)}</title><style>{CSS}</style>"
-        "</head><body>",
-        f"<h1>{html.escape(title)}</h1>",
-        f"<p class='meta'>gripsense · {html.escape(str(m.get('vehicle', '')))} · method "
-        f"<code>{html.escape(method)}</code> · {rx_text}{cal_text} · written "
-        f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC</p>",
-    ]
-    out.append(intro_html)
-    out.append("<h2>Result</h2>")
+    return "\n".join(
+        [
+            f"<!doctype html><html lang='en'><head><meta charset='utf-8'>"
+            "<meta name='generator' content='gripsense report'>"
+            f"<title>{html.escape(title)}</title><style>{CSS}</style>"
+            "</head><body>",
+            f"<h1>{html.escape(title)}</h1>",
+            f"<p class='meta'>gripsense · {html.escape(str(m.get('vehicle', '')))} · method "
+            f"<code>{html.escape(method)}</code> · {rx_text}{cal_text} · written "
+            f"{dt.datetime.now(dt.UTC):%Y-%m-%d %H:%M} UTC</p>",
+        ]
+    )
+
+
+def _result_section(result: FrictionResult, s: pd.DataFrame, cal: dict | None) -> list[str]:
+    """The result: what the run says, its two kinds of statement, the summary and its figure."""
+    out: list[str] = []
     observable = result.observable
     box = "ok" if observable else "note"
     text = html.escape(result.explain())
@@ -471,6 +492,19 @@ def render_report(
             " — it changed the tyre stiffness the estimator starts from; the section <i>Vehicle "
             "and method</i> gives the declared, learned and used values.</p>"
         )
+    return out
+
+
+def _figures_section(
+    result: FrictionResult,
+    epochs: pd.DataFrame | None,
+    conds: list,
+    ct: pd.DataFrame,
+    max_conditions: int,
+) -> list[str]:
+    """The figures and the steady conditions (a table and a figure per condition)."""
+    w, windows = result.wheels, result.windows
+    out: list[str] = []
     # the per-condition μ is another statement than the headline's: it says which
     per_window = result.unit == "axle"
     mu_what = (
@@ -535,13 +569,13 @@ def render_report(
         out.append("</details>")
     else:
         out.append("<p>No steady cornering condition of 3 s or more in this drive.</p>")
-    out.append("<h2>Data quality</h2>")
-    out.append(_quality(epochs, ingest))
-    if "heading_offset_deg" in m:
-        out.append(
-            f"<p>Heading offset used: {m['heading_offset_deg']:.2f}° "
-            f"({html.escape(str(m.get('heading_offset_source', '')))}).</p>"
-        )
+    return out
+
+
+def _method_section(result: FrictionResult, vehicle, record: dict, method: str) -> list[str]:
+    """The vehicle, the stiffness used, the estimator and its assumptions."""
+    s = result.summary
+    out: list[str] = []
     out.append("<h2>Vehicle and method</h2>")
     out.append(_vehicle(vehicle))
     out.append(_stiffness_table(record, s, result.unit))
@@ -563,5 +597,4 @@ def render_report(
         "the measured grip; see the gripsense docs (friction.md, physics.md) for the equations "
         "and their sources.</p>"
     )
-    out.append("</body></html>")
-    return "\n".join(out)
+    return out
