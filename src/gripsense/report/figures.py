@@ -14,6 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from gripsense.constants import Z90
@@ -142,6 +143,19 @@ def condition_figure(
     """
     seg = wheels[(wheels["t_s"] >= t0) & (wheels["t_s"] <= t1)]
     fig, axs = plt.subplots(2, 2, figsize=(11, 7), sharex=True)
+    _condition_panels(axs, seg)
+    _mu_panel(axs[1, 1], seg, t0, t1, windows)
+    for a in axs[1]:
+        a.set_xlabel("time [s]")
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def _condition_panels(axs: np.ndarray, seg: pd.DataFrame) -> None:
+    """Panels (a)–(c) of :func:`condition_figure`: each wheel's quantity (solid) and its
+    companion (dashed, right axis).
+    """
     specs = [
         (
             axs[0, 0],
@@ -185,7 +199,12 @@ def condition_figure(
         ax2.set_ylabel(label2 + " (dashed)", color="0.4")
         ax.set_title(tag, loc="left", fontsize=10)
     axs[0, 0].legend(fontsize=8, loc="best")
-    ax = axs[1, 1]
+
+
+def _mu_panel(
+    ax: Axes, seg: pd.DataFrame, t0: float, t1: float, windows: pd.DataFrame | None
+) -> None:
+    """Panel (d) of :func:`condition_figure`: μ per valid sample or per window, |F|/Fz dotted."""
     ymax = 1.3
     _bands(ax, ymax)
     any_valid = False
@@ -255,11 +274,6 @@ def condition_figure(
         else "μ (points: valid; dotted: |F|/Fz)"
     )
     ax.set_title("(d)", loc="left", fontsize=10)
-    for a in axs[1]:
-        a.set_xlabel("time [s]")
-    fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
-    return fig
 
 
 def _speed_groups(ct: pd.DataFrame) -> pd.Series:
