@@ -163,6 +163,7 @@ def motion_from_epochs(
     for c in _REQUIRED:
         have &= epochs[c].notna().to_numpy()
     rows = np.flatnonzero(have)
+    n_have = rows.size
     ep, source, counts = receiver_epochs(epochs.iloc[rows])
     rows = rows[source]
     ts = ep["t_s"].to_numpy(float)
@@ -182,7 +183,7 @@ def motion_from_epochs(
         "vehicle": vehicle.name,
         "epochs_total": len(epochs),
         "epochs_used": int(rows.size),
-        "epochs_missing_inputs": int(len(epochs) - rows.size),
+        "epochs_missing_inputs": int(len(epochs) - n_have),
         "epochs_aligned": alignment.n_aligned,
         **{k: v for k, v in counts.items() if k != "receiver_rate_hz"},
     }
@@ -791,6 +792,10 @@ def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dic
         return out, source, counts
     nearest = np.clip(np.searchsorted(t, t_new), 1, t.size - 1)
     nearest -= (t_new - t[nearest - 1]) < (t[nearest] - t_new)
+    # each row names an epoch of its own (the wheel table pairs the wheels by it): a knot whose
+    # nearest epoch is one kept beside it (at a stretch's edge) is left out
+    fresh = np.concatenate([[True], np.diff(nearest) != 0])
+    order, t_new, nearest = order[fresh], t_new[fresh], nearest[fresh]
     rec = out.iloc[nearest].reset_index(drop=True)
     rec["t_s"] = t_new
     num = [c for c in out.columns if c != "t_s" and pd.api.types.is_float_dtype(out[c])
