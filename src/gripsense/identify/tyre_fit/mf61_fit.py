@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from gripsense.config.tyre_fit import MF61_LATERAL, TyreFit, mf61_parameters
@@ -71,8 +73,39 @@ def fit_mf61_lateral(
     fz0 = float(np.median(fz)) if fnomin is None else float(fnomin)
     extra = {"FNOMIN": fz0, "LFZO": 1.0, "sign_convention": "ISO-W"}
     names = list(MF61_LATERAL)
-    p = len(names)
     ix = {n: i for i, n in enumerate(names)}
+    lb, ub, fixed = _bounds(flags, ix, fz, fz0)
+    x = _start(x0, names, ix, alpha, fz, fy, fz0)
+    for i, v in fixed.items():
+        x[i] = v
+    x = np.clip(x, lb, ub)
+    cons = _constraints(flags, ix, fz, gamma, fz0)
+    model = _model(names, [i for i in range(len(names)) if i not in fixed], extra, fz, alpha, gamma)
+    prob = Problem(
+        model,
+        cons,
+        lb,
+        ub,
+        fy,
+        w,
+        loss,
+        f_scale,
+        tuple(names),
+        "mf61",
+        constraints,
+        "published",
+        ranges(alpha, gamma, fz),
+        extra,
+        n_bad,
+    )
+    return run_problem(prob, x, fixed, max_iter)
+
+
+def _bounds(
+    flags: set[str], ix: dict[str, int], fz: np.ndarray, fz0: float
+) -> tuple[np.ndarray, np.ndarray, dict[int, float]]:
+    """Lower and upper bounds of the coefficients and those fixed by the constraints."""
+    p = len(ix)
     lb = np.full(p, -np.inf)
     ub = np.full(p, np.inf)
     fixed: dict[int, float] = {}
@@ -83,21 +116,41 @@ def fit_mf61_lateral(
     if "camber" in flags:
         lb[ix["PDY3"]] = 0.0
     lb[ix["PKY2"]], ub[ix["PKY2"]] = 0.05 * fz.max() / fz0, 10.0 * fz.max() / fz0
-    if x0 is None:
-        fzs, slopes, peaks = initial_peak_slope(alpha, fz, fy)
-        mu = float(np.median(peaks / fzs))
-        kya = float(np.median(slopes))
-        x = np.zeros(p)
-        x[ix["PCY1"]] = 1.3
-        x[ix["PDY1"]] = mu
-        x[ix["PKY4"]] = 2.0
-        x[ix["PKY2"]] = 2.0
-        x[ix["PKY1"]] = kya / (fz0 * np.sin(2 * np.arctan(np.median(fzs) / (2.0 * fz0))))
-    else:
-        x = np.array([float(x0.get(n, 0.0)) for n in names])
-    for i, v in fixed.items():
-        x[i] = v
-    x = np.clip(x, lb, ub)
+    return lb, ub, fixed
+
+
+def _start(
+    x0: dict | None,
+    names: list[str],
+    ix: dict[str, int],
+    alpha: np.ndarray,
+    fz: np.ndarray,
+    fy: np.ndarray,
+    fz0: float,
+) -> np.ndarray:
+    """The start: *x0* by name, else peak and slope read from the data."""
+    if x0 is not None:
+        return np.array([float(x0.get(n, 0.0)) for n in names])
+    fzs, slopes, peaks = initial_peak_slope(alpha, fz, fy)
+    mu = float(np.median(peaks / fzs))
+    kya = float(np.median(slopes))
+    x = np.zeros(len(names))
+    x[ix["PCY1"]] = 1.3
+    x[ix["PDY1"]] = mu
+    x[ix["PKY4"]] = 2.0
+    x[ix["PKY2"]] = 2.0
+    x[ix["PKY1"]] = kya / (fz0 * np.sin(2 * np.arctan(np.median(fzs) / (2.0 * fz0))))
+    return x
+
+
+def _constraints(
+    flags: set[str], ix: dict[str, int], fz: np.ndarray, gamma: np.ndarray, fz0: float
+) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The constraints x → (c, A), c ≥ 0: the curvature E below 1 and above −(1 + C²/2) (the
+    shape) and the camber's vertical shift bounded, on the data's load and camber box; A by
+    differences.
+    """
+    p = len(ix)
     fz_box = np.array([fz.min(), fz.max()])
     g_grid = np.linspace(gamma.min(), gamma.max(), 5)
     cf, cg, cs = (a.ravel() for a in np.meshgrid(fz_box, g_grid, [-1.0, 1.0], indexing="ij"))
@@ -128,7 +181,19 @@ def fit_mf61_lateral(
             a[:, i] = (con_values(xp) - c0) / h
         return c0, a
 
-    free = [i for i in range(p) if i not in fixed]
+    return cons
+
+
+def _model(
+    names: list[str],
+    free: list[int],
+    extra: dict,
+    fz: np.ndarray,
+    alpha: np.ndarray,
+    gamma: np.ndarray,
+) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """The model x → (F_y, its Jacobian over the *free* coefficients, central differences)."""
+    p = len(names)
 
     def model(x):
         coefs = dict(zip(names, x, strict=True))
@@ -145,21 +210,4 @@ def fit_mf61_lateral(
             jac[:, i] = (fp - fm) / (2 * h)
         return f0, jac
 
-    prob = Problem(
-        model,
-        cons,
-        lb,
-        ub,
-        fy,
-        w,
-        loss,
-        f_scale,
-        tuple(names),
-        "mf61",
-        constraints,
-        "published",
-        ranges(alpha, gamma, fz),
-        extra,
-        n_bad,
-    )
-    return run_problem(prob, x, fixed, max_iter)
+    return model
