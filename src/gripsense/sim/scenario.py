@@ -329,24 +329,8 @@ def run_scenario(
     sim_kw = {"drive": sc["drive"], "relaxation_length_m": sc["relaxation_length_m"]}
     default_tyre = sc["tyre"]
     seed = int(sc["seed"])
-    road = ROAD.read(r, r.table("road", required=False))
-    mu0 = road["mu"]
-    patches = []
-    for k, pt in enumerate(road["patches"] or []):
-        try:
-            (x0, x1), (y0, y1), mu = pt["x_m"], pt["y_m"], float(pt["mu"])
-        except (KeyError, TypeError, ValueError):
-            _fail(src, f"[road] patches[{k}]", "needs x_m = [min, max], y_m = [min, max], mu")
-        patches.append((x0, x1, y0, y1, mu))
-    g = dict(r.table("gnss", required=False))
-    for old, new in OLD_NOISE_KEYS.items():
-        if old in g:
-            warnings.warn(
-                f"{src}: [gnss] {old} is deprecated; write {new}", FutureWarning, stacklevel=2
-            )
-            g[new] = g.pop(old)
-    gnss = GNSS.read(r, g)
-    over = {k: gnss[k] for k in g if k not in ("rate_hz", "noise")}
+    mu0, patches = _road(r, src)
+    gnss, over = _gnss(r, src)
     default_receiver, rate = gnss["noise"], gnss["rate_hz"]
     acc = steer = None
     if "accelerometer" in doc:
@@ -357,19 +341,7 @@ def run_scenario(
             if not isinstance(steer[key], bool):
                 r.fail("steering", key, f"= {steer[key]!r}: use true or false")
 
-    specs: list[tuple[dict, float]] = []
-    for c in doc.get("case", []):
-        specs.append((c, float(c.get("mu", mu0))))
-    for gr in doc.get("grid", []):
-        dims = {
-            key: (v if isinstance(v, list) else [v]) for key, v in gr.items() if key != "maneuver"
-        }
-        keys = list(dims)
-        for combo in itertools.product(*(dims[key] for key in keys)):
-            c = {"maneuver": gr.get("maneuver"), **dict(zip(keys, combo, strict=True))}
-            specs.append((c, float(c.get("mu", mu0))))
-    if not specs:
-        _fail(src, "[[case]] / [[grid]]", "no case to simulate")
+    specs = _cases(doc, mu0, src)
 
     tyre_cache: dict = {}
     setups = []
@@ -402,6 +374,52 @@ def run_scenario(
             },
             mu_max=mu_max,
         )  # fmt: skip
+
+
+def _road(r: TomlReader, src: str) -> tuple[float, list[tuple]]:
+    """The ``[road]`` table: the road's μ and its patches (x0, x1, y0, y1, μ)."""
+    road = ROAD.read(r, r.table("road", required=False))
+    patches = []
+    for k, pt in enumerate(road["patches"] or []):
+        try:
+            (x0, x1), (y0, y1), mu = pt["x_m"], pt["y_m"], float(pt["mu"])
+        except (KeyError, TypeError, ValueError):
+            _fail(src, f"[road] patches[{k}]", "needs x_m = [min, max], y_m = [min, max], mu")
+        patches.append((x0, x1, y0, y1, mu))
+    return road["mu"], patches
+
+
+def _gnss(r: TomlReader, src: str) -> tuple[dict, dict]:
+    """The ``[gnss]`` table (deprecated keys renamed, with a warning) and the noise values it
+    sets over the receiver's.
+    """
+    g = dict(r.table("gnss", required=False))
+    for old, new in OLD_NOISE_KEYS.items():
+        if old in g:
+            warnings.warn(
+                f"{src}: [gnss] {old} is deprecated; write {new}", FutureWarning, stacklevel=3
+            )
+            g[new] = g.pop(old)
+    gnss = GNSS.read(r, g)
+    return gnss, {k: gnss[k] for k in g if k not in ("rate_hz", "noise")}
+
+
+def _cases(doc: dict, mu0: float, src: str) -> list[tuple[dict, float]]:
+    """Every case of ``[[case]]`` and of the products of ``[[grid]]``, with its road's μ."""
+    specs: list[tuple[dict, float]] = []
+    for c in doc.get("case", []):
+        specs.append((c, float(c.get("mu", mu0))))
+    for gr in doc.get("grid", []):
+        dims = {
+            key: (v if isinstance(v, list) else [v]) for key, v in gr.items() if key != "maneuver"
+        }
+        keys = list(dims)
+        for combo in itertools.product(*(dims[key] for key in keys)):
+            c = {"maneuver": gr.get("maneuver"), **dict(zip(keys, combo, strict=True))}
+            specs.append((c, float(c.get("mu", mu0))))
+    if not specs:
+        _fail(src, "[[case]] / [[grid]]", "no case to simulate")
+    return specs
 
 
 def _receiver_toml(base: Path, rec: str | Path, over: dict) -> str:
