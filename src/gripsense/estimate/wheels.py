@@ -193,21 +193,20 @@ def motion_from_epochs(
     n_interp, n_res = counts["epochs_interpolated"], counts["epochs_resampled"]
     if n_same_time or n_held or n_interp or n_res:
         said = (
-            f"{n_same_time + n_held + n_interp + n_res} epochs collapsed: {n_same_time} repeat "
-            f"an earlier epoch's time stamp, {n_held} its measurements at a new one, {n_interp} "
-            "lie on the line between their neighbours"
+            f"{n_same_time + n_held + n_interp + n_res} epochs collapsed (a logger's duplicates "
+            f"or resampling; each measurement counts once): {n_same_time} repeat an earlier "
+            f"epoch's time stamp, {n_held} its measurements at a new one, {n_interp} lie on the "
+            "line between their neighbours"
         )
         rate = counts["receiver_rate_hz"]
         if n_res:
             said += (
-                f", {n_res} more are a resampling of a {rate:g} Hz receiver (its epochs, the "
-                "knots of the piecewise-linear curve they lie on, taken instead)"
+                f", {n_res} more are a resampling of a {rate:g} Hz receiver, replaced by its "
+                "epochs (the knots of the piecewise-linear curve they lie on)"
             )
-        elif np.isfinite(rate):
-            said += f" (the values held moved to the {rate:g} Hz receiver's epochs)"
-        meta["epochs_collapsed"] = (
-            f"{said} (a logger's duplicates or resampling); each measurement counts once"
-        )
+        elif n_held and np.isfinite(rate):
+            said += f"; the values held moved to the {rate:g} Hz receiver's epochs"
+        meta["epochs_collapsed"] = said
     offset = vehicle.heading_offset_rad
     meta["heading_offset_source"] = "vehicle file"
     if o.calibrate_heading:
@@ -733,7 +732,7 @@ def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dic
             if knots is not None and np.all(np.diff(knots) > 0):
                 kept = tr[~held[rest]]
                 new_t = np.where(np.abs(knots - kept) > 4 * STAMP_ERROR_S, knots, kept)
-                counts["receiver_rate_hz"] = float(1.0 / np.median(np.diff(knots)))
+                counts["receiver_rate_hz"] = round(float(1.0 / np.median(np.diff(knots))), 6)
     rest = np.flatnonzero(keep)
     interp = np.zeros(len(epochs), dtype=bool)
     if new_t is None:
@@ -742,7 +741,7 @@ def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dic
     source = np.flatnonzero(keep & ~interp)
     out = epochs.iloc[source].reset_index(drop=True)
     if interp.any() and source.size > 1:  # the receiver's epochs, kept: their rate
-        counts["receiver_rate_hz"] = float(1.0 / np.median(np.diff(t_all[source])))
+        counts["receiver_rate_hz"] = round(float(1.0 / np.median(np.diff(t_all[source]))), 6)
     if new_t is not None:
         out["t_s"] = new_t
         return out, source, counts
