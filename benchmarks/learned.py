@@ -18,7 +18,13 @@ Each is applied to steady circles (R 40 m) on μ 0.5 and 0.3 at utilisation 0.7,
 upper ends, median μ_high/μ, values, values within ±0.05 of the truth, and the largest
 measured-grip bound above the truth.
 
+``--slippery``: the same configurations on steady circles on μ 0.1, 0.2 and 0.3 (ice, packed snow,
+snow) and 0.9 (the dry control) at utilisation 0.8 and 0.9, R ≥ 40 m and 7 m/s: per
+configuration and road the share of axle-cases read ``slippery``, analysed (not screened) and
+holding the truth.
+
 Usage: python benchmarks/learned.py [--workers 2] [--receiver white-0.3] [--cars cr-std,cr-mb,mf]
+[--slippery]
 """
 
 from __future__ import annotations
@@ -36,8 +42,9 @@ CARS = ("cr-std", "cr-mb", "mf")
 US = (0.7, 0.8, 0.9, 0.95)
 MUS = (0.5, 0.3)
 RADIUS_M = 40.0
-SLIPPERY = ((0.1, 0.2, 0.3), (0.8, 0.9))
-"""--slippery: circles on ice, packed snow and snow at these utilisations, R ≥ 40 m and 7 m/s."""
+SLIPPERY = ((0.1, 0.2, 0.3, 0.9), (0.8, 0.9))
+"""--slippery: circles on ice, packed snow and snow at these utilisations, R ≥ 40 m and 7 m/s,
+and on a dry road (μ 0.9) as the control that must never read slippery."""
 
 
 def radius(mu: float, u: float) -> float:
@@ -139,6 +146,7 @@ def one(job: dict) -> list[dict]:
                             "mu": float(r["mu"]) if r["observable"] else np.nan,
                             "mu_low": float(r["mu_low"]), "mu_high": float(r["mu_high"]),
                             "slippery": str(r.get("slippery", "")),
+                            "limited_by": str(r.get("limited_by", "")),
                             "shape_learned": axle in learned_axles,
                             "members_kept": kept.get(axle, -1),
                             "cpu_learn_s": cpu_learn,
@@ -184,10 +192,22 @@ def run(cars: str, receiver: str, workers: int, csv: str | None, slippery: bool)
     pd.set_option("display.width", 160)
     print(f"receiver {receiver}; cars {cars}; {time.time() - t:.0f} s wall")
     if slippery:
-        hi = df[df["u_true"] >= 0.8]
-        print("slippery at u ≥ 0.8 on μ 0.1–0.3 (share of axle-cases):")
-        print(hi.assign(slippery=hi["slippery"] == "slippery").groupby(["config", "mu_road"])
-              ["slippery"].agg(["mean", "size"]).round(3).to_string())  # fmt: skip
+        df = df.assign(
+            is_slippery=df["slippery"] == "slippery",
+            holds=(df["mu_low"] <= df["mu_true"] + 0.01) & (df["mu_true"] - 0.01 <= df["mu_high"]),
+            analysed=~df["limited_by"].eq("no cornering the compass resolves"),
+        )
+        for name, part in (("u ≥ 0.8", df[df["u_true"] >= 0.8]), ("every circle", df)):
+            print(f"slippery, {name} (share of axle-cases; μ 0.9: the dry control):")
+            print(part.groupby(["config", "mu_road"])[["is_slippery", "analysed", "holds"]]
+                  .agg(["mean"]).droplevel(1, axis=1).assign(cases=part.groupby(
+                      ["config", "mu_road"]).size()).round(3).to_string())  # fmt: skip
+        cal = df[df["config"] == "calibrated"]
+        print("\ncalibrated, per car and road (slippery / axle-cases, every circle):")
+        print(cal.groupby(["car", "mu_road"])["is_slippery"].agg(["sum", "size"]).unstack()
+              .to_string())  # fmt: skip
+        above = int((df["grip_used_lower"] > df["mu_true"] + 0.01).sum())
+        print(f"\nmeasured-grip bounds above the truth (+0.01): {above}")
         return
     print(scores(df).to_string())
     print("\nper car, u ≥ 0.8 (upper ends / values ±0.05):")
@@ -206,8 +226,9 @@ def main() -> None:
     ap.add_argument("--cars", default=",".join(CARS))
     ap.add_argument("--csv", default=None)
     ap.add_argument(
-        "--slippery", action="store_true", help="circles on μ 0.1, 0.2, 0.3 at u 0.8, 0.9"
-    )
+        "--slippery", action="store_true",
+        help="circles on μ 0.1, 0.2, 0.3 (and 0.9, the control) at u 0.8, 0.9",
+    )  # fmt: skip
     args = ap.parse_args()
     run(args.cars, args.receiver, args.workers, args.csv, args.slippery)
 

@@ -185,12 +185,13 @@ def estimate_windows(
                 cols[k][i] = v
         cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
         tables.append(cols)
-        # a steady stretch resolved over its whole length (its white slip noise averaged, on
-        # ice the slip is below a window's noise): its bins join the drive (§15.2)
-        analysed_bins |= resolvable_steady(
-            ab.data, ab.grip_sigma, ab.t0, ab.t1, noise, o.screen_z, o.steady_tolerance,
-            o.bin_s, per_bin_win,
-        )  # fmt: skip
+        if o.drive:
+            # a steady stretch resolved over its whole length (its white slip noise averaged, on
+            # ice the slip is below a window's noise): its bins join the drive (§15.2)
+            analysed_bins |= resolvable_steady(
+                ab.data, ab.grip_sigma, ab.t0, ab.t1, noise, o.screen_z, o.steady_tolerance,
+                o.bin_s, per_bin_win,
+            )  # fmt: skip
         if not analysed_bins.any():
             # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
             # bins that pass the screen themselves rather than say it saw no cornering
