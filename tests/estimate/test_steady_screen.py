@@ -128,3 +128,23 @@ def test_ice_on_a_stiff_car_is_analysed_over_its_steady_circle():
             # the windows alone could not: every one of them screened
             assert not w.loc[w["axle"] == axle, "analysed"].any(), axle
     assert analysed >= 1
+
+
+@pytest.mark.parametrize("u", [0.2, 0.85])
+def test_a_dry_road_on_a_stiff_car_is_never_slippery(u):
+    """CommonRoad's single-track car on μ 0.9, a steady circle at everyday grip (its slip a few
+    tenths of a degree, now screened over the whole circle too) and near the limit: no axle
+    reads slippery, every range holds the truth."""
+    mu, r = 0.9, 40.0
+    d = CR.commonroad_drive(
+        CR.cr_circle(limit_speed(mu, r, u), r), mu, model="std", receiver="white-0.3", seed=34
+    )
+    truth = d.axles.set_index("axle")
+    ep = read_nmea(d.lines).epochs
+    ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
+    run = FrictionRun(CR.commonroad_vehicle(), receiver="white-0.3")
+    s = run.run(ep, steer_rad=steer_at(ch, ep["t_s"].to_numpy(float))).summary.set_index("axle")
+    for axle, t in truth.iterrows():
+        row = s.loc[axle]
+        assert row["slippery"] != "slippery", (axle, row["mu_low"], row["mu_high"])
+        assert row["mu_low"] - 0.01 <= t["mu_true"] <= row["mu_high"] + 0.01, axle
