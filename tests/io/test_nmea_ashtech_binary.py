@@ -234,3 +234,33 @@ def test_every_documented_record_type_is_cut_and_counted(kind):
     assert rep.rejected["bad checksum"] == 1 and sum(rep.rejected.values()) == 1
     assert rep.parsed == base.parsed
     assert rep.total_lines == base.total_lines + len(recs) + 1 and rep.balanced
+
+
+def test_a_record_whose_bytes_read_as_a_sentence_is_still_a_record():
+    """A record's binary bytes can by chance form a whole sentence (printable, ``*hh`` with the
+    right NMEA checksum before its CR LF): it is still the record its Ashtech checksum says, in
+    batch (which looks for records only when a line says it must) as live."""
+    import numpy as np
+
+    rng = np.random.default_rng(7)
+    printable = np.frombuffer(b"0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefxyz.,-+ ", dtype=np.uint8)
+    while True:
+        body = bytearray(rng.choice(printable, 37).astype(np.uint8).tobytes())
+        body[34] = ord("*")
+        x = 0
+        for b in b"PASHR,MCA," + bytes(body[:34]):
+            x ^= b
+        body[35:37] = f"{x:02X}".encode()
+        a = 0
+        for b in body[:36]:
+            a ^= b
+        if a == body[36]:
+            break
+    rec = b"$PASHR,MCA," + bytes(body) + b"\r\n"
+    data = _without(AC12.read_bytes(), _records(AC12.read_bytes()))
+    lines = data.splitlines(keepends=True)
+    data = b"".join([*lines[:30], rec, *lines[30:]])
+    rep = read_nmea(data).report
+    assert rep.ignored["Ashtech binary MCA"] == 1
+    assert "PASHR,MCA (proprietary, not used)" not in rep.ignored
+    _same_as_batch(data, *_live(data, range(0, len(data), 17)))

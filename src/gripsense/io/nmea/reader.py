@@ -225,6 +225,8 @@ def _may_hold_ashtech(tok) -> bool:
     """
     if (tok.outcome == REJECTED).any():
         return True
+    if not any(k.startswith(_ASHTECH_KEYS) for k in tok.names):  # (no count needed)
+        return False
     return any(k.startswith(_ASHTECH_KEYS) for k in tok.counts(IGNORED))
 
 
