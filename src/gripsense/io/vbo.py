@@ -290,6 +290,72 @@ def parse_vbo(
             f"{name}: not a complete VBOX file: no [{missing[0]}] section (a .vbo has "
             "[column names] and [data]); was the file cut off or edited?"
         )
+    d0 = sec.start["data"] + 1
+    rows = sec.lines[d0:]
+    cols, names_line, structure_notes = _column_names(sec, rows, name)
+    role, twice = _roles(cols, name, names_line)
+    mapped = parse_channel_spec(columns)
+    units = _channel_units(sec, cols, mapped, name)
+    used = list(mapped)
+    others = list(dict.fromkeys(c for c in cols if _ALIASES.get(c.lower()) is None))
+    steering, steer_notes = add_steering(mapped, others, units.get)
+    rd = _data_rows(text, rows, d0, cols, role["time"], name, strict, structure_notes)
+    a = rd.values
+    n = a.shape[0]
+    values, yaw_src = _standard_values(a, role, sec)
+    ctx = _Columns(a, cols, units, name, names_line, structure_notes)
+    steering, yaw_src = _mapped_values(values, mapped, steering, yaw_src, ctx)
+    for r, j in role.items():
+        same = twice.get(cols[j], [])
+        if len(same) > 1 and r != "date":
+            where = " and ".join(str(i + 1) for i in same)
+            agree = "the same values" if _same_values(a, same) else "different values"
+            structure_notes.append(
+                f"channel {cols[j]!r} is named {len(same)} times in [column names] (columns "
+                f"{where}, {agree}): column {j + 1} read; map another with --columns "
+                f"KEY={cols[j]}[2]"
+            )
+    seconds, has_date = _seconds(a, role, sec)
+    hsrc = "channel" if "heading" in mapped else "VBOX"
+    epochs = build_epochs(
+        values, seconds, has_date=has_date, heading_source=hsrc, yaw_rate_source=yaw_src
+    )
+    pre_blank = _blank(sec.lines[:d0])
+    cut = rd.cut
+    report = IngestReport(
+        source=name,
+        total_lines=len(sec.lines),
+        parsed={"VBO data": n} if n else {},
+        ignored={
+            k: c for k, c in (("(header)", d0 - pre_blank), ("(blank)", rd.blank + pre_blank)) if c
+        },
+        rejected=rd.rejected,
+        first_rejects=rd.rejects,
+        n_epochs=n,
+        epochs_without_time=0,
+        has_date=has_date,
+        format="VBOX VBO",
+        notes=structure_notes
+        + ([f"mapped by --columns: {', '.join(used)}"] if used else [])
+        + steer_notes
+        + (
+            [f"the file ends inside line {d0 + cut + 1} (cut off?): that row is not read"]
+            if cut >= 0
+            else []
+        ),
+        steering=steering,
+    )
+    rows_t = pd.DataFrame(
+        {"line": np.asarray(rd.line_idx, dtype=np.int64) + 1, "epoch": np.arange(n)}
+    )
+    return NmeaLog(epochs=epochs, report=report, sentences={"VBO": rows_t})
+
+
+def _column_names(sec: _Sections, rows: list[str], name: str) -> tuple[list[str], int, list[str]]:
+    """The channel names of ``[column names]`` matched to the rows' field count (names with a
+    space joined as ``[header]`` lists them), the section's first line (1-based), and the notes
+    on what was read.
+    """
     names_lines = sec.body("column names")
     if not names_lines:
         raise InputError(f"{name}:{sec.start['column names'] + 2}: [column names] is empty")
@@ -299,12 +365,10 @@ def parse_vbo(
     names_line = names_lines[0][0] + 1
     n_names_lines = len(names_lines)
     on_lines = f" on {n_names_lines} lines" if n_names_lines > 1 else ""
-    d0 = sec.start["data"] + 1
-    rows = sec.lines[d0:]
     # the rows' field count (the commonest of the first rows): [column names] must match it
     counts = [len(r.split()) for r in rows[:200] if r.strip()]
     nfield = max(set(counts), key=counts.count) if counts else len(cols)
-    structure_notes: list[str] = []
+    notes: list[str] = []
     if len(cols) != nfield:
         titles = [t for _, t in sec.body("header")]
         fixed = _join_spaced_names(cols, titles, nfield)
@@ -324,30 +388,27 @@ def parse_vbo(
             )
         cols, joined = fixed
         one = len(joined) == 1
-        structure_notes.append(
+        notes.append(
             f"[column names]: {', '.join(repr(j) for j in joined)} "
             f"{'holds a space: read as one channel' if one else 'hold spaces: each read as one'}"
             f", as [header] lists {'it' if one else 'them'} ({nfield} channels)"
         )
     if n_names_lines > 1:
         titles = [t for _, t in sec.body("header")]
-        structure_notes.append(
+        notes.append(
             f"[column names] spans {n_names_lines} lines: read as one list of {len(cols)} "
             f"names (the rows' {nfield} fields"
             + (f", [header]'s {len(titles)} channels)" if titles else ")")
         )
-    ncol = len(cols)
-    role: dict[str, int] = {}
-    twice: dict[str, list[int]] = {}
-    for j, c in enumerate(cols):
-        r = _ALIASES.get(c.lower())
-        if r and r not in role:
-            role[r] = j
-        if cols.count(c) > 1:
-            twice.setdefault(c, []).append(j)
-    if "time" not in role:
-        raise InputError(f"{name}:{names_line}: [column names] has no 'time' column ({cols[:12]})")
-    mapped = parse_channel_spec(columns)
+    return cols, names_line, notes
+
+
+def _channel_units(
+    sec: _Sections, cols: list[str], mapped: dict[str, ChannelSpec], name: str
+) -> dict[str, str]:
+    """Each channel's unit (``[channel units]``; a ``NAME[k]`` of ``--columns`` takes its own
+    column's), after checking that every mapped channel is a column of the file.
+    """
     for spec in mapped.values():
         if _column_of(cols, spec.channel)[0] is None:
             raise InputError(
@@ -362,53 +423,76 @@ def parse_vbo(
         jm = _column_of(cols, spec.channel)[0]
         assert jm is not None
         units[spec.channel] = unit_list[jm]
-    used = list(mapped)
-    others = list(dict.fromkeys(c for c in cols if _ALIASES.get(c.lower()) is None))
-    steering, steer_notes = add_steering(mapped, others, units.get)
+    return units
 
-    # data rows: every line after [data] is one row (or blank)
-    n_lines = len(sec.lines)
+
+def _roles(
+    cols: list[str], name: str, names_line: int
+) -> tuple[dict[str, int], dict[str, list[int]]]:
+    """Each standard channel's column (the first of its name) and the names given twice."""
+    role: dict[str, int] = {}
+    twice: dict[str, list[int]] = {}
+    for j, c in enumerate(cols):
+        r = _ALIASES.get(c.lower())
+        if r and r not in role:
+            role[r] = j
+        if cols.count(c) > 1:
+            twice.setdefault(c, []).append(j)
+    if "time" not in role:
+        raise InputError(f"{name}:{names_line}: [column names] has no 'time' column ({cols[:12]})")
+    return role, twice
+
+
+@dataclass
+class _Rows:
+    """The data rows read: their values, 0-based line of each, the accounting."""
+
+    values: np.ndarray
+    line_idx: list[int]
+    rejects: list[RejectedLine]
+    rejected: dict[str, int]
+    blank: int
+    cut: int  # the row the file ends inside (index in the rows; −1: none)
+
+
+def _data_rows(
+    text: str,
+    rows: list[str],
+    d0: int,
+    cols: list[str],
+    j_time: int,
+    name: str,
+    strict: bool,
+    notes: list[str],
+) -> _Rows:
+    """Every line after ``[data]``: one row of numbers, blank, or rejected with its reason."""
+    ncol = len(cols)
     blank = 0
     good_idx: list[int] = []
     good_text: list[str] = []
     rejects: list[RejectedLine] = []
     rej_count = dict.fromkeys(REASONS, 0)
-    # a last row without its line end and shorter than the rows before it: the file was cut
-    # inside it (a value cut to fewer digits still has all its fields), so it is rejected,
-    # and said
-    # (fewer fields, or a last field shorter than in the rows before it; a field elsewhere
-    # written one character shorter — 000.072 after +000.000 — is not a cut)
-    cut = -1
-    if rows and rows[-1].strip() and not text.endswith(("\n", "\r")):
-        last = rows[-1].split()
-        before = [r.split() for r in rows[-11:-1] if r.strip()]
-        if before and (
-            len(last) < min(len(b) for b in before)
-            or len(last[-1].lstrip("+-")) < min(len(b[-1].lstrip("+-")) for b in before)
-        ):
-            cut = len(rows) - 1
+
+    def reject(line: int, reason: str, detail: str) -> None:
+        rej_count[reason] += 1
+        if strict:
+            raise InputError(f"{name}:{line}: {reason}: {detail} (strict mode)")
+        if len(rejects) < 20:
+            rejects.append(RejectedLine(line, reason, detail))
+
+    cut = _cut_row(text, rows)
     for k, ln in enumerate(rows):
         s = ln.strip()
         if not s:
             blank += 1
             continue
         if k == cut:
-            detail = "the file ends inside this row (cut off?)"
-            rej_count[TRUNCATED] += 1
-            if strict:
-                raise InputError(f"{name}:{d0 + k + 1}: {TRUNCATED}: {detail} (strict mode)")
-            if len(rejects) < 20:
-                rejects.append(RejectedLine(d0 + k + 1, TRUNCATED, detail))
+            reject(d0 + k + 1, TRUNCATED, "the file ends inside this row (cut off?)")
             continue
         nf = s.count(" ") + 1 if "  " not in s and "\t" not in s else len(s.split())
         if nf != ncol:
             reason = TRUNCATED if nf < ncol else MALFORMED
-            detail = f"{nf} fields, [column names] has {ncol}"
-            rej_count[reason] += 1
-            if strict:
-                raise InputError(f"{name}:{d0 + k + 1}: {reason}: {detail} (strict mode)")
-            if len(rejects) < 20:
-                rejects.append(RejectedLine(d0 + k + 1, reason, detail))
+            reject(d0 + k + 1, reason, f"{nf} fields, [column names] has {ncol}")
             continue
         good_idx.append(d0 + k)
         good_text.append(s)
@@ -416,33 +500,53 @@ def parse_vbo(
         body = "\n".join(good_text)
         if "," in good_text[0] and "." not in good_text[0]:  # decimal commas (a converter's)
             body = body.replace(",", ".")
-            structure_notes.append("the rows write decimal commas: read as decimal points")
+            notes.append("the rows write decimal commas: read as decimal points")
         try:  # every field a number (the usual file): one parse to floats
             num = pd.read_csv(io.StringIO(body), sep=r"\s+", header=None, dtype=np.float64,
                               engine="c")  # fmt: skip
-            bad = np.isnan(num.iloc[:, role["time"]].to_numpy(float))
+            bad = np.isnan(num.iloc[:, j_time].to_numpy(float))
         except ValueError:  # a field that is not a number: find the rows
             raw = pd.read_csv(io.StringIO(body), sep=r"\s+", header=None, dtype=str, engine="c")
             num = raw.apply(pd.to_numeric, errors="coerce")
             bad = (num.isna() & raw.notna()).any(axis=1).to_numpy().copy()
-            bad |= np.isnan(num.iloc[:, role["time"]].to_numpy(float))
+            bad |= np.isnan(num.iloc[:, j_time].to_numpy(float))
     else:
         num = pd.DataFrame(np.empty((0, ncol)))
         bad = np.zeros(0, dtype=bool)
     if bad.any():
         for row in np.flatnonzero(bad):
             jj = int(np.flatnonzero(num.iloc[row].isna().to_numpy())[0])
-            detail = f"column {cols[jj]!r} is not a number"
-            rej_count[MALFORMED] += 1
-            if strict:
-                raise InputError(f"{name}:{good_idx[row] + 1}: {MALFORMED}: {detail} (strict mode)")
-            if len(rejects) < 20:
-                rejects.append(RejectedLine(good_idx[row] + 1, MALFORMED, detail))
+            reject(good_idx[row] + 1, MALFORMED, f"column {cols[jj]!r} is not a number")
         keep = ~bad
         num = num[keep].reset_index(drop=True)
         good_idx = [i for i, k in zip(good_idx, keep, strict=True) if k]
     rejects.sort(key=lambda r: r.line)
-    a = num.to_numpy(float)
+    return _Rows(num.to_numpy(float), good_idx, rejects, rej_count, blank, cut)
+
+
+def _cut_row(text: str, rows: list[str]) -> int:
+    """The last row when the file ends inside it (−1 otherwise).
+
+    A last row without its line end and shorter than the rows before it: the file was cut
+    inside it (a value cut to fewer digits still has all its fields), so it is rejected, and
+    said (fewer fields, or a last field shorter than in the rows before it; a field elsewhere
+    written one character shorter — 000.072 after +000.000 — is not a cut).
+    """
+    if rows and rows[-1].strip() and not text.endswith(("\n", "\r")):
+        last = rows[-1].split()
+        before = [r.split() for r in rows[-11:-1] if r.strip()]
+        if before and (
+            len(last) < min(len(b) for b in before)
+            or len(last[-1].lstrip("+-")) < min(len(b[-1].lstrip("+-")) for b in before)
+        ):
+            return len(rows) - 1
+    return -1
+
+
+def _standard_values(
+    a: np.ndarray, role: dict[str, int], sec: _Sections
+) -> tuple[dict[str, np.ndarray], str | None]:
+    """The epoch table's columns from the standard VBOX channels, and the yaw rate's source."""
 
     def col(r: str) -> np.ndarray | None:
         return a[:, role[r]] if r in role else None
@@ -479,86 +583,80 @@ def parse_vbo(
     if yr is not None:
         values["yaw_rate_rps"] = -np.deg2rad(yr)  # clockwise (compass) -> ISO
         yaw_src = "VBOX"
+    return values, yaw_src
+
+
+@dataclass
+class _Columns:
+    """What the mapped channels are read against: the rows' values, the names, units, file
+    name, the names' line and the notes.
+    """
+
+    a: np.ndarray
+    cols: list[str]
+    units: dict[str, str]
+    name: str
+    names_line: int
+    notes: list[str]
+
+
+def _mapped_values(
+    values: dict[str, np.ndarray],
+    mapped: dict,
+    steering: dict,
+    yaw_src: str | None,
+    c: _Columns,
+) -> tuple[dict, str | None]:
+    """The ``--columns`` channels (and a steering channel found by its name) into *values*; a
+    name given twice is read when its columns agree, else said or refused. Returns the steering
+    record and the yaw rate's source.
+    """
     for spec in list(mapped.values()):
-        jm, same = _column_of(cols, spec.channel)
+        jm, same = _column_of(c.cols, spec.channel)
         assert jm is not None
         if len(same) > 1:
             where = " and ".join(str(i + 1) for i in same)
             found = steering.get("source") == "name and unit" and steering["key"] == spec.key
-            if found and not _same_values(a, same):  # found by its name: not used, said
+            if found and not _same_values(c.a, same):  # found by its name: not used, said
                 del mapped[spec.key]
                 steering = {}
-                structure_notes.append(
+                c.notes.append(
                     f"steering channel {spec.channel!r} is named {len(same)} times in [column "
                     f"names] (columns {where}) with different values: not used; map one with "
                     f"--columns {spec.key}={spec.channel}[1] (or [2])"
                 )
                 continue
-            if not _same_values(a, same):
+            if not _same_values(c.a, same):
                 options = " or ".join(
                     f"{spec.key}={spec.channel}[{k}]" for k in range(1, len(same) + 1)
                 )
                 raise InputError(
-                    f"{name}:{names_line}: channel {spec.channel!r} ({spec.key}) is named "
+                    f"{c.name}:{c.names_line}: channel {spec.channel!r} ({spec.key}) is named "
                     f"{len(same)} times in [column names] (columns {where}) and their values "
                     f"differ; say which with --columns {options}"
                 )
-            structure_notes.append(
+            c.notes.append(
                 f"channel {spec.channel!r} ({spec.key}) is named {len(same)} times in [column "
                 f"names] (columns {where}) with the same values: column {jm + 1} read"
             )
-        _mapped_channel(values, spec, a[:, jm], units, name)
+        _mapped_channel(values, spec, c.a[:, jm], c.units, c.name)
         if spec.key == "yaw_rate":
             yaw_src = "channel"
-    for r, j in role.items():
-        same = twice.get(cols[j], [])
-        if len(same) > 1 and r != "date":
-            where = " and ".join(str(i + 1) for i in same)
-            agree = "the same values" if _same_values(a, same) else "different values"
-            structure_notes.append(
-                f"channel {cols[j]!r} is named {len(same)} times in [column names] (columns "
-                f"{where}, {agree}): column {j + 1} read; map another with --columns "
-                f"KEY={cols[j]}[2]"
-            )
+    return steering, yaw_src
 
-    # time: hhmmss.ss of day, rolled over at midnight, on the file's date
+
+def _seconds(a: np.ndarray, role: dict[str, int], sec: _Sections) -> tuple[np.ndarray, bool]:
+    """Seconds of each row: hhmmss.ss of day, rolled over at midnight, on the file's date (of
+    the ``date`` channel or the file's creation; without one, of day 0). Also: whether a date
+    was known.
+    """
+    n = a.shape[0]
     hms = a[:, role["time"]]
     tod = (hms // 10000) * 3600 + ((hms // 100) % 100) * 60 + hms % 100
     roll = np.concatenate([[0], np.cumsum(np.diff(tod) < -43200)]) if n else np.zeros(0)
     tod = tod + 86400.0 * roll
-    day = _day(col("date"), sec.created)
-    has_date = day is not None
-    seconds = tod + (day if day is not None else 0.0)
-    hsrc = "channel" if "heading" in mapped else "VBOX"
-    epochs = build_epochs(
-        values, seconds, has_date=has_date, heading_source=hsrc, yaw_rate_source=yaw_src
-    )
-    pre_blank = _blank(sec.lines[:d0])
-    report = IngestReport(
-        source=name,
-        total_lines=n_lines,
-        parsed={"VBO data": n} if n else {},
-        ignored={
-            k: c for k, c in (("(header)", d0 - pre_blank), ("(blank)", blank + pre_blank)) if c
-        },
-        rejected=rej_count,
-        first_rejects=rejects,
-        n_epochs=n,
-        epochs_without_time=0,
-        has_date=has_date,
-        format="VBOX VBO",
-        notes=structure_notes
-        + ([f"mapped by --columns: {', '.join(used)}"] if used else [])
-        + steer_notes
-        + (
-            [f"the file ends inside line {d0 + cut + 1} (cut off?): that row is not read"]
-            if cut >= 0
-            else []
-        ),
-        steering=steering,
-    )
-    rows_t = pd.DataFrame({"line": np.asarray(good_idx, dtype=np.int64) + 1, "epoch": np.arange(n)})
-    return NmeaLog(epochs=epochs, report=report, sentences={"VBO": rows_t})
+    day = _day(a[:, role["date"]] if "date" in role else None, sec.created)
+    return tod + (day if day is not None else 0.0), day is not None
 
 
 def _blank(lines: list[str]) -> int:
