@@ -35,6 +35,8 @@ def plain(tmp_path_factory):
     d = tmp_path_factory.mktemp("real")
     out = {}
     for src in (CANAPE, CANEDGE):
+        if not src.exists():  # the LGPL CANape file: in the repository, not in the sdist
+            continue
         p = d / src.name.removesuffix(".gz")
         p.write_bytes(gzip.decompress(src.read_bytes()))
         out[src.name.split("_")[0]] = p
@@ -62,6 +64,7 @@ def asammdf_gnss(plain):
         }
 
 
+@pytest.mark.skipif(not CANAPE.exists(), reason="copyleft test file not shipped here")
 @pytest.mark.parametrize("by_path", [True, False])
 def test_a_canape_mdf4_with_a_256_byte_string_channel_reads_as_asammdf_reads_it(plain, by_path):
     """The CANape file (group 6: ``$CalibrationLog``, a 256-byte string in a 265-byte record)
