@@ -106,11 +106,13 @@ def _resample(ep: pd.DataFrame, k: int, how: str) -> pd.DataFrame:
 
 
 @functools.cache
-def _drive(mu: float, u: float):
-    """A simulated circle (V100-like receiver, 10 Hz): its epochs and the declared vehicle."""
+def _drive(mu: float, u: float, receiver: str = "v100"):
+    """A simulated circle (a V100-like receiver unless told, 10 Hz): its epochs and the
+    declared vehicle."""
     d = simulate_drive(
-        "sedan", "mf-book", None, mu, seed=3, circle=(limit_speed(mu, 40.0, u), 40.0)
-    )
+        "sedan", "mf-book", None, mu, receiver=receiver, seed=3,
+        circle=(limit_speed(mu, 40.0, u), 40.0),
+    )  # fmt: skip
     return read_nmea(d.lines).epochs, user_vehicle(truth_vehicle("sedan"), "mf-book")
 
 
@@ -123,8 +125,8 @@ def _run(lines, vehicle):
 
 
 @functools.cache
-def _clean(mu: float, u: float):
-    ep, vehicle = _drive(mu, u)
+def _clean(mu: float, u: float, receiver: str = "v100"):
+    ep, vehicle = _drive(mu, u, receiver)
     grip, bound, win, _ = _run([x for b in _write_nmea(ep) for x in b], vehicle)
     return grip, bound, win
 
@@ -271,9 +273,9 @@ def _resample_ratio(ep: pd.DataFrame, ratio: float, how: str, offset: float) -> 
     return pd.DataFrame(out)
 
 
-def _shifted_bounds(mu: float, u: float, shift: float):
+def _shifted_bounds(mu: float, u: float, receiver: str, shift: float):
     """The clean log's bounds with every time stamp moved by *shift* [s] (the same data)."""
-    ep, vehicle = _drive(mu, u)
+    ep, vehicle = _drive(mu, u, receiver)
     clean = read_nmea([x for b in _write_nmea(ep) for x in b]).epochs
     clean["t_s"] = clean["t_s"] + shift
     run = FrictionRun(vehicle, method="axle-window", noise=NoiseModel.for_vehicle(vehicle, "v100"))
@@ -292,31 +294,48 @@ about the slope × 5 ms / √(epochs per knot) — measured up to 1.5e-4 on thes
 the reconstruction a 10 → 25 Hz log rose 1.7e-3 (linear) and 3.0e-3 (held) [-]."""
 
 
-@settings(max_examples=14, deadline=None, derandomize=True,
+@settings(max_examples=16, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])  # fmt: skip
 @given(
     mu=st.sampled_from([0.5, 0.9]),
     u=st.sampled_from([0.8, 1.05]),
-    ratio=st.one_of(st.sampled_from([1.5, 2.5, 12.0, 20.0]), st.floats(1.1, 20.0)),
+    rate_hz=st.integers(11, 200),
     how=st.sampled_from(["linear", "hold", "nearest"]),
     offset_share=st.floats(0.0, 1.0),
+    receiver=st.sampled_from(["v100", "rtk"]),
 )
-def test_a_resampling_at_any_ratio_never_raises_the_bound(mu, u, ratio, how, offset_share):
-    """A 10 Hz compass written at any rate from 11 to 200 Hz (×1.1 … ×20, whole or not), by
-    linear interpolation, holding the last value or the nearest one, the logger's clock
-    starting anywhere within its step; stamps to 0.01 s up to 100 Hz, to 1 ms above. The
-    receiver's 10 Hz epochs come back — the knots of the piecewise-linear curve, or the changes
-    of the held values — and the drive's bound and every window's are at most the receiver's
-    own (+ :data:`RESAMPLE_TOL`). A held log does not say where within a step the receiver's
-    epoch came: its epochs come back shifted by one constant under a step, and are compared
-    with the receiver's shifted by it (the bins lie on the data clock)."""
-    ep, vehicle = _drive(mu, u)
+def test_a_resampling_at_any_ratio_never_raises_the_bound(
+    mu, u, rate_hz, how, offset_share, receiver
+):
+    """A 10 Hz compass written at any whole rate from 11 to 200 Hz (×1.1 … ×20, a whole
+    multiple or not), by linear interpolation, holding the last value or the nearest one, the
+    logger's clock starting anywhere within its step; stamps to 0.01 s up to 100 Hz, to 1 ms
+    above (rounded: 15 Hz steps 0.06 and 0.07 s); a V100-like and an RTK-class compass
+    (:func:`_check_resampled`)."""
+    _check_resampled(mu, u, rate_hz / 10.0, how, offset_share, receiver)
+
+
+@pytest.mark.parametrize("how", ["linear", "hold", "nearest"])
+@pytest.mark.parametrize("ratio", [1.5, 2.5, 12.0, 20.0])
+def test_the_named_ratios_never_raise_the_bound(ratio, how):
+    """10 → 15, 25, 120 and 200 Hz, each way of resampling (:func:`_check_resampled`)."""
+    _check_resampled(0.9, 1.05, ratio, how, 0.37, "v100")
+
+
+def _check_resampled(mu, u, ratio, how, offset_share, receiver):
+    """The receiver's 10 Hz epochs come back — the knots of the piecewise-linear curve, or the
+    changes of the held values — and the drive's bound and every window's are at most the
+    receiver's own (+ :data:`RESAMPLE_TOL`); the epochs collapsed are counted and said. A held
+    log does not say where within a step the receiver's epoch came: its epochs come back
+    shifted by one constant under a step, and are compared with the receiver's shifted by it
+    (the bins lie on the data clock)."""
+    ep, vehicle = _drive(mu, u, receiver)
     offset = offset_share * _RX_PERIOD_S / ratio
     faulty = _resample_ratio(ep, ratio, how, offset)
     digits = 2 if _RX_PERIOD_S / ratio >= 0.01 else 3
     _, bound, win, res = _run([x for b in _write_nmea(faulty, digits) for x in b], vehicle)
     if how == "linear":
-        _, bound0, win0 = _clean(mu, u)
+        _, bound0, win0 = _clean(mu, u, receiver)
     else:
         # the one constant the held log leaves open: where the receiver's epochs come back
         t0 = np.round(ep["t_s"].to_numpy(float), 6)
@@ -325,7 +344,7 @@ def test_a_resampling_at_any_ratio_never_raises_the_bound(mu, u, ratio, how, off
         back = x - np.floor(x / _RX_PERIOD_S + 1e-4) * _RX_PERIOD_S  # each epoch's, [0, step)
         shift = float(np.median(back))
         assert np.all(np.abs(back - shift) < 1e-6), back
-        bound0, win0 = _shifted_bounds(mu, u, round(shift, 6))
+        bound0, win0 = _shifted_bounds(mu, u, receiver, round(shift, 6))
     assert (bound <= bound0 + RESAMPLE_TOL).all(), (bound.to_dict(), bound0.to_dict())
     assert (win <= win0 + RESAMPLE_TOL).all(), (win.to_dict(), win0.to_dict())
     m = res.meta

@@ -656,6 +656,30 @@ def _snap(phase: float, t: np.ndarray) -> float:
     return float(np.round(phase / q) * q) if q > 0 else phase
 
 
+def _logger_clock(t: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The times a logger writing at a steady rate made its epochs at, behind stamps rounded
+    to their resolution q: the least-squares line of the stamps over the epochs' count, when
+    every step is n or n + 1 stamp units and every stamp lies within q/2 of the line but not
+    all on it (stamps that hold the rate need no clock); and their uncertainty, three standard
+    deviations of the line's ends, q/√(3n)·3 [s]. None otherwise (a gap, a jitter).
+    """
+    n = t.size
+    q = _time_quantum(t) if n > 2 else 0.0
+    if q == 0:
+        return None
+    steps = np.round(np.diff(t) / q)
+    if steps.min() < 1 or steps.max() - steps.min() > 1:
+        return None
+    i = np.arange(n) - 0.5 * (n - 1)
+    slope = float(np.dot(i, t - t.mean()) / np.dot(i, i))
+    line = t.mean() + slope * i
+    dev = np.abs(line - t)
+    err = 3.0 * q / np.sqrt(3.0 * n)
+    if dev.max() <= 4 * STAMP_ERROR_S or dev.max() > 0.5 * q + err + 4 * STAMP_ERROR_S:
+        return None
+    return line, err
+
+
 def _time_quantum(t: np.ndarray) -> float:
     """The time stamps' resolution: the coarsest of 1, 0.1, 0.01 and 0.001 s whose multiples
     hold every stamp within :data:`STAMP_ERROR_S` (relative to the first; 0 if none) [s].
@@ -665,7 +689,6 @@ def _time_quantum(t: np.ndarray) -> float:
         if np.all(np.abs(x / q - np.round(x / q)) * q <= 4 * STAMP_ERROR_S):
             return q
     return 0.0
-    return None
 
 
 def _unwrapped(x: np.ndarray) -> np.ndarray:
@@ -679,6 +702,8 @@ def _stamp_error(t: np.ndarray) -> float:
     resolution where the log's steps are rounded to it (their lengths in stamp units differ and
     share no factor: 15 Hz in 0.01 s stamps steps 0.06 and 0.07 s, 60 Hz 0.01 and 0.02 s),
     else :data:`STAMP_ERROR_S` (one step, or whole multiples of one: a receiver's dropouts).
+    Taking half the resolution for every log would let a grid slower than a 10 Hz receiver's
+    (8 Hz) pass its noise.
     """
     d = np.diff(t)
     q = _time_quantum(t) if t.size > 1 else 0.0
@@ -759,14 +784,23 @@ def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dic
         units.append(u)
         cols.append((xu - xu[0]) / u)
     y = np.column_stack(cols)
-    # the stamps' rounding is seen in the log's own steps, before any epoch was dropped
-    t_log = t_all[~same]
-    e_t = _stamp_error(t_log) if np.all(np.diff(t_log) > 0) else _stamp_error(t)
-    grid = _linear_grid(t, y, e_t)
+    # the stamps' rounding is seen in the log's own steps, before any epoch was dropped; a
+    # logger writing at a steady rate gives its own times back (tf: the times the fit uses)
+    tf, e_t = t, _stamp_error(t)
+    log_rows = np.flatnonzero(~same)
+    if np.all(np.diff(t_all[log_rows]) > 0):
+        e_t = _stamp_error(t_all[log_rows])
+        clock = _logger_clock(t_all[log_rows])
+        if clock is not None:
+            t_clock = np.full(t_all.size, np.nan)
+            t_clock[log_rows] = clock[0]
+            if np.all(np.diff(t_clock[source]) > 0):
+                tf, e_t = t_clock[source], clock[1]
+    grid = _linear_grid(tf, y, e_t)
     if grid is None:
         return out, source, counts
     p, phase = grid
-    score, n_free, fit = _fit_score(t, y, e_t, p, phase, chunks=True)
+    score, n_free, fit = _fit_score(tf, y, e_t, p, phase, chunks=True)
     good = (score <= 1.0) & (n_free >= 2)
     knots_t, _, support, k, _, _ = fit
     # the receiver stamps its epochs on the stamps' resolution: a phase within half of it is
@@ -803,7 +837,7 @@ def receiver_epochs(epochs: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray, dic
         [_unwrapped(out[c].to_numpy(float)) if c in _ANGLE_COLUMNS else out[c].to_numpy(float)
          for c in num]
     )  # fmt: skip
-    _, xk, _, _, _, _ = _hat_fit(t, vals - vals[0], p, phase)
+    _, xk, _, _, _, _ = _hat_fit(tf, vals - vals[0], p, phase)
     fitted = np.concatenate([xk[use_knot] + vals[0], vals[keep_epoch]])[order]
     for j, c in enumerate(num):
         rec[c] = np.mod(fitted[:, j], 360.0) if c in _ANGLE_COLUMNS else fitted[:, j]
