@@ -21,6 +21,7 @@ import time
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -153,9 +154,10 @@ class LiveFriction:
         self._epochs.append(epochs)
         if np.isfinite(t).any():
             self.last_t = float(np.nanmax(t))
-            tu = epochs["time_utc"].dropna() if "time_utc" in epochs else []
-            if len(tu):
-                self.last_time_utc = tu.iloc[-1]
+            if "time_utc" in epochs:
+                tu = epochs["time_utc"].dropna()
+                if len(tu):
+                    self.last_time_utc = tu.iloc[-1]
         # keep only the window
         while self._epochs and len(self._epochs) > 1:
             first_t = self._epochs[0]["t_s"].to_numpy(float)
@@ -225,6 +227,7 @@ class LiveFriction:
                         self.run.vehicle, axle, noise=self.run.options.noise,
                         window=self.run.window,
                     )  # fmt: skip
+                assert est is not None  # a per-window estimator has an online form
                 est.push(new)
                 row = est.estimate()
                 if row is not None:
@@ -399,7 +402,12 @@ def _loop(source, ingest, est, rec, stop, *, update_s, stale_s, duration_s, disp
     summary = pd.DataFrame()
     # updates follow the log's own clock (every update_s of epoch time), so a replay gives the
     # same rows at any speed; the display follows the wall clock
-    clock = {"next": None, "shown": time.monotonic(), "pending": False, "last": np.nan}
+    clock: dict[str, Any] = {
+        "next": None,
+        "shown": time.monotonic(),
+        "pending": False,
+        "last": np.nan,
+    }
 
     def update(now: float) -> None:
         nonlocal summary

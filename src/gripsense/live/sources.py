@@ -94,10 +94,12 @@ class ReplaySource:
         if self._t0_wall is None:
             self._t0_wall = now
         budget = (now - self._t0_wall) * self._speed
-        out = []
+        pieces: list[bytes] = []
         deadline = now + timeout
-        while self._line_i < len(self._lines):
-            piece, tod = self._lines[self._line_i]
+        lines = self._lines
+        assert lines is not None  # a paced replay has its pieces
+        while self._line_i < len(lines):
+            piece, tod = lines[self._line_i]
             if tod is not None:
                 if self._last_tod is not None and tod < self._last_tod - 43200:
                     self._day += 86400.0
@@ -108,11 +110,11 @@ class ReplaySource:
                 if tod - self._t0_log > budget:
                     break
             self._line_i += 1
-            out.append(piece)
+            pieces.append(piece)
             self._pos += len(piece)
-        if not out:
+        if not pieces:
             time.sleep(max(0.0, min(timeout, deadline - time.monotonic())))
-        return b"".join(out)
+        return b"".join(pieces)
 
     def close(self) -> None:
         """Release the source."""
@@ -134,7 +136,7 @@ def _pieces(data: bytes) -> list[tuple[bytes, float | None]]:
         start, end = int(start), int(end)  # a rejected frame ends where the scan resynchronised
         out += [(ln, _tod(ln)) for ln in _split_lines(data[pos:start])]
         frame = data[start:end]
-        tod = None
+        tod: float | None = None
         if frame[2:4] == b"\x01\x07" and len(frame) >= 6 + 11:  # NAV-PVT: hour, min, sec
             tod = frame[6 + 8] * 3600 + frame[6 + 9] * 60 + frame[6 + 10]
             tod += int.from_bytes(frame[6 + 16 : 6 + 20], "little", signed=True) * 1e-9

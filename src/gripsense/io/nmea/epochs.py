@@ -589,6 +589,7 @@ def assemble_epochs(
             assert lat is not None and lon is not None
             for k, ok in pos_sources[1:]:
                 la, lo = col(k, "lat_deg", ok), col(k, "lon_deg", ok)
+                assert la is not None and lo is not None  # the sources are types present
                 take = np.isnan(lat) & ~np.isnan(la)
                 lat[take] = la[take]
                 lon[take] = lo[take]

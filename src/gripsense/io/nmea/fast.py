@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import itertools
 from concurrent.futures import ThreadPoolExecutor
+from typing import cast
 
 import numba
 import numpy as np
@@ -93,7 +94,7 @@ def _tokenize_array(data, n: int | None = None, no_checksum: bool = False) -> To
     K.scan_buffer(buf, MAX_ADDRESS, lc, dpos, limit, nf, junk, addr, sub)
     # outcome and label of the line codes that decide alone (-1: decided below by the type)
     outcome = _LC_OUTCOME[lc]
-    code = np.array([NAME.get(x, -1) for x in _LC_LABEL], dtype=np.int32)[lc]
+    code = np.array([-1 if x is None else NAME.get(x, -1) for x in _LC_LABEL], dtype=np.int32)[lc]
 
     # sentence type keys of lines with a valid address (pending, no checksum, bad checksum...)
     typed = np.flatnonzero((lc == K.PENDING) | (lc >= K.NO_STAR))
@@ -104,7 +105,8 @@ def _tokenize_array(data, n: int | None = None, no_checksum: bool = False) -> To
         ucode = np.empty(len(uniq), dtype=np.int32)
         for j, u in enumerate(uniq.tolist()):
             a = int(u).to_bytes(8, "little").rstrip(b"\0")
-            key = type_key(a, b"") if a[:1] == b"P" else a[2:].decode()
+            # a valid address always has a key (type_key's None is for what is not one)
+            key = cast(str, type_key(a, b"")) if a[:1] == b"P" else a[2:].decode()
             ucode[j] = NAME.setdefault(key, len(NAME))
         key_code[typed] = ucode[inv]
         for j in np.flatnonzero(np.isin(uniq, _SUBTYPED_WORDS)).tolist():
@@ -168,7 +170,7 @@ def _tokenize_array(data, n: int | None = None, no_checksum: bool = False) -> To
         okl = li if all_ok else li[ok]
         outcome[okl] = PARSED
         code[okl] = NAME[k]
-        tab = {"line": okl}
+        tab: dict[str, np.ndarray] = {"line": okl}
         for j, f in enumerate(spec.fields):
             col = cval[:, j] if f.kind == S.CHAR else vals[:, numcol[j]]
             tab[f.name] = col if all_ok else col[ok]

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
@@ -59,13 +60,16 @@ from gripsense.io.nmea.rtcm import (
     frame_detail,
     split_rtcm,
 )
-from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, lines_at
+from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, lines_at
 from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
 __all__ = ["MAX_BYTES", "MAX_LINES", "NmeaLog", "read_log_bytes", "read_nmea"]
 
 N_FIRST_REJECTS = 20
-_ENGINES = {"fast": tokenize_fast, "reference": tokenize_reference}
+_ENGINES: dict[str, Callable[[bytes], Tokens | None]] = {
+    "fast": tokenize_fast,
+    "reference": tokenize_reference,
+}
 
 NmeaSource = str | os.PathLike | bytes | list | IO | ReadInput
 
@@ -338,11 +342,11 @@ def read_nmea(
         )
     epochs, epoch_of, notes = assemble_epochs(tables)
 
-    sentences = {}
-    for k, cols in tables.items():
+    sentences: dict[str, pd.DataFrame] = {}
+    for key, cols in tables.items():
         cols["line"] = no(cols["line"])
-        cols["epoch"] = epoch_of[k]
-        sentences[k] = pd.DataFrame(cols, copy=False)
+        cols["epoch"] = epoch_of[key]
+        sentences[key] = pd.DataFrame(cols, copy=False)
 
     parsed = tok.counts(PARSED)
     ignored = tok.counts(IGNORED)

@@ -231,6 +231,7 @@ def tokenize_reference(data: bytes, *, no_checksum: bool = False) -> Tokens:
         if o == REJECTED:
             details[i] = det
         elif o == PARSED:
+            assert vals is not None  # a parsed line has its values
             rows[lab].append((i, vals))
     raw: dict[str, dict[str, np.ndarray]] = {}
     for key, spec in S.SENTENCES.items():
