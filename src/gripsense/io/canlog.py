@@ -768,24 +768,80 @@ def decode_frames(
         for k in _frame_keys(fid, pgns):
             counts[k] = counts.get(k, 0) + n
     chosen = _choose_copies(name, plan, counts)
+    ignored: dict[str, int] = dict(got.ignored)
+    if c.special.any():
+        ignored["(error/remote frame)"] = ignored.get("(error/remote frame)", 0) + int(
+            c.special.sum()
+        )
+    rows_of, msgs = _rows_of_messages(c, _message_of(ids, plan, chosen, pgns), ignored)
+    at = "line" if got.unit == "lines" else "frame"
+    d = _decode_series(c, rows_of, msgs, mapped, chosen, at)
+    if strict and d.bad:
+        raise InputError(f"{name}: {MALFORMED}: {d.bad[0][1]} (strict mode)")
+    n_bad = len(d.bad)
+    firsts = [RejectedLine(k, MALFORMED, dt) for k, dt in d.bad[:20]]
+    found, whole = _found_channels(mapped, chosen, d)
+    na_notes = [
+        f"{int(k[1:].sum())} frames with 'not available' values of {sig} (SAE J1939-71 raw "
+        f"ranges: {int(k[J1939_NOT_AVAILABLE])} not available, {int(k[J1939_ERROR])} error "
+        f"indicator, {int(k[J1939_RESERVED])} reserved): no value, not used"
+        for sig, k in sorted(d.na.items())
+    ]
+    if start_s is None:
+        t_all = np.concatenate([ch.t for ch in found.values()]) if found else np.zeros(0)
+        absolute = bool(t_all.size and np.nanmin(t_all) > _ABSOLUTE_AFTER)
+        start = 0.0 if absolute else None
+        offset = None if absolute else time_offset
+    else:
+        absolute, start, offset = False, start_s, time_offset
+    log = log_from_channels(
+        mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
+        strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
+        unit=got.unit, notes=got.notes + plan.notes + na_notes,
+    )  # fmt: skip
+    import pandas as pd
+
+    for key, (ts, vs) in whole.items():  # the per-frame rows keep the non-values, as NaN
+        log.sentences[key] = pd.DataFrame({"t_s": ts, "value": vs}, copy=False)
+    log.report.steering = plan.steering
+    # frames, not samples: the parsed count is per message
+    rep = log.report
+    rep.parsed = dict(sorted(d.parsed.items()))
+    for reason, v in got.rejected.items():
+        rep.rejected[reason] = rep.rejected.get(reason, 0) + v
+    rep.rejected[MALFORMED] = n_bad + got.rejected.get(MALFORMED, 0)
+    rep.first_rejects = sorted(got.firsts + firsts, key=lambda r: r.line)[:20]
+    rep.total_lines = len(c.ids) + got.units
+    if absolute and time_offset is not None:
+        rep.notes.append("the log's times are absolute: --time-offset not used")
+    return log
+
+
+def _message_of(ids: dict[int, int], plan: SignalPlan, chosen: dict, pgns: bool) -> dict[int, Any]:
+    """Per frame identifier the message it carries: one the mapping chose, None (in the DBC,
+    no mapped signal) or False (not in the DBC).
+    """
     known = {_key(m) for m in plan.db.messages}
     wanted: dict[tuple[str, int], Any] = {_key(m): m for m in chosen.values()}
-    match: dict[int, Any] = {}  # frame identifier -> the message it carries (None: not mapped)
+    match: dict[int, Any] = {}
     for fid in ids:
         keys = _frame_keys(fid, pgns)
         match[fid] = next((wanted[k] for k in keys if k in wanted), None)
         if match[fid] is None and not any(k in known for k in keys):
             match[fid] = False  # not in the DBC
-    fids, special = c.ids, c.special
-    ignored: dict[str, int] = dict(got.ignored)
-    if special.any():
-        ignored["(error/remote frame)"] = ignored.get("(error/remote frame)", 0) + int(
-            special.sum()
-        )
-    rows_of: dict[int, list[int]] = {}  # message frame id -> the rows (frame order) it decodes
+    return match
+
+
+def _rows_of_messages(
+    c: FrameColumns, match: dict[int, Any], ignored: dict[str, int]
+) -> tuple[dict[int, list[int]], dict[int, Any]]:
+    """The rows (frame order) each mapped message decodes, and the messages by frame id; the
+    frames of no mapped message are counted in *ignored*.
+    """
+    rows_of: dict[int, list[int]] = {}
     msgs: dict[int, Any] = {}
-    keep = np.flatnonzero(~special)
-    uniq, inverse = np.unique(fids[keep], return_inverse=True)
+    keep = np.flatnonzero(~c.special)
+    uniq, inverse = np.unique(c.ids[keep], return_inverse=True)
     by = keep[np.argsort(inverse, kind="stable")]  # the rows of each identifier, in order
     cut = np.cumsum(np.bincount(inverse, minlength=uniq.size))[:-1]
     groups = np.split(by, cut) if uniq.size else []
@@ -799,8 +855,34 @@ def decode_frames(
             continue
         msgs[msg.frame_id] = msg
         rows_of.setdefault(msg.frame_id, []).extend(here.tolist())
+    return rows_of, msgs
+
+
+@dataclass
+class _Decoded:
+    """The mapped signals decoded: per (message id, signal) times and values, the frames that
+    did not decode ((position, detail)), frames per message, J1939 non-values per signal.
+    """
+
+    series: dict[tuple[int, str], tuple[np.ndarray, np.ndarray]]
+    bad: list[tuple[int, str]]
+    parsed: dict[str, int]
+    na: dict[str, np.ndarray]
+
+
+def _decode_series(
+    c: FrameColumns,
+    rows_of: dict[int, list[int]],
+    msgs: dict[int, Any],
+    mapped: dict,
+    chosen: dict,
+    at: str,
+) -> _Decoded:
+    """Each mapped message's frames decoded (J1939 not-available, error and reserved raw values
+    made NaN and counted).
+    """
     parsed: dict[str, int] = {}
-    bad: list[tuple[int, str]] = []  # (frame position, detail) of the frames that do not decode
+    bad: list[tuple[int, str]] = []
     series: dict[tuple[int, str], tuple[np.ndarray, np.ndarray]] = {}
     na: dict[str, np.ndarray] = {}  # J1939 signal -> frames per j1939_range code
     for mid, rows_list in rows_of.items():
@@ -808,7 +890,6 @@ def decode_frames(
         rows = np.sort(np.asarray(rows_list, np.int64))
         sigs = [s.channel for k, s in mapped.items() if chosen[k].frame_id == mid]
         ok_rows, values, failed = _decode_rows(msg, c, rows, sigs)
-        at = "line" if got.unit == "lines" else "frame"
         for i, e in failed:
             at_k = int(c.pos[i])
             bad.append((at_k, f"{at} {at_k} (id 0x{int(c.ids[i]):X}, t = {c.t[i]:.3f} s): "
@@ -828,56 +909,28 @@ def decode_frames(
                     k_na += np.bincount(code, minlength=4)
             series[(mid, sig)] = (t[has], v[has])
     bad.sort(key=lambda b: b[0])
-    if strict and bad:
-        raise InputError(f"{name}: {MALFORMED}: {bad[0][1]} (strict mode)")
-    n_bad = len(bad)
-    firsts = [RejectedLine(k, MALFORMED, d) for k, d in bad[:20]]
+    return _Decoded(series, bad, parsed, na)
+
+
+def _found_channels(
+    mapped: dict, chosen: dict, d: _Decoded
+) -> tuple[dict[str, Channel], dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """The mapped keys' channels (J1939 non-values left out) and, for the signals that had
+    some, the whole series with them as NaN.
+    """
     found = {}
-    whole: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # with the J1939 non-values as NaN
+    whole: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for key, spec in mapped.items():
         msg = chosen[key]
-        ts, vs = series.get((msg.frame_id, spec.channel), (np.zeros(0), np.zeros(0)))
+        ts, vs = d.series.get((msg.frame_id, spec.channel), (np.zeros(0), np.zeros(0)))
         unit = msg.get_signal_by_name(spec.channel).unit
         ts, vs = np.asarray(ts, float), np.asarray(vs, float)
-        if spec.channel in na:  # J1939 non-values: not used, not malformed (counted in notes)
+        if spec.channel in d.na:  # J1939 non-values: not used, not malformed (in the notes)
             whole[key] = (ts, vs)
             keep_v = ~np.isnan(vs)  # an unsigned integer signal is NaN only here
             ts, vs = ts[keep_v], vs[keep_v]
         found[key] = Channel(spec.channel, ts, vs, str(unit or ""))
-    na_notes = [
-        f"{int(k[1:].sum())} frames with 'not available' values of {sig} (SAE J1939-71 raw "
-        f"ranges: {int(k[J1939_NOT_AVAILABLE])} not available, {int(k[J1939_ERROR])} error "
-        f"indicator, {int(k[J1939_RESERVED])} reserved): no value, not used"
-        for sig, k in sorted(na.items())
-    ]
-    if start_s is None:
-        t_all = np.concatenate([c.t for c in found.values()]) if found else np.zeros(0)
-        absolute = bool(t_all.size and np.nanmin(t_all) > _ABSOLUTE_AFTER)
-        start = 0.0 if absolute else None
-        offset = None if absolute else time_offset
-    else:
-        absolute, start, offset = False, start_s, time_offset
-    log = log_from_channels(
-        mapped, found, name=name, fmt=fmt_name, start_s=start, time_offset=offset,
-        strict=strict, ignored=ignored, rejected={MALFORMED: n_bad}, first_rejects=firsts,
-        unit=got.unit, notes=got.notes + plan.notes + na_notes,
-    )  # fmt: skip
-    import pandas as pd
-
-    for key, (ts, vs) in whole.items():  # the per-frame rows keep the non-values, as NaN
-        log.sentences[key] = pd.DataFrame({"t_s": ts, "value": vs}, copy=False)
-    log.report.steering = plan.steering
-    # frames, not samples: the parsed count is per message
-    rep = log.report
-    rep.parsed = dict(sorted(parsed.items()))
-    for reason, v in got.rejected.items():
-        rep.rejected[reason] = rep.rejected.get(reason, 0) + v
-    rep.rejected[MALFORMED] = n_bad + got.rejected.get(MALFORMED, 0)
-    rep.first_rejects = sorted(got.firsts + firsts, key=lambda r: r.line)[:20]
-    rep.total_lines = len(c.ids) + got.units
-    if absolute and time_offset is not None:
-        rep.notes.append("the log's times are absolute: --time-offset not used")
-    return log
+    return found, whole
 
 
 CAN_SIGNALS = {
