@@ -130,7 +130,7 @@ def _own_columns(fmt: str) -> str:
     from gripsense.io.canlog import CAN_SIGNALS
 
     cols = ",".join(f"{k}={CAN_SIGNALS[k]}" for k in keys)
-    return f"--columns {cols} (the signals of gripsense's example DBC, docs/ingest.md)"
+    return f"--columns {cols} (the signals of gripsense's example DBC)"
 
 
 def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -> NmeaLog:
@@ -184,10 +184,11 @@ def read_log(path: str | os.PathLike, options: LogOptions | None = None, **kw) -
             )
         fmt = detect_format(head)
         if fmt in ("mf4", "blf", "asc") and o.columns is None:
+            article = "a" if fmt == "blf" else "an"  # a BLF, an ASC, an MF4
             raise InputError(
-                f"{p}: a {fmt.upper()} log carries named channels; say which give the heading, "
-                f"course and speed with --columns (in Python: columns=), e.g. {_own_columns(fmt)}"
-                "; docs/ingest.md"
+                f"{p}: {article} {fmt.upper()} log carries named channels; say which give the "
+                "heading, course and speed with --columns (in Python: columns=), e.g. "
+                f"{_own_columns(fmt)}; docs/ingest.md"
             )
         if fmt in ("blf", "asc") and o.dbc is None:
             raise InputError(f"{p}: a CAN log needs its database: give --dbc FILE.dbc")
