@@ -11,7 +11,7 @@ the family.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 from functools import cache
 
 import numpy as np
@@ -473,11 +473,8 @@ def profile_mu(
         # whatever the profile's shape; only the fit's consistency needs the profile, and an
         # upper bound of its minimum below the level settles it
         i0 = int(np.searchsorted(fine, probe))
-        top = K.probe_step(
-            probe, float(fine[i0]), ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df,
-            inv_dx, p0, o.iterations, K.STOP_ABOVE,
-        )  # fmt: skip
-        if 2.0 * top <= _chi2_ppf(0.999, n):
+        args = (ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx, p0, o.iterations)
+        if 2.0 * K.probe_step(probe, float(fine[i0]), *args, K.STOP_ABOVE) <= _chi2_ppf(0.999, n):
             return _linear_statement(grip_lower, m)
     K.profile_grid(
         fine, ids, pen, b, rho, pri.mean, pri.sd, pri.delta, f, df, inv_dx,
@@ -489,15 +486,7 @@ def profile_mu(
     n_mu = done.size
     dev = 2.0 * (nll - nll.min())
     im = int(np.argmin(nll))
-    mu_hat = float(mu_g[im])
-    if 0 < im < n_mu - 1:
-        x0, x1, x2 = (math.log(float(x)) for x in mu_g[im - 1 : im + 2])
-        y0, y1, y2 = (float(y) for y in nll[im - 1 : im + 2])
-        den = (x0 - x1) * (x0 - x2) * (x1 - x2)
-        a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
-        bq = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
-        if a > 0:
-            mu_hat = math.exp(min(max(-bq / (2 * a), x0), x2))
+    mu_hat = _best_mu(mu_g, nll, im)
     lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
     hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
     lo_p = _crossing(mu_g, dev, level, im, -1)
@@ -512,6 +501,96 @@ def profile_mu(
     elif im == 0 or z_max > 3.0 or float(np.abs(dl[im]).max()) > 3.5 * pri.delta:
         fit = "edge"  # the data are explained only at the edge of what the priors allow
     observable = bool(fit == "ok" and np.isfinite(hi_p) and hi_p - lo_p <= o.max_width)
+    linear = bool(np.isfinite(hi)) and (_linear_explains(bins, pri) if lin is None else lin)
+    r = _range_rules(lo, hi, observable, fit, linear, grip_lower, o)
+    lo, hi, observable, fit, strained, far_from_limit = r
+    limited = _limited_by(az, strained, observable, fit, far_from_limit, hi, o)
+    torque_note = ""
+    if torque is not None:
+        st = _Statement(lo, hi, mu_hat, observable, fit, strained, limited)
+        st, torque_note = _with_torque_channel(
+            st, torque, mu_g, nll, done, level, grip_lower, o, n_mu
+        )
+        lo, hi, mu_hat, observable, fit, strained, limited = astuple(st)
+    if np.isfinite(grip_lower):
+        # the estimate never below what the data prove without a model
+        mu_hat = max(mu_hat, float(grip_lower))
+    if limited == _far_text(o.min_utilisation) and not (
+        np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
+    ):  # the steering torque moved the upper end: the text says what the row's numbers say
+        limited = LINEAR_EXPLAINS if not np.isfinite(hi) else "tyre shape"
+    mu_low = float(max(lo, grip_lower))
+    # the value is the centre of the stated range on the log-μ grid, not the profile's best μ:
+    # the profile is skewed (a nuisance at its prior's edge lets μ rise more easily than fall,
+    # the measured grip cuts the range from below), so its best μ sits low in the range — biased
+    # low by 1–2 % of μ near the limit, more at high grip (docs/physics.md §15.9)
+    value = float(np.sqrt(mu_low * hi)) if observable else np.nan
+    curve = None
+    if torque is None and fit != "inconsistent":
+        curve = _grid_curve(m, done, dev, int(done[im]), observable, bool(np.isfinite(hi)))
+    return {
+        "mu": value,
+        "mu_low": mu_low if fit != "inconsistent" else np.nan,
+        "mu_high": float(hi) if fit != "inconsistent" else np.nan,
+        "observable": observable,
+        "fit": fit,
+        "mu_best": mu_hat,
+        "stiffness_scale": float(np.exp(th[im, 0])),
+        "heading_bias_deg": math.degrees(float(dl[im].sum()) / dl.shape[1]),
+        "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
+        "load_transfer_error": float(th[im, 2]),
+        "shape": members[int(shp[im])].name,
+        "limited_by": limited,
+        "torque_note": torque_note,
+        "mu_deviance": curve,
+    }
+
+
+_NUISANCE_NAMES = (
+    "stiffness",
+    "camber",
+    "load transfer",
+    "load sensitivity",
+    "axle force",
+    "heading offset",
+    "steering scale",
+    "friction load sensitivity",
+    "drive force on the steered axle",
+)
+"""The nuisances in the profile's order, as ``limited_by`` names one."""
+
+
+def _best_mu(mu_g: np.ndarray, nll: np.ndarray, im: int) -> float:
+    """The profile's best μ: the grid point *im* refined by a parabola in ln μ through it and
+    its neighbours (kept between them).
+    """
+    mu_hat = float(mu_g[im])
+    if 0 < im < mu_g.size - 1:
+        x0, x1, x2 = (math.log(float(x)) for x in mu_g[im - 1 : im + 2])
+        y0, y1, y2 = (float(y) for y in nll[im - 1 : im + 2])
+        den = (x0 - x1) * (x0 - x2) * (x1 - x2)
+        a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / den
+        bq = (x2**2 * (y0 - y1) + x1**2 * (y2 - y0) + x0**2 * (y1 - y2)) / den
+        if a > 0:
+            mu_hat = math.exp(min(max(-bq / (2 * a), x0), x2))
+    return mu_hat
+
+
+def _range_rules(
+    lo: float,
+    hi: float,
+    observable: bool,
+    fit: str,
+    linear: bool,
+    grip_lower: float,
+    o: WindowOptions,
+) -> tuple[float, float, bool, str, bool, bool]:
+    """The profile's crossings (*lo*, *hi*) as the rules of ``docs/physics.md`` §15.5, §15.8
+    and §15.11 let them stand: no upper end where a linear tyre explains the data (*linear*),
+    the measured grip as the lower end without a value or far from the limit, an upper end at
+    the measured grip strained, one below it inconsistent. Returns lo, hi, observable, fit,
+    strained and whether the range is far from the limit.
+    """
     # a value needs data near the limit: below utilisation ~0.5 every curve of the family is
     # nearly linear, so an interval bounded far above the measured grip comes from the model's
     # form (a nuisance degeneracy), not from the data
@@ -522,8 +601,8 @@ def profile_mu(
     # stiffness inside the prior's 90 % band, explains the data within their noise (the
     # slip's white noise and offsets, the force's noise and the model's fidelity) — a finite
     # upper end there comes from a degeneracy of the other nuisances (docs/physics.md §15.8)
-    if np.isfinite(hi) and (_linear_explains(bins, pri) if lin is None else lin):
-        hi, hi_p, observable = np.inf, np.inf, False
+    if linear:
+        hi, observable = np.inf, False
         far_from_limit = False
     if far_from_limit:
         # no value: the interval's lower end is not trusted (far from the limit it can come
@@ -539,7 +618,7 @@ def profile_mu(
         # the model's upper end reaches what the data prove: no curve of the family carries
         # the measured force with room to spare — the model is strained, its upper end is not
         # trusted (a zero-width or inverted range would be the result)
-        strained, observable, hi, hi_p = True, False, np.inf, np.inf
+        strained, observable, hi = True, False, np.inf
         if fit == "ok":
             fit = "strained"
     if not observable:
@@ -549,30 +628,81 @@ def profile_mu(
         # same drive) — the model's lower end is stated only with a value (docs/physics.md
         # §15.11)
         lo = grip_lower if np.isfinite(grip_lower) else 0.0
-    names = (
-        "stiffness",
-        "camber",
-        "load transfer",
-        "load sensitivity",
-        "axle force",
-        "heading offset",
-        "steering scale",
-        "friction load sensitivity",
-        "drive force on the steered axle",
-    )
-    limited = names[int(np.argmax(az))] if z_max > 1.0 else "tyre shape"
+    return lo, hi, observable, fit, strained, far_from_limit
+
+
+def _limited_by(
+    az: np.ndarray,
+    strained: bool,
+    observable: bool,
+    fit: str,
+    far_from_limit: bool,
+    hi: float,
+    o: WindowOptions,
+) -> str:
+    """What limits a profile's statement: the nuisance furthest out in its prior (|z| > 1;
+    else the tyre's shape), unless the model is strained, the range is far from the limit or a
+    linear tyre explains the data.
+    """
     if strained:
-        limited = "tyre model strained (its upper end reaches the measured grip)"
-    elif not observable and fit == "ok" and far_from_limit:
-        limited = _far_text(o.min_utilisation)
-    elif not observable and fit == "ok" and not np.isfinite(hi):
-        limited = LINEAR_EXPLAINS
+        return "tyre model strained (its upper end reaches the measured grip)"
+    if not observable and fit == "ok" and far_from_limit:
+        return _far_text(o.min_utilisation)
+    if not observable and fit == "ok" and not np.isfinite(hi):
+        return LINEAR_EXPLAINS
+    return _NUISANCE_NAMES[int(np.argmax(az))] if float(az.max()) > 1.0 else "tyre shape"
+
+
+def _grid_curve(
+    m: int, done: np.ndarray, dev: np.ndarray, i_best: int, lower: bool, upper: bool
+) -> bytes:
+    """The statement as a curve on the whole grid of *m* points (:func:`deviance_curve`):
+    points between two the profile reached as they say, points beyond them at the cap.
+    """
+    full = np.full(m, np.inf)
+    inner = np.arange(done[0], done[-1] + 1)
+    full[inner] = np.interp(inner, done, dev)
+    return deviance_curve(full, i_best, lower_trusted=lower, upper_trusted=upper)
+
+
+@dataclass
+class _Statement:
+    """What a profile states: the range, the best μ, whether a value is given, the fit, whether
+    the model is strained, and what limits it.
+    """
+
+    lo: float
+    hi: float
+    mu_hat: float
+    observable: bool
+    fit: str
+    strained: bool
+    limited: str
+
+
+def _with_torque_channel(
+    st: _Statement,
+    torque: TorqueProfile,
+    mu_g: np.ndarray,
+    nll: np.ndarray,
+    done: np.ndarray,
+    level: float,
+    grip_lower: float,
+    o: WindowOptions,
+    n_mu: int,
+) -> tuple[_Statement, str]:
+    """The compass's statement *st* with the steering torque's likelihood (``docs/physics.md``
+    §16.6): never wider than the compass's own range; the torque's note says what it did or
+    why it was not used.
+    """
     torque_note = ""
-    if torque is not None and torque.fit != "ok":
+    lo, hi, mu_hat, observable = st.lo, st.hi, st.mu_hat, st.observable
+    fit, strained, limited = st.fit, st.strained, st.limited
+    if torque.fit != "ok":
         torque_note = f"not used (its fit is {torque.fit})"
-    elif torque is not None and fit == "inconsistent":
+    elif fit == "inconsistent":
         torque_note = "not used (the compass's fit is inconsistent)"
-    elif torque is not None:
+    else:
         # the compass's likelihood where its upper end is trusted, else flat (it says nothing
         # above what the data prove); times the torque's
         trusted = np.isfinite(hi) and not strained
@@ -610,43 +740,7 @@ def profile_mu(
                 torque_note = _range_change(before, after)
             if torque_says and torque_note.startswith(("gave", "raised", "lowered")):
                 limited = f"steering torque: {torque.limited_by}"
-    if np.isfinite(grip_lower):
-        # the estimate never below what the data prove without a model
-        mu_hat = max(mu_hat, float(grip_lower))
-    if limited == _far_text(o.min_utilisation) and not (
-        np.isfinite(hi) and not (np.isfinite(grip_lower) and hi * o.min_utilisation <= grip_lower)
-    ):  # the steering torque moved the upper end: the text says what the row's numbers say
-        limited = LINEAR_EXPLAINS if not np.isfinite(hi) else "tyre shape"
-    mu_low = float(max(lo, grip_lower))
-    # the value is the centre of the stated range on the log-μ grid, not the profile's best μ:
-    # the profile is skewed (a nuisance at its prior's edge lets μ rise more easily than fall,
-    # the measured grip cuts the range from below), so its best μ sits low in the range — biased
-    # low by 1–2 % of μ near the limit, more at high grip (docs/physics.md §15.9)
-    value = float(np.sqrt(mu_low * hi)) if observable else np.nan
-    curve = None
-    if torque is None and fit != "inconsistent":
-        # the statement as a curve on the whole grid (points the profile did not reach: the cap)
-        full = np.full(m, np.inf)
-        inner = np.arange(done[0], done[-1] + 1)  # a point between two it reached: as they say
-        full[inner] = np.interp(inner, done, dev)
-        curve = deviance_curve(full, int(done[im]), lower_trusted=observable,
-                               upper_trusted=bool(np.isfinite(hi)))  # fmt: skip
-    return {
-        "mu": value,
-        "mu_low": mu_low if fit != "inconsistent" else np.nan,
-        "mu_high": float(hi) if fit != "inconsistent" else np.nan,
-        "observable": observable,
-        "fit": fit,
-        "mu_best": mu_hat,
-        "stiffness_scale": float(np.exp(th[im, 0])),
-        "heading_bias_deg": math.degrees(float(dl[im].sum()) / dl.shape[1]),
-        "camber_slip_deg_per_g": float(np.rad2deg(th[im, 1])),
-        "load_transfer_error": float(th[im, 2]),
-        "shape": members[int(shp[im])].name,
-        "limited_by": limited,
-        "torque_note": torque_note,
-        "mu_deviance": curve,
-    }
+    return _Statement(lo, hi, mu_hat, observable, fit, strained, limited), torque_note
 
 
 LINEAR_EXPLAINS = (
