@@ -362,78 +362,30 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         if lead not in (b"#", b"%"):
             reject(no, NOT_NOVATEL, f"{line[:40]!r} is not a NovAtel ASCII log line")
             continue
-        m = _CRC.match(line)
-        if m is None:
-            if cut_last and i == len(lines) - 1:
-                reject(no, TRUNCATED, "the file ends inside the line")
-            elif b"*" in line:
-                reject(no, MALFORMED, "the CRC after '*' is not 8 hexadecimal digits")
-            else:
-                reject(no, MISSING_CHECKSUM, "no '*' and 32-bit CRC at the end of the line")
+        msg, why = _crc_checked(line, cut_last and i == len(lines) - 1)
+        if msg is None:
+            reject(no, *why)
             continue
-        msg, want = m.group(1), int(m.group(2), 16)
-        got = crc32(msg[1:])
-        if got != want:
-            reject(no, BAD_CHECKSUM, f"bad CRC: the line says {want:08x}, its bytes give {got:08x}")
+        kind, what, row = _decoded(msg)
+        if kind == "reject":
+            reject(no, MALFORMED, what)
             continue
-        lm = _LINE.match(msg)
-        if lm is None:
-            reject(no, MALFORMED, "not NAME…A,header;body: no ';' after the header")
+        if kind == "ignore":
+            ignore(what)
             continue
-        short = lm.group(1) == b"%"
-        log = lm.group(2).decode("ascii")
-        header = lm.group(3).decode("ascii", "replace").split(",")
-        if log not in _MIN_FIELDS:
-            ignore(f"NovAtel {log}")
-            continue
-        body = lm.group(4).decode("ascii", "replace").split(",")
-        try:
-            if short:
-                week, sec, tstat = int(header[0]), float(header[1]), "FINESTEERING"
-            else:
-                if len(header) < 9:
-                    raise ValueError(f"a header of {len(header)} fields, not 9 or more")
-                week, sec, tstat = int(header[4]), float(header[5]), header[3]
-            if not (0 <= week < 10_000 and 0.0 <= sec < _WEEK_S):
-                raise ValueError(f"GPS week {week}, seconds {sec} out of range")
-            if len(body) < _MIN_FIELDS[log]:
-                raise ValueError(f"{len(body)} fields, {_MIN_FIELDS[log]} or more expected")
-            vals, why = _body(log, body)
-            _check_ranges(vals)
-        except (ValueError, IndexError) as e:
-            reject(no, MALFORMED, f"{log}: {e}")
-            continue
-        if tstat == "UNKNOWN" or week <= 0:
-            ignore(f"NovAtel {log} (receiver time unknown)")
-            continue
-        if why:
-            ignore(f"NovAtel {log} (not used: {why.split(',')[0]})")
-            continue
-        parsed[f"NovAtel {log}"] = parsed.get(f"NovAtel {log}", 0) + 1
-        rows.setdefault(log, []).append({"line": no, "week": week, "seconds": sec, **vals})
+        parsed[f"NovAtel {what}"] = parsed.get(f"NovAtel {what}", 0) + 1
+        rows.setdefault(what, []).append({"line": no, **row})
 
     sentences = {f"NovAtel {k}": pd.DataFrame(v) for k, v in rows.items()}
     notes: list[str] = []
-    nlog = None
-    if nmea_lines:
-        nlog = read_nmea(b"\n".join(nmea_lines) + b"\n", decompress=False)
-        rn = nlog.report
-        if rn.total_lines != len(nmea_lines):  # not one line each: count them, read none
-            ignored["NMEA sentence (not read in a NovAtel log)"] = len(nmea_lines)
-            nlog, nmea_lines = None, []
+    nlog = _port_nmea(nmea_lines, ignored)
     if nlog is not None:
         rn = nlog.report
         prefixed[1] += rn.junk_prefix_lines
         for src, dst in ((rn.parsed, parsed), (rn.ignored, ignored), (rn.rejected, rejected)):
             for k, v in src.items():
                 dst[k] = dst.get(k, 0) + v
-        for r in rn.first_rejects:
-            at = nmea_no[r.line - 1]
-            if strict:
-                raise InputError(f"{name}: line {at}: {r.reason}: NMEA: {r.detail} (strict mode)")
-            if len(first) < 20:
-                first.append(RejectedLine(at, r.reason, f"NMEA: {r.detail}"))
-        first[:] = sorted(first, key=lambda r: r.line)[:20]
+        _nmea_rejects(rn.first_rejects, nmea_no, first, name, strict)
         notes += rn.notes
         sentences.update(
             {k: v.assign(line=np.asarray(nmea_no)[v["line"].to_numpy(int) - 1])
@@ -457,6 +409,89 @@ def parse_novatel(data: bytes, name: str = "<novatel>", *, strict: bool = False)
         unit="lines",
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
+
+
+def _crc_checked(line: bytes, cut: bool) -> tuple[bytes | None, tuple[str, str]]:
+    """The line's message (``#…`` up to ``*``) when its CRC-32 checks, else None and the
+    reason and detail of its rejection (*cut*: the file ends inside this line).
+    """
+    m = _CRC.match(line)
+    if m is None:
+        if cut:
+            return None, (TRUNCATED, "the file ends inside the line")
+        if b"*" in line:
+            return None, (MALFORMED, "the CRC after '*' is not 8 hexadecimal digits")
+        return None, (MISSING_CHECKSUM, "no '*' and 32-bit CRC at the end of the line")
+    msg, want = m.group(1), int(m.group(2), 16)
+    got = crc32(msg[1:])
+    if got != want:
+        return None, (BAD_CHECKSUM, f"bad CRC: the line says {want:08x}, its bytes give {got:08x}")
+    return msg, ("", "")
+
+
+def _port_nmea(nmea_lines: list[bytes], ignored: dict[str, int]) -> NmeaLog | None:
+    """The NMEA sentences logged on the NovAtel port, read (None: none, or they are not one
+    sentence per line — then counted in *ignored*, not read).
+    """
+    if not nmea_lines:
+        return None
+    nlog = read_nmea(b"\n".join(nmea_lines) + b"\n", decompress=False)
+    if nlog.report.total_lines != len(nmea_lines):  # not one line each: count them, read none
+        ignored["NMEA sentence (not read in a NovAtel log)"] = len(nmea_lines)
+        return None
+    return nlog
+
+
+def _nmea_rejects(
+    rejects: list[RejectedLine],
+    nmea_no: list[int],
+    first: list[RejectedLine],
+    name: str,
+    strict: bool,
+) -> None:
+    """The port's NMEA rejects among the log's first ones, at their lines in the log."""
+    for r in rejects:
+        at = nmea_no[r.line - 1]
+        if strict:
+            raise InputError(f"{name}: line {at}: {r.reason}: NMEA: {r.detail} (strict mode)")
+        if len(first) < 20:
+            first.append(RejectedLine(at, r.reason, f"NMEA: {r.detail}"))
+    first[:] = sorted(first, key=lambda r: r.line)[:20]
+
+
+def _decoded(msg: bytes) -> tuple[str, str, dict[str, float]]:
+    """One line whose CRC checked: ``("reject", detail, {})``, ``("ignore", what, {})`` or
+    ``("row", log, {week, seconds, values…})``.
+    """
+    lm = _LINE.match(msg)
+    if lm is None:
+        return "reject", "not NAME…A,header;body: no ';' after the header", {}
+    short = lm.group(1) == b"%"
+    log = lm.group(2).decode("ascii")
+    header = lm.group(3).decode("ascii", "replace").split(",")
+    if log not in _MIN_FIELDS:
+        return "ignore", f"NovAtel {log}", {}
+    body = lm.group(4).decode("ascii", "replace").split(",")
+    try:
+        if short:
+            week, sec, tstat = int(header[0]), float(header[1]), "FINESTEERING"
+        else:
+            if len(header) < 9:
+                raise ValueError(f"a header of {len(header)} fields, not 9 or more")
+            week, sec, tstat = int(header[4]), float(header[5]), header[3]
+        if not (0 <= week < 10_000 and 0.0 <= sec < _WEEK_S):
+            raise ValueError(f"GPS week {week}, seconds {sec} out of range")
+        if len(body) < _MIN_FIELDS[log]:
+            raise ValueError(f"{len(body)} fields, {_MIN_FIELDS[log]} or more expected")
+        vals, why = _body(log, body)
+        _check_ranges(vals)
+    except (ValueError, IndexError) as e:
+        return "reject", f"{log}: {e}", {}
+    if tstat == "UNKNOWN" or week <= 0:
+        return "ignore", f"NovAtel {log} (receiver time unknown)", {}
+    if why:
+        return "ignore", f"NovAtel {log} (not used: {why.split(',')[0]})", {}
+    return "row", log, {"week": week, "seconds": sec, **vals}
 
 
 def _nmea_tod_ms(nlog: NmeaLog) -> np.ndarray:
