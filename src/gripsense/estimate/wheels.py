@@ -267,16 +267,21 @@ def _quantum(x: np.ndarray, cap: float) -> float:
     such step (numbers at float precision: only an exact line counts) or without two distinct
     values.
     """
-    v = np.unique(x[np.isfinite(x)])
-    if v.size < 2:
+    v = x[np.isfinite(x)]
+    if v.size < 2 or v.min() == v.max():
         return 0.0
+    big = v[np.argmax(np.abs(v))]  # the largest |y| below (scaling keeps the order)
+    head = v[:64]  # a step its first values miss is no step of all of them
     grid = 0.0
     for s in _UNIT_SCALES:
         for k in range(13):
-            y = v * s * 10.0**k
-            tol = 64 * EPS * float(np.max(np.abs(y)))
+            tol = 64 * EPS * abs(float(big * s * 10.0**k))
             if tol > 0.01:
                 break
+            yh = head * s * 10.0**k
+            if not np.all(np.abs(yh - np.round(yh)) <= tol + 1e-12):
+                continue
+            y = v * s * 10.0**k
             if np.all(np.abs(y - np.round(y)) <= tol + 1e-12):
                 grid = max(grid, 10.0**-k / s)
                 break
