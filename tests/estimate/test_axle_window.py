@@ -288,9 +288,9 @@ def test_windows_without_nuisances_state_the_same(u):
     tyre explains only as far as its fit's consistency needs: every window's statement (range,
     value, curve, fit, the reason for it) is the full profile's, and only the nuisances of
     those windows are left out (NaN)."""
-    from gripsense.estimate.axle_window import estimate_windows
     import pandas as pd
 
+    from gripsense.estimate.axle_window import estimate_windows
     from gripsense.estimate.profile import LINEAR_EXPLAINS
 
     mu = 0.8
