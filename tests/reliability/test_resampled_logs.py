@@ -86,20 +86,28 @@ def _write_nmea(ep: pd.DataFrame, digits: int = 2) -> list[list[str]]:
 _RESAMPLED = ("lat_deg", "lon_deg", "speed_mps", "course_deg", "heading_deg", "yaw_rate_rps")
 
 
-def _resample(ep: pd.DataFrame, k: int, how: str) -> pd.DataFrame:
-    """The epochs written k times as often: ``linear`` interpolation between them (angles the
-    shorter way round) or ``hold`` the last one, at new time stamps."""
-    t = ep["t_s"].to_numpy(float)
-    tt = np.concatenate([t[:-1, None] + np.diff(t)[:, None] * np.arange(k) / k]).ravel()
-    tt = np.append(tt, t[-1])
+def _columns(ep: pd.DataFrame, t: np.ndarray, tt: np.ndarray, idx: np.ndarray | None) -> dict:
+    """The resampled columns at the logger's times *tt*: linear interpolation between the
+    receiver's epochs at *t* (angles the shorter way round), or with *idx* the receiver epoch
+    each logged one repeats."""
     out: dict = {"t_s": tt}
     for c in _RESAMPLED:
         x = ep[c].to_numpy(float)
         angle = c in ("course_deg", "heading_deg")
         if angle:
             x = np.rad2deg(np.unwrap(np.deg2rad(x)))
-        y = np.interp(tt, t, x) if how == "linear" else x[np.searchsorted(t, tt, "right") - 1]
+        y = np.interp(tt, t, x) if idx is None else x[idx]
         out[c] = np.mod(y, 360.0) if angle else y
+    return out
+
+
+def _resample(ep: pd.DataFrame, k: int, how: str) -> pd.DataFrame:
+    """The epochs written k times as often: ``linear`` interpolation between them (angles the
+    shorter way round) or ``hold`` the last one, at new time stamps."""
+    t = ep["t_s"].to_numpy(float)
+    tt = np.concatenate([t[:-1, None] + np.diff(t)[:, None] * np.arange(k) / k]).ravel()
+    tt = np.append(tt, t[-1])
+    out = _columns(ep, t, tt, None if how == "linear" else np.searchsorted(t, tt, "right") - 1)
     out["time_utc"] = ep["time_utc"].iloc[0] + pd.to_timedelta(np.round((tt - t[0]) * 100) / 100,
                                                                unit="s")  # fmt: skip
     return pd.DataFrame(out)
@@ -261,14 +269,7 @@ def _resample_ratio(ep: pd.DataFrame, ratio: float, how: str, offset: float) -> 
     pos = (tt - t[0]) / _RX_PERIOD_S
     idx = np.floor(pos + (0.5 if how == "nearest" else 0.0) + 1e-9).astype(int)
     idx = np.clip(idx, 0, t.size - 1)
-    out: dict = {"t_s": tt}
-    for c in _RESAMPLED:
-        x = ep[c].to_numpy(float)
-        angle = c in ("course_deg", "heading_deg")
-        if angle:
-            x = np.rad2deg(np.unwrap(np.deg2rad(x)))
-        y = np.interp(tt, t, x) if how == "linear" else x[idx]
-        out[c] = np.mod(y, 360.0) if angle else y
+    out = _columns(ep, t, tt, None if how == "linear" else idx)
     out["time_utc"] = ep["time_utc"].iloc[0] + pd.to_timedelta(np.round(tt - t[0], 6), unit="s")
     return pd.DataFrame(out)
 
@@ -396,7 +397,8 @@ def test_bundled_logs_are_not_taken_for_a_resampling():
     logs = sorted((data.path("demo")).glob("*.nmea.gz"))
     logs += [data.path("rst39.log"), *sorted((root / "gpsd").glob("*.log"))]
     logs += sorted((root / "formats" / "nmea").glob("*.log"))
-    logs += [root / "formats" / "vbox" / "vb3i_imu_can.vbo"]
+    # the GPL VBOX file is in the repository, not in the sdist
+    logs += [p for p in [root / "formats" / "vbox" / "vb3i_imu_can.vbo"] if p.exists()]
     seen = 0
     for path in logs:
         ep = read_log(path).epochs
