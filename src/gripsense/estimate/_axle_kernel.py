@@ -143,23 +143,36 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
             lnc = ln_s + pre[_PRE_LN_C + w, k] + p0 * (ln_fzw - pre[_PRE_LN_FZ + w, k]) + q * ln_fs
             cp = np.exp(lnc)
             x = cp * t / (m_w * fzw)
-            f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
             sg = -1.0 if ae > 0 else 1.0
-            fm += sg * m_w * fzw * f
-            g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
-            # the mean force over the bin's slip spread is not the force at the mean slip: the
-            # Jensen gap ½ F'' s², from f' at x ± h (h the spread in x); zero where the curve
-            # is straight (a linear tyre's mean force is its force at the mean slip)
+            # the bin's mean force is the curve's mean over the bin's slips, not the force at
+            # the mean slip: the two-point rule at x ± h (h the slip's spread within the bin in
+            # x; the curve odd through zero) — the force at x where the slip is steady (h = 0),
+            # exact for a straight curve, and below it by the Jensen gap where the curve bends
+            # (a turn-in's slip sweeping through the peak; docs/physics.md §15.8). f and x f'
+            # below are the two points' means, f' their mean slope.
             hx = cp * (1.0 + t * t) * b[k, 13] / (m_w * fzw)
             if hx > 0.0:
-                _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
-                _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
+                f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
+                x_m = x - hx
+                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, abs(x_m))
+                if x_m < 0.0:
+                    f_m = -f_m
+                f = 0.5 * (f_p + f_m)
+                df = 0.5 * (df_p + df_m)
+                dfx = 0.5 * (df_p * (x + hx) + df_m * x_m)
+                # what the two points leave out (the spread is not two points): the Jensen gap
+                # ½ F'' s² again, from f' at x ± h; zero where the curve is straight
                 gap += m_w * fzw * abs(df_p - df_m) * hx * 0.25
-            d_lns += sg * m_w * fzw * df * x
-            d_lam += sg * m_w * (f + df * x * (p0 + q - 1.0)) * sgn_load * dfz
-            d_q += sg * m_w * fzw * df * x * ln_fs
+            else:
+                f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
+                dfx = df * x
+            fm += sg * m_w * fzw * f
+            g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
+            d_lns += sg * m_w * fzw * dfx
+            d_lam += sg * m_w * (f + dfx * (p0 + q - 1.0)) * sgn_load * dfz
+            d_q += sg * m_w * fzw * dfx * ln_fs
             # ∂F/∂μ_w = Fz (f − x f'),  ∂ln μ_w/∂η = −ln(Fz/F̄z) + Σ Fz g ln(Fz/F̄z) / Σ Fz g
-            d_eta += sg * fzw * (f - x * df) * m_w * (-lrw + dden / den)
+            d_eta += sg * fzw * (f - dfx) * m_w * (-lrw + dden / den)
         ln_cos = pre[_PRE_LN_COS, k]
         fk = b[k, 6] * np.exp(d_drive * ln_cos)  # cos^d δ
         r_out[k] = fk * (1.0 + eps) - fm
@@ -484,6 +497,67 @@ def _step_few_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, 
     return 0
 
 
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
+def _step_many_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, g_d, rhs,
+                    trial_th, trial_dl, h_gg, h_gd, a_mat, dd, ud, cp, piv, dp, rhs_tmp,
+                    out_tmp, sol):  # fmt: skip
+    """One damped Gauss–Newton step of :func:`profile_nll` over more than ``NFEW`` bins: the
+    per-bin slips δ eliminated from the normal equations by their tridiagonal block (Thomas,
+    O(n)) and the NG shared nuisances solved from the Schur complement (Cholesky). Writes the
+    gradient (*g_g*, *g_d*) and the trial point (*trial_th*, *trial_dl*); inlined into the
+    caller, so the split costs nothing.
+    """
+    h_gg[:, :] = 0.0
+    g_g[:] = 0.0
+    for k in range(n):
+        wk = 1.0 / v[k]
+        for a in range(NG):
+            g_g[a] += jg[k, a] * r[k] * wk
+            h_gd[k, a] = jg[k, a] * jd[k] * wk
+            for c in range(a + 1):  # lower triangle: all the Cholesky factor reads
+                h_gg[a, c] += jg[k, a] * jg[k, c] * wk
+        dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
+        g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
+        if k > 0:
+            g_d[k] += pe[k - 1] * dl[k - 1]
+        if k < n - 1:
+            g_d[k] += pe[k] * dl[k + 1]
+            ud[k] = pe[k]
+    for a in range(NG):
+        h_gg[a, a] += 1.0 / prior_s[a] ** 2
+        g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
+        h_gg[a, a] *= 1.0 + lam
+    # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
+    _thomas_factor(ud, dd, ud, cp, piv)  # one factorisation for the NG + 1 solves
+    for a in range(NG):
+        for k in range(n):
+            rhs_tmp[k] = h_gd[k, a]
+        _thomas_solve(ud, cp, piv, rhs_tmp, out_tmp, dp)
+        _copy(sol[a], out_tmp)
+    _thomas_solve(ud, cp, piv, g_d, out_tmp, dp)
+    _copy(sol[NG], out_tmp)
+    for a in range(NG):
+        _copy(a_mat[a], h_gg[a])
+    for a in range(NG):
+        rhs[a] = -g_g[a]
+    for a in range(NG):
+        for k in range(n):
+            rhs[a] += h_gd[k, a] * sol[NG, k]
+        for c in range(a + 1):
+            acc = 0.0
+            for k in range(n):
+                acc += h_gd[k, a] * sol[c, k]
+            a_mat[a, c] -= acc
+    _cholesky_solve(a_mat, rhs)  # the Schur complement is symmetric positive definite
+    for a in range(NG):
+        trial_th[a] = th[a] + rhs[a]
+    for k in range(n):
+        acc = sol[NG, k]
+        for a in range(NG):
+            acc += sol[a, k] * rhs[a]
+        trial_dl[k] = dl[k] - acc
+
+
 @njit(cache=True, nogil=True, **_NO_RT)
 def profile_nll(
     mu,
@@ -553,55 +627,9 @@ def profile_nll(
             _step_few_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, g_d,
                            rhs, trial_th, trial_dl, wm, cp, dp, rhs_tmp, out_tmp)  # fmt: skip
         else:
-            h_gg[:, :] = 0.0
-            g_g[:] = 0.0
-            for k in range(n):
-                wk = 1.0 / v[k]
-                for a in range(NG):
-                    g_g[a] += jg[k, a] * r[k] * wk
-                    h_gd[k, a] = jg[k, a] * jd[k] * wk
-                    for c in range(a + 1):  # lower triangle: all the Cholesky factor reads
-                        h_gg[a, c] += jg[k, a] * jg[k, c] * wk
-                dd[k] = (jd[k] * jd[k] * wk + pd[k]) * (1.0 + lam)
-                g_d[k] = jd[k] * r[k] * wk + pd[k] * dl[k]
-                if k > 0:
-                    g_d[k] += pe[k - 1] * dl[k - 1]
-                if k < n - 1:
-                    g_d[k] += pe[k] * dl[k + 1]
-                    ud[k] = pe[k]
-            for a in range(NG):
-                h_gg[a, a] += 1.0 / prior_s[a] ** 2
-                g_g[a] += (th[a] - prior_m[a]) / prior_s[a] ** 2
-                h_gg[a, a] *= 1.0 + lam
-            # eliminate δ: T⁻¹ on the NG coupling columns and on the gradient (Thomas, O(n))
-            _thomas_factor(ud, dd, ud, cp, piv)  # one factorisation for the NG + 1 solves
-            for a in range(NG):
-                for k in range(n):
-                    rhs_tmp[k] = h_gd[k, a]
-                _thomas_solve(ud, cp, piv, rhs_tmp, out_tmp, dp)
-                _copy(sol[a], out_tmp)
-            _thomas_solve(ud, cp, piv, g_d, out_tmp, dp)
-            _copy(sol[NG], out_tmp)
-            for a in range(NG):
-                _copy(a_mat[a], h_gg[a])
-            for a in range(NG):
-                rhs[a] = -g_g[a]
-            for a in range(NG):
-                for k in range(n):
-                    rhs[a] += h_gd[k, a] * sol[NG, k]
-                for c in range(a + 1):
-                    acc = 0.0
-                    for k in range(n):
-                        acc += h_gd[k, a] * sol[c, k]
-                    a_mat[a, c] -= acc
-            _cholesky_solve(a_mat, rhs)  # the Schur complement is symmetric positive definite
-            for a in range(NG):
-                trial_th[a] = th[a] + rhs[a]
-            for k in range(n):
-                acc = sol[NG, k]
-                for a in range(NG):
-                    acc += sol[a, k] * rhs[a]
-                trial_dl[k] = dl[k] - acc
+            _step_many_bins(n, th, dl, r, v, jg, jd, pd, pe, prior_m, prior_s, lam, g_g, g_d,
+                            rhs, trial_th, trial_dl, h_gg, h_gd, a_mat, dd, ud, cp, piv, dp,
+                            rhs_tmp, out_tmp, sol)  # fmt: skip
         # keep the step physical: stiffness scale within e^±2, load-transfer error > −0.95
         trial_th[0] = min(max(trial_th[0], -2.0), 2.0)
         trial_th[2] = max(trial_th[2], -0.95)
