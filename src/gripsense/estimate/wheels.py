@@ -858,6 +858,174 @@ _ESTIMATED = ("slide_point_m", "force_ratio", "mu", "kappa_beta", "mu_sigma")
 """Columns a per-sample estimator fills (NaN after the kinematics)."""
 
 
+def _loads(
+    vehicle: Vehicle,
+    t: np.ndarray,
+    u_a: np.ndarray,
+    v_a: np.ndarray,
+    r: np.ndarray,
+    ay: np.ndarray,
+) -> tuple[np.ndarray, dict]:
+    """The quasi-static longitudinal load transfer per wheel and each axle's lateral one."""
+    # quasi-static longitudinal load transfer m a_x h / L (needs the wheelbase): in a steady
+    # turn the body-axis a_x = U̇ − V r is not zero, because the CG moves sideways (V ≠ 0)
+    dfz_x = np.zeros(t.size)
+    if vehicle.wheelbase_m is not None and vehicle.cg_offset is not None and t.size > 1:
+        u_cg = u_a - r * vehicle.cg_offset[1]
+        v_cg = v_a + r * vehicle.cg_offset[0]
+        ax = np.gradient(u_cg, t) - v_cg * r if np.all(np.diff(t) > 0) else -v_cg * r
+        dfz_x = vehicle.mass_kg * ax * vehicle.cg_height_m / vehicle.wheelbase_m / 2.0
+    dfz = dict(
+        zip(
+            ("front", "rear"),
+            lateral_load_transfer(
+                ay,
+                vehicle.mass_kg,
+                vehicle.cg_height_m,
+                vehicle.axle_masses_kg,
+                (vehicle.track_front_m, vehicle.track_rear_m),
+                vehicle.roll_centre_heights_m,
+                vehicle.roll_stiffness_front_fraction,
+                np.deg2rad(vehicle.roll_gradient_deg_per_g),
+            ),
+            strict=True,
+        )
+    )
+    return dfz_x, dfz
+
+
+def _grips(
+    motion: pd.DataFrame,
+    vehicle: Vehicle,
+    o: FrictionOptions,
+    t: np.ndarray,
+    u_a: np.ndarray,
+    v_a: np.ndarray,
+    r: np.ndarray,
+    ay: np.ndarray,
+    ay_meas: np.ndarray,
+    steer: np.ndarray | None,
+) -> tuple:
+    """The axles' force, load, grip the bound takes (with the yaw moment the split leaves out),
+    the model's grip (without it) and the grip's noise (docs/physics.md §14.1).
+    """
+    earth = None
+    if "course_rad" in motion.columns and "heading_rad" in motion.columns:
+        earth = (motion["course_rad"].to_numpy(float), motion["heading_rad"].to_numpy(float))
+    axle_force, axle_load, grip, grip_sig = axle_grip(
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
+        steer=steer,
+    )  # fmt: skip
+    # the model's grip: the split without the yaw moment it leaves out (within the model's
+    # force error); the bound takes it (docs/physics.md §14.1)
+    grip_proven = grip
+    _, _, grip, _ = axle_grip(
+        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
+        unseen=False,
+    )  # fmt: skip
+    return axle_force, axle_load, grip_proven, grip, grip_sig
+
+
+def _flags(
+    fz: np.ndarray,
+    steady: np.ndarray,
+    ay: np.ndarray,
+    r: np.ndarray,
+    spd: np.ndarray,
+    alpha: np.ndarray,
+    o: FrictionOptions,
+) -> np.ndarray:
+    """A wheel's flag per sample: codes of :data:`FLAGS`, 0 where it is steady cornering."""
+    flag = np.zeros(fz.size, dtype=np.int8)  # codes of FLAGS: 0 = steady cornering
+    conds = [
+        ("wheel_lifted", ~(fz > 0)),
+        ("not_steady", ~steady),
+        (
+            "not_cornering",
+            (np.abs(ay) < o.min_lateral_accel_mps2) | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps)),
+        ),
+        ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
+    ]
+    for name, m in conds:  # later entries take precedence
+        flag[m] = FLAGS.index(name)
+    return flag
+
+
+def _wheel_frame(
+    motion: pd.DataFrame,
+    vehicle: Vehicle,
+    o: FrictionOptions,
+    wname: str,
+    body: dict,
+    loads: tuple[np.ndarray, dict, dict],
+    grips: tuple,
+) -> dict:
+    """One wheel's arrays of :data:`WHEEL_COLUMNS` (but the estimated ones) and what a
+    per-sample estimator needs besides (keys starting with ``_``).
+    """
+    t, ay, r, steer = body["t_s"], body["lateral_accel_mps2"], body["_r"], body["_steer"]
+    dfz_x, m_axle, dfz = loads
+    axle_force, axle_load, grip_proven, grip, _ = grips
+    dx, dy = vehicle.wheel_offsets[wname]
+    axle = AXLE_OF[wname]
+    tyre = vehicle.tyres[axle]
+    delta: np.ndarray | float = steer if axle == "front" and steer is not None else 0.0
+    u_i, v_i = point_velocity(body["_u_a"], body["_v_a"], r, dx, dy)
+    alpha = slip_angle(u_i, v_i, delta)
+    spd = np.hypot(u_i, v_i)
+    radius = path_radius(spd, r)
+    left, right = wheel_loads(m_axle[axle], dfz[axle])
+    fz = (left if wname.endswith("left") else right) + (dfz_x if axle == "rear" else -dfz_x)
+    mass = fz / G0
+    length = tyre.contact_length(mass)
+    c = vehicle.cornering_stiffness(axle, fz)
+    force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
+    sig_alpha_white = np.sqrt(
+        np.deg2rad(o.noise.heading_white_deg) ** 2
+        + body["_sig_v_rel"] ** 2
+        + (body["_sig_r"] * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
+    )
+    with np.errstate(invalid="ignore"):
+        force_sigma = np.abs(force) * body["_sig_f_rel"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        utilisation = np.where(fz > 0, np.abs(force) / fz, np.nan)
+    flag = _flags(fz, body["steady"], ay, r, spd, alpha, o)
+    frame = {
+        "t_s": t,
+        "epoch": body["epoch"],
+        "wheel": np.full(t.size, list(vehicle.wheel_offsets).index(wname), np.int8),
+        "speed_mps": spd,
+        "slip_angle_rad": alpha,
+        "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
+        "radius_m": radius,
+        "mass_kg": mass,
+        "contact_length_m": length,
+        "load_N": fz,
+        "force_N": force,
+        "flag": flag,
+        "lateral_accel_mps2": ay,
+        "utilisation": utilisation,
+        "steady": body["steady"],
+        "cornering_stiffness_N_per_rad": c,
+        "slip_sigma_rad": sig_alpha_white,
+        "force_sigma_N": force_sigma,
+        "axle_force_N": axle_force[axle],
+        "axle_load_N": axle_load[axle],
+        "grip_used": grip[axle],
+        "grip_proven": grip_proven[axle],
+        "grip_sigma": body["grip_sigma"],
+        # for a per-sample estimator
+        "_axle": axle,
+        "_dx": dx,
+        "_u": u_i,
+        "_sig_v_rel": body["_sig_v_rel"],
+        "_sig_f_rel": body["_sig_f_rel"],
+    }
+    if axle == "front":
+        frame |= {c: motion[c].to_numpy(float) for c in STEERING_TORQUE if c in motion}
+    return frame
+
+
 def wheel_kinematics(
     motion: pd.DataFrame, vehicle: Vehicle, options: FrictionOptions | None = None
 ) -> tuple[list[dict], dict]:
@@ -901,126 +1069,24 @@ def wheel_kinematics(
     ay_meas = motion["ay_mps2"].to_numpy(float)
     ay = np.where(np.isfinite(ay_meas), ay_meas, (u_a - r * dy_ref) * r)
     steady = _steady(t, v, r, o)
-    # quasi-static longitudinal load transfer m a_x h / L (needs the wheelbase): in a steady
-    # turn the body-axis a_x = U̇ − V r is not zero, because the CG moves sideways (V ≠ 0)
-    dfz_x = np.zeros(t.size)
-    if vehicle.wheelbase_m is not None and vehicle.cg_offset is not None and t.size > 1:
-        u_cg = u_a - r * vehicle.cg_offset[1]
-        v_cg = v_a + r * vehicle.cg_offset[0]
-        ax = np.gradient(u_cg, t) - v_cg * r if np.all(np.diff(t) > 0) else -v_cg * r
-        dfz_x = vehicle.mass_kg * ax * vehicle.cg_height_m / vehicle.wheelbase_m / 2.0
-    m_axle = dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True))
-    dfz = dict(
-        zip(
-            ("front", "rear"),
-            lateral_load_transfer(
-                ay,
-                vehicle.mass_kg,
-                vehicle.cg_height_m,
-                vehicle.axle_masses_kg,
-                (vehicle.track_front_m, vehicle.track_rear_m),
-                vehicle.roll_centre_heights_m,
-                vehicle.roll_stiffness_front_fraction,
-                np.deg2rad(vehicle.roll_gradient_deg_per_g),
-            ),
-            strict=True,
-        )
-    )
-
-    earth = None
-    if "course_rad" in motion.columns and "heading_rad" in motion.columns:
-        earth = (motion["course_rad"].to_numpy(float), motion["heading_rad"].to_numpy(float))
-    axle_force, axle_load, grip, grip_sig = axle_grip(
-        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
-        steer=steer,
-    )  # fmt: skip
-    # the model's grip: the split without the yaw moment it leaves out (within the model's
-    # force error); the bound takes it (docs/physics.md §14.1)
-    grip_proven = grip
-    _, _, grip, _ = axle_grip(
-        vehicle, t, u_a, v_a, r, ay, ay_measured=np.isfinite(ay_meas), noise=o.noise, earth=earth,
-        unseen=False,
-    )  # fmt: skip
-
-    nz = o.noise
-    sig_v_rel = nz.velocity_mps / np.maximum(v, 1e-9)
-    sig_r = np.deg2rad(nz.yaw_rate_dps)
+    dfz_x, dfz = _loads(vehicle, t, u_a, v_a, r, ay)
+    loads = (dfz_x, dict(zip(("front", "rear"), vehicle.axle_masses_kg, strict=True)), dfz)
+    grips = _grips(motion, vehicle, o, t, u_a, v_a, r, ay, ay_meas, steer)
+    sig_v_rel = o.noise.velocity_mps / np.maximum(v, 1e-9)
+    sig_r = np.deg2rad(o.noise.yaw_rate_dps)
     with np.errstate(divide="ignore", invalid="ignore"):
         sig_f_rel = np.sqrt(sig_v_rel**2 + (sig_r / np.abs(r)) ** 2)
-
+    body = {  # the body's arrays every wheel shares (keys starting with "_": not columns)
+        "t_s": t, "epoch": rows, "lateral_accel_mps2": ay, "steady": steady,
+        "grip_sigma": grips[4], "_u_a": u_a, "_v_a": v_a, "_r": r, "_steer": steer,
+        "_sig_v_rel": sig_v_rel, "_sig_r": sig_r, "_sig_f_rel": sig_f_rel,
+    }  # fmt: skip
     wheels_done, frames = [], []
     nan = np.full(t.size, np.nan)
-    for wname, (dx, dy) in vehicle.wheel_offsets.items():
-        axle = AXLE_OF[wname]
-        if axle == "front" and steer is None:
+    for wname in vehicle.wheel_offsets:
+        if AXLE_OF[wname] == "front" and steer is None:
             continue
-        tyre = vehicle.tyres[axle]
-        delta: np.ndarray | float = steer if axle == "front" and steer is not None else 0.0
-        u_i, v_i = point_velocity(u_a, v_a, r, dx, dy)
-        alpha = slip_angle(u_i, v_i, delta)
-        spd = np.hypot(u_i, v_i)
-        radius = path_radius(spd, r)
-        left, right = wheel_loads(m_axle[axle], dfz[axle])
-        fz = (left if wname.endswith("left") else right) + (dfz_x if axle == "rear" else -dfz_x)
-        mass = fz / G0
-        length = tyre.contact_length(mass)
-        c = vehicle.cornering_stiffness(axle, fz)
-        force = mass * ay  # the wheel's load share of the axle force m⁰ a_y
-        sig_alpha_white = np.sqrt(
-            np.deg2rad(nz.heading_white_deg) ** 2
-            + sig_v_rel**2
-            + (sig_r * dx / np.maximum(np.abs(u_i), 1e-9)) ** 2
-        )
-        with np.errstate(invalid="ignore"):
-            force_sigma = np.abs(force) * sig_f_rel
-        with np.errstate(divide="ignore", invalid="ignore"):
-            utilisation = np.where(fz > 0, np.abs(force) / fz, np.nan)
-        flag = np.zeros(t.size, dtype=np.int8)  # codes of FLAGS: 0 = steady cornering
-        conds = [
-            ("wheel_lifted", ~(fz > 0)),
-            ("not_steady", ~steady),
-            (
-                "not_cornering",
-                (np.abs(ay) < o.min_lateral_accel_mps2)
-                | (np.abs(r) < np.deg2rad(o.min_yaw_rate_dps)),
-            ),
-            ("low_speed", (spd < o.min_speed_mps) | np.isnan(alpha)),
-        ]
-        for name, m in conds:  # later entries take precedence
-            flag[m] = FLAGS.index(name)
-        frame = {
-            "t_s": t,
-            "epoch": rows,
-            "wheel": np.full(t.size, list(vehicle.wheel_offsets).index(wname), np.int8),
-            "speed_mps": spd,
-            "slip_angle_rad": alpha,
-            "steer_rad": np.broadcast_to(delta, t.shape).astype(float),
-            "radius_m": radius,
-            "mass_kg": mass,
-            "contact_length_m": length,
-            "load_N": fz,
-            "force_N": force,
-            "flag": flag,
-            "lateral_accel_mps2": ay,
-            "utilisation": utilisation,
-            "steady": steady,
-            "cornering_stiffness_N_per_rad": c,
-            "slip_sigma_rad": sig_alpha_white,
-            "force_sigma_N": force_sigma,
-            "axle_force_N": axle_force[axle],
-            "axle_load_N": axle_load[axle],
-            "grip_used": grip[axle],
-            "grip_proven": grip_proven[axle],
-            "grip_sigma": grip_sig,
-            # for a per-sample estimator
-            "_axle": axle,
-            "_dx": dx,
-            "_u": u_i,
-            "_sig_v_rel": sig_v_rel,
-            "_sig_f_rel": sig_f_rel,
-        }
-        if axle == "front":
-            frame |= {c: motion[c].to_numpy(float) for c in STEERING_TORQUE if c in motion}
+        frame = _wheel_frame(motion, vehicle, o, wname, body, loads, grips)
         frames.append(frame | dict.fromkeys(_ESTIMATED, nan))
         wheels_done.append(wname)
     meta["wheels"] = wheels_done
