@@ -146,22 +146,24 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
             sg = -1.0 if ae > 0 else 1.0
             # the bin's mean force is the curve's mean over the bin's slips, not the force at
             # the mean slip: the two-point rule at x ± h (h the slip's spread within the bin in
-            # x; the curve odd through zero) — the force at x where the slip is steady (h = 0),
-            # exact for a straight curve, and below it by the Jensen gap where the curve bends
-            # (a turn-in's slip sweeping through the peak; docs/physics.md §15.8). f and x f'
-            # below are the two points' means, f' their mean slope.
+            # x, at most x: slips of one sign, as a turn-in's from straight running) — the
+            # force at x where the slip is steady (h = 0), exact for a straight curve, and below
+            # it by the Jensen gap where the curve bends (a turn-in's slip sweeping through the
+            # peak; docs/physics.md §15.8). f and x f' below are the two points' means, f' their
+            # mean slope.
             hx = cp * (1.0 + t * t) * b[k, 13] / (m_w * fzw)
             if hx > 0.0:
-                f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
-                x_m = x - hx
-                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, abs(x_m))
-                if x_m < 0.0:
-                    f_m = -f_m
+                h2 = min(hx, x)
+                f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + h2)
+                x_m = x - h2
+                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, x_m)
                 f = 0.5 * (f_p + f_m)
                 df = 0.5 * (df_p + df_m)
-                dfx = 0.5 * (df_p * (x + hx) + df_m * x_m)
+                dfx = 0.5 * (df_p * (x + h2) + df_m * x_m)
                 # what the two points leave out (the spread is not two points): the Jensen gap
                 # ½ F'' s² again, from f' at x ± h; zero where the curve is straight
+                _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
+                _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
                 gap += m_w * fzw * abs(df_p - df_m) * hx * 0.25
             else:
                 f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
