@@ -107,49 +107,75 @@ def friction(
     the grip the data prove (model-free) and an estimate of μ with its interval.
     """
     from gripsense.io.output_folder import check_output_folder
-    from gripsense.io.table import describe_columns, read_motion_table
     from gripsense.pipeline import FrictionRun
 
-    cal = None
     try:
-        if vehicle is None:
-            raise GripsenseError("--vehicle car.toml is required")
-        if (log is None) == (table is None):
-            raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
-        source = log if log is not None else table
-        if outdir is None and source is not None:  # one folder per log, never a shared name
-            outdir = default_outdir(source)
-        assert outdir is not None
+        vehicle, outdir = _checked_args(vehicle, log, table, outdir)
         check_output_folder(
             outdir, "friction", overwrite=overwrite, files=["report.html"] if report else []
         )
         run = FrictionRun(vehicle, method=method, receiver=receiver, calibration=calibration)
-        veh = run.vehicle
         if table is not None:
-            motion = read_motion_table(table, columns or "auto")
-            say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")
-            meta = {"vehicle": veh.name, "source": str(table)}
-            if motion["steer_rad"].isna().all():
-                meta["front_axle"] = (
-                    "front axle: no steering column — add steer=COLUMN:deg (road-wheel angle) "
-                    "to --columns"
-                )
-            result = run.run_motion(motion, meta=meta)
+            result = _run_table(run, table, columns)
         else:
             opts = log_options(columns, dbc, time_offset)
             assert log is not None  # one of --table and LOG is given (checked above)
-            result = run.run_log(
-                log, steer_csv=steer_csv, steer_columns=steer_columns, log_options=opts
-            )
-            for note in (result.ingest or {}).get("notes", []):
-                say(f"note: {note}")
-        cal = _calibration_record(veh, vehicle, calibration, run.calibration_notes)
+            result = _run_log(run, log, steer_csv, steer_columns, opts)
+        cal = _calibration_record(run.vehicle, vehicle, calibration, run.calibration_notes)
         if cal is not None:  # the calibration in use, named in every rendering of the result
             result = result.replace(meta={**result.meta, "calibration": cal})
     except GripsenseError as e:
         fail(e)
+    _say_run(result, run.calibration_notes, cal)
+    inputs = [p for p in (log, table, vehicle, steer_csv, calibration, dbc) if p is not None]
+    _write_run(result, outdir, overwrite=overwrite, report=report, inputs=inputs)
+
+
+def _checked_args(
+    vehicle: Path | None, log: Path | None, table: Path | None, outdir: Path | None
+) -> tuple[Path, Path]:
+    """The vehicle file and the result folder (default: the source's name, one folder per log,
+    never a shared name); a missing --vehicle or not exactly one source is an error.
+    """
+    if vehicle is None:
+        raise GripsenseError("--vehicle car.toml is required")
+    if (log is None) == (table is None):
+        raise GripsenseError("give either an NMEA LOG or --table FILE --columns ...")
+    source = log if log is not None else table
+    if outdir is None and source is not None:
+        outdir = default_outdir(source)
+    assert outdir is not None
+    return vehicle, outdir
+
+
+def _run_table(run, table: Path, columns: str | None) -> FrictionResult:
+    """``--table``: the motion table read (its column mapping said) and run."""
+    from gripsense.io.table import describe_columns, read_motion_table
+
+    motion = read_motion_table(table, columns or "auto")
+    say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")
+    meta = {"vehicle": run.vehicle.name, "source": str(table)}
+    if motion["steer_rad"].isna().all():
+        meta["front_axle"] = (
+            "front axle: no steering column — add steer=COLUMN:deg (road-wheel angle) to --columns"
+        )
+    return run.run_motion(motion, meta=meta)
+
+
+def _run_log(run, log: Path, steer_csv, steer_columns, opts) -> FrictionResult:
+    """A log run (its ingest notes said)."""
+    result = run.run_log(log, steer_csv=steer_csv, steer_columns=steer_columns, log_options=opts)
+    for note in (result.ingest or {}).get("notes", []):
+        say(f"note: {note}")
+    return result
+
+
+def _say_run(result: FrictionResult, calibration_notes: list[str], cal: dict | None) -> None:
+    """The result's table, then what a reader must know: the calibration's conflicts and
+    stiffness, and why the front axle is missing (or which steering channel was read).
+    """
     print_friction(result)
-    for note in run.calibration_notes:  # a declaration the drives contradict, said out loud
+    for note in calibration_notes:  # a declaration the drives contradict, said out loud
         say(note)
     if cal is not None:
         from gripsense.estimate.results import stiffness_lines
@@ -161,8 +187,13 @@ def friction(
             say(result.meta["front_axle"])
     elif result.meta.get("steering"):
         say(f"steering: {result.meta['steering']}")
+
+
+def _write_run(
+    result: FrictionResult, outdir: Path, *, overwrite: bool, report: bool, inputs: list[Path]
+) -> None:
+    """The result folder (and with *report* its report.html), each file said."""
     try:
-        inputs = [p for p in (log, table, vehicle, steer_csv, calibration, dbc) if p is not None]
         paths = result.to_files(outdir, overwrite=overwrite, command=command_line(), inputs=inputs)
         say("wrote " + ", ".join(str(p) for k, p in paths.items() if k != "manifest"))
         if report:  # from the folder as written: the same story as `gripsense report` tells
