@@ -165,42 +165,15 @@ def _live(
     overwrite,
     state,
 ) -> None:
-    from gripsense.live import SerialSource, TcpSource, open_replay, run_live
-    from gripsense.live import recover as do_recover
-    from gripsense.live.display import LiveDisplay, render
-    from gripsense.live.recording import check_live_outputs, output_paths
-    from gripsense.live.sources import parse_host_port
+    from gripsense.live.recording import check_live_outputs
 
     try:
         if recover is not None:
             state["phase"] = "recover"  # a signal now waits until the recovery is complete
-            rec = do_recover(recover, overwrite=overwrite)
-            say(f"recovered {rec['results']}: {rec['rows']} rows")
-            if rec["rejected"]:
-                n = len(rec["rejected"])
-                line, _, why = rec["rejected"][0]
-                say(
-                    f"note: {n} row{'s' if n > 1 else ''} could not be read (line {line}: {why}"
-                    f"{' …' if n > 1 else ''}); kept byte for byte in {rec['rejected_path']}"
-                )
-            if state["signal"]:
-                say(f"note: {state['signal']} came during the recovery; it was completed first")
+            _recover(recover, overwrite, state)
             return
-        _check_numbers(speed, window_s, duration_s, baud)
-        if sum(x is not None for x in (serial, tcp, replay)) != 1:
-            raise InputError(
-                "give exactly one source: --serial DEV, --tcp HOST:PORT or --replay LOG"
-            )
-        address = parse_host_port(tcp) if tcp is not None else None
-        if vehicle is None:
-            raise InputError("--vehicle car.toml is required")
-        if steer_csv is not None and replay is None:
-            raise InputError(
-                "--steer-csv is replayed beside --replay LOG on the log's clock; a live "
-                "receiver's steering must come in its stream"
-            )
-        if steer_columns is not None and steer_csv is None:
-            raise InputError("--steer-columns maps the columns of --steer-csv FILE: give it too")
+        address = _check_args(speed, window_s, duration_s, baud, serial, tcp, replay, vehicle,
+                              steer_csv, steer_columns)  # fmt: skip
         if calibration is not None:
             from gripsense.config.calibration import calibrated_vehicle
 
@@ -208,51 +181,94 @@ def _live(
         if output is not None:  # before the source is opened: nothing is lost to a bad -o
             ins = [p for p in (replay, steer_csv) if p is not None]
             check_live_outputs(output, overwrite=overwrite, inputs=ins)
-        if replay is not None:
-            src = open_replay(replay, speed, log_options(columns, dbc, time_offset))
-        elif address is not None:
-            src = TcpSource(*address)
-        else:
-            src = SerialSource(serial, baud)
-        common: dict[str, Any] = {
-            "stop_when": lambda _stats: state["signal"],
+        src = _open_source(serial, baud, address, replay, speed, (columns, dbc, time_offset))
+        kw: dict[str, Any] = {
+            "method": method, "receiver": receiver, "output": output, "window_s": window_s,
+            "duration_s": duration_s, "overwrite": overwrite, "steer_csv": steer_csv,
+            "steer_columns": steer_columns, "stop_when": lambda _stats: state["signal"],
             "command": command_line(),
-        }
+        }  # fmt: skip
         state["phase"] = "run"
-        if quiet:
-            res = run_live(
-                src,
-                vehicle,
-                method=method,
-                receiver=receiver,
-                output=output,
-                window_s=window_s,
-                duration_s=duration_s,
-                overwrite=overwrite,
-                steer_csv=steer_csv,
-                steer_columns=steer_columns,
-                **common,
-            )
-        else:
-            with LiveDisplay(console) as disp:
-                res = run_live(
-                    src,
-                    vehicle,
-                    method=method,
-                    receiver=receiver,
-                    output=output,
-                    window_s=window_s,
-                    duration_s=duration_s,
-                    display=disp,
-                    overwrite=overwrite,
-                    steer_csv=steer_csv,
-                    steer_columns=steer_columns,
-                    **common,
-                )
+        res = _run(src, vehicle, quiet, kw)
     except GripsenseError as e:
         state["phase"] = "done"
         fail(e)
     state["phase"] = "done"
+    _say_end(res, src, quiet, output)
+
+
+def _recover(recover: Path, overwrite: bool, state: dict) -> None:
+    """``--recover``: the killed run's output converted (or checked), what was kept said."""
+    from gripsense.live import recover as do_recover
+
+    rec = do_recover(recover, overwrite=overwrite)
+    say(f"recovered {rec['results']}: {rec['rows']} rows")
+    if rec["rejected"]:
+        n = len(rec["rejected"])
+        line, _, why = rec["rejected"][0]
+        say(
+            f"note: {n} row{'s' if n > 1 else ''} could not be read (line {line}: {why}"
+            f"{' …' if n > 1 else ''}); kept byte for byte in {rec['rejected_path']}"
+        )
+    if state["signal"]:
+        say(f"note: {state['signal']} came during the recovery; it was completed first")
+
+
+def _check_args(
+    speed, window_s, duration_s, baud, serial, tcp, replay, vehicle, steer_csv, steer_columns
+) -> tuple[str, int] | None:
+    """The options of a run: numbers in range, one source, a vehicle, a steering CSV only
+    beside a replay; returns the ``--tcp`` address.
+    """
+    from gripsense.live.sources import parse_host_port
+
+    _check_numbers(speed, window_s, duration_s, baud)
+    if sum(x is not None for x in (serial, tcp, replay)) != 1:
+        raise InputError("give exactly one source: --serial DEV, --tcp HOST:PORT or --replay LOG")
+    address = parse_host_port(tcp) if tcp is not None else None
+    if vehicle is None:
+        raise InputError("--vehicle car.toml is required")
+    if steer_csv is not None and replay is None:
+        raise InputError(
+            "--steer-csv is replayed beside --replay LOG on the log's clock; a live "
+            "receiver's steering must come in its stream"
+        )
+    if steer_columns is not None and steer_csv is None:
+        raise InputError("--steer-columns maps the columns of --steer-csv FILE: give it too")
+    return address
+
+
+def _open_source(serial, baud, address, replay, speed, log_flags: tuple):
+    """The source: a replayed log (read with the log flags ``--columns``, ``--dbc``,
+    ``--time-offset``), a TCP stream or a serial port.
+    """
+    from gripsense.live import SerialSource, TcpSource, open_replay
+
+    if replay is not None:
+        return open_replay(replay, speed, log_options(*log_flags))
+    if address is not None:
+        return TcpSource(*address)
+    return SerialSource(serial, baud)
+
+
+def _run(src, vehicle, quiet: bool, kw: dict[str, Any]) -> dict:
+    """:func:`~gripsense.live.run_live`, headless or with the live display."""
+    from gripsense.live import run_live
+    from gripsense.live.display import LiveDisplay
+
+    if quiet:
+        return run_live(src, vehicle, **kw)
+    with LiveDisplay(console) as disp:
+        return run_live(src, vehicle, display=disp, **kw)
+
+
+def _say_end(res: dict, src, quiet: bool, output: Path | None) -> None:
+    """How the run ended: the last state (headless), the input's accounting, notes, gaps and
+    the files written.
+    """
+    from gripsense.live.display import render
+    from gripsense.live.recording import output_paths
+
     rep, st = res["report"], res["stats"]
     if quiet:
         console.print(render(res["summary"], st, _Ing(rep), src))
