@@ -75,31 +75,12 @@ def fleet(
     """Turn many drives into a friction map: per-estimate Parquet, cells per H3 cell and time
     bucket (cells.parquet, cells.geojson) and an offline map page (map.html).
     """
-    import pandas as pd
     from rich.progress import Progress
 
     from gripsense.fleet import run_fleet
-    from gripsense.fleet.aggregate import (
-        STATUS_CONTRADICTION,
-        STATUS_ESTIMATE,
-        STATUS_INCONSISTENT,
-        STATUS_MEASURED,
-        STATUS_RANGE,
-    )
 
     try:
         with Progress(console=console, transient=True, disable=not console.is_terminal) as prog:
-            task = prog.add_task("tasks", total=None)
-            said = [-1]
-
-            def progress(done, total):
-                prog.update(task, completed=done, total=total)
-                if not console.is_terminal:  # piped: a line per tenth of the tasks instead
-                    tenth = 10 * done // max(total, 1)
-                    if tenth > said[0] or done == total:
-                        said[0] = tenth
-                        say(f"tasks: {done} of {total} done")
-
             res = run_fleet(
                 logs,
                 output,
@@ -113,7 +94,7 @@ def fleet(
                 scheduler=scheduler,
                 workers=workers,
                 logs_per_task=logs_per_task,
-                progress=progress,
+                progress=_progress(prog),
                 overwrite=overwrite,
                 command=command_line(),
                 calibrate=calibrate,
@@ -122,6 +103,39 @@ def fleet(
             )
     except GripsenseError as e:
         fail(e)
+    _say_fleet(res)
+
+
+def _progress(prog):
+    """The tasks' progress: a bar on a terminal; piped, a line per tenth of the tasks."""
+    task = prog.add_task("tasks", total=None)
+    said = [-1]
+
+    def progress(done, total):
+        prog.update(task, completed=done, total=total)
+        if not console.is_terminal:  # piped: a line per tenth of the tasks instead
+            tenth = 10 * done // max(total, 1)
+            if tenth > said[0] or done == total:
+                said[0] = tenth
+                say(f"tasks: {done} of {total} done")
+
+    return progress
+
+
+def _say_fleet(res) -> None:
+    """What the run made: logs used and with problems, front axles left out for want of a
+    steering channel, the cell-buckets by status, the calibrations and the map.
+    """
+    import pandas as pd
+
+    from gripsense.fleet.aggregate import (
+        STATUS_CONTRADICTION,
+        STATUS_ESTIMATE,
+        STATUS_INCONSISTENT,
+        STATUS_MEASURED,
+        STATUS_RANGE,
+    )
+
     lg, c = res.logs, res.cells
     bad = int((lg["problem"] != "").sum())
     say(f"{len(lg)} logs: {len(lg) - bad} used, {bad} with problems ({res.paths['problems']})")
