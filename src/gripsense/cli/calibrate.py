@@ -59,16 +59,8 @@ def calibrate(
     --calibration, every command (fleet too) when the vehicle file names it in a calibration
     table (file = "car.calibration.toml").
     """
-    from rich.table import Table
-
     from gripsense.config import Vehicle
-    from gripsense.config.calibration import (
-        calibration_toml,
-        read_calibration,
-        shape_lines,
-        stiffness_conflict,
-        usable_calibration,
-    )
+    from gripsense.config.calibration import calibration_toml, read_calibration, usable_calibration
     from gripsense.io.output_folder import check_output_file, write_file_atomic
     from gripsense.pipeline import learn_calibration
 
@@ -89,6 +81,21 @@ def calibrate(
         text = calibration_toml(cal)
     except GripsenseError as e:
         fail(e)
+    _print_stiffness(veh, cal, bool(steer_csv))
+    _say_findings(veh, cal)
+    try:
+        out = write_file_atomic(output, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    except GripsenseError as e:
+        fail(e)
+    say(f"wrote {out}")
+
+
+def _print_stiffness(veh, cal, steering_channel: bool) -> None:
+    """The table of each axle's declared and learned cornering stiffness (why not, where an
+    axle was not learned).
+    """
+    from rich.table import Table
+
     table = Table(title=f"Cornering stiffness learned for {veh.name}")
     for col in ("axle", "declared [N/rad]", "learned [N/rad]", "1σ", "bins", "drives"):
         table.add_column(col)
@@ -99,7 +106,11 @@ def calibrate(
         a = cal.axles.get(axle)
         n_drives = sum(d.axle == axle for d in cal.drives)
         if a is None:
-            why = "no steering channel" if axle == "front" and not steer_csv else "too few bins"
+            why = (
+                "no steering channel"
+                if axle == "front" and not steering_channel
+                else "too few bins"
+            )
             if axle in cal.left_out:
                 why = "see below"
             table.add_row(axle, f"{declared:.0f}", f"not learned ({why})", "—", "0", "0")
@@ -113,6 +124,14 @@ def calibrate(
             str(n_drives),
         )
     console.print(table)
+
+
+def _say_findings(veh, cal) -> None:
+    """Drives counted once, the curve's shape, conflicts with the declaration (one line each),
+    what was left out and why, and the steering lever learned.
+    """
+    from gripsense.config.calibration import shape_lines, stiffness_conflict
+
     for name in cal.repeated:
         say(f"{name}: already in the calibration (same content): not counted twice")
     for line in shape_lines(veh, cal):
@@ -141,8 +160,3 @@ def calibrate(
             f"{st.lever_m * 1e3:.1f} mm ± {100 * st.lever_uncertainty:.1f} % from {st.bins} "
             f"bins of {n_drives} drive(s)"
         )
-    try:
-        out = write_file_atomic(output, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
-    except GripsenseError as e:
-        fail(e)
-    say(f"wrote {out}")
