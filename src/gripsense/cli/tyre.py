@@ -148,13 +148,8 @@ def tyre_eval(
     The model's version is the file's (a .tir's FITTYP: 61 is MF 6.1). A value outside a
     .tir file's limits is clipped to them as MFeval does, with one line saying so.
     """
-    import numpy as np
-    import pandas as pd
-    from rich.table import Table
-    from rich.text import Text
-
     from gripsense.config.tyre_files import load_tyre_model
-    from gripsense.io.output_folder import check_output_file, write_file_atomic
+    from gripsense.io.output_folder import check_output_file
 
     try:
         model = resolve_model(model)
@@ -169,27 +164,45 @@ def tyre_eval(
         tm = load_tyre_model(model, lenient=lenient)
         for w in tm.warnings:
             say(f"warning: {w}")
-        f, desc = tm.forces, tm.description
-        grids = np.meshgrid(
-            parse_range(fz, "fz"),
-            parse_range(kappa, "kappa"),
-            parse_range(gamma_deg, "gamma-deg"),
-            parse_range(alpha_deg, "alpha-deg"),
-            indexing="ij",
-        )
-        fzv, kv, gv, av = (x.ravel() for x in grids)
-        kwargs: dict = {"side": side} if side else {}
-        if tm.limits:
-            kwargs["limits"] = limits
-            note = _clipped(
-                tm, {"fz": fzv, "kappa": kv, "gamma": np.deg2rad(gv), "alpha": np.deg2rad(av)}
-            )
-            if note and limits:
-                say(note)
-        fx, fy = f(fzv, kv, np.deg2rad(av), np.deg2rad(gv), **kwargs)
+        desc = tm.description
+        out = _eval_grid(tm, fz, kappa, gamma_deg, alpha_deg, side, limits)
     except (GripsenseError, ValueError) as e:
         fail(e)
-    out = pd.DataFrame(
+    if plot is not None:
+        _write_eval_plot(out, plot, desc + ("" if limits else ", no limits"))
+    if output is not None:
+        _write_eval_csv(out, output, desc)
+        return
+    if plot is not None:
+        return
+    _print_eval(out, desc)
+
+
+def _eval_grid(tm, fz: str, kappa: str, gamma_deg: str, alpha_deg: str, side, limits: bool):
+    """The model on the grid of the options (every combination), one row per point in the
+    columns of :data:`EVAL_COLUMNS`; a line says which points lie outside the file's limits.
+    """
+    import numpy as np
+    import pandas as pd
+
+    grids = np.meshgrid(
+        parse_range(fz, "fz"),
+        parse_range(kappa, "kappa"),
+        parse_range(gamma_deg, "gamma-deg"),
+        parse_range(alpha_deg, "alpha-deg"),
+        indexing="ij",
+    )
+    fzv, kv, gv, av = (x.ravel() for x in grids)
+    kwargs: dict = {"side": side} if side else {}
+    if tm.limits:
+        kwargs["limits"] = limits
+        note = _clipped(
+            tm, {"fz": fzv, "kappa": kv, "gamma": np.deg2rad(gv), "alpha": np.deg2rad(av)}
+        )
+        if note and limits:
+            say(note)
+    fx, fy = tm.forces(fzv, kv, np.deg2rad(av), np.deg2rad(gv), **kwargs)
+    return pd.DataFrame(
         {
             "fz_N": fzv,
             "kappa": kv,
@@ -199,31 +212,43 @@ def tyre_eval(
             "fy_N": fy,
         }
     )
-    if plot is not None:
-        from gripsense.report.figures import save_png
-        from gripsense.report.tyre_figures import eval_figure
 
-        fig = eval_figure(out, title=desc + ("" if limits else ", no limits"))
-        try:
-            write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-eval", dpi=110))
-        except GripsenseError as e:
-            fail(e)
-        say(f"wrote {plot}")
-    if output is not None:
 
-        def write(tmp):
-            with open(tmp, "w", encoding="utf-8") as fh:
-                fh.write(f"# {desc}; written by gripsense tyre eval\n")
-                out.to_csv(fh, index=False)
+def _write_eval_plot(out, plot: Path, title: str) -> None:
+    """``--plot``: Fy (and Fx) against slip angle per load and camber."""
+    from gripsense.io.output_folder import write_file_atomic
+    from gripsense.report.figures import save_png
+    from gripsense.report.tyre_figures import eval_figure
 
-        try:
-            write_file_atomic(output, write)
-        except GripsenseError as e:
-            fail(e)
-        say(f"{desc}: {len(out)} points written to {output}")
-        return
-    if plot is not None:
-        return
+    fig = eval_figure(out, title=title)
+    try:
+        write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-eval", dpi=110))
+    except GripsenseError as e:
+        fail(e)
+    say(f"wrote {plot}")
+
+
+def _write_eval_csv(out, output: Path, desc: str) -> None:
+    """``-o``: the points as CSV under a comment line naming the model."""
+    from gripsense.io.output_folder import write_file_atomic
+
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(f"# {desc}; written by gripsense tyre eval\n")
+            out.to_csv(fh, index=False)
+
+    try:
+        write_file_atomic(output, write)
+    except GripsenseError as e:
+        fail(e)
+    say(f"{desc}: {len(out)} points written to {output}")
+
+
+def _print_eval(out, desc: str) -> None:
+    """The points as a table (the first 200)."""
+    from rich.table import Table
+    from rich.text import Text
+
     table = Table(title=Text(desc))
     for c in out.columns:
         table.add_column(c, justify="right")
@@ -294,25 +319,13 @@ def tyre_fit(
     A fit that stops before converging (the iteration limit, a constraint it cannot meet) is
     not written: one line says why and how to go on (--max-iter, --force).
     """
-    from gripsense.identify.tyre_fit import FITTERS, fit_from_wheel_table
-    from gripsense.identify.tyre_fit.from_wheels import wheel_fit_points
-    from gripsense.io.output_folder import check_output_file, write_file_atomic
+    from gripsense.identify.tyre_fit import fit_tyre_table
+    from gripsense.io.output_folder import check_output_file
     from gripsense.io.table import describe_columns
     from gripsense.io.tyre_table import read_tyre_table
-    from gripsense.report.figures import save_png
 
     try:
-        if model not in FITTERS:
-            raise InputError(f"--model {model!r}: use pac94 or mf61")
-        if output is not None and output.suffix.lower() == ".tir" and model != "mf61":
-            raise InputError("-o .tir needs --model mf61; PAC94 coefficients are written as .json")
-        if output is not None and output.suffix.lower() not in (".json", ".tir"):
-            raise InputError(  # tyre eval and a vehicle's tyre_file know a model by its suffix
-                f"-o {output}: give a .json (or .tir with --model mf61) file name, the suffixes "
-                "tyre eval and a vehicle's tyre_file read"
-            )
-        if fnomin is not None and not 100.0 <= fnomin <= 1e6:
-            raise InputError(f"--fnomin {fnomin:g}: a nominal load is 100–1e6 N")
+        _check_fit_args(model, output, fnomin)
         ins = [data] + ([template] if template else [])
         for out in (output, plot):
             if out is not None:
@@ -320,46 +333,21 @@ def tyre_fit(
         table, info = read_tyre_table(data, columns)
         if "columns" in info:
             say(f"{data.name}: columns {describe_columns(info['columns'])}")
-        if loss is None:
-            loss = "soft_l1" if info["source"] == "wheels" else "linear"
-        kw = {"constraints": constraints, "loss": loss, "max_iter": max_iter}
-        if model == "pac94":
-            kw["variant"] = variant
-        elif fnomin is not None:
-            kw["fnomin"] = fnomin
-
-        def run(k):
-            if info["source"] == "wheels":
-                return fit_from_wheel_table(table, model=model, wheel=wheel, **k)
-            return FITTERS[model](
-                table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"], **k
-            )
-
-        fit = run(kw)
+        kw = _fit_options(model, constraints, loss, info, max_iter, variant, fnomin)
+        fit = fit_tyre_table(table, info, model=model, wheel=wheel, **kw)
         unconverged = _check_converged(fit, data, force, written=output or plot)
         _check_usable(fit, data)
-        free_fit = run({**kw, "constraints": "none"}) if compare else None
+        free_fit = None
+        if compare:
+            free_fit = fit_tyre_table(table, info, model=model, wheel=wheel,
+                                      **{**kw, "constraints": "none"})  # fmt: skip
         if info["source"] == "wheels":
             info = {
                 "rows": info["rows"],
                 "rows_used": fit.extra["rows_used"],
                 "rejected": fit.extra["rows_rejected"],
             }
-        if output is not None:
-            write_file_atomic(output, lambda tmp: _write_fit(fit, tmp, output, template))
-        if plot is not None:
-            from gripsense.report.tyre_figures import fit_figure
-
-            # the points the fit used (a wheels table's other wheels and unsteady rows are
-            # not: their loads lie outside the range the fit is valid for)
-            pts = wheel_fit_points(table, wheel) if "alpha_rad" not in table.columns else table
-            fig = fit_figure(
-                fit,
-                pts,
-                title=data.name,
-                extra_fits={"no constraints": free_fit} if free_fit else None,
-            )
-            write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-fit", dpi=110))
+        _write_fit_files(fit, free_fit, table, data, output, plot, template, wheel)
     except GripsenseError as e:
         fail(e)
     _print_fit(fit, info, data, free_fit)
@@ -369,6 +357,70 @@ def tyre_fit(
         say(f"wrote {output}")
     if plot is not None:
         say(f"wrote {plot}")
+
+
+def _check_fit_args(model: str, output: Path | None, fnomin: float | None) -> None:
+    """A known model, an output suffix a reader knows, a nominal load in range."""
+    from gripsense.identify.tyre_fit import FITTERS
+
+    if model not in FITTERS:
+        raise InputError(f"--model {model!r}: use pac94 or mf61")
+    if output is not None and output.suffix.lower() == ".tir" and model != "mf61":
+        raise InputError("-o .tir needs --model mf61; PAC94 coefficients are written as .json")
+    if output is not None and output.suffix.lower() not in (".json", ".tir"):
+        raise InputError(  # tyre eval and a vehicle's tyre_file know a model by its suffix
+            f"-o {output}: give a .json (or .tir with --model mf61) file name, the suffixes "
+            "tyre eval and a vehicle's tyre_file read"
+        )
+    if fnomin is not None and not 100.0 <= fnomin <= 1e6:
+        raise InputError(f"--fnomin {fnomin:g}: a nominal load is 100–1e6 N")
+
+
+def _fit_options(
+    model: str,
+    constraints: str,
+    loss: str | None,
+    info: dict,
+    max_iter: int,
+    variant: str,
+    fnomin: float | None,
+) -> dict:
+    """The fitter's options of the command line (the loss by default: soft_l1 for a wheels
+    table, linear for measured points).
+    """
+    if loss is None:
+        loss = "soft_l1" if info["source"] == "wheels" else "linear"
+    kw = {"constraints": constraints, "loss": loss, "max_iter": max_iter}
+    if model == "pac94":
+        kw["variant"] = variant
+    elif fnomin is not None:
+        kw["fnomin"] = fnomin
+    return kw
+
+
+def _write_fit_files(fit, free_fit, table, data: Path, output, plot, template, wheel) -> None:
+    """``-o``: the fit file (read back before it is installed); ``--plot``: measured points
+    against the identified curves.
+    """
+    from gripsense.identify.tyre_fit.from_wheels import wheel_fit_points
+    from gripsense.io.output_folder import write_file_atomic
+    from gripsense.report.figures import save_png
+
+    if output is not None:
+        write_file_atomic(output, lambda tmp: _write_fit(fit, tmp, output, template))
+    if plot is not None:
+        from gripsense.report.tyre_figures import fit_figure
+
+        # the points the fit used (a wheels table's other wheels and unsteady rows are
+        # not: their loads lie outside the range the fit is valid for)
+        pts = wheel_fit_points(table, wheel) if "alpha_rad" not in table.columns else table
+        fig = fit_figure(
+            fit,
+            pts,
+            title=data.name,
+            extra_fits={"no constraints": free_fit} if free_fit else None,
+        )
+        write_file_atomic(plot, lambda tmp: save_png(fig, tmp, "tyre-fit", dpi=110))
 
 
 def _write_fit(fit, tmp: Path, output: Path, template: Path | None) -> None:

@@ -27,7 +27,11 @@ exact Jacobian (PAC94: analytic, sympy-checked; MF 6.1: central differences).
 
 from gripsense.config.tyre_fit import MF61_LATERAL, PAC94_NAMES, TyreFit
 from gripsense.identify.tyre_fit._solve import CONSTRAINT_SETS
-from gripsense.identify.tyre_fit.from_wheels import FITTERS, fit_from_wheel_table
+from gripsense.identify.tyre_fit.from_wheels import (
+    FITTERS,
+    fit_from_wheel_table,
+    fit_tyre_table,
+)
 from gripsense.identify.tyre_fit.mf61_fit import fit_mf61_lateral
 from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
@@ -40,4 +44,5 @@ __all__ = [
     "fit_from_wheel_table",
     "fit_mf61_lateral",
     "fit_pac94",
+    "fit_tyre_table",
 ]

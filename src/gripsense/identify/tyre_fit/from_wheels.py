@@ -12,7 +12,7 @@ from gripsense.errors import InputError
 from gripsense.identify.tyre_fit.mf61_fit import fit_mf61_lateral
 from gripsense.identify.tyre_fit.pac94_fit import fit_pac94
 
-__all__ = ["FITTERS", "fit_from_wheel_table", "wheel_fit_points"]
+__all__ = ["FITTERS", "fit_from_wheel_table", "fit_tyre_table", "wheel_fit_points"]
 
 FITTERS: dict[str, Callable[..., TyreFit]] = {"pac94": fit_pac94, "mf61": fit_mf61_lateral}
 """Model name → fitter of scattered (α, γ, Fz, Fy) points."""
@@ -145,3 +145,42 @@ def fit_from_wheel_table(
         {"rows_used": int(ok.sum()), "rows_rejected": {k: v for k, v in rejected.items() if v}}
     )
     return fit
+
+
+def fit_tyre_table(
+    table: pd.DataFrame,
+    info: dict,
+    *,
+    model: str = "pac94",
+    wheel: str | None = None,
+    **kwargs,
+) -> TyreFit:
+    """Fit a table as :func:`gripsense.io.tyre_table.read_tyre_table` reads it: measured points
+    with the model's fitter of :data:`FITTERS`, a friction run's wheel table with
+    :func:`fit_from_wheel_table`.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        Points (``alpha_rad`` [rad], ``gamma_rad`` [rad], ``fz_N`` [N], ``fy_N`` [N]) or a
+        wheel table.
+    info : dict
+        The reader's account of the table; its ``source`` (``table`` or ``wheels``) says which
+        [-].
+    model : {"pac94", "mf61"}
+        A key of :data:`FITTERS` [-].
+    wheel : str, optional
+        Wheel or axle of a wheel table (:func:`fit_from_wheel_table`) [-].
+    **kwargs
+        Passed to the fitter (``constraints``, ``loss``, ``max_iter`` …).
+
+    Returns
+    -------
+    TyreFit
+        The fit.
+    """
+    if info["source"] == "wheels":
+        return fit_from_wheel_table(table, model=model, wheel=wheel, **kwargs)
+    return FITTERS[model](
+        table["alpha_rad"], table["gamma_rad"], table["fz_N"], table["fy_N"], **kwargs
+    )
