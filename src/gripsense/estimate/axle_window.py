@@ -122,6 +122,104 @@ def _window_table(
     return cols, starts
 
 
+def _profile_windows(
+    ab: AxleBins, cols: dict[str, np.ndarray], starts: np.ndarray, pri, tyre, o: WindowOptions
+) -> np.ndarray:
+    """Profile each analysed window into *cols* (in place); returns the bins they cover."""
+    analysed_bins = np.zeros(ab.t0.size, bool)
+    reuse = ProfileCache()
+    per_bin_win = max(round(o.window_s / o.bin_s), 1)
+    for i in np.flatnonzero(cols["analysed"]):
+        sel = slice(starts[i], starts[i] + per_bin_win)
+        analysed_bins[sel] = True
+        mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
+        est = reuse.profile(merged, mid, pri, tyre, ab.p0, o, cols["grip_used_lower"][i])
+        for k, v in est.items():
+            cols[k][i] = v
+    cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
+    return analysed_bins
+
+
+def _drive_bins(
+    ab: AxleBins, analysed_bins: np.ndarray, noise: NoiseModel, o: WindowOptions
+) -> np.ndarray:
+    """The bins the drive takes: the analysed windows', a resolved steady stretch's, else the
+    bins that pass the screen themselves.
+    """
+    if o.drive:
+        # a steady stretch resolved over its whole length (its white slip noise averaged, on
+        # ice the slip is below a window's noise): its bins join the drive (§15.2)
+        analysed_bins |= resolvable_steady(
+            ab.data, ab.grip_sigma, ab.t0, ab.t1, noise, o.screen_z, o.steady_tolerance,
+            o.bin_s, max(round(o.window_s / o.bin_s), 1),
+        )  # fmt: skip
+    if not analysed_bins.any():
+        # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
+        # bins that pass the screen themselves rather than say it saw no cornering
+        analysed_bins = resolvable_bins(
+            ab.data, ab.grip_sigma, noise, o.screen_z, o.screen_utilisation
+        )
+    return analysed_bins
+
+
+def _torque(wheels: pd.DataFrame, vehicle: Vehicle, o: WindowOptions) -> tuple:
+    """The front axle's steering-torque profile on the μ grid (docs/physics.md §16) and what
+    the channel was; (None, "") without one.
+    """
+    torque, read = None, ""
+    tb = torque_bins(wheels, vehicle, o.bin_s, o.min_samples)
+    if tb is not None and tb.t0.size:
+        check_channel(tb, vehicle)
+    if tb is not None and tb.t0.size and o.drive:  # the torque speaks to the drive only
+        grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
+        torque = torque_profile(tb, vehicle, grid, tol=o.steady_tolerance)
+        read = torque_read(tb, torque)
+    return torque, read
+
+
+def _drive_summary(
+    ab: AxleBins, bins: np.ndarray, base: dict, pri, tyre, o: WindowOptions, torque
+) -> dict:
+    """The axle's row over the drive: every analysed bin, nuisances shared, the slip offset a
+    slow process (a ``torque_note`` entry says what a steering-torque channel did).
+    """
+    n_b = ab.t0.size
+    if bins.any() and not o.drive:  # the windows' statements only (the fleet)
+        return {
+            **base,
+            "mu": np.nan,
+            "mu_low": base["grip_used_lower"],
+            "mu_high": np.inf,
+            "observable": False,
+            "fit": NOT_PROFILED,
+            "limited_by": "the drive was not profiled (its windows were)",
+            "torque_note": "",
+        }
+    if bins.any():
+        mid, merged = merge_bins(ab.t0[bins], ab.t1[bins], ab.n[bins], ab.data[bins], pri, o)
+        est = profile_learned(
+            merged, mid, pri, tyre, ab.p0, o, base["grip_used_lower"], torque=torque
+        )
+        est.pop("mu_deviance", None)  # a window's statement for the fleet, not the drive's
+        c = 0.5 * (ab.data[bins, 4] + ab.data[bins, 5]).mean()
+        est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
+        return {**base, **est}
+    if torque is not None and (only := torque_only(torque, o, base["grip_used_lower"])):
+        return {**base, **only}
+    return {
+        **base,
+        "mu": np.nan,
+        "mu_low": base["grip_used_lower"],
+        "mu_high": np.inf if n_b else np.nan,
+        "observable": False,
+        "fit": "screened" if n_b else "no data",
+        "limited_by": "no cornering the compass resolves"
+        if n_b
+        else "no steady or transient cornering",
+        "torque_note": UNCHANGED if torque is not None else "",
+    }
+
+
 def estimate_windows(
     wheels: pd.DataFrame,
     vehicle: Vehicle,
@@ -168,108 +266,23 @@ def estimate_windows(
         ab = axle_bins(wheels, axle, vehicle, noise, o.bin_s, o.min_samples)
         pri = axle_priors(vehicle, axle, noise)
         tyre = vehicle.tyres[axle]
-        n_b = ab.t0.size
         cols, starts = _window_table(ab, axle, o, z_w, noise)
-        n_win = starts.size
-        analysed = cols["analysed"]
-        n_screened = int(n_win - analysed.sum())
-        analysed_bins = np.zeros(n_b, bool)
-        reuse = ProfileCache()
-        per_bin_win = max(round(o.window_s / o.bin_s), 1)
-        for i in np.flatnonzero(analysed):
-            sel = slice(starts[i], starts[i] + per_bin_win)
-            analysed_bins[sel] = True
-            mid, merged = merge_bins(ab.t0[sel], ab.t1[sel], ab.n[sel], ab.data[sel], pri, o)
-            est = reuse.profile(merged, mid, pri, tyre, ab.p0, o, cols["grip_used_lower"][i])
-            for k, v in est.items():
-                cols[k][i] = v
-        cols["cornering_stiffness_N_per_rad"] *= cols["stiffness_scale"]
+        n_screened = int(starts.size - cols["analysed"].sum())
+        analysed_bins = _profile_windows(ab, cols, starts, pri, tyre, o)
         tables.append(cols)
-        if o.drive:
-            # a steady stretch resolved over its whole length (its white slip noise averaged, on
-            # ice the slip is below a window's noise): its bins join the drive (§15.2)
-            analysed_bins |= resolvable_steady(
-                ab.data, ab.grip_sigma, ab.t0, ab.t1, noise, o.screen_z, o.steady_tolerance,
-                o.bin_s, per_bin_win,
-            )  # fmt: skip
-        if not analysed_bins.any():
-            # cornering shorter than a window (a sine with dwell's 2 s): the drive takes the
-            # bins that pass the screen themselves rather than say it saw no cornering
-            analysed_bins = resolvable_bins(
-                ab.data, ab.grip_sigma, noise, o.screen_z, o.screen_utilisation
-            )
-        # the drive: every analysed bin, nuisances shared, the slip offset a slow process
+        analysed_bins = _drive_bins(ab, analysed_bins, noise, o)
         g_max, g_lower = drive_bound(grip_bins(wheels, axle, vehicle, noise, o), o.bound_level)
-        torque, read = None, ""
-        if axle == "front":  # a steering-torque channel: the trail's fall (docs/physics.md §16)
-            tb = torque_bins(wheels, vehicle, o.bin_s, o.min_samples)
-            if tb is not None and tb.t0.size:
-                check_channel(tb, vehicle)
-            if tb is not None and tb.t0.size and o.drive:  # the torque speaks to the drive only
-                grid = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
-                torque = torque_profile(tb, vehicle, grid, tol=o.steady_tolerance)
-                read = torque_read(tb, torque)
+        # a steering-torque channel: the trail's fall (docs/physics.md §16)
+        torque, read = _torque(wheels, vehicle, o) if axle == "front" else (None, "")
         base = {
             "axle": axle,
             "n": int(ab.n.sum()),
-            "n_windows": n_win,
+            "n_windows": starts.size,
             "n_screened": n_screened,
             "grip_used": g_max,
             "grip_used_lower": g_lower,
         }
-        if analysed_bins.any() and not o.drive:  # the windows' statements only (the fleet)
-            summ.append(
-                {
-                    **base,
-                    "mu": np.nan,
-                    "mu_low": base["grip_used_lower"],
-                    "mu_high": np.inf,
-                    "observable": False,
-                    "fit": NOT_PROFILED,
-                    "limited_by": "the drive was not profiled (its windows were)",
-                    "torque_note": "",
-                }
-            )
-        elif analysed_bins.any():
-            mid, merged = merge_bins(
-                ab.t0[analysed_bins],
-                ab.t1[analysed_bins],
-                ab.n[analysed_bins],
-                ab.data[analysed_bins],
-                pri,
-                o,
-            )
-            est = profile_learned(
-                merged,
-                mid,
-                pri,
-                tyre,
-                ab.p0,
-                o,
-                base["grip_used_lower"],
-                torque=torque,
-            )
-            est.pop("mu_deviance", None)  # a window's statement for the fleet, not the drive's
-            c = 0.5 * (ab.data[analysed_bins, 4] + ab.data[analysed_bins, 5]).mean()
-            est["cornering_stiffness_N_per_rad"] = est["stiffness_scale"] * c
-            summ.append({**base, **est})
-        elif torque is not None and (only := torque_only(torque, o, base["grip_used_lower"])):
-            summ.append({**base, **only})
-        else:
-            summ.append(
-                {
-                    **base,
-                    "mu": np.nan,
-                    "mu_low": base["grip_used_lower"],
-                    "mu_high": np.inf if n_b else np.nan,
-                    "observable": False,
-                    "fit": "screened" if n_b else "no data",
-                    "limited_by": "no cornering the compass resolves"
-                    if n_b
-                    else "no steady or transient cornering",
-                    "torque_note": UNCHANGED if torque is not None else "",
-                }
-            )
+        summ.append(_drive_summary(ab, analysed_bins, base, pri, tyre, o, torque))
         # what a steering-torque channel was and did ("" where none was read)
         note = summ[-1].pop("torque_note", "")
         summ[-1]["steering_torque"] = f"{read}: {note}" if read else ""
