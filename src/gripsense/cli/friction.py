@@ -131,12 +131,8 @@ def friction(
     _write_run(result, outdir, overwrite=overwrite, report=report, inputs=inputs)
 
 
-def _checked_args(
-    vehicle: Path | None, log: Path | None, table: Path | None, outdir: Path | None
-) -> tuple[Path, Path]:
-    """The vehicle file and the result folder (default: the source's name, one folder per log,
-    never a shared name); a missing --vehicle or not exactly one source is an error.
-    """
+def _checked_args(vehicle, log, table, outdir: Path | None) -> tuple[Path, Path]:
+    """The vehicle file and the result folder (default: one per log); one source, a vehicle."""
     if vehicle is None:
         raise GripsenseError("--vehicle car.toml is required")
     if (log is None) == (table is None):
@@ -171,9 +167,7 @@ def _run_log(run, log: Path, steer_csv, steer_columns, opts) -> FrictionResult:
 
 
 def _say_run(result: FrictionResult, calibration_notes: list[str], cal: dict | None) -> None:
-    """The result's table, then what a reader must know: the calibration's conflicts and
-    stiffness, and why the front axle is missing (or which steering channel was read).
-    """
+    """The table; the calibration's conflicts and stiffness; the front axle's absence."""
     print_friction(result)
     for note in calibration_notes:  # a declaration the drives contradict, said out loud
         say(note)
@@ -189,9 +183,7 @@ def _say_run(result: FrictionResult, calibration_notes: list[str], cal: dict | N
         say(f"steering: {result.meta['steering']}")
 
 
-def _write_run(
-    result: FrictionResult, outdir: Path, *, overwrite: bool, report: bool, inputs: list[Path]
-) -> None:
+def _write_run(result, outdir: Path, *, overwrite: bool, report: bool, inputs: list) -> None:
     """The result folder (and with *report* its report.html), each file said."""
     try:
         paths = result.to_files(outdir, overwrite=overwrite, command=command_line(), inputs=inputs)
