@@ -12,6 +12,7 @@ import pandas as pd
 from scipy.stats import chi2
 
 from gripsense.constants import CHI2_1_90, Z90
+from gripsense.errors import InputError
 from gripsense.estimate.evidence import (
     CONTRADICTION_TOL,
     curve_grid,
@@ -34,6 +35,7 @@ __all__ = [
     "STATUS_RANGE",
     "aggregate_cells",
     "cells_geojson",
+    "check_bucket",
     "write_geojson",
 ]
 
@@ -81,6 +83,38 @@ MAX_LISTED_PASSES = 12
 """Passes listed per cell in ``passes`` (the map's popup); the rest are counted."""
 
 
+def check_bucket(bucket: str) -> str:
+    """A time bucket as DuckDB reads it, or one line saying how to write one.
+
+    Parameters
+    ----------
+    bucket : str
+        The interval (``"1 hour"``, ``"15 minutes"``, ``"1 day"``) [-].
+
+    Returns
+    -------
+    str
+        *bucket*, checked: a positive interval DuckDB reads.
+
+    Raises
+    ------
+    InputError
+        When DuckDB does not read it as an interval, or it is not positive.
+    """
+    import duckdb
+
+    fix = "give a positive interval, e.g. '15 minutes', '1 hour', '1 day'"
+    try:
+        with duckdb.connect() as con:
+            row = con.execute("SELECT epoch(CAST(? AS INTERVAL))", [str(bucket)]).fetchone()
+        seconds = None if row is None else row[0]
+    except duckdb.Error:
+        raise InputError(f"--bucket {bucket!r}: not a time interval; {fix}") from None
+    if not seconds or seconds <= 0:
+        raise InputError(f"--bucket {bucket!r}: not a positive interval; {fix}")
+    return str(bucket)
+
+
 def _read(con, pattern: str, bucket: str) -> None:
     """The rows as view ``r`` with their time bucket, their curve (NULL in files written
     before curves were) and their nuisance group (the tyres their likelihood used).
@@ -91,10 +125,11 @@ def _read(con, pattern: str, bucket: str) -> None:
     # whose tyre nuisances a statement carries (tasks.tyres_digest; earlier files: its vehicle's)
     own = "'vehicle:' || CAST(vehicle AS VARCHAR)"
     grp = f"COALESCE(tyres, {own})" if "tyres" in cols else own
+    literal = bucket.replace("'", "''")  # an SQL string literal (check_bucket read it)
     con.execute(
         f"""CREATE TEMP VIEW r AS
             SELECT *, {curve} AS curve, {grp} AS nuisance_group,
-                   time_bucket(INTERVAL '{bucket}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
+                   time_bucket(INTERVAL '{literal}', CAST(time_utc AS TIMESTAMPTZ)) AS bucket
             FROM {src}"""
     )
 
@@ -147,6 +182,7 @@ def aggregate_cells(
         log, mu_low, mu_high, grip_used_lower — at most :data:`MAX_LISTED_PASSES`, then a
         count).
     """
+    check_bucket(bucket)
     import duckdb
 
     o = options or WindowOptions()

@@ -31,7 +31,7 @@ import pandas as pd
 
 from gripsense._signals import signals_deferred
 from gripsense.errors import InputError
-from gripsense.fleet.aggregate import aggregate_cells, write_geojson
+from gripsense.fleet.aggregate import aggregate_cells, check_bucket, write_geojson
 from gripsense.fleet.mapping import write_map
 from gripsense.fleet.tasks import (
     STEER_SUFFIX,
@@ -278,6 +278,7 @@ def run_fleet(
         from gripsense.config import receiver_from
 
         receiver_from(receiver)  # a bad name or file fails here, before any work
+    check_bucket(bucket)  # before any work
     outdir = Path(outdir)
     logs, unreadable = account_inputs(list(patterns))
     if not logs:
