@@ -363,11 +363,10 @@ def test_few_bin_step_equals_the_dense_solve(n, seed):
 
 
 def test_slip_spread_adds_the_jensen_gap_and_a_timing_term():
-    """A bin's slip spread s adds the variance (½ |F''| s²)² — what the two-point mean over the
-    spread leaves out: zero on a straight curve — plus (0.35 F' s)² for force and slip ~0.1 s
-    apart within the bin, F' the slope's mean over the two points (docs/physics.md §15.8);
-    checked against the brush curve f = x − x²/3 + x³/27 in closed form, near the peak and far
-    from it."""
+    """A bin's slip spread s adds the variance (½ |F''| s²)² — the mean force over the spread
+    is not the force at the mean slip: zero on a straight curve — plus (0.35 F' s)² for force
+    and slip ~0.1 s apart within the bin (docs/physics.md §15.8); checked against the brush
+    curve f = x − x²/3 + x³/27 in closed form, near the peak and far from it."""
     from gripsense.estimate.bins import BIN_COLUMNS
 
     f, df, inv_dx = curve_lookup()
@@ -393,13 +392,7 @@ def test_slip_spread_adds_the_jensen_gap_and_a_timing_term():
         # F_w = μ Fz f(x), x = C tan α / (μ Fz); two wheels
         x = c * np.tan(alpha) / (mu * fz)
         dxda = c * (1 + np.tan(alpha) ** 2) / (mu * fz)
-        h = dxda * s  # the spread in x
-
-        def slope(xx):  # brush f' = (1 − x/3)², 0 past the peak at x = 3; even in x
-            xx = min(abs(xx), 3.0)
-            return 1 - 2 * xx / 3 + xx * xx / 9
-
-        f1 = 0.5 * (slope(x + h) + slope(x - h)) * dxda * mu * fz
+        f1 = (1 - 2 * x / 3 + x * x / 9) * dxda * mu * fz
         f2 = abs(-2 / 3 + 2 * x / 9) * dxda**2 * mu * fz
         return (2 * K.TIMING_SPREAD * f1 * s) ** 2 + (2 * 0.5 * f2 * s**2) ** 2
 

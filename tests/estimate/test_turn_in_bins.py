@@ -1,5 +1,5 @@
-"""A bin whose slip sweeps through the curve's peak (a turn-in) is modelled by the curve's mean
-over its slips, not by the force at its mean slip (``docs/physics.md`` §15.8).
+"""A bin whose slip sweeps through the curve's peak (a turn-in) is explained by the curve's mean
+over its slips, not only by the force at its mean slip (``docs/physics.md`` §15.8).
 
 A step to a circle drives the front slip to ~8° and back to ~1° within the first second of
 cornering: the axle reaches its peak for a few tenths of a second and is linear for the rest, so
@@ -55,9 +55,10 @@ def _mf(x: np.ndarray, c: float, e: float) -> np.ndarray:
 
 def test_a_bin_through_the_peak_is_the_curve_s_mean_over_its_slips():
     """One bin of an axle whose slip falls from 8° to 1° within it (two equal wheels, load and
-    stiffness known, no nuisance moved): the kernel's model force at the true μ is within its
-    stated 1σ of the curve's true mean force over those slips, and a linear tyre's (μ large) is
-    its force at the mean slip."""
+    stiffness known, no nuisance moved): the curve's true mean force over those slips lies
+    between the force at the mean slip and the two-point mean, so at the true μ the kernel's
+    residual is well inside its 1σ (the force at the mean slip alone misses it by 670 N); a
+    linear tyre's (μ large) is its force at the mean slip."""
     i_shape = next(i for i, s in enumerate(SHAPE_FAMILY) if s.name == "mf C1.28 E-0.32")
     c_s, e = SHAPE_FAMILY[i_shape].c, SHAPE_FAMILY[i_shape].e
     mu, fz, c_alpha = 0.5, 3500.0, 44000.0
@@ -90,7 +91,7 @@ def test_a_bin_through_the_peak_is_the_curve_s_mean_over_its_slips():
 
     res, sd = residual(mu)
     assert abs(res) < sd  # the truth is carried
-    # and the model's force is the curve's mean over the slips, not its force at the mean slip
+    # the model carries the curve's mean over the slips, not only its force at the mean slip
     assert abs(res) < 0.35 * (f_at_mean - f_true)
     # far from the peak (μ 100: x ≤ 0.05) the curve is straight, the two points its mean slip's
     res_lin, _ = residual(100.0)

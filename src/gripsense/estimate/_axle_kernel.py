@@ -19,7 +19,9 @@ when the axle is not driven, +1 when it is and the drive force balances the drag
 where s_α,k is the slip's spread within the bin beyond its noise (a transient: the mean of the
 force is not the force at the mean slip — by the Jensen gap ½ F'' s², zero where the curve is
 straight — and force and slip are ~0.1 s apart within the bin: 0.35 F' s) and m_k the force no
-curve of the family represents.
+curve of the family represents. F_model is bracketed: a measured force between the force at the
+mean slip and the two-point mean ½ [F(α − s) + F(α + s)] (s at most |α|) leaves r_k = 0, outside
+it r_k is measured from the nearer one (a turn-in's slip sweeping the peak; §15.8).
 θ = [ln s, κ, λ, q, ε, c, ς, η, d] is shared by every bin, with Gaussian priors (c: the offset left
 by the heading calibration). The slip offset δ_k of each bin follows the receiver's slowly
 varying heading error: a Gauss–Markov process (variance σ_δ²,
@@ -124,13 +126,19 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
         dden = fzp0 * g0 * lr0 + fzp1 * g1 * lr1
         mw0 = mu * g0 * (fzp0 + fzp1) / den
         mw1 = mu * g1 * (fzp0 + fzp1) / den
-        fm = 0.0
+        fm = 0.0  # at the mean slip
         g_sum = 0.0
         gap = 0.0
         d_lns = 0.0
         d_lam = 0.0
         d_q = 0.0
         d_eta = 0.0
+        fm2 = 0.0  # the two-point mean over the bin's slip spread
+        g_sum2 = 0.0
+        d_lns2 = 0.0
+        d_lam2 = 0.0
+        d_q2 = 0.0
+        d_eta2 = 0.0
         for w in range(2):
             sgn_load = -1.0 if w == 0 else 1.0
             fzw = fzp0 if w == 0 else fzp1
@@ -144,30 +152,27 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
             cp = np.exp(lnc)
             x = cp * t / (m_w * fzw)
             sg = -1.0 if ae > 0 else 1.0
-            # the bin's mean force is the curve's mean over the bin's slips, not the force at
-            # the mean slip: the two-point rule at x ± h (h the slip's spread within the bin in
-            # x, at most x: slips of one sign, as a turn-in's from straight running) — the
-            # force at x where the slip is steady (h = 0), exact for a straight curve, and below
-            # it by the Jensen gap where the curve bends (a turn-in's slip sweeping through the
-            # peak; docs/physics.md §15.8). f and x f' below are the two points' means, f' their
-            # mean slope.
+            # the bin's mean force is the curve's mean over the bin's slips, not necessarily the
+            # force at the mean slip: where the slip sweeps the bend within the bin (a turn-in
+            # through the peak) it lies below it by the Jensen gap. Two forces bracket it: f(x)
+            # (the slip steady) and the two-point mean ½ [f(x − h) + f(x + h)] (h the slip's
+            # spread in x, at most x: slips of one sign); a measured force between them is
+            # explained (docs/physics.md §15.8).
+            f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
+            dfx = df * x
+            f2, df2, dfx2 = f, df, dfx
             hx = cp * (1.0 + t * t) * b[k, 13] / (m_w * fzw)
             if hx > 0.0:
                 h2 = min(hx, x)
                 f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + h2)
-                x_m = x - h2
-                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, x_m)
-                f = 0.5 * (f_p + f_m)
-                df = 0.5 * (df_p + df_m)
-                dfx = 0.5 * (df_p * (x + h2) + df_m * x_m)
-                # what the two points leave out (the spread is not two points): the Jensen gap
-                # ½ F'' s² again, from f' at x ± h; zero where the curve is straight
+                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, x - h2)
+                f2 = 0.5 * (f_p + f_m)
+                df2 = 0.5 * (df_p + df_m)
+                dfx2 = 0.5 * (df_p * (x + h2) + df_m * (x - h2))
+                # the Jensen gap ½ F'' s², from f' at x ± h: zero where the curve is straight
                 _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
                 _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
                 gap += m_w * fzw * abs(df_p - df_m) * hx * 0.25
-            else:
-                f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
-                dfx = df * x
             fm += sg * m_w * fzw * f
             g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
             d_lns += sg * m_w * fzw * dfx
@@ -175,26 +180,40 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
             d_q += sg * m_w * fzw * dfx * ln_fs
             # ∂F/∂μ_w = Fz (f − x f'),  ∂ln μ_w/∂η = −ln(Fz/F̄z) + Σ Fz g ln(Fz/F̄z) / Σ Fz g
             d_eta += sg * fzw * (f - dfx) * m_w * (-lrw + dden / den)
+            fm2 += sg * m_w * fzw * f2
+            g_sum2 += cp * df2 * (1.0 + t * t)
+            d_lns2 += sg * m_w * fzw * dfx2
+            d_lam2 += sg * m_w * (f2 + dfx2 * (p0 + q - 1.0)) * sgn_load * dfz
+            d_q2 += sg * m_w * fzw * dfx2 * ln_fs
+            d_eta2 += sg * fzw * (f2 - dfx2) * m_w * (-lrw + dden / den)
         ln_cos = pre[_PRE_LN_COS, k]
         fk = b[k, 6] * np.exp(d_drive * ln_cos)  # cos^d δ
-        r_out[k] = fk * (1.0 + eps) - fm
+        # the variance's slope term at the mean slip; the residual to the nearer of the two
+        # forces, none between them (and no pull on the nuisances there)
+        v_slope = g_sum
+        on = 1.0
+        if (fk * (1.0 + eps) - fm) * (fk * (1.0 + eps) - fm2) <= 0.0:
+            on = 0.0
+        elif abs(fk * (1.0 + eps) - fm2) < abs(fk * (1.0 + eps) - fm):
+            fm, g_sum, d_lns, d_lam, d_q, d_eta = fm2, g_sum2, d_lns2, d_lam2, d_q2, d_eta2
+        r_out[k] = on * (fk * (1.0 + eps) - fm)
         v_out[k] = (
             b[k, 7] ** 2
             + b[k, 14] ** 2
-            + g_sum**2 * (b[k, 8] ** 2 + (TIMING_SPREAD * b[k, 13]) ** 2)
+            + v_slope**2 * (b[k, 8] ** 2 + (TIMING_SPREAD * b[k, 13]) ** 2)
             + gap * gap
             + 1e-6
         )
-        j_out[k, 0] = -d_lns
-        j_out[k, 1] = g_sum * ay
-        j_out[k, 2] = -d_lam
-        j_out[k, 3] = -d_q
-        j_out[k, 4] = fk
-        j_out[k, 5] = -g_sum
-        j_out[k, 6] = g_sum * b[k, 12]
-        j_out[k, 7] = -d_eta
-        j_out[k, 8] = fk * (1.0 + eps) * ln_cos
-        jd_out[k] = -g_sum
+        j_out[k, 0] = -on * d_lns
+        j_out[k, 1] = on * g_sum * ay
+        j_out[k, 2] = -on * d_lam
+        j_out[k, 3] = -on * d_q
+        j_out[k, 4] = on * fk
+        j_out[k, 5] = -on * g_sum
+        j_out[k, 6] = on * g_sum * b[k, 12]
+        j_out[k, 7] = -on * d_eta
+        j_out[k, 8] = on * fk * (1.0 + eps) * ln_cos
+        jd_out[k] = -on * g_sum
     return 0
 
 
