@@ -291,7 +291,7 @@ def one(job: dict) -> list[dict]:
     from gripsense import FrictionRun
     from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
-    from gripsense.io.steer import steer_at
+    from gripsense.io.sensors.steer import steer_at
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle
 
@@ -478,7 +478,7 @@ def one_torque(job: dict) -> list[dict]:
     from gripsense.data import sample_path
     from gripsense.estimate.noise import NoiseModel
     from gripsense.io import read_nmea
-    from gripsense.io.steer import steer_at, with_torque
+    from gripsense.io.sensors.steer import steer_at, with_torque
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import (
         TRUTH_TYRES,

@@ -203,8 +203,8 @@ def _bench_ros(ep, d: Path, best) -> tuple:
     of the bag (the four topics gripsense reads)."""
     from rosbags.highlevel import AnyReader
 
-    from gripsense.io.log import read_log
-    from gripsense.io.rosbag import ROSBAG2_COLUMNS, write_rosbag2
+    from gripsense.io.logs import read_log
+    from gripsense.io.logs.rosbag import ROSBAG2_COLUMNS, write_rosbag2
 
     bag = d / "d_rosbag2"
     write_rosbag2(ep, bag)
@@ -231,11 +231,11 @@ def bench_formats(minutes: float, repeat: int) -> None:
     import pandas as pd
     import pyubx2
 
-    from gripsense.io.canlog import CAN_SIGNALS, write_can
-    from gripsense.io.log import read_log
-    from gripsense.io.mdf import mdf_columns, write_mdf
-    from gripsense.io.ubx import write_ubx
-    from gripsense.io.vbo import write_vbo
+    from gripsense.io.logs import read_log
+    from gripsense.io.logs.canlog import CAN_SIGNALS, write_can
+    from gripsense.io.logs.mdf import mdf_columns, write_mdf
+    from gripsense.io.logs.ubx import write_ubx
+    from gripsense.io.logs.vbo import write_vbo
 
     ep, lines = _drive(minutes)
     n = len(ep)

@@ -30,7 +30,7 @@ def one(job: dict) -> list[dict]:
     from gripsense.config.calibration import Calibration, apply_calibration
     from gripsense.estimate.calibration import drive_sums, solve_sums
     from gripsense.io import read_nmea
-    from gripsense.io.steer import steer_at
+    from gripsense.io.sensors.steer import steer_at
     from gripsense.sim import maneuvers as M
     from gripsense.sim.drives import (
         limit_speed,

@@ -4,7 +4,7 @@
 # A test day produces logs in many formats: a dual-antenna VBOX writes `.vbo`, a u-blox
 # moving-base rover UBX frames between its NMEA sentences, a CANape or INCA measurement MDF4,
 # a vehicle logger BLF with a DBC. gripsense reads them all into the same epoch table
-# (`gripsense.io.log.read_log`, docs/ingest.md). Here one bundled demo drive — a Magic
+# (`gripsense.io.logs.read_log`, docs/ingest.md). Here one bundled demo drive — a Magic
 # Formula tyre near its limit on a wet road (μ 0.5) — is written in each format as
 # `gripsense simulate --format` writes it, and friction is estimated from each file.
 
@@ -23,8 +23,8 @@ import pandas as pd
 
 from gripsense.demo import demo_dir
 from gripsense.io import read_nmea
-from gripsense.io.canlog import CAN_SIGNALS, write_can
-from gripsense.io.log import LogOptions, write_log
+from gripsense.io.logs import LogOptions, write_log
+from gripsense.io.logs.canlog import CAN_SIGNALS, write_can
 from gripsense.pipeline import FrictionRun
 
 OUT = Path(os.environ.get("GRIPSENSE_EXAMPLES_OUT", "docs/examples"))

@@ -217,3 +217,61 @@ def test_no_cycles_between_the_modules_of_a_subpackage():
                     edges.setdefault(mod, set()).add(t)
 
     assert not _cycles(edges)
+
+
+# the rooms of io (docs/architecture.md): a log never reads a tyre file or a sensor table's
+# code and the other way round; all of them may use the shared leaves at io's top
+IO_ROOMS = {"logs", "tyres", "sensors", "output_folder"}
+IO_LEAVES = {"text", "table"}  # bounded reading; the one column convention
+IO_MAY_USE = {
+    "logs": IO_LEAVES | {"output_folder"},  # novatel's writer: the atomic write
+    "tyres": IO_LEAVES,
+    "sensors": IO_LEAVES,
+    "output_folder": IO_LEAVES,
+    "text": set(),
+    "table": {"text"},
+}
+
+
+def _io_room(module: str) -> str | None:
+    """The room of io a module belongs to (``gripsense.io.logs.nmea.reader`` -> ``logs``)."""
+    parts = module.split(".")
+    if len(parts) < 3 or parts[:2] != ["gripsense", "io"]:
+        return None
+    return parts[2]
+
+
+def io_room_crossings() -> list[str]:
+    """Imports (module level or in a function) from one room of io into a room it may not use."""
+    bad = []
+    for mod, target, line in IMPORTS:
+        a, b = _io_room(mod), _io_room(target)
+        if a is not None and target == "gripsense.io":  # the package gathers every room
+            bad.append(f"{mod}:{line} imports gripsense.io (io room {a} → all of io)")
+        if a is None or b is None or a == b:
+            continue
+        if b not in IO_MAY_USE.get(a, set()):
+            bad.append(f"{mod}:{line} imports {target} (io room {a} → {b})")
+    return bad
+
+
+def test_every_io_module_is_in_a_room():
+    rooms = {_io_room(m) for m in MODULES} - {None}
+    assert rooms == set(IO_MAY_USE), sorted(rooms ^ set(IO_MAY_USE))
+
+
+def test_the_rooms_of_io_import_only_the_shared_leaves():
+    """Logs, tyres and sensors do not import each other; they share ``io.text`` and ``io.table``,
+    which import no room (a log writer may also use the output folder's atomic write)."""
+    bad = io_room_crossings()
+    assert not bad, "\n".join(bad)
+
+
+def test_no_cycles_between_the_rooms_of_io():
+    edges: dict[str, set[str]] = {}
+    for mod, target, _ in IMPORTS:
+        a, b = _io_room(mod), _io_room(target)
+        if a is not None and b is not None and a != b:
+            edges.setdefault(a, set()).add(b)
+    assert edges.get("logs"), "the walk sees io's rooms"
+    assert not _cycles(edges)

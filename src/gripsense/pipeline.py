@@ -34,8 +34,8 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import FrictionOptions, WindowOptions
 from gripsense.estimate.results import FrictionResult
 from gripsense.estimate.wheels import motion_from_epochs
-from gripsense.io.log import LogOptions, log_steer, read_log
-from gripsense.io.steer import read_steer_csv, steer_at, steer_overlap, with_torque
+from gripsense.io.logs import LogOptions, log_steer, read_log
+from gripsense.io.sensors.steer import read_steer_csv, steer_at, steer_overlap, with_torque
 from gripsense.io.table import describe_columns
 
 __all__ = [
@@ -97,7 +97,7 @@ def log_steering(
 ) -> Steering:
     """The steering channel of a drive: the steering CSV given for it, else the log's own
     channel (mapped by ``--columns`` or found by its name and unit,
-    :func:`gripsense.io.channels.recognise_steering`), else none — and then the one line that
+    :func:`gripsense.io.logs.channels.recognise_steering`), else none — and then the one line that
     says why the front axle is not estimated.
 
     Parameters
@@ -109,11 +109,11 @@ def log_steering(
     log : str or Path
         The log, for messages.
     steer_csv : str or Path, optional
-        Steering CSV (:func:`gripsense.io.steer.read_steer_csv`), aligned by ``t_s``.
+        Steering CSV (:func:`gripsense.io.sensors.steer.read_steer_csv`), aligned by ``t_s``.
     steer_columns : str or dict, optional
         Its column mapping.
     steering : dict, optional
-        :attr:`gripsense.io.nmea.accounting.IngestReport.steering` of the log.
+        :attr:`gripsense.io.logs.nmea.accounting.IngestReport.steering` of the log.
 
     Returns
     -------
@@ -259,7 +259,7 @@ class FrictionRun:
         log_options: LogOptions | None = None,
     ) -> FrictionResult:
         """Estimate μ from a log file of any supported format (NMEA, VBOX, UBX, MDF4, CAN;
-        plain or ``.gz``; :func:`gripsense.io.log.read_log`): ingest, friction, and the
+        plain or ``.gz``; :func:`gripsense.io.logs.read_log`): ingest, friction, and the
         ingest accounting and epochs kept in the result.
 
         Parameters
@@ -267,7 +267,7 @@ class FrictionRun:
         log : str or Path
             Log of the drive.
         steer_csv : str or Path, optional
-            Steering channel (:func:`gripsense.io.steer.read_steer_csv`); enables the front
+            Steering channel (:func:`gripsense.io.sensors.steer.read_steer_csv`); enables the front
             wheels. Without it, a steering channel of the log itself is used (a ``steer`` or
             ``steering_wheel`` channel of a VBOX, MDF4 or CAN log, mapped or found by its name
             and unit; :func:`log_steering`). Its torque channels, if any, join the epoch table
@@ -371,7 +371,7 @@ class FrictionRun:
         ----------
         motion : pandas.DataFrame
             Motion table (:func:`gripsense.estimate.friction.friction_from_motion`,
-            :func:`gripsense.io.table.read_motion_table`).
+            :func:`gripsense.io.sensors.motion.read_motion_table`).
         meta : dict, optional
             Entries to keep in the result's ``meta`` (source, vehicle …).
 
@@ -411,7 +411,7 @@ def learn_calibration(
     Parameters
     ----------
     logs : list of str or Path
-        Logs of everyday driving (any format of :func:`gripsense.io.log.read_log`).
+        Logs of everyday driving (any format of :func:`gripsense.io.logs.read_log`).
     vehicle : Vehicle or str or Path
         The vehicle file (its declared stiffness is the reference; a calibration it names is
         not applied: learning starts from the declaration). Its tyres' ``tyre_set`` marks the
@@ -483,7 +483,7 @@ def log_wheels(
     Parameters
     ----------
     log : str or Path
-        Log of any supported format (:func:`gripsense.io.log.read_log`).
+        Log of any supported format (:func:`gripsense.io.logs.read_log`).
     run : FrictionRun
         The run (vehicle without calibration, receiver).
     steer_csv : str or Path, optional
@@ -606,7 +606,7 @@ def log_drive_sums(
     Parameters
     ----------
     log : str or Path
-        Log of any supported format (:func:`gripsense.io.log.read_log`).
+        Log of any supported format (:func:`gripsense.io.logs.read_log`).
     run : FrictionRun
         The run (vehicle without calibration, receiver).
     steer_csv : str or Path, optional

@@ -18,7 +18,7 @@ from typer.testing import CliRunner
 
 from gripsense.cli import app
 from gripsense.data import sample_path
-from gripsense.io.steer import read_steer_csv
+from gripsense.io.sensors.steer import read_steer_csv
 
 RUNNER = CliRunner()
 

@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from gripsense.io import read_nmea
-from gripsense.io.novatel import write_novatel
+from gripsense.io.logs.novatel import write_novatel
 from tests.cli.inprocess import cli
 from tests.cli.test_formats_cli import SCENARIO  # the same simulated drive
 

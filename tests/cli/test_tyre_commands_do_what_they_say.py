@@ -18,7 +18,7 @@ import pytest
 from typer.testing import CliRunner
 
 from gripsense.data import path as data_path
-from gripsense.io.tir import read_tir
+from gripsense.io.tyres.tir import read_tir
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples
 from tests.cli.inprocess import cli

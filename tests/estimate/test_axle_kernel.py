@@ -31,7 +31,7 @@ from gripsense.estimate.profile import (
     slow_correlation,
 )
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.pipeline import FrictionRun
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import simulate_drive, truth_vehicle, user_vehicle

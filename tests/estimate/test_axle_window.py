@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 from gripsense import FrictionRun
 from gripsense.estimate import OnlineAxleWindow, WindowOptions
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.sim.drives import (
     TRUTH_TYRES,
     VEHICLES,

@@ -20,7 +20,7 @@ from gripsense import FrictionRun
 from gripsense.config.receiver import RECEIVERS
 from gripsense.estimate.noise import NoiseModel
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.sim import commonroad as CR
 from gripsense.sim.drives import limit_speed, record_drive
 

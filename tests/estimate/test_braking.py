@@ -15,7 +15,7 @@ from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.data import sample_path
 from gripsense.estimate.braking import estimate_braking
-from gripsense.io.accel import read_accel_csv
+from gripsense.io.sensors.accel import read_accel_csv
 from gripsense.sim import SimParams
 from gripsense.sim import maneuvers as M
 from gripsense.sim.sensors import emulate_accelerometer

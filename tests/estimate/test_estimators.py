@@ -20,7 +20,7 @@ from gripsense.estimate import ESTIMATORS, FLAGS, Estimator, get_estimator
 from gripsense.estimate.friction import friction_from_motion
 from gripsense.estimate.wheels import NOT_STEADY_CORNERING, motion_from_epochs
 from gripsense.io import read_nmea
-from gripsense.io.steer import read_steer_csv, steer_at
+from gripsense.io.sensors.steer import read_steer_csv, steer_at
 from gripsense.physics import brush
 
 DEMO = demo_dir()

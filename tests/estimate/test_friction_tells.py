@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from gripsense import FrictionRun
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.physics.friction_limit import mu_range_limit
 from gripsense.sim import commonroad as CR
 from gripsense.sim.drives import limit_speed, simulate_drive, truth_vehicle, user_vehicle

@@ -113,7 +113,7 @@ def test_braking_moves_load_onto_the_front():
 def _run(d, uv, receiver):
     from gripsense import FrictionRun
     from gripsense.io import read_nmea
-    from gripsense.io.steer import steer_at
+    from gripsense.io.sensors.steer import steer_at
 
     ep = read_nmea(d.lines).epochs
     ch = d.steer.assign(steer_rad=np.deg2rad(d.steer["road_wheel_deg"]))
@@ -193,7 +193,7 @@ def _truth_grip(truth) -> dict:
 def _bound(drive, vehicle, receiver, steer):
     from gripsense import FrictionRun
     from gripsense.io import read_nmea
-    from gripsense.io.steer import steer_at
+    from gripsense.io.sensors.steer import steer_at
 
     ep = read_nmea(drive.lines).epochs
     st = None

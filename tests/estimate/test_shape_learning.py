@@ -16,7 +16,7 @@ from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.profile import learned_family, shape_ids, tyre_family
 from gripsense.estimate.shape_learning import combine_evidence, shape_evidence
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.physics.shape_grid import LEARN_GRID
 from gripsense.physics.tyre_curves import magic_formula_normalised
 from gripsense.sim import maneuvers as M

@@ -20,7 +20,7 @@ from gripsense.estimate.bins import BIN_COLUMNS
 from gripsense.estimate.noise import NoiseModel, receiver_noise
 from gripsense.estimate.screen import offset_residual_rad, resolvable
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.physics.surface import SLIPPERY_MU
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import limit_speed, simulate_drive, truth_vehicle, user_vehicle

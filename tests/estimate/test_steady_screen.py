@@ -17,7 +17,7 @@ from gripsense.estimate.bins import BIN_COLUMNS
 from gripsense.estimate.noise import NoiseModel, receiver_noise
 from gripsense.estimate.screen import offset_residual_rad, resolvable_steady, steady_runs
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.sim import commonroad as CR
 from gripsense.sim.drives import limit_speed
 

@@ -12,7 +12,7 @@ from gripsense import FrictionRun
 from gripsense.errors import InputError
 from gripsense.estimate.noise import NoiseModel
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at, with_torque
+from gripsense.io.sensors.steer import steer_at, with_torque
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import record_drive, truth_tyre, truth_vehicle, user_vehicle
 from gripsense.sim.steering_torque import emulate_torque

@@ -27,7 +27,7 @@ from gripsense.estimate.torque import (
     torque_bins,
 )
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at, with_torque
+from gripsense.io.sensors.steer import steer_at, with_torque
 from gripsense.physics.steering_balance import dahl_friction
 from gripsense.sim import maneuvers as M
 from gripsense.sim.drives import (

@@ -11,7 +11,7 @@ import pytest
 from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.errors import InputError
 from gripsense.identify.tyre_fit import fit_from_wheel_table, fit_mf61_lateral, fit_pac94
-from gripsense.io.pac89 import read_pac89_json
+from gripsense.io.tyres.pac89 import read_pac89_json
 from gripsense.physics.magic_formula.pac89 import pac89_lateral
 from gripsense.physics.magic_formula.pac94 import pac94_lateral
 from gripsense.sim.tyre_data import PAC94_EXAMPLE, cornering_samples, rig_samples
@@ -128,7 +128,7 @@ def test_mf61_fit_from_a_real_tir_and_export(tmp_path):
     )
     # with the original as template every other section is kept
     path2 = fit.to_tir(tmp_path / "fit2.tir", template=DATA / "MagicFormula61_Paramerters.tir")
-    from gripsense.io.tir import read_tir
+    from gripsense.io.tyres.tir import read_tir
 
     t2 = read_tir(path2)
     assert t2["QSX1"] == read_tir(DATA / "MagicFormula61_Paramerters.tir")["QSX1"]

@@ -11,7 +11,7 @@ import pytest
 
 from gripsense.constants import G0
 from gripsense.errors import InputError
-from gripsense.io.accel import read_accel_csv
+from gripsense.io.sensors.accel import read_accel_csv
 
 OPTIONAL = ("ay", "az")
 

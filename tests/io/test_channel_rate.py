@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gripsense.io.steer import channel_mean_at, with_torque
+from gripsense.io.sensors.steer import channel_mean_at, with_torque
 
 
 def _channel(rate_hz=100.0, seconds=20.0, noise=0.5, seed=3):

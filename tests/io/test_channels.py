@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.channels import (
+from gripsense.io.logs.channels import (
     file_unit_factor,
     parse_channel_spec,
     recognise_steering,

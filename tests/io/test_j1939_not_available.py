@@ -12,7 +12,7 @@ import gzip
 import numpy as np
 import pytest
 
-from gripsense.io.log import read_log
+from gripsense.io.logs import read_log
 from tests.conftest import DATA
 
 can = pytest.importorskip("can")
@@ -185,7 +185,7 @@ _4 = [0xFB000000, 0xFDFFFFFF, 0xFE000000, 0xFEFFFFFF, *NOT_AVAILABLE_4]
     ],
 )
 def test_the_j1939_71_ranges(length, valid, invalid):
-    from gripsense.io.canlog import j1939_range
+    from gripsense.io.logs.canlog import j1939_range
 
     assert not j1939_range(np.array(valid, np.uint64), length).any()
     assert j1939_range(np.array(invalid, np.uint64), length).all()

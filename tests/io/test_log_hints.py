@@ -8,9 +8,9 @@ import re
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.canlog import write_can
-from gripsense.io.log import read_log
-from gripsense.io.mdf import write_mdf
+from gripsense.io.logs import read_log
+from gripsense.io.logs.canlog import write_can
+from gripsense.io.logs.mdf import write_mdf
 from tests.conftest import DATA
 from tests.io.test_measurement_logs import _epochs
 

@@ -12,9 +12,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.errors import InputError
-from gripsense.io.canlog import CAN_SIGNALS, write_can
-from gripsense.io.log import read_log
-from gripsense.io.mdf import mdf_columns, write_mdf
+from gripsense.io.logs import read_log
+from gripsense.io.logs.canlog import CAN_SIGNALS, write_can
+from gripsense.io.logs.mdf import mdf_columns, write_mdf
 from tests.conftest import DATA
 
 asammdf = pytest.importorskip("asammdf")

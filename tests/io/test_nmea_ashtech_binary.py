@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense import InputError, read_nmea
-from gripsense.io.nmea.rtcm import RtcmStream, split_rtcm
+from gripsense.io.logs.nmea.rtcm import RtcmStream, split_rtcm
 from gripsense.live import LiveIngest
 
 DATA = Path(__file__).parents[1] / "data" / "formats" / "nmea"

@@ -11,9 +11,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.io import read_nmea
-from gripsense.io.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
-from gripsense.io.nmea.fast import tokenize_fast
-from gripsense.io.nmea.reference import tokenize_reference
+from gripsense.io.logs.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
+from gripsense.io.logs.nmea.fast import tokenize_fast
+from gripsense.io.logs.nmea.reference import tokenize_reference
 from tests.conftest import GPSD_LOGS
 
 FORMATS = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
@@ -178,7 +178,7 @@ def test_numbers_are_pythons_float_to_the_bit(texts):
 @given(st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=1, max_size=30))
 def test_heading_wrap_is_numpys_mod_to_the_bit(values):
     """The wrap that skips in-range headings gives np.mod(h, 360)'s doubles, sign of 0 included."""
-    from gripsense.io.nmea.decode import _wrap360
+    from gripsense.io.logs.nmea.decode import _wrap360
 
     h = np.array([*values, -0.0, 360.0, -1e-300])
     with np.errstate(invalid="ignore"):
@@ -193,7 +193,7 @@ def test_heading_wrap_is_numpys_mod_to_the_bit(values):
 @given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e6, max_value=1e6))
 def test_heading_change_wrap_is_the_modulo_formula_to_the_bit(d):
     """The yaw kernel's wrap skips the modulo in range and gives (d + 180) % 360 − 180."""
-    from gripsense.io.nmea.epochs import _wrap180
+    from gripsense.io.logs.nmea.epochs import _wrap180
 
     want = (d + 180.0) % 360.0 - 180.0
     got = _wrap180(d)  # the compiled function
@@ -205,7 +205,7 @@ def test_tokenizer_threads_follow_numbas_thread_count(monkeypatch):
     on the calling thread, so fleet workers do not start threads on each other's cores."""
     import numba
 
-    import gripsense.io.nmea.fast as F
+    import gripsense.io.logs.nmea.fast as F
 
     data = b"".join(p.read_bytes() for p in GPSD_LOGS) * 3
     assert len(data) > F._MIN_SPLIT
@@ -233,7 +233,7 @@ def test_epoch_columns_filled_on_threads_equal_the_calling_threads(monkeypatch):
     import numba
     import pandas as pd
 
-    import gripsense.io.nmea.epochs as E
+    import gripsense.io.logs.nmea.epochs as E
 
     data = b"".join(p.read_bytes() for p in GPSD_LOGS)
     monkeypatch.setattr(E, "_MIN_PARALLEL_EPOCHS", 0)
@@ -257,9 +257,9 @@ def test_size_guard_reads_the_first_max_lines_and_counts_the_rest(engine, size):
     nothing is cut. (The fast tokenizer counts its chunks' lines first and only then cuts.)"""
     import pandas as pd
 
-    from gripsense.io.nmea import schema as S
-    from gripsense.io.nmea.fast import _MIN_SPLIT
-    from gripsense.io.nmea.tokens import split_lines
+    from gripsense.io.logs.nmea import schema as S
+    from gripsense.io.logs.nmea.fast import _MIN_SPLIT
+    from gripsense.io.logs.nmea.tokens import split_lines
 
     base = b"".join(p.read_bytes() for p in GPSD_LOGS)
     data = base if size == "small" else base * (_MIN_SPLIT // len(base) + 2)

@@ -270,7 +270,7 @@ def test_saab_heading_joins_preceding_fix():
 
 
 def test_lines_at_is_split_lines():
-    from gripsense.io.nmea.tokens import lines_at, split_lines
+    from gripsense.io.logs.nmea.tokens import lines_at, split_lines
 
     for data in (b"", b"a", b"a\n", b"a\nb", b"\n\nx\r\n\ny", b"$GP\n\n\n"):
         lines = split_lines(data)

@@ -20,9 +20,9 @@ from pynmeagps import NMEAReader
 from pyubx2 import NMEA_PROTOCOL, RTCM3_PROTOCOL, UBX_PROTOCOL, UBXReader
 
 from gripsense import InputError, read_nmea
-from gripsense.io.log import read_log
-from gripsense.io.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
-from gripsense.io.nmea.rtcm import crc24q, split_rtcm
+from gripsense.io.logs import read_log
+from gripsense.io.logs.nmea.epochs import epoch_boundaries, epoch_boundaries_loop
+from gripsense.io.logs.nmea.rtcm import crc24q, split_rtcm
 from tests.conftest import GPSD_LOGS
 from tests.nmea_helpers import sentence
 
@@ -382,8 +382,8 @@ def test_without_checksums_fast_equals_reference_and_the_checksummed_read():
     the values the checksummed logs give."""
     import re
 
-    from gripsense.io.nmea.fast import tokenize_fast
-    from gripsense.io.nmea.reference import tokenize_reference
+    from gripsense.io.logs.nmea.fast import tokenize_fast
+    from gripsense.io.logs.nmea.reference import tokenize_reference
     from tests.io.test_nmea_fuzz import assert_same_tokens
 
     for p in GPSD_LOGS:

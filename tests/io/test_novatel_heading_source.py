@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import gripsense.io.sources as sources
+import gripsense.io.logs.sources as sources
 from gripsense.io import read_nmea
-from gripsense.io.novatel import parse_novatel
-from gripsense.io.sources import HEADING_SOURCES
+from gripsense.io.logs.novatel import parse_novatel
+from gripsense.io.logs.sources import HEADING_SOURCES
 from tests.io.test_novatel import _manual_crc
 
 DRIVERS = Path(__file__).resolve().parents[1] / "data" / "formats" / "novatel" / "driver_lines.asc"

@@ -11,8 +11,8 @@ import pytest
 from gripsense.data import path as data_path
 from gripsense.errors import InputError
 from gripsense.io import read_nmea
-from gripsense.io.canlog import CAN_SIGNALS, write_can
-from gripsense.io.log import LogOptions, detect_format, read_log, write_log
+from gripsense.io.logs import LogOptions, detect_format, read_log, write_log
+from gripsense.io.logs.canlog import CAN_SIGNALS, write_can
 from gripsense.pipeline import FrictionRun
 from tests.conftest import DATA
 

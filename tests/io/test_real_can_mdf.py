@@ -15,7 +15,7 @@ import pandas as pd
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
+from gripsense.io.logs import read_log
 from tests.cli.inprocess import cli
 from tests.conftest import DATA
 
@@ -258,7 +258,7 @@ def test_only_the_channels_read_are_judged(tmp_path):
     before asammdf's compiled reader would read past its buffer."""
     import struct
 
-    from gripsense.io.mdf import mdf_columns, write_mdf
+    from gripsense.io.logs.mdf import mdf_columns, write_mdf
     from tests.io.test_measurement_logs import _epochs, _steer
 
     ep = _epochs(20)
@@ -306,7 +306,7 @@ def test_the_vectorised_decoder_equals_cantools_on_every_bit_layout(tmp_path):
     message: the vectorised decode of random payloads equals cantools' own decode of each
     frame (the reference); frames of another length go through cantools and are rejected as
     it rejects them."""
-    from gripsense.io.canlog import FrameColumns, _decode_rows, _vectorisable
+    from gripsense.io.logs.canlog import FrameColumns, _decode_rows, _vectorisable
 
     p = tmp_path / "odd.dbc"
     p.write_text(_ODD_DBC)

@@ -22,8 +22,8 @@ pytest.importorskip("rosbags")
 from rosbags.highlevel import AnyReader
 
 from gripsense.errors import InputError
-from gripsense.io.log import detect_format, read_log
-from gripsense.io.rosbag import is_rosbag
+from gripsense.io.logs import detect_format, read_log
+from gripsense.io.logs.rosbag import is_rosbag
 from tests.cli.inprocess import cli
 
 ROS = Path(__file__).resolve().parents[1] / "data" / "formats" / "ros"

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gripsense.io.log import read_log
+from gripsense.io.logs import read_log
 
 pytest.importorskip("rosbags")
 

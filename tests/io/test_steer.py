@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.steer import channel_at, read_steer_csv, with_torque
+from gripsense.io.sensors.steer import channel_at, read_steer_csv, with_torque
 
 
 def _multi_rate(tmp_path):

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from gripsense.io.canlog import write_can
-from gripsense.io.log import log_steer, read_log
-from gripsense.io.mdf import mdf_columns
+from gripsense.io.logs import log_steer, read_log
+from gripsense.io.logs.canlog import write_can
+from gripsense.io.logs.mdf import mdf_columns
 from tests.io.test_measurement_logs import CAN_COLUMNS, DBC, _epochs, _steer
 
 

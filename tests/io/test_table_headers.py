@@ -10,7 +10,8 @@ import pandas as pd
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.table import describe_columns, read_motion_table
+from gripsense.io.sensors.motion import read_motion_table
+from gripsense.io.table import describe_columns
 
 rng = np.random.default_rng(43)
 N = 40

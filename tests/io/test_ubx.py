@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
-from gripsense.io.ubx import parse_ubx, scan_frames, write_ubx
+from gripsense.io.logs import read_log
+from gripsense.io.logs.ubx import parse_ubx, scan_frames, write_ubx
 from gripsense.sim.gnss import format_sentence
 
 pyubx2 = pytest.importorskip("pyubx2")

@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
-from gripsense.io.vbo import parse_vbo, read_vbo, write_vbo
+from gripsense.io.logs import read_log
+from gripsense.io.logs.vbo import parse_vbo, read_vbo, write_vbo
 from tests.conftest import DATA
 
 SAMPLE = DATA / "formats" / "sample.vbo"

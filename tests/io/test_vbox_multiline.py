@@ -16,8 +16,8 @@ import pandas as pd
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
-from gripsense.io.vbo import parse_vbo
+from gripsense.io.logs import read_log
+from gripsense.io.logs.vbo import parse_vbo
 from tests.conftest import DATA
 
 VB3I = DATA / "formats" / "vbox" / "vb3i_imu_can.vbo"

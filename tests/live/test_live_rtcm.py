@@ -1,8 +1,8 @@
 """Live = batch on NMEA streams with RTCM3 frames between the sentences (issue 43).
 
 The live reader cuts the RTCM3 frames out of the byte stream before it splits lines, with the
-batch reader's scanner (:class:`gripsense.io.nmea.rtcm.RtcmStream`), so a frame whose bytes hold
-a line end is one frame, and a frame cut across two reads is completed by the next. References:
+batch reader's scanner (:class:`gripsense.io.logs.nmea.rtcm.RtcmStream`), so a frame whose bytes
+hold a line end is one frame, and a frame cut across two reads is completed by the next. References:
 the batch reader :func:`gripsense.io.read_nmea` on the same bytes, and pyrtcm / pyubx2 (whose
 own CRC-24Q and frame layout build and decode the frames).
 """
@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.io import read_nmea
-from gripsense.io.nmea.rtcm import RtcmStream, split_rtcm
+from gripsense.io.logs.nmea.rtcm import RtcmStream, split_rtcm
 from gripsense.live import LiveIngest
 
 pyrtcm = pytest.importorskip("pyrtcm")

@@ -16,8 +16,8 @@ import pytest
 
 from gripsense.data import path as data_path
 from gripsense.io import read_nmea
-from gripsense.io.ubx import parse_ubx, write_ubx
-from gripsense.io.vbo import write_vbo
+from gripsense.io.logs.ubx import parse_ubx, write_ubx
+from gripsense.io.logs.vbo import write_vbo
 from gripsense.live import AutoIngest, EpochReplay, SerialSource, TcpSource, open_replay, run_live
 
 pytest.importorskip("pyubx2")

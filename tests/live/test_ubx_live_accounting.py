@@ -1,7 +1,7 @@
 """Live UBX accounting = batch accounting on real u-blox captures (issue 43).
 
 :class:`~gripsense.live.LiveUbxIngest` must account every frame and line of a stream as
-:func:`gripsense.io.log.read_log` does on the same bytes: read, rejected per reason (with the
+:func:`gripsense.io.logs.read_log` does on the same bytes: read, rejected per reason (with the
 same first rejects: byte offsets of frames, lines of the NMEA text), ignored per message type,
 the NMEA text's notes and junk, whatever pieces the bytes arrive in. The captures are
 pyubx2's real receiver logs (NAV-PVT and 30 other NAV messages, UBX mixed with NMEA, a frame
@@ -23,7 +23,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from gripsense.io.log import read_log
+from gripsense.io.logs import read_log
 from gripsense.live import LiveUbxIngest
 
 pyubx2 = pytest.importorskip("pyubx2")

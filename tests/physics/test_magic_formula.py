@@ -10,8 +10,8 @@ import pytest
 
 from gripsense.config.tyre_files import load_mf_tyre
 from gripsense.errors import InputError
-from gripsense.io.pac89 import read_pac89_json
-from gripsense.io.tir import read_tir
+from gripsense.io.tyres.pac89 import read_pac89_json
+from gripsense.io.tyres.tir import read_tir
 from gripsense.physics.magic_formula.pac89 import pac89_lateral, pac89_longitudinal
 
 DATA = Path(__file__).parents[1] / "data" / "tyre"

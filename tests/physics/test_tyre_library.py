@@ -19,7 +19,7 @@ from gripsense.config import tyre_library as L
 from gripsense.config.tyre_files import load_tyre_model
 from gripsense.errors import InputError
 from gripsense.estimate.profile import shape_ids
-from gripsense.io.tir import read_tir
+from gripsense.io.tyres.tir import read_tir
 from gripsense.physics.tyre_curves import SHAPE_FAMILY, magic_formula_normalised, shape_members
 
 

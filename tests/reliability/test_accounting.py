@@ -17,8 +17,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
-from gripsense.io.ubx import BAD_LENGTH, scan_frames
+from gripsense.io.logs import read_log
+from gripsense.io.logs.ubx import BAD_LENGTH, scan_frames
 from tests.conftest import DATA
 from tests.io.simulated import simulated  # noqa: F401  (real files of `gripsense simulate`)
 
@@ -127,7 +127,7 @@ def test_ubx_garbage_between_frames_is_counted(ubx, tmp_path):
 
 @pytest.fixture(scope="module")
 def can_logs(tmp_path_factory):
-    from gripsense.io.canlog import CAN_SIGNALS, write_can
+    from gripsense.io.logs.canlog import CAN_SIGNALS, write_can
     from tests.io.simulated import simulate
 
     d = tmp_path_factory.mktemp("can")

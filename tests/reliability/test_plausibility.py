@@ -125,7 +125,7 @@ def test_degrees_declared_as_radians_in_a_steering_csv(simulated, tmp_path):
 )  # fmt: skip
 def test_every_steering_channel_is_plausible_for_its_unit(tmp_path, header, values, columns, fix):
     from gripsense.errors import InputError
-    from gripsense.io.steer import read_steer_csv
+    from gripsense.io.sensors.steer import read_steer_csv
 
     p = tmp_path / "steer.csv"
     rows = [
@@ -139,7 +139,7 @@ def test_every_steering_channel_is_plausible_for_its_unit(tmp_path, header, valu
 
 def test_a_steering_wheel_angle_over_a_wrong_ratio_is_refused(tmp_path):
     from gripsense.errors import InputError
-    from gripsense.io.steer import read_steer_csv
+    from gripsense.io.sensors.steer import read_steer_csv
 
     p = tmp_path / "steer.csv"
     p.write_text("t_s,steering_wheel_deg\n0,10\n0.1,300\n", encoding="utf-8")
@@ -169,7 +169,7 @@ def test_a_motion_table_in_the_wrong_units(tmp_path):
         "time_s,speed_mps,slip_deg,yaw_rate_rps\n0,20,0.5,20\n0.1,20,0.5,25\n", encoding="utf-8"
     )
     from gripsense.errors import InputError
-    from gripsense.io.table import read_motion_table
+    from gripsense.io.sensors.motion import read_motion_table
 
     with pytest.raises(InputError, match=r"yaw_rate_rps.*yaw_rate=yaw_rate_rps:dps"):
         read_motion_table(p)
@@ -180,7 +180,7 @@ def test_a_motion_table_in_the_wrong_units(tmp_path):
 
 def test_a_log_channel_in_degrees_mapped_as_radians(simulated):
     from gripsense.errors import InputError
-    from gripsense.io.log import read_log
+    from gripsense.io.logs import read_log
 
     sim = simulated("vbo")
     with pytest.raises(InputError, match=r"RoadWheelAngle.*steer=RoadWheelAngle:deg"):
@@ -222,7 +222,7 @@ def test_an_inf_in_a_steering_csv_is_counted(simulated, tmp_path):
     lines[i] = ",".join(cells)
     p = tmp_path / "steer_inf.csv"
     p.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    from gripsense.io.steer import read_steer_csv
+    from gripsense.io.sensors.steer import read_steer_csv
 
     ch = read_steer_csv(p)
     assert ch.attrs["rows"]["rows_not_finite"] == 1 and f"line {i + 1}" in ch.attrs["rows"]["note"]
@@ -305,8 +305,8 @@ def test_a_log_channel_on_another_clock_is_one_line(tmp_path):
     """An MDF4 whose steering channel's times never meet the heading's: one line naming the
     channel and both spans (it vanished from every epoch without a word)."""
     from gripsense.errors import InputError
-    from gripsense.io.log import read_log
-    from gripsense.io.mdf import mdf_columns, write_mdf
+    from gripsense.io.logs import read_log
+    from gripsense.io.logs.mdf import mdf_columns, write_mdf
     from tests.io.test_measurement_logs import _epochs, _steer
 
     ep = _epochs()

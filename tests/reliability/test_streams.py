@@ -23,10 +23,10 @@ from pathlib import Path
 import pytest
 
 from gripsense.errors import InputError
-from gripsense.io.log import read_log
-from gripsense.io.nmea import read_nmea
+from gripsense.io.logs import read_log
+from gripsense.io.logs.nmea import read_nmea
 from gripsense.io.text import read_bytes, read_toml
-from gripsense.io.tir import MAX_TIR_BYTES, read_tir
+from gripsense.io.tyres.tir import MAX_TIR_BYTES, read_tir
 from tests.conftest import DATA
 from tests.io.simulated import simulated  # noqa: F401  (real files of `gripsense simulate`)
 

@@ -22,7 +22,7 @@ from gripsense.estimate.grip import grip_bins
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.io import read_nmea
-from gripsense.io.steer import steer_at
+from gripsense.io.sensors.steer import steer_at
 from gripsense.sim.drives import limit_speed, simulate_drive, truth_vehicle, user_vehicle
 
 SIM_CASES = [

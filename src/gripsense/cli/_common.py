@@ -159,7 +159,7 @@ TimeOffset = Annotated[
 
 
 def log_options(columns: str | None, dbc: Path | None, time_offset: float | None, **kw):
-    """The :class:`~gripsense.io.log.LogOptions` of a command's log flags.
+    """The :class:`~gripsense.io.logs.LogOptions` of a command's log flags.
 
     Parameters
     ----------
@@ -172,6 +172,6 @@ def log_options(columns: str | None, dbc: Path | None, time_offset: float | None
     **kw
         Further fields (``strict``, ``max_lines``).
     """
-    from gripsense.io.log import LogOptions
+    from gripsense.io.logs import LogOptions
 
     return LogOptions(columns=columns, dbc=dbc, time_offset=time_offset, **kw)

@@ -146,7 +146,8 @@ def _checked_args(vehicle, log, table, outdir: Path | None) -> tuple[Path, Path]
 
 def _run_table(run, table: Path, columns: str | None) -> FrictionResult:
     """``--table``: the motion table read (its column mapping said) and run."""
-    from gripsense.io.table import describe_columns, read_motion_table
+    from gripsense.io.sensors.motion import read_motion_table
+    from gripsense.io.table import describe_columns
 
     motion = read_motion_table(table, columns or "auto")
     say(f"{table.name}: columns {describe_columns(motion.attrs['columns'])}")

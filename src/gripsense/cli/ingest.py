@@ -44,7 +44,7 @@ def print_ingest(log: NmeaLog) -> None:
     from rich.table import Table
     from rich.text import Text
 
-    from gripsense.io.nmea.align import align_channels
+    from gripsense.io.logs.nmea.align import align_channels
 
     rep = log.report
     unit = rep.unit
@@ -195,8 +195,8 @@ def ingest(
     """Read a log (format recognised from its content) into the epoch table and print its
     accounting: every line, frame or sample used, ignored or rejected with the reason.
     """
-    from gripsense.io.log import read_log
-    from gripsense.io.nmea.epochs import EPOCH_COLUMNS
+    from gripsense.io.logs import read_log
+    from gripsense.io.logs.nmea.epochs import EPOCH_COLUMNS
 
     try:
         if output is not None:

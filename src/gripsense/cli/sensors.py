@@ -40,8 +40,8 @@ def brake_mu(
     from rich.text import Text
 
     from gripsense.estimate.braking import EVENT_COLUMNS, estimate_braking
-    from gripsense.io.accel import read_accel_csv
     from gripsense.io.output_folder import check_output_file, write_file_atomic
+    from gripsense.io.sensors.accel import read_accel_csv
     from gripsense.io.table import describe_columns
     from gripsense.report.figures import save_png
 
@@ -155,8 +155,8 @@ def camber(
     """
     import numpy as np
 
-    from gripsense.io.laser import read_laser_csv
     from gripsense.io.output_folder import check_output_file
+    from gripsense.io.sensors.laser import read_laser_csv
     from gripsense.io.table import describe_columns
     from gripsense.vision.camber_laser import (
         CAMBER_COLUMNS,

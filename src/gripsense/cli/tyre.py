@@ -322,7 +322,7 @@ def tyre_fit(
     from gripsense.identify.tyre_fit import fit_tyre_table
     from gripsense.io.output_folder import check_output_file
     from gripsense.io.table import describe_columns
-    from gripsense.io.tyre_table import read_tyre_table
+    from gripsense.io.tyres.tyre_table import read_tyre_table
 
     try:
         _check_fit_args(model, output, fnomin)

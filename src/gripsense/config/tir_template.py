@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from gripsense.errors import InputError
-from gripsense.io.tir import TirFile, read_tir, write_tir
+from gripsense.io.tyres.tir import TirFile, read_tir, write_tir
 
 __all__ = ["fit_to_tir"]
 

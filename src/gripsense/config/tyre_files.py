@@ -22,9 +22,9 @@ import numpy as np
 
 from gripsense.config.tyre_fit import TyreFit
 from gripsense.errors import InputError
-from gripsense.io.pac89 import read_pac89_json
 from gripsense.io.text import read_text
-from gripsense.io.tir import TirFile, read_tir
+from gripsense.io.tyres.pac89 import read_pac89_json
+from gripsense.io.tyres.tir import TirFile, read_tir
 from gripsense.physics.magic_formula import MFTyre
 from gripsense.physics.magic_formula.pac89 import pac89_lateral, pac89_longitudinal
 
@@ -77,7 +77,7 @@ def load_mf_tyre(source: str | Path | TirFile, *, lenient: bool = False) -> MFTy
     source : str or Path or TirFile
         Path of a ``.tir`` (plain or ``.gz``) or a file already read.
     lenient : bool
-        Accept unknown keys with a warning (:func:`gripsense.io.tir.read_tir`).
+        Accept unknown keys with a warning (:func:`gripsense.io.tyres.tir.read_tir`).
 
     Returns
     -------

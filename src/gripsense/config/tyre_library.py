@@ -174,7 +174,7 @@ def _force_function(entry: LibraryTyre, lmuy: float = 1.0):
     """(F(fz, α, γ) with positive force for positive slip [N], nominal load [N])."""
     from gripsense.config.tyre_files import load_tyre_model
     from gripsense.data import path as data_path
-    from gripsense.io.tir import read_tir
+    from gripsense.io.tyres.tir import read_tir
     from gripsense.physics.magic_formula import MFTyre
 
     path = data_path(entry.file)

@@ -18,7 +18,7 @@ from gripsense.config import Vehicle
 from gripsense.constants import G0
 from gripsense.estimate import _axle_kernel as K
 from gripsense.estimate.noise import NoiseModel
-from gripsense.io.steer import STEERING_TORQUE
+from gripsense.io.sensors.steer import STEERING_TORQUE
 
 __all__ = [
     "BIN_COLUMNS",

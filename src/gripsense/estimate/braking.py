@@ -84,7 +84,7 @@ def estimate_braking(
     ----------
     acc : pandas.DataFrame
         ``t_s``, ``ax`` [m/s^2] (``ay``, ``az`` optional), e.g. from
-        :func:`gripsense.io.accel.read_accel_csv`.
+        :func:`gripsense.io.sensors.accel.read_accel_csv`.
     clip_g : float or None
         Sensor full scale [g]: a plateau reaching it is reported as clipped. Default: the
         largest |value| when several samples sit exactly on it.

@@ -326,7 +326,7 @@ def torque_bins(
     Parameters
     ----------
     wheels : pandas.DataFrame
-        Wheel table with the steering-torque columns (:data:`gripsense.io.steer.
+        Wheel table with the steering-torque columns (:data:`gripsense.io.sensors.steer.
         STEERING_TORQUE`) on its front wheels.
     vehicle : Vehicle
         Vehicle description (its ``[steering]`` table; defaults when absent).

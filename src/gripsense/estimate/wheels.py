@@ -34,8 +34,8 @@ from gripsense.errors import InputError
 from gripsense.estimate._resample_kernel import hat_score
 from gripsense.estimate.grip import axle_grip
 from gripsense.estimate.options import FrictionOptions
-from gripsense.io.nmea.align import align_channels
-from gripsense.io.steer import STEERING_TORQUE
+from gripsense.io.logs.nmea.align import align_channels
+from gripsense.io.sensors.steer import STEERING_TORQUE
 from gripsense.physics.kinematics import (
     antenna_sideslip,
     heading_offset_from_straight,

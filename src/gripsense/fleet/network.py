@@ -530,7 +530,7 @@ def _latlon(origin: tuple[float, float], x: np.ndarray, y: np.ndarray):
 
 def _write_drive(d, log: Path) -> None:
     from gripsense.fleet.tasks import steer_csv_for
-    from gripsense.io.log import write_nmea_lines
+    from gripsense.io.logs import write_nmea_lines
 
     log.parent.mkdir(parents=True, exist_ok=True)
     write_nmea_lines(d.lines, log)

@@ -266,7 +266,7 @@ def run_fleet(
         Command line recorded in the manifest.
     calibrate : bool
         Learn each vehicle id's tyre stiffness from its logs and apply it (module docstring).
-    log_options : gripsense.io.log.LogOptions, optional
+    log_options : gripsense.io.logs.LogOptions, optional
         Channel mapping and DBC of MDF4 / CAN logs (every format is recognised by content).
     steer_columns : str, optional
         Column mapping of the logs' steering CSVs (``<log stem>_steer.csv`` beside each log,

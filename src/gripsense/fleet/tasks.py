@@ -204,8 +204,8 @@ def process_log(
     receiver : str, optional
         Receiver class or file (:func:`gripsense.config.receiver_from`); default the vehicle
         file's ``[receiver]``, else ``v100``.
-    log_options : gripsense.io.log.LogOptions, optional
-        Channel mapping and DBC of MDF4 / CAN logs (:func:`gripsense.io.log.read_log`).
+    log_options : gripsense.io.logs.LogOptions, optional
+        Channel mapping and DBC of MDF4 / CAN logs (:func:`gripsense.io.logs.read_log`).
     steer_columns : str, optional
         Column mapping of the log's steering CSV, ``<log stem>_steer.csv`` beside it
         (:func:`gripsense.fleet.run.steer_csv_for`), used when it exists; else the log's own
@@ -324,7 +324,7 @@ def calibration_batch(
         ``(log path, vehicle toml, vehicle id)``.
     receiver : str, optional
         Receiver class or file (default: the vehicle file's, else ``v100``).
-    log_options : gripsense.io.log.LogOptions, optional
+    log_options : gripsense.io.logs.LogOptions, optional
         Channel mapping and DBC of MDF4 / CAN logs.
     steer_columns : str, optional
         Column mapping of the logs' steering CSVs (``<log stem>_steer.csv``, as

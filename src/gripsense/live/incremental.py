@@ -12,7 +12,7 @@ Each :meth:`LiveIngest.feed`:
 
 RTCM 3 frames and Ashtech binary records (``$PASHR,MCA,`` …) between the sentences are cut
 out of the bytes before the lines are split, with the batch reader's scanner
-(:class:`gripsense.io.nmea.rtcm.RtcmStream`; a frame cut across two reads is completed by the
+(:class:`gripsense.io.logs.nmea.rtcm.RtcmStream`; a frame cut across two reads is completed by the
 next), and counted as the batch reader counts them; reported line numbers are the stream's (a
 frame's bytes hold line ends).
 
@@ -34,10 +34,10 @@ import numpy as np
 import pandas as pd
 
 from gripsense.io import read_nmea
-from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import N_FIRST_REJECTS
-from gripsense.io.nmea.rtcm import RtcmFrames, RtcmStream, binary_notes, frame_detail
+from gripsense.io.logs.nmea import schema as S
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.reader import N_FIRST_REJECTS
+from gripsense.io.logs.nmea.rtcm import RtcmFrames, RtcmStream, binary_notes, frame_detail
 
 ACCOUNT_BATCH = 20_000
 """Received lines are counted in batches of at most this many (or when the report is read)."""

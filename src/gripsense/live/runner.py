@@ -81,11 +81,11 @@ class LiveFriction:
     receiver : str or Path or Receiver, optional
         The receiver.
     steer_csv : str or Path, optional
-        Steering CSV (:func:`gripsense.io.steer.read_steer_csv`).
+        Steering CSV (:func:`gripsense.io.sensors.steer.read_steer_csv`).
     steer_columns : str, optional
         Its column mapping.
     steering : dict, optional
-        The log's own steering channel (:attr:`gripsense.io.nmea.accounting.IngestReport.
+        The log's own steering channel (:attr:`gripsense.io.logs.nmea.accounting.IngestReport.
         steering`).
     """
 
@@ -100,12 +100,13 @@ class LiveFriction:
         steer_columns: str | None = None,
         steering: dict | None = None,
     ):
-        from gripsense.io.steer import read_steer_csv
+        from gripsense.io.sensors.steer import read_steer_csv
         from gripsense.pipeline import NO_STEERING, FrictionRun
 
         self.run = FrictionRun(vehicle, method=method, receiver=receiver)
         self.window_s = float(window_s)
-        #: the steering CSV replayed beside the log (:func:`gripsense.io.steer.read_steer_csv`)
+        #: the steering CSV replayed beside the log
+        #: (:func:`gripsense.io.sensors.steer.read_steer_csv`)
         self.steer = None
         #: the log's own steering channel (``IngestReport.steering``), when it has one
         self.steering = dict(steering or {})
@@ -168,7 +169,7 @@ class LiveFriction:
 
     def _steering(self, ep: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray | None]:
         """The window's epochs (with the CSV's torque channels) and its road-wheel angle."""
-        from gripsense.io.steer import steer_at, with_torque
+        from gripsense.io.sensors.steer import steer_at, with_torque
         from gripsense.pipeline import log_steering
 
         if self.steer is not None:
@@ -335,7 +336,7 @@ def run_live(
     overwrite : bool
         Replace the outputs of an earlier live run with the same name (gripsense's own only).
     steer_csv : str or Path, optional
-        A steering CSV replayed beside the log (:func:`gripsense.io.steer.read_steer_csv`),
+        A steering CSV replayed beside the log (:func:`gripsense.io.sensors.steer.read_steer_csv`),
         aligned by ``t_s`` as ``gripsense friction --steer-csv`` does: enables the front axle.
         Without it the front axle uses the log's own steering channel (a VBOX, MDF4 or CAN
         replay's, ``source.steering``), if any.

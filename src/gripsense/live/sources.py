@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 from gripsense.errors import InputError
-from gripsense.io.nmea.reader import read_log_bytes
+from gripsense.io.logs.nmea.reader import read_log_bytes
 
 __all__ = [
     "EpochReplay",
@@ -125,7 +125,7 @@ def _pieces(data: bytes) -> list[tuple[bytes, float | None]]:
     """The log cut into the pieces a replay sends, each with its time of day when it has one:
     NMEA lines (GGA/RMC/ZDA/GNS/GLL times) and UBX frames (NAV-PVT's UTC time of day).
     """
-    from gripsense.io.ubx import scan_frames
+    from gripsense.io.logs.ubx import scan_frames
 
     fr = scan_frames(data) if b"\xb5\x62" in data else None
     if fr is None or not len(fr):
@@ -160,7 +160,7 @@ def _tod(line: bytes) -> float | None:
 
 class EpochReplay:
     """Replay a log that is not a byte stream (VBOX, MDF4, CAN) at ``speed`` × real time: the
-    file is read once (:func:`gripsense.io.log.read_log`) and its epochs are handed out as
+    file is read once (:func:`gripsense.io.logs.read_log`) and its epochs are handed out as
     their time comes.
 
     Parameters
@@ -169,12 +169,12 @@ class EpochReplay:
         The log.
     speed : float
         Replay speed (1 real time, 0 as fast as possible) [-].
-    log_options : gripsense.io.log.LogOptions, optional
+    log_options : gripsense.io.logs.LogOptions, optional
         Channel mapping, DBC, time offset.
     """
 
     def __init__(self, path: str | Path, speed: float = 1.0, log_options=None):
-        from gripsense.io.log import read_log
+        from gripsense.io.logs import read_log
 
         if speed < 0:
             raise InputError("--speed must be >= 0 (0 = as fast as possible)")
@@ -270,15 +270,15 @@ def open_replay(path: str | Path, speed: float = 1.0, log_options=None):
         The log.
     speed : float
         Replay speed [-].
-    log_options : gripsense.io.log.LogOptions, optional
+    log_options : gripsense.io.logs.LogOptions, optional
         Channel mapping, DBC, time offset (VBOX, MDF4, CAN).
     """
-    from gripsense.io.log import detect_format
+    from gripsense.io.logs import LOG_FORMATS, detect_format
 
     if Path(path).is_dir():  # a ROS 2 bag folder (read_log says if it is not one)
         return EpochReplay(path, speed=speed, log_options=log_options)
     data, _ = read_log_bytes(path)
-    if detect_format(data[:65536]) in ("nmea", "ubx"):
+    if LOG_FORMATS[detect_format(data[:65536])].streams:  # a byte stream paced by its times
         return ReplaySource(path, speed=speed)
     return EpochReplay(path, speed=speed, log_options=log_options)
 

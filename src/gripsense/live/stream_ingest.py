@@ -3,14 +3,14 @@ choice between it and the NMEA ingest from the first bytes of a live source.
 
 :class:`LiveUbxIngest` has the interface of :class:`gripsense.live.incremental.LiveIngest`:
 bytes in as they arrive, final epochs out, equal to the batch reader
-(:func:`gripsense.io.ubx.parse_ubx`). The stream is cut into *units*: complete UBX frames, and
+(:func:`gripsense.io.logs.ubx.parse_ubx`). The stream is cut into *units*: complete UBX frames, and
 the complete lines of the bytes between frames (a line interrupted by a frame continues after
 it). A bounded tail of units is re-read at each feed; an epoch (one ``iTOW``, UTC from NAV-PVT)
 is final when ``hold`` newer epochs exist.
 
 The accounting is the batch reader's: each frame is counted as the scan decided it (read,
 ignored per message, rejected per reason, with its byte offset in the stream), by the batch
-reader's own counting (:func:`gripsense.io.ubx.account_frames`), and the bytes between the
+reader's own counting (:func:`gripsense.io.logs.ubx.account_frames`), and the bytes between the
 frames are counted as one NMEA stream by :class:`~gripsense.live.incremental.LiveIngest`, as
 the batch reader reads them with :func:`gripsense.io.read_nmea` (RTCM 3 frames and Ashtech
 records among them included).
@@ -23,9 +23,9 @@ from collections import Counter, deque
 import numpy as np
 import pandas as pd
 
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.schema import OVER_LIMIT, REASONS
-from gripsense.io.ubx import MAX_PAYLOAD, SYNC, account_frames, parse_ubx, scan_frames
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.schema import OVER_LIMIT, REASONS
+from gripsense.io.logs.ubx import MAX_PAYLOAD, SYNC, account_frames, parse_ubx, scan_frames
 from gripsense.live.incremental import LiveIngest
 
 __all__ = ["AutoIngest", "LiveUbxIngest"]

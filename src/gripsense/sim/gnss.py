@@ -188,7 +188,7 @@ class CompassLog:
         What the receiver measured, as an epoch table (``time_utc``, ``t_s``, ``lat_deg``,
         ``lon_deg``, ``alt_m``, ``n_sats``, ``speed_mps``, ``course_deg``, ``heading_deg``,
         ``yaw_rate_rps``): the same drive for the other log formats
-        (:func:`gripsense.io.log.write_log`).
+        (:func:`gripsense.io.logs.write_log`).
     """
 
     lines: list[str]
@@ -206,7 +206,7 @@ class CompassLog:
         crlf : bool
             End lines with CR LF as NMEA does.
         """
-        from gripsense.io.log import write_nmea_lines
+        from gripsense.io.logs import write_nmea_lines
 
         write_nmea_lines(self.lines, path, crlf=crlf)
 

@@ -92,7 +92,7 @@ from gripsense.config.scenario_schema import (
 from gripsense.config.scenario_schema import SCENARIO_TABLES as TABLES
 from gripsense.config.toml_reader import TomlReader
 from gripsense.errors import InputError
-from gripsense.io.log import SUFFIXES, WRITABLE, write_log
+from gripsense.io.logs import SUFFIXES, WRITABLE, write_log
 from gripsense.io.output_folder import ResultWriter
 from gripsense.io.text import read_toml
 from gripsense.sim import maneuvers as M
@@ -295,7 +295,7 @@ def run_scenario(
         it replaces the scenario's ``[gnss] noise`` and the cases' ``receiver``.
     fmt : {"nmea", "vbo", "ubx", "mf4"}
         Format of the emulated logs (``gripsense simulate --format``;
-        :func:`gripsense.io.log.write_log`).
+        :func:`gripsense.io.logs.write_log`).
     warn : callable, optional
         Called with one sentence per case that does not simulate what it says (a circle far
         beyond the road's grip, a diverged integration); the sentence is also the case's

@@ -100,7 +100,7 @@ def emulate_steering(
     -------
     pandas.DataFrame
         ``t_s`` and ``road_wheel_deg`` (ISO: positive to the left), the layout of
-        :func:`gripsense.io.steer.read_steer_csv`.
+        :func:`gripsense.io.sensors.steer.read_steer_csv`.
     """
     b = result.body
     step = max(round(result.meta.get("output_hz", 100.0) / rate_hz), 1)

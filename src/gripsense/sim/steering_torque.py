@@ -178,7 +178,7 @@ def emulate_torque(
     -------
     pandas.DataFrame
         ``t_s`` and ``torque_Nm`` (ISO: positive steers left), ``assist_Nm`` when asked; the
-        columns :func:`gripsense.io.steer.read_steer_csv` maps by themselves.
+        columns :func:`gripsense.io.sensors.steer.read_steer_csv` maps by themselves.
     """
     b = result.body
     t = b["t_s"].to_numpy(float)

@@ -86,7 +86,7 @@ def calibration_offsets(lasers: pd.DataFrame, seconds: float) -> tuple[float, fl
     Parameters
     ----------
     lasers : pandas.DataFrame
-        ``t_s``, ``d_outer_m``, ``d_inner_m`` (:func:`gripsense.io.laser.read_laser_csv`).
+        ``t_s``, ``d_outer_m``, ``d_inner_m`` (:func:`gripsense.io.sensors.laser.read_laser_csv`).
     seconds : float
         Length of the calibration stretch at the start [s].
 

@@ -152,7 +152,7 @@ class MFTyre:
     Parameters
     ----------
     params : dict
-        ``{KEY: value}`` in SI (as from :meth:`gripsense.io.tir.TirFile.parameters`; build
+        ``{KEY: value}`` in SI (as from :meth:`gripsense.io.tyres.tir.TirFile.parameters`; build
         one from a file with :func:`gripsense.config.tyre_files.load_mf_tyre`).
     name : str
         Used in messages.

@@ -6,11 +6,11 @@ accounted for: ``parsed`` per message, ``ignored`` (an identifier the DBC does n
 message without a mapped signal) or rejected as ``malformed field`` (the DBC does not decode
 it: a wrong length or a value outside its choices). Signal units come from the DBC
 (overridable in ``--columns``). A steering signal whose name and unit say what it is
-(``SteeringWheelAngle`` [deg], :func:`gripsense.io.channels.recognise_steering`) is decoded too
+(``SteeringWheelAngle`` [deg], :func:`gripsense.io.logs.channels.recognise_steering`) is decoded too
 when ``--columns`` maps none. Times are the log's: BLF stores absolute times; an ASC file's
 ``date`` line gives its start; else ``--time-offset`` (seconds since 1970 UTC of the log's
 zero) makes them absolute. The signals are put on the heading signal's time base
-(:func:`gripsense.io.channels.resample`).
+(:func:`gripsense.io.logs.channels.resample`).
 """
 
 from __future__ import annotations
@@ -25,20 +25,26 @@ from typing import Any
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, ChannelSpec, add_steering, parse_channel_spec
-from gripsense.io.formats import require
-from gripsense.io.measurement import log_from_channels, missing_channel
-from gripsense.io.nmea.accounting import RejectedLine
-from gripsense.io.nmea.reader import NmeaLog
-from gripsense.io.nmea.schema import MALFORMED, TRUNCATED
+from gripsense.io.logs.channels import Channel, ChannelSpec, add_steering, parse_channel_spec
+from gripsense.io.logs.formats import require
+from gripsense.io.logs.measurement import log_from_channels, missing_channel
+from gripsense.io.logs.nmea.accounting import RejectedLine
+from gripsense.io.logs.nmea.reader import NmeaLog
+from gripsense.io.logs.nmea.schema import MALFORMED, TRUNCATED
+from gripsense.io.logs.options import LogInput
 
 __all__ = [
     "CAN_SIGNALS",
     "FrameColumns",
     "SignalPlan",
+    "can_example_columns",
     "decode_frames",
+    "is_asc",
+    "is_blf",
     "load_dbc",
     "plan_signals",
+    "read_asc_log",
+    "read_blf_log",
     "read_can",
     "write_can",
 ]
@@ -365,7 +371,7 @@ def read_can(
     dbc : str or Path
         DBC database.
     columns : str or dict
-        ``heading=SIGNAL,…`` (:mod:`gripsense.io.channels`); ``heading=MESSAGE.SIGNAL`` or
+        ``heading=SIGNAL,…`` (:mod:`gripsense.io.logs.channels`); ``heading=MESSAGE.SIGNAL`` or
         ``heading=0x15.SIGNAL`` names one message of a DBC that defines a signal in several.
     time_offset : float, optional
         Seconds since 1970 UTC of the log's time zero [s] (for logs with relative times).
@@ -394,13 +400,13 @@ class SignalPlan:
     db : cantools.database.can.Database
         The database.
     mapped : dict
-        Key -> :class:`~gripsense.io.channels.ChannelSpec`, the channel being the signal name.
+        Key -> :class:`~gripsense.io.logs.channels.ChannelSpec`, the channel being the signal name.
     copies : dict
         Key -> the messages (cantools ``Message``) that define the signal: one when the DBC
         defines it once or ``--columns`` named the message; several when the DBC defines the
         same message under several identifiers (the frames the log holds decide).
     steering : dict
-        The steering channel read (:func:`gripsense.io.channels.add_steering`).
+        The steering channel read (:func:`gripsense.io.logs.channels.add_steering`).
     notes : list of str
         What the ingest report says about the mapping.
     """
@@ -1008,3 +1014,88 @@ def write_can(
     for m in frames:
         writer.on_message_received(m)
     writer.stop()
+
+
+def is_blf(head: bytes) -> bool:
+    """Whether a file is a Vector BLF log from its first bytes (the ``LOGG`` signature).
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes (decompressed).
+
+    Returns
+    -------
+    bool
+    """
+    return head.startswith(b"LOGG")
+
+
+def is_asc(head: bytes) -> bool:
+    """Whether a file is a Vector ASC log from its first bytes (its ``date`` or ``base hex``
+    header line).
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes (decompressed).
+
+    Returns
+    -------
+    bool
+    """
+    start = head[:4096].lstrip().lower()
+    return start.startswith(b"date ") or b"\nbase hex" in start[:2048] or start.startswith(b"base ")
+
+
+def can_example_columns() -> str:
+    """The ``--columns`` that read gripsense's own CAN logs, as an example a user can try.
+
+    Returns
+    -------
+    str
+        ``--columns heading=…,course=…,speed=… (…)``.
+    """
+    cols = ",".join(f"{k}={CAN_SIGNALS[k]}" for k in ("heading", "course", "speed"))
+    return f"--columns {cols} (the signals of gripsense's example DBC)"
+
+
+def _read_can_log(src: LogInput, fmt: str) -> NmeaLog:
+    o = src.options
+    assert o.dbc is not None  # read_log refuses a CAN log without its DBC
+    return read_can(src.path, src.data, fmt, dbc=o.dbc, columns=o.columns,
+                    time_offset=o.time_offset, strict=o.strict)  # fmt: skip
+
+
+def read_blf_log(src: LogInput) -> NmeaLog:
+    """Read a BLF log as :func:`gripsense.io.logs.read_log` hands it over (its registry entry;
+    :func:`read_can`).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log's bytes, name and options (``dbc``, ``columns``, ``time_offset``, ``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and frame accounting.
+    """
+    return _read_can_log(src, "blf")
+
+
+def read_asc_log(src: LogInput) -> NmeaLog:
+    """Read an ASC log as :func:`gripsense.io.logs.read_log` hands it over (its registry entry;
+    :func:`read_can`).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log's bytes, name and options (``dbc``, ``columns``, ``time_offset``, ``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and frame accounting.
+    """
+    return _read_can_log(src, "asc")

@@ -25,7 +25,7 @@ Date             ``ddmmyy`` (some loggers); else the preamble's date
 ===============  =========================================================================
 
 Other channels (slip angle, velocities, accelerations, CAN channels such as a steering angle)
-are read only when ``--columns`` maps them (:mod:`gripsense.io.channels`); their unit is the
+are read only when ``--columns`` maps them (:mod:`gripsense.io.logs.channels`); their unit is the
 one ``[channel units]`` gives or the one ``--columns`` states. Every line is accounted for:
 the data rows are ``parsed`` (or rejected with a reason: a short row is ``truncated``, a
 non-number ``malformed field``), the other lines ``ignored`` as ``(header)`` or ``(blank)``.
@@ -43,13 +43,23 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.channels import ChannelSpec, add_steering, parse_channel_spec
-from gripsense.io.epoch_table import build_epochs
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import NmeaLog
-from gripsense.io.nmea.schema import MALFORMED, REASONS, TRUNCATED
+from gripsense.io.logs.channels import ChannelSpec, add_steering, parse_channel_spec
+from gripsense.io.logs.epoch_table import build_epochs
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.reader import NmeaLog
+from gripsense.io.logs.nmea.schema import MALFORMED, REASONS, TRUNCATED
+from gripsense.io.logs.options import LogInput
 
-__all__ = ["VBO_SECTIONS", "decode_vbo", "is_vbo", "parse_vbo", "read_vbo", "write_vbo"]
+__all__ = [
+    "VBO_SECTIONS",
+    "decode_vbo",
+    "is_vbo",
+    "parse_vbo",
+    "read_vbo",
+    "read_vbo_log",
+    "write_vbo",
+    "write_vbo_log",
+]
 
 VBO_SECTIONS = ("column names", "data")
 """Sections a ``.vbo`` file must have (``[header]``, ``[channel units]`` and the others are
@@ -186,7 +196,7 @@ _DEGREE_WORD = re.compile(r"^°[\s_]*\(?\s*deg", re.IGNORECASE)
 
 
 def _unit_text(unit: str) -> str:
-    """A unit as VBOX writes it, in the words of :func:`gripsense.io.channels.file_unit_factor`:
+    """A unit as VBOX writes it, in the words of :func:`.channels.file_unit_factor`:
     ``(null)`` is no unit; VBOX cuts ``° (Degrees)`` to ``°_(Degree``.
     """
     u = unit.strip()
@@ -273,7 +283,7 @@ def parse_vbo(
         File name, for messages.
     columns : str or dict, optional
         Further channels (``steer=Steering_Angle:deg``, ``torque=TrqCol``) or overrides of the
-        standard ones (:mod:`gripsense.io.channels`).
+        standard ones (:mod:`gripsense.io.logs.channels`).
     strict : bool
         Raise at the first rejected row instead of counting it.
 
@@ -681,7 +691,7 @@ def _day(date_col: np.ndarray | None, created: dt.date | None) -> float | None:
 def _mapped_channel(
     values: dict, spec: ChannelSpec, raw: np.ndarray, units: dict[str, str], name: str
 ) -> None:
-    from gripsense.io.channels import CHANNEL_KEYS
+    from gripsense.io.logs.channels import CHANNEL_KEYS
 
     column = CHANNEL_KEYS[spec.key].column
     values[column] = spec.column_values(raw, units.get(spec.channel), f"{name} [channel units]")
@@ -695,9 +705,9 @@ def read_vbo(
     Parameters
     ----------
     path : str or Path
-        The file (plain text; gzip is decompressed by :func:`gripsense.io.log.read_log`).
+        The file (plain text; gzip is decompressed by :func:`gripsense.io.logs.read_log`).
     columns : str or dict, optional
-        Further channels to read (:mod:`gripsense.io.channels`).
+        Further channels to read (:mod:`gripsense.io.logs.channels`).
     strict : bool
         Raise at the first rejected row.
 
@@ -792,3 +802,51 @@ def write_vbo(
         ]
     )
     Path(path).write_text(text, encoding="ascii", newline="\r\n")
+
+
+def read_vbo_log(src: LogInput) -> NmeaLog:
+    """Read a VBOX file as :func:`gripsense.io.logs.read_log` hands it over (its registry
+    entry): its bytes decoded (:func:`decode_vbo`: VBOX files are Latin-1), then
+    :func:`parse_vbo`.
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log's bytes, name and options (``columns``, ``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and line accounting.
+    """
+    text = decode_vbo(src.data) if src.data else ""
+    return parse_vbo(text, src.name, columns=src.options.columns, strict=src.options.strict)
+
+
+def write_vbo_log(
+    epochs: pd.DataFrame,
+    path: Path,
+    *,
+    nmea_lines: list[str] | None = None,
+    steer: pd.DataFrame | None = None,
+) -> str | None:
+    """Write a drive as a VBOX file for :func:`gripsense.io.logs.write_log` (:func:`write_vbo`).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        The drive's epoch table.
+    path : Path
+        Output file.
+    nmea_lines : list of str, optional
+        Unused.
+    steer : pandas.DataFrame, optional
+        ``t_s`` and ``road_wheel_deg``: the steering channel written inside.
+
+    Returns
+    -------
+    str or None
+        The ``--columns`` that read the steering channel back, or None without one.
+    """
+    write_vbo(epochs, path, steer=steer)
+    return "steer=RoadWheelAngle" if steer is not None else None

@@ -1,8 +1,8 @@
 """Production NMEA 0183 tokenizer (the default path of :func:`gripsense.io.read_nmea`).
 
-It implements exactly the rules of :mod:`gripsense.io.nmea.reference`:
+It implements exactly the rules of :mod:`gripsense.io.logs.nmea.reference`:
 
-* compiled loops (:mod:`gripsense.io.nmea.kernels`, numba) find each line's sentence start,
+* compiled loops (:mod:`gripsense.io.logs.nmea.kernels`, numba) find each line's sentence start,
   checksum, address, fields and check every field's pattern;
 * sentence types are named from the packed address bytes with one hash factorisation;
 * numbers are converted in the same compiled pass, exactly: Clinger's fast path (the integer of
@@ -25,10 +25,10 @@ import numba
 import numpy as np
 import pandas as pd
 
-from gripsense.io.nmea import kernels as K
-from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.reference import MAX_ADDRESS, SUBTYPED, classify_line, type_key
-from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, lines_at
+from gripsense.io.logs.nmea import kernels as K
+from gripsense.io.logs.nmea import schema as S
+from gripsense.io.logs.nmea.reference import MAX_ADDRESS, SUBTYPED, classify_line, type_key
+from gripsense.io.logs.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, empty_raw, lines_at
 
 __all__ = ["tokenize_fast"]
 
@@ -201,7 +201,7 @@ def tokenize_fast(
     max_lines: int | None = None,
     no_checksum: bool = False,
 ) -> Tokens | None:
-    """Tokenize a buffer (same results as :func:`~gripsense.io.nmea.reference.tokenize_reference`).
+    """Tokenize a buffer (same results as :func:`~.reference.tokenize_reference`).
 
     The buffer is cut at line ends into chunks of about *chunk_bytes* (inputs above 1 MB into
     a multiple of *workers* equal chunks, so that the threads finish together), which are
@@ -224,7 +224,7 @@ def tokenize_fast(
         first, and those counts size the work arrays).
     no_checksum : bool
         Read sentences without a ``*hh`` checksum instead of rejecting them (a log whose
-        talker sends none; see :func:`~gripsense.io.nmea.reference.classify_line`).
+        talker sends none; see :func:`~gripsense.io.logs.nmea.reference.classify_line`).
 
     Returns
     -------

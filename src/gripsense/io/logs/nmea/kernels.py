@@ -1,8 +1,8 @@
 """Compiled (numba) loops of the production NMEA tokenizer.
 
-They implement, byte for byte, the rules of :mod:`gripsense.io.nmea.reference` for a whole
+They implement, byte for byte, the rules of :mod:`gripsense.io.logs.nmea.reference` for a whole
 buffer at once, numbers converted exactly to Python's ``float`` (:func:`_numeric`);
-:mod:`gripsense.io.nmea.fast` wires them together. The test suite checks line-by-line equality
+:mod:`gripsense.io.logs.nmea.fast` wires them together. The test suite checks line-by-line equality
 with the reference on real and fuzzed logs, and every converted number to the bit.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from gripsense.io.nmea import schema as S
+from gripsense.io.logs.nmea import schema as S
 
 __all__ = ["KIND_CODES", "count_lines", "read_fields", "scan_buffer"]
 
@@ -39,7 +39,7 @@ del _k, _q
 def _modes(buf, a, n, table):
     """A ``modes`` field buf[a:a+n] (n >= 1): ``(1, quality of its first letter that is not N,
     0 when all are N)``, or ``(0, 0.0)`` when a byte is not a mode letter (see
-    :func:`gripsense.io.nmea.schema.mode_quality`).
+    :func:`gripsense.io.logs.nmea.schema.mode_quality`).
     """
     v = 0.0
     for q in range(a, a + n):
@@ -74,7 +74,7 @@ def _hex(b):
 
 @njit(cache=True, nogil=True)
 def count_lines(buf):
-    """Number of lines of a buffer (see :func:`~gripsense.io.nmea.tokens.split_lines`)."""
+    """Number of lines of a buffer (see :func:`~gripsense.io.logs.nmea.tokens.split_lines`)."""
     c = 0
     for i in range(buf.size):
         c += buf[i] == 10

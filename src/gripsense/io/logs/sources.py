@@ -1,8 +1,8 @@
 """Where an epoch's heading and yaw rate came from: the categories of the epoch table's
 ``heading_source`` and ``yaw_rate_source`` columns, shared by every reader (``docs/ingest.md``).
 
-A leaf module: the NMEA reader (:mod:`gripsense.io.nmea`), the table builder
-(:mod:`gripsense.io.epoch_table`) and the other readers import it, and it imports none of them.
+A leaf module: the NMEA reader (:mod:`gripsense.io.logs.nmea`), the table builder
+(:mod:`gripsense.io.logs.epoch_table`) and the other readers import it, and it imports none of them.
 Categories are only ever appended (stored tables keep their codes).
 """
 

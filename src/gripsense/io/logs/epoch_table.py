@@ -1,6 +1,6 @@
 """The epoch table from any log format: columns, time base, sources and channel rates.
 
-Every reader (NMEA in :mod:`gripsense.io.nmea`, VBOX, UBX, MDF4, CAN) returns the same table,
+Every reader (NMEA in :mod:`gripsense.io.logs.nmea`, VBOX, UBX, MDF4, CAN) returns the same table,
 one row per receiver time instant, with the columns of :data:`EPOCH_COLUMNS`
 (``docs/ingest.md``). The NMEA reader builds it from its sentences; the other readers hand
 their decoded channels to :func:`build_epochs`, which fills what a format does not carry with
@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from gripsense.io.nmea.epochs import EPOCH_COLUMNS, yaw_from_heading
-from gripsense.io.sources import HEADING_SOURCES, YAW_RATE_SOURCES
+from gripsense.io.logs.nmea.epochs import EPOCH_COLUMNS, yaw_from_heading
+from gripsense.io.logs.sources import HEADING_SOURCES, YAW_RATE_SOURCES
 
 __all__ = ["EPOCH_COLUMNS", "EXTRA_COLUMNS", "build_epochs", "channel_rates"]
 

@@ -4,7 +4,7 @@ Ashtech receivers send their raw data on the NMEA port as ``$PASHR,<id>,`` follo
 binary structure of fixed length per message type and CR LF (Ashtech Z-Family Technical
 Reference Manual, "Raw data"; DG14/DG16 Reference Manual, "Message Structure"). The structure's
 bytes are binary — they hold ``\r``, ``\n`` and ``$`` by chance — so a record is cut out of the
-stream before its lines are read, as RTCM 3 frames are (:mod:`gripsense.io.nmea.rtcm`, whose
+stream before its lines are read, as RTCM 3 frames are (:mod:`gripsense.io.logs.nmea.rtcm`, whose
 scanner finds both). The last one or two bytes of the structure are its checksum, most
 significant byte first:
 

@@ -14,7 +14,7 @@ out of the stream before its lines are read:
 * any other byte stays in the text and is read as NMEA (where it is *not NMEA*, as before).
 
 Ashtech binary records (``$PASHR,MCA,`` + a fixed-length binary structure + CR LF;
-:mod:`gripsense.io.nmea.ashtech`) are found by the same scan and follow the same rules: a
+:mod:`gripsense.io.logs.nmea.ashtech`) are found by the same scan and follow the same rules: a
 good checksum is one unit, ignored under ``Ashtech binary <id>``; a structure whose CR LF is
 in place but whose checksum fails, followed by a sentence, is rejected (*bad checksum*).
 
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from gripsense.io.nmea.ashtech import (
+from gripsense.io.logs.nmea.ashtech import (
     ASHTECH_IDS,
     HEADER,
     HEADER_LEN,
@@ -241,7 +241,7 @@ class RtcmFrames:
         Whether its CRC-24Q checks.
     message : numpy.ndarray of int64
         RTCM 3: message number (first 12 payload bits; -1 for an empty payload); Ashtech: the
-        type code (:data:`~gripsense.io.nmea.ashtech.ASHTECH_IDS`).
+        type code (:data:`~gripsense.io.logs.nmea.ashtech.ASHTECH_IDS`).
     ashtech : numpy.ndarray of bool
         Whether it is an Ashtech binary record (else an RTCM 3 frame).
     """

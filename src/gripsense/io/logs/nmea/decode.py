@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gripsense.io.nmea.schema import MODE_QUALITY, SENTENCES
+from gripsense.io.logs.nmea.schema import MODE_QUALITY, SENTENCES
 
 __all__ = ["KNOT", "decode_all"]
 
@@ -234,13 +234,13 @@ def decode_all(
     Parameters
     ----------
     raw : dict
-        Type key -> raw field table of a tokenizer (:class:`~gripsense.io.nmea.tokens.Tokens`).
+        Type key -> raw field table of a tokenizer (:class:`~gripsense.io.logs.nmea.tokens.Tokens`).
 
     Returns
     -------
     tables : dict
         Type key -> column name -> array of the decoded sentences (column ``line`` = 0-based
-        line index); :func:`~gripsense.io.nmea.reader.read_nmea` makes DataFrames of them.
+        line index); :func:`~gripsense.io.logs.nmea.reader.read_nmea` makes DataFrames of them.
     malformed : list of (line index, detail)
         Lines whose values are out of range (to be rejected as *malformed field*).
     """

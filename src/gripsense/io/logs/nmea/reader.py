@@ -1,7 +1,7 @@
 """Batch ingest of GNSS-compass NMEA logs: :func:`read_nmea` -> :class:`NmeaLog`.
 
 Conventions of the epoch table (one row per receiver time instant; see
-:mod:`gripsense.io.nmea.epochs` for the grouping rule):
+:mod:`gripsense.io.logs.nmea.epochs` for the grouping rule):
 
 =================  ==========================================================================
 column             meaning
@@ -45,22 +45,22 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.ashtech import ASHTECH_IDS
-from gripsense.io.nmea.decode import decode_all
-from gripsense.io.nmea.epochs import assemble_epochs
-from gripsense.io.nmea.fast import tokenize_fast
-from gripsense.io.nmea.kernels import count_lines
-from gripsense.io.nmea.reference import classify_line, tokenize_reference
-from gripsense.io.nmea.rtcm import (
+from gripsense.io.logs.nmea import schema as S
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.ashtech import ASHTECH_IDS
+from gripsense.io.logs.nmea.decode import decode_all
+from gripsense.io.logs.nmea.epochs import assemble_epochs
+from gripsense.io.logs.nmea.fast import tokenize_fast
+from gripsense.io.logs.nmea.kernels import count_lines
+from gripsense.io.logs.nmea.reference import classify_line, tokenize_reference
+from gripsense.io.logs.nmea.rtcm import (
     RtcmFrames,
     binary_notes,
     first_ashtech_header,
     frame_detail,
     split_rtcm,
 )
-from gripsense.io.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, lines_at
+from gripsense.io.logs.nmea.tokens import IGNORED, PARSED, REJECTED, Tokens, lines_at
 from gripsense.io.text import MAX_BYTES, MAX_LINES, InputStream, ReadInput
 
 __all__ = ["MAX_BYTES", "MAX_LINES", "NmeaLog", "read_log_bytes", "read_nmea"]
@@ -287,7 +287,7 @@ def read_nmea(
     -------
     NmeaLog
         ``.epochs`` (DataFrame), ``.report``
-        (:class:`~gripsense.io.nmea.accounting.IngestReport`) and
+        (:class:`~gripsense.io.logs.nmea.accounting.IngestReport`) and
         ``.sentences`` (decoded sentences per type).
 
     Examples

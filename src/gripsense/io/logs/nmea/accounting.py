@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from gripsense.io.nmea.schema import REASONS
+from gripsense.io.logs.nmea.schema import REASONS
 
 __all__ = ["IngestReport", "RejectedLine"]
 
@@ -22,7 +22,7 @@ class RejectedLine:
     line : int
         1-based line number in the input.
     reason : str
-        Reject reason (:data:`gripsense.io.nmea.schema.REASONS`).
+        Reject reason (:data:`gripsense.io.logs.nmea.schema.REASONS`).
     detail : str
         What exactly was wrong.
     """
@@ -71,7 +71,7 @@ class IngestReport:
     steering : dict
         The log's own steering channel, if it has one: ``key`` (``steer`` or
         ``steering_wheel``), ``channel``, ``unit`` (the file's) and ``source`` (``--columns``,
-        or ``name and unit``: found without being mapped, :func:`gripsense.io.channels.
+        or ``name and unit``: found without being mapped, :func:`gripsense.io.logs.channels.
         recognise_steering`); empty when the log carries none.
     """
 

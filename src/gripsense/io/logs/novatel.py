@@ -33,7 +33,7 @@ line) or ``not NovAtel ASCII``. NMEA sentences logged on the same port are read 
 at the same UTC time; their epochs at other times are epochs of their own.
 
 ``heading_source`` names the log that gave each epoch's heading (``HEADING``, ``HEADING2``,
-``DUALANTENNAHEADING``, ``INSPVA``, ``INSPVAS``, ``INSPVAX``; :mod:`gripsense.io.sources`), or
+``DUALANTENNAHEADING``, ``INSPVA``, ``INSPVAS``, ``INSPVAX``; :mod:`gripsense.io.logs.sources`), or
 the NMEA sentence where the NMEA gave it.
 """
 
@@ -47,10 +47,10 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.epoch_table import build_epochs
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import NmeaLog, read_nmea
-from gripsense.io.nmea.schema import (
+from gripsense.io.logs.epoch_table import build_epochs
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.reader import NmeaLog, read_nmea
+from gripsense.io.logs.nmea.schema import (
     BAD_CHECKSUM,
     BLANK,
     MALFORMED,
@@ -58,8 +58,9 @@ from gripsense.io.nmea.schema import (
     REASONS,
     TRUNCATED,
 )
+from gripsense.io.logs.options import LogInput
+from gripsense.io.logs.sources import HEADING_SOURCES
 from gripsense.io.output_folder import write_file_atomic
-from gripsense.io.sources import HEADING_SOURCES
 
 __all__ = [
     "LEAP_SECONDS",
@@ -68,6 +69,7 @@ __all__ = [
     "gps_to_utc",
     "is_novatel",
     "parse_novatel",
+    "read_novatel_log",
     "write_novatel",
 ]
 
@@ -750,3 +752,20 @@ def write_novatel(
         text = "".join(s + "\r\n" for s in out)
         write_file_atomic(path, lambda p: p.write_text(text, encoding="ascii", newline=""))
     return out
+
+
+def read_novatel_log(src: LogInput) -> NmeaLog:
+    """Read a NovAtel ASCII log as :func:`gripsense.io.logs.read_log` hands it over (its
+    registry entry).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log's bytes, name and options (``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and record accounting (:func:`parse_novatel`).
+    """
+    return parse_novatel(src.data, src.name, strict=src.options.strict)

@@ -44,15 +44,20 @@ import shutil
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gripsense.errors import InputError
-from gripsense.io.channels import CHANNEL_KEYS, Channel, ChannelSpec, parse_channel_spec
-from gripsense.io.formats import require
-from gripsense.io.measurement import log_from_channels
-from gripsense.io.nmea.reader import NmeaLog
-from gripsense.io.nmea.schema import MALFORMED, REASONS
+from gripsense.io.logs.channels import CHANNEL_KEYS, Channel, ChannelSpec, parse_channel_spec
+from gripsense.io.logs.formats import require
+from gripsense.io.logs.measurement import log_from_channels
+from gripsense.io.logs.nmea.reader import NmeaLog
+from gripsense.io.logs.nmea.schema import MALFORMED, REASONS
+from gripsense.io.logs.options import LogInput
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = [
     "ROSBAG2_COLUMNS",
@@ -60,7 +65,9 @@ __all__ = [
     "is_rosbag",
     "is_rosbag_dir",
     "read_rosbag",
+    "read_rosbag_log",
     "write_rosbag2",
+    "write_rosbag2_log",
 ]
 
 ROS1_MAGIC = b"#ROSBAG V2.0"
@@ -595,7 +602,7 @@ def read_rosbag(
     data : bytes, optional
         Its (decompressed) content, when read from a pipe or a gzip file.
     columns : str or dict, optional
-        ``key=TOPIC[.field.path][:unit],…`` (:mod:`gripsense.io.channels`); keys not mapped
+        ``key=TOPIC[.field.path][:unit],…`` (:mod:`gripsense.io.logs.channels`); keys not mapped
         are taken from the known message types.
     time_offset : float, optional
         Seconds since 1970 UTC added to the stamps, for a bag whose stamps are not UTC [s].
@@ -764,7 +771,7 @@ def _account(log: NmeaLog, topics: dict[str, _Topic]) -> None:
             ignored[f"{tp.name} (no valid value: no fix or flagged invalid)"] = tp.invalid
         if tp.bad:
             rejected[MALFORMED] += tp.bad
-            from gripsense.io.nmea.accounting import RejectedLine
+            from gripsense.io.logs.nmea.accounting import RejectedLine
 
             firsts.append(RejectedLine(0, MALFORMED, tp.first_bad))
     r.parsed = dict(sorted(parsed.items()))
@@ -776,7 +783,7 @@ def _account(log: NmeaLog, topics: dict[str, _Topic]) -> None:
 
 def _read_nmea_topics(reader, name: str, topics, nmea: list[_Topic], strict: bool) -> NmeaLog:
     """The bag's ``nmea_msgs/Sentence`` messages through the NMEA reader, in record order."""
-    from gripsense.io.nmea.reader import read_nmea
+    from gripsense.io.logs.nmea.reader import read_nmea
 
     keep = {t.name for t in nmea}
     conns = [c for c in reader.connections if c.topic in keep]
@@ -864,3 +871,52 @@ def write_rosbag2(epochs, path: str | Path) -> None:
             w.write(c_vel, t, ts.serialize_cdr(vel, "geometry_msgs/msg/TwistStamped"))
             w.write(c_imu, t, ts.serialize_cdr(imu, "sensor_msgs/msg/Imu"))
             w.write(c_hdg, t, ts.serialize_cdr(hdg, "std_msgs/msg/Float64"))
+
+
+def read_rosbag_log(src: LogInput) -> NmeaLog:
+    """Read a ROS bag as :func:`gripsense.io.logs.read_log` hands it over (its registry entry):
+    by path when it is a plain file or a bag folder, else from its bytes (:func:`read_rosbag`).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The bag and its options (``columns``, ``time_offset``, ``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and message accounting.
+    """
+    o = src.options
+    return read_rosbag(src.path, None if src.read is None else src.data, columns=o.columns,
+                       time_offset=o.time_offset, strict=o.strict)  # fmt: skip
+
+
+def write_rosbag2_log(
+    epochs: pd.DataFrame,
+    path: Path,
+    *,
+    nmea_lines: list[str] | None = None,
+    steer: pd.DataFrame | None = None,
+) -> str | None:
+    """Write a drive as a ROS 2 bag folder for :func:`gripsense.io.logs.write_log`
+    (:func:`write_rosbag2`).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        The drive's epoch table.
+    path : Path
+        Output folder.
+    nmea_lines : list of str, optional
+        Unused.
+    steer : pandas.DataFrame, optional
+        Unused.
+
+    Returns
+    -------
+    str
+        The ``--columns`` that read the bag back (:data:`ROSBAG2_COLUMNS`).
+    """
+    write_rosbag2(epochs, path)
+    return ROSBAG2_COLUMNS

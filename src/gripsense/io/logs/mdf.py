@@ -2,10 +2,10 @@
 
 The channels ``--columns`` names are read with :mod:`asammdf` (``MDF.get``) with the unit the
 file states for each (overridable after a colon), and a steering channel whose name and unit say
-what it is (``RoadWheelAngle`` [deg], :func:`gripsense.io.channels.recognise_steering`) when
+what it is (``RoadWheelAngle`` [deg], :func:`gripsense.io.logs.channels.recognise_steering`) when
 ``--columns`` maps none; they are put on the heading channel's time
 base by linear interpolation (angles unwrapped, nothing across a channel's gaps; see
-:func:`gripsense.io.channels.resample`). Times are absolute from the file's start time
+:func:`gripsense.io.logs.channels.resample`). Times are absolute from the file's start time
 (``HD`` block), or from ``--time-offset``. Channels not mapped are not read.
 """
 
@@ -24,12 +24,22 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, add_steering, parse_channel_spec
-from gripsense.io.formats import require
-from gripsense.io.measurement import log_from_channels, missing_channel
-from gripsense.io.nmea.reader import NmeaLog
+from gripsense.io.logs.channels import Channel, add_steering, parse_channel_spec
+from gripsense.io.logs.formats import require
+from gripsense.io.logs.measurement import log_from_channels, missing_channel
+from gripsense.io.logs.nmea.reader import NmeaLog
+from gripsense.io.logs.options import LogInput
 
-__all__ = ["MDF_CHANNELS", "mdf_columns", "read_mdf", "write_mdf"]
+__all__ = [
+    "MDF_CHANNELS",
+    "is_mdf",
+    "mdf_columns",
+    "mdf_example_columns",
+    "read_mdf",
+    "read_mdf_log",
+    "write_mdf",
+    "write_mdf_log",
+]
 
 MDF_CHANNELS = {
     "heading": ("GNSS_TrueHeading", "deg"),
@@ -58,7 +68,7 @@ def read_mdf(
 
     A file of raw CAN frames (ASAM bus logging: ``CAN_DataFrame`` groups of CANedge, Vector
     and other loggers) is decoded with *dbc*, the way a BLF or ASC log is
-    (:func:`gripsense.io.canlog.decode_frames`).
+    (:func:`gripsense.io.logs.canlog.decode_frames`).
 
     Parameters
     ----------
@@ -67,7 +77,7 @@ def read_mdf(
     data : bytes, optional
         Its (decompressed) content, when already read.
     columns : str or dict
-        ``heading=…,course=…,speed=…[,steer=…:deg,torque=…:Nm]`` (:mod:`gripsense.io.channels`).
+        ``heading=…,course=…,speed=…[,steer=…:deg,torque=…:Nm]`` (:mod:`.channels`).
     time_offset : float, optional
         Seconds since 1970 UTC of the file's time zero, replacing its start time [s].
     strict : bool
@@ -86,7 +96,7 @@ def read_mdf(
         raise InputError(f"{name}: give the channels with --columns (heading=…,course=…,speed=…)")
     plan = None
     if dbc is not None:
-        from gripsense.io.canlog import plan_signals
+        from gripsense.io.logs.canlog import plan_signals
 
         plan = plan_signals(name, dbc, columns)
     src = io.BytesIO(data) if data is not None else str(path)
@@ -114,7 +124,7 @@ def read_mdf(
         shutil.rmtree(scratch, ignore_errors=True)
     start_s = start.timestamp()
     if plan is not None and bus:
-        from gripsense.io.canlog import decode_frames
+        from gripsense.io.logs.canlog import decode_frames
 
         return decode_frames(name, got, plan, fmt_name="MDF4 (CAN frames)", start_s=start_s,
                              time_offset=time_offset, strict=strict)  # fmt: skip
@@ -224,9 +234,9 @@ def _not_numbers(v: np.ndarray) -> str:
 
 def _bus_frames(mdf, name: str, bus: dict, strict: bool):
     """The CAN frames of an MDF4 bus log's ``CAN_DataFrame`` groups as arrays, in time order
-    (:class:`gripsense.io.canlog.FrameColumns`); remote and error frames counted as ignored.
+    (:class:`gripsense.io.logs.canlog.FrameColumns`); remote and error frames counted as ignored.
     """
-    from gripsense.io.canlog import CanFrames, FrameColumns
+    from gripsense.io.logs.canlog import CanFrames, FrameColumns
 
     _check_records(mdf, name, {g: None for g in bus})
     out = CanFrames([])
@@ -434,3 +444,81 @@ def write_mdf(
             mdf.append([asammdf.Signal(x[ok], ts, name=n, unit=u)], comment=key)
     mdf.save(str(path), overwrite=True)
     mdf.close()
+
+
+def is_mdf(head: bytes) -> bool:
+    """Whether a file is MDF4 from its first bytes: the ``MDF     `` identification block (or
+    ``UnFinMF `` of a file its logger did not finalise).
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes (decompressed).
+
+    Returns
+    -------
+    bool
+    """
+    return head.startswith(b"MDF     ") or head.startswith(b"UnFinMF ")
+
+
+def mdf_example_columns() -> str:
+    """The ``--columns`` that read gripsense's own MDF4 files, as an example a user can try.
+
+    Returns
+    -------
+    str
+        ``--columns heading=…,course=…,speed=… (…)``.
+    """
+    cols = ",".join(f"{k}={MDF_CHANNELS[k][0]}" for k in ("heading", "course", "speed"))
+    return f"--columns {cols} (the channels of gripsense simulate --format mf4)"
+
+
+def read_mdf_log(src: LogInput) -> NmeaLog:
+    """Read an MDF4 file as :func:`gripsense.io.logs.read_log` hands it over (its registry
+    entry): by path when it is a plain file, else from its bytes (:func:`read_mdf`).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log and its options (``columns``, ``time_offset``, ``strict``, ``dbc``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and channel accounting.
+    """
+    o = src.options
+    return read_mdf(src.path, None if src.read is None else src.data, columns=o.columns,
+                    time_offset=o.time_offset, strict=o.strict, dbc=o.dbc)  # fmt: skip
+
+
+def write_mdf_log(
+    epochs: pd.DataFrame,
+    path: Path,
+    *,
+    nmea_lines: list[str] | None = None,
+    steer: pd.DataFrame | None = None,
+) -> str | None:
+    """Write a drive as MDF4 for :func:`gripsense.io.logs.write_log` (:func:`write_mdf`).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        The drive's epoch table.
+    path : Path
+        Output file.
+    nmea_lines : list of str, optional
+        Unused.
+    steer : pandas.DataFrame, optional
+        ``t_s``, ``road_wheel_deg`` (and ``torque_Nm``): channels written inside.
+
+    Returns
+    -------
+    str
+        The ``--columns`` that read the file back (:func:`mdf_columns`).
+    """
+    write_mdf(epochs, path, steer=steer)
+    return mdf_columns(
+        steering=steer is not None, torque=steer is not None and "torque_Nm" in steer
+    )

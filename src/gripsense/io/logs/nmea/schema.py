@@ -1,8 +1,8 @@
 """What gripsense reads from NMEA 0183: sentence layouts, field kinds and reject reasons.
 
-Both tokenizers (the per-line reference in :mod:`gripsense.io.nmea.reference` and the vectorised
-production path in :mod:`gripsense.io.nmea.fast`) read this one table, so they cannot disagree about
-which field holds what.
+Both tokenizers (the per-line reference in :mod:`gripsense.io.logs.nmea.reference` and the
+vectorised production path in :mod:`gripsense.io.logs.nmea.fast`) read this one table, so they
+cannot disagree about which field holds what.
 
 Field numbers count the comma-separated fields after the address field (``$GPGGA`` is field 0,
 the UTC time is field 1). For sub-typed proprietary sentences (``$PSAT,HPR``, ``$PSTI,036``,

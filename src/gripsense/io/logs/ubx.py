@@ -42,10 +42,11 @@ import numpy as np
 import pandas as pd
 from numba import njit
 
-from gripsense.io.epoch_table import build_epochs
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import NmeaLog, read_nmea
-from gripsense.io.nmea.schema import BAD_CHECKSUM, MALFORMED, REASONS, TRUNCATED
+from gripsense.io.logs.epoch_table import build_epochs
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.reader import NmeaLog, read_nmea
+from gripsense.io.logs.nmea.schema import BAD_CHECKSUM, MALFORMED, REASONS, TRUNCATED
+from gripsense.io.logs.options import LogInput
 
 __all__ = [
     "MESSAGES",
@@ -53,8 +54,10 @@ __all__ = [
     "account_frames",
     "is_ubx",
     "parse_ubx",
+    "read_ubx_log",
     "scan_frames",
     "write_ubx",
+    "write_ubx_log",
 ]
 
 SYNC = b"\xb5\x62"
@@ -733,7 +736,7 @@ def write_ubx(
     heading_acc_deg : float
         The heading accuracy the frames state [deg].
     """
-    from gripsense.io.formats import require
+    from gripsense.io.logs.formats import require
 
     pyubx2 = require("pyubx2", "writing UBX")
     t = pd.DatetimeIndex(epochs["time_utc"])
@@ -772,3 +775,49 @@ def write_ubx(
         if per and nmea_lines is not None:
             out += "".join(s + "\r\n" for s in nmea_lines[k * per : (k + 1) * per]).encode()
     Path(path).write_bytes(bytes(out))
+
+
+def read_ubx_log(src: LogInput) -> NmeaLog:
+    """Read a UBX log as :func:`gripsense.io.logs.read_log` hands it over (its registry entry).
+
+    Parameters
+    ----------
+    src : gripsense.io.logs.options.LogInput
+        The log's bytes, name and options (``strict``).
+
+    Returns
+    -------
+    NmeaLog
+        Epoch table and frame accounting (:func:`parse_ubx`).
+    """
+    return parse_ubx(src.data, src.name, strict=src.options.strict)
+
+
+def write_ubx_log(
+    epochs: pd.DataFrame,
+    path: Path,
+    *,
+    nmea_lines: list[str] | None = None,
+    steer: pd.DataFrame | None = None,
+) -> str | None:
+    """Write a drive as UBX for :func:`gripsense.io.logs.write_log` (:func:`write_ubx`; no
+    steering channel: UBX carries none).
+
+    Parameters
+    ----------
+    epochs : pandas.DataFrame
+        The drive's epoch table.
+    path : Path
+        Output file.
+    nmea_lines : list of str, optional
+        NMEA sentences interleaved as a receiver sends them.
+    steer : pandas.DataFrame, optional
+        Unused.
+
+    Returns
+    -------
+    None
+        No ``--columns`` are needed to read it back.
+    """
+    write_ubx(epochs, path, nmea_lines=nmea_lines)
+    return None

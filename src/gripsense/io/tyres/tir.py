@@ -27,7 +27,7 @@ from typing import IO
 
 from gripsense.errors import InputError
 from gripsense.io.text import InputStream
-from gripsense.io.tir_keys import CHECKED_KEYS
+from gripsense.io.tyres.tir_keys import CHECKED_KEYS
 
 __all__ = ["MAX_TIR_BYTES", "TirError", "TirFile", "read_tir", "write_tir"]
 

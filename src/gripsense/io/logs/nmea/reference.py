@@ -1,6 +1,6 @@
 """Reference NMEA 0183 tokenizer: one line at a time, in plain Python.
 
-It defines what a valid line is; the vectorised tokenizer (:mod:`gripsense.io.nmea.fast`) must
+It defines what a valid line is; the vectorised tokenizer (:mod:`gripsense.io.logs.nmea.fast`) must
 give identical results, which the test suite checks on real logs and on fuzzed input. It is
 also used to word the details of rejected lines.
 
@@ -31,8 +31,8 @@ import re
 
 import numpy as np
 
-from gripsense.io.nmea import schema as S
-from gripsense.io.nmea.tokens import (
+from gripsense.io.logs.nmea import schema as S
+from gripsense.io.logs.nmea.tokens import (
     IGNORED,
     PARSED,
     REJECTED,

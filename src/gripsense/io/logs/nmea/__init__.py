@@ -4,8 +4,8 @@
 the grouping rule.
 """
 
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.align import Alignment, align_channels
-from gripsense.io.nmea.reader import NmeaLog, read_nmea
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.align import Alignment, align_channels
+from gripsense.io.logs.nmea.reader import NmeaLog, read_nmea
 
 __all__ = ["Alignment", "IngestReport", "NmeaLog", "RejectedLine", "align_channels", "read_nmea"]

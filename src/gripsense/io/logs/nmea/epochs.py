@@ -55,8 +55,8 @@ import numpy as np
 import pandas as pd
 from numba import njit
 
-from gripsense.io.nmea.schema import SENTENCES
-from gripsense.io.sources import HEADING_SOURCES, YAW_RATE_SOURCES
+from gripsense.io.logs.nmea.schema import SENTENCES
+from gripsense.io.logs.sources import HEADING_SOURCES, YAW_RATE_SOURCES
 
 __all__ = [
     "EPOCH_COLUMNS",
@@ -512,7 +512,7 @@ def assemble_epochs(
     ----------
     tables : dict
         Type key -> column name -> array of the decoded sentences (see
-        :func:`gripsense.io.nmea.decode.decode_all`).
+        :func:`gripsense.io.logs.nmea.decode.decode_all`).
 
     Returns
     -------

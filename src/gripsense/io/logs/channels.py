@@ -612,7 +612,7 @@ def add_steering(
     steering : dict
         ``key``, ``channel``, ``unit`` (the file's) and ``source`` (``--columns`` or ``name and
         unit``) of the steering channel read; empty when the log gives none
-        (:attr:`gripsense.io.nmea.accounting.IngestReport.steering`).
+        (:attr:`gripsense.io.logs.nmea.accounting.IngestReport.steering`).
     notes : list of str
         What the ingest report should say about steering channels found or not used.
     """

@@ -1,8 +1,8 @@
 """Measurement logs with named channels (MDF4, CAN): mapped channels -> the epoch table.
 
-Shared by :mod:`gripsense.io.mdf` and :mod:`gripsense.io.canlog`: the mapped channels are put
-on the heading channel's time base (:func:`gripsense.io.channels.channels_to_epochs`), the
-time made absolute (the file's start time, or ``--time-offset``) and every sample accounted
+Shared by :mod:`gripsense.io.logs.mdf` and :mod:`gripsense.io.logs.canlog`: the mapped channels
+are put on the heading channel's time base (:func:`.channels.channels_to_epochs`), the time
+made absolute (the file's start time, or ``--time-offset``) and every sample accounted
 for.
 """
 
@@ -12,11 +12,11 @@ import numpy as np
 import pandas as pd
 
 from gripsense.errors import InputError
-from gripsense.io.channels import Channel, ChannelSpec, channels_to_epochs
-from gripsense.io.epoch_table import build_epochs
-from gripsense.io.nmea.accounting import IngestReport, RejectedLine
-from gripsense.io.nmea.reader import NmeaLog
-from gripsense.io.nmea.schema import MALFORMED, REASONS
+from gripsense.io.logs.channels import Channel, ChannelSpec, channels_to_epochs
+from gripsense.io.logs.epoch_table import build_epochs
+from gripsense.io.logs.nmea.accounting import IngestReport, RejectedLine
+from gripsense.io.logs.nmea.reader import NmeaLog
+from gripsense.io.logs.nmea.schema import MALFORMED, REASONS
 
 __all__ = ["log_from_channels", "missing_channel"]
 
@@ -41,9 +41,9 @@ def log_from_channels(
     Parameters
     ----------
     mapped : dict
-        Key -> :class:`~gripsense.io.channels.ChannelSpec` (``--columns``).
+        Key -> :class:`~gripsense.io.logs.channels.ChannelSpec` (``--columns``).
     found : dict
-        Key -> decoded :class:`~gripsense.io.channels.Channel`.
+        Key -> decoded :class:`~gripsense.io.logs.channels.Channel`.
     name : str
         File, for messages.
     fmt : str
