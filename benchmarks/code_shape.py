@@ -4,6 +4,8 @@ Prints the counts a maintainer looks at before and after a restructuring:
 
 * rooms (top-level parts of the package) and floors (their layers in
   ``tests/test_architecture.py``), imports that run back up, package-level circles;
+* the rooms of ``io`` (logs, tyres, sensors, output folder; the shared leaves beside them) and
+  imports from one into another it may not use;
 * modules over 500 lines and functions over 100 lines (in all, and of code: docstrings,
   comments and blank lines not counted);
 * branches on an estimator's name (a comparison of ``method`` with one of
@@ -106,8 +108,16 @@ def main(argv: list[str] | None = None) -> int:
     private = arch.private_crossings()
     back, circles = arch.upward_imports(), arch.package_cycles()
     rooms = [p for p in arch.LAYERS if not p.startswith("_") and p != "__init__"]
+    io_rooms = sorted(set(arch.IO_MAY_USE) - arch.IO_LEAVES)
+    crossings = arch.io_room_crossings()
     rows = [
         ("rooms", len(rooms), []),
+        (
+            "rooms of io (+ shared leaves)",
+            f"{len(io_rooms)} (+ {len(arch.IO_LEAVES)})",
+            [*io_rooms, *(f"{leaf} (shared leaf)" for leaf in sorted(arch.IO_LEAVES))],
+        ),
+        ("io room crossings", len(crossings), crossings),
         ("floors", len(set(arch.LAYERS.values())), []),
         ("imports back up", len(back), back),
         ("package circles", len(circles), circles),

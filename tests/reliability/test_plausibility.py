@@ -307,7 +307,7 @@ def test_a_log_channel_on_another_clock_is_one_line(tmp_path):
     from gripsense.errors import InputError
     from gripsense.io.logs import read_log
     from gripsense.io.logs.mdf import mdf_columns, write_mdf
-    from tests.io.test_measurement_logs import _epochs, _steer
+    from tests.io.logs.test_measurement_logs import _epochs, _steer
 
     ep = _epochs()
     st_ = _steer(ep)

@@ -9,7 +9,7 @@ import numpy as np
 from gripsense.io.logs import log_steer, read_log
 from gripsense.io.logs.canlog import write_can
 from gripsense.io.logs.mdf import mdf_columns
-from tests.io.test_measurement_logs import CAN_COLUMNS, DBC, _epochs, _steer
+from tests.io.logs.test_measurement_logs import CAN_COLUMNS, DBC, _epochs, _steer
 
 
 def test_the_simulated_vbo_gives_its_road_wheel_angle_unmapped(simulated):

@@ -24,7 +24,7 @@ from gripsense import InputError, read_nmea
 from gripsense.io.logs.nmea.rtcm import RtcmStream, split_rtcm
 from gripsense.live import LiveIngest
 
-DATA = Path(__file__).parents[1] / "data" / "formats" / "nmea"
+DATA = Path(__file__).parents[2] / "data" / "formats" / "nmea"
 AC12 = DATA / "ashtech-ac12.log"
 SIZE = {b"MCA": 37, b"PBN": 56}  # Ashtech DG14/DG16 and Z-Family manuals: structure + checksum
 

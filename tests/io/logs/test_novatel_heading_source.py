@@ -18,9 +18,9 @@ import gripsense.io.logs.sources as sources
 from gripsense.io import read_nmea
 from gripsense.io.logs.novatel import parse_novatel
 from gripsense.io.logs.sources import HEADING_SOURCES
-from tests.io.test_novatel import _manual_crc
+from tests.io.logs.test_novatel import _manual_crc
 
-DRIVERS = Path(__file__).resolve().parents[1] / "data" / "formats" / "novatel" / "driver_lines.asc"
+DRIVERS = Path(__file__).resolve().parents[2] / "data" / "formats" / "novatel" / "driver_lines.asc"
 # body field of the heading: HEADING/HEADING2/DUALANTENNAHEADING (sol, pos type, length,
 # heading …) and INSPVA/INSPVAS (week, seconds, lat, lon, height, vn, ve, vu, roll, pitch, azimuth)
 HEADING_FIELD = {"HEADING2": 3, "DUALANTENNAHEADING": 3, "INSPVA": 10, "INSPVAS": 10}

@@ -26,7 +26,7 @@ from gripsense.io.logs.nmea.rtcm import crc24q, split_rtcm
 from tests.conftest import GPSD_LOGS
 from tests.nmea_helpers import sentence
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
+DATA = Path(__file__).resolve().parents[2] / "data" / "formats" / "nmea"
 ENGINES = ["fast", "reference"]
 
 
@@ -384,7 +384,7 @@ def test_without_checksums_fast_equals_reference_and_the_checksummed_read():
 
     from gripsense.io.logs.nmea.fast import tokenize_fast
     from gripsense.io.logs.nmea.reference import tokenize_reference
-    from tests.io.test_nmea_fuzz import assert_same_tokens
+    from tests.io.logs.test_nmea_fuzz import assert_same_tokens
 
     for p in GPSD_LOGS:
         data = p.read_bytes()

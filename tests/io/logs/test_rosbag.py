@@ -26,7 +26,7 @@ from gripsense.io.logs import detect_format, read_log
 from gripsense.io.logs.rosbag import is_rosbag
 from tests.cli.inprocess import cli
 
-ROS = Path(__file__).resolve().parents[1] / "data" / "formats" / "ros"
+ROS = Path(__file__).resolve().parents[2] / "data" / "formats" / "ros"
 
 
 def _novatel(path: Path, msg_id: int) -> list[bytes]:

@@ -19,7 +19,7 @@ from gripsense.io import read_log, read_nmea
 from gripsense.io.logs import detect_format
 from gripsense.io.logs.novatel import crc32, gps_to_utc, is_novatel, parse_novatel, write_novatel
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "novatel"
+DATA = Path(__file__).resolve().parents[2] / "data" / "formats" / "novatel"
 STARTUP = DATA / "edie_startup.asc"  # an OEM7 receiver's first 15 s: TIMEA + BESTPOSA at 1 Hz
 DRIVERS = DATA / "driver_lines.asc"  # BESTPOS, HEADING2, DUALANTENNAHEADING, INSPVA(S) lines
 

@@ -23,7 +23,7 @@ from gripsense.io.logs import read_log
 
 pytest.importorskip("rosbags")
 
-ROS = Path(__file__).resolve().parents[1] / "data" / "formats" / "ros"
+ROS = Path(__file__).resolve().parents[2] / "data" / "formats" / "ros"
 MSGS = ROS / "novatel_oem7_msgs"
 ALIGN2, BESTPOS2 = ROS / "novatel_align.db3", ROS / "novatel_bestpos.db3"
 

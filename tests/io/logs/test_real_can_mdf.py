@@ -259,7 +259,7 @@ def test_only_the_channels_read_are_judged(tmp_path):
     import struct
 
     from gripsense.io.logs.mdf import mdf_columns, write_mdf
-    from tests.io.test_measurement_logs import _epochs, _steer
+    from tests.io.logs.test_measurement_logs import _epochs, _steer
 
     ep = _epochs(20)
     st = _steer(ep)

@@ -11,7 +11,7 @@ import pytest
 from gripsense.errors import InputError
 from gripsense.io.tyres.tir import TirError, TirFile, read_tir, write_tir
 
-TIR_DIR = Path(__file__).parents[1] / "data" / "tyre" / "tir"
+TIR_DIR = Path(__file__).parents[2] / "data" / "tyre" / "tir"
 TIR_FILES = sorted(TIR_DIR.glob("*.tir"))
 
 

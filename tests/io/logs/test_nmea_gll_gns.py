@@ -22,7 +22,7 @@ from gripsense.io import read_nmea
 from gripsense.live import LiveIngest
 from tests.nmea_helpers import sentence
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
+DATA = Path(__file__).resolve().parents[2] / "data" / "formats" / "nmea"
 ENGINES = ["fast", "reference"]
 LOGS = [
     "ericsson-gru04-02-70sec.log",

@@ -16,7 +16,7 @@ from gripsense.io.logs.nmea.fast import tokenize_fast
 from gripsense.io.logs.nmea.reference import tokenize_reference
 from tests.conftest import GPSD_LOGS
 
-FORMATS = Path(__file__).resolve().parents[1] / "data" / "formats" / "nmea"
+FORMATS = Path(__file__).resolve().parents[2] / "data" / "formats" / "nmea"
 REAL = []
 # GPSD's logs, and the proprietary sentences, RTCM-mixed and checksum-less logs of issue 43
 for p in [*GPSD_LOGS, *sorted(FORMATS.glob("*.log"))]:

@@ -12,7 +12,7 @@ from gripsense.io.logs import read_log
 from gripsense.io.logs.canlog import write_can
 from gripsense.io.logs.mdf import write_mdf
 from tests.conftest import DATA
-from tests.io.test_measurement_logs import _epochs
+from tests.io.logs.test_measurement_logs import _epochs
 
 pytest.importorskip("asammdf")
 pytest.importorskip("can")
