@@ -19,6 +19,8 @@ rejected bucket.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from gripsense.io.logs.nmea.schema import MODE_QUALITY, SENTENCES
@@ -122,32 +124,7 @@ def _decode_one(
     if "time" in r:
         c["tod_s"], b = _tod(r["time"])
         flag(b, "time")
-    no_fix = np.zeros(n, dtype=bool)
-    if key == "GLL":
-        # a position only with status A and a mode that is a fix letter (not N) or absent
-        # (NMEA before 2.3); an unknown letter is no fix
-        quality = _MODE_Q[r["mode"]]
-        no_fix = (r["status"] != ord("A")) | (quality == 0) | ((r["mode"] > 0) & np.isnan(quality))
-        c["fix_quality"] = np.where(no_fix, 0.0, quality)
-    elif key == "GNS":
-        # no fix when every mode letter is N (or the mode field is empty)
-        no_fix = ~(r["mode"] > 0)
-        c["fix_quality"] = r["mode"]
-    if key in ("GGA", "RMC", "GLL", "GNS"):
-        # a receiver without a fix (GGA quality 0, RMC status V …) may send a placeholder
-        # position (MediaTek: 8960.000000,N — minute 60): not a malformed sentence, no position
-        if key in ("GGA", "RMC"):
-            no_fix = r["quality"] == 0 if key == "GGA" else r["status"] == ord("V")
-        for name, f, neg, pos, lim in (
-            ("lat", "lat", "S", "N", 90.0),
-            ("lon", "lon", "W", "E", 180.0),
-        ):
-            hemi = r["ns"] if f == "lat" else r["ew"]
-            c[f"{name}_deg"], b = _latlon(r[f], hemi, neg, pos, lim)
-            c[f"{name}_deg"][b & no_fix] = np.nan
-            flag(b & ~no_fix, name)
-            if key in ("GLL", "GNS"):  # GGA's and RMC's flags are applied per epoch
-                c[f"{name}_deg"][no_fix] = np.nan
+    no_fix = _position(key, r, c, flag)
     if key == "GGA":
         c["fix_quality"] = r["quality"]
         c["n_sats"] = r["n_sats"]
@@ -224,6 +201,43 @@ def _decode_one(
     # row -> the field of its first failed check
     why = {i: next(nm for m, nm in checks if m[i]) for i in np.flatnonzero(bad).tolist()}
     return c, bad, why
+
+
+def _position(
+    key: str, r: dict[str, np.ndarray], c: dict[str, np.ndarray], flag: Callable
+) -> np.ndarray:
+    """The position columns of a GGA, RMC, GLL or GNS table into *c* (a field that does not
+    read is flagged through *flag*, unless the sentence says it has no fix); returns which
+    rows say they have no fix (:func:`_decode_one`).
+    """
+    n = r["line"].size
+    no_fix = np.zeros(n, dtype=bool)
+    if key == "GLL":
+        # a position only with status A and a mode that is a fix letter (not N) or absent
+        # (NMEA before 2.3); an unknown letter is no fix
+        quality = _MODE_Q[r["mode"]]
+        no_fix = (r["status"] != ord("A")) | (quality == 0) | ((r["mode"] > 0) & np.isnan(quality))
+        c["fix_quality"] = np.where(no_fix, 0.0, quality)
+    elif key == "GNS":
+        # no fix when every mode letter is N (or the mode field is empty)
+        no_fix = ~(r["mode"] > 0)
+        c["fix_quality"] = r["mode"]
+    if key in ("GGA", "RMC", "GLL", "GNS"):
+        # a receiver without a fix (GGA quality 0, RMC status V …) may send a placeholder
+        # position (MediaTek: 8960.000000,N — minute 60): not a malformed sentence, no position
+        if key in ("GGA", "RMC"):
+            no_fix = r["quality"] == 0 if key == "GGA" else r["status"] == ord("V")
+        for name, f, neg, pos, lim in (
+            ("lat", "lat", "S", "N", 90.0),
+            ("lon", "lon", "W", "E", 180.0),
+        ):
+            hemi = r["ns"] if f == "lat" else r["ew"]
+            c[f"{name}_deg"], b = _latlon(r[f], hemi, neg, pos, lim)
+            c[f"{name}_deg"][b & no_fix] = np.nan
+            flag(b & ~no_fix, name)
+            if key in ("GLL", "GNS"):  # GGA's and RMC's flags are applied per epoch
+                c[f"{name}_deg"][no_fix] = np.nan
+    return no_fix
 
 
 def decode_all(

@@ -526,32 +526,7 @@ def assemble_epochs(
     """
     keys = list(SENTENCES)
     size = {k: tables[k]["line"].size for k in keys}
-    # sentences in line order: a counting sort by line (lines are distinct and < n_lines)
-    n_lines = 1 + max((int(t["line"].max()) for t in tables.values() if t["line"].size), default=-1)
-    kind_at = np.full(n_lines, -1, dtype=np.int64)
-    tod_at = np.full(n_lines, np.nan)
-    lines_of = {k: tables[k]["line"] for k in keys}
-    repeated = np.zeros(n_lines, dtype=bool)
-    empty_at = np.zeros(n_lines, dtype=bool)
-    for code, k in enumerate(keys):
-        kind_at[lines_of[k]] = code
-        if "tod_s" in tables[k]:
-            tod_at[lines_of[k]] = tables[k]["tod_s"]
-        repeated[lines_of[k][_repeats(tables[k])]] = True
-        empty_at[lines_of[k][_empty(tables[k])]] = True
-    # a sentence that repeats the line before it verbatim (a logger writing each sentence
-    # twice) is the same measurement: it joins its original's epoch instead of starting one
-    kind_at[repeated] = -1
-    # a sentence without any value (``$IIHDT,,T`` sent twice per cycle) must not split a cycle
-    tod_e = np.empty(sum(size.values()))
-    kind0 = kind_at.copy()
-    n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
-    n_same = np.zeros(1, dtype=np.int64)
-    n_ep = int(_merge_kernel(kind_at, kind0, empty_at, tod_e, n_ep, n_same))
-    tod_e = tod_e[:n_ep]
-    eid_at = np.maximum.accumulate(kind_at) if n_lines else kind_at  # line -> epoch
-
-    epoch_of: dict[str, np.ndarray] = {k: eid_at[lines_of[k]] for k in keys}
+    n_ep, tod_e, epoch_of, n_repeated, n_same = _group_lines(tables, keys, size)
 
     def col(k: str, name: str, use: np.ndarray | None = None) -> np.ndarray | None:
         """Per-epoch values of one column of one sentence type (None if the type is absent)."""
@@ -644,30 +619,90 @@ def assemble_epochs(
     ep["heading_deg"] = heading
     ep["heading_source"] = pd.Categorical.from_codes(source, categories=HEADING_SOURCES)
 
-    # dates and times
     timed = ~np.isnan(tod_e)
-    abs_s = np.empty(n_ep)
-    has_date = bool(_seconds_kernel(tod_e, day, abs_s))
-    ns = np.round(abs_s * 1e9)
-    ns[np.isnan(abs_s) | (not has_date)] = np.iinfo(np.int64).min  # NaT (without a date: all)
-    time_utc = pd.DatetimeIndex(ns.astype(np.int64).view("M8[ns]")).tz_localize("UTC")
-    first = np.flatnonzero(~np.isnan(abs_s))
-    t_s = abs_s - abs_s[first[0]] if first.size else abs_s
-    ep["time_utc"] = time_utc
+    ep["time_utc"], t_s, has_date = _epoch_times(tod_e, day)
     ep["t_s"] = t_s
-
-    yaw = -rot * ROT_TO_RPS
-    ysrc = np.zeros(n_ep, dtype=np.int8)
-    if np.isnan(rot).any():
-        yaw_from_heading(t_s, heading, yaw, ysrc)
-    ep["yaw_rate_rps"] = yaw
+    ep["yaw_rate_rps"], ysrc = _yaw_rate(rot, t_s, heading)
     ep["yaw_rate_source"] = pd.Categorical.from_codes(ysrc, categories=YAW_RATE_SOURCES)
 
     df = pd.DataFrame({c: ep[c] for c in EPOCH_COLUMNS}, copy=False)
     notes = {
         "epochs_without_time": int((~timed).sum()),
         "has_date": has_date,
-        "repeated_sentences": int(repeated.sum()),
-        "same_time_merged": int(n_same[0]),
+        "repeated_sentences": n_repeated,
+        "same_time_merged": n_same,
     }
     return df, epoch_of, notes
+
+
+def _group_lines(
+    tables: dict[str, dict[str, np.ndarray]], keys: list[str], size: dict[str, int]
+) -> tuple[int, np.ndarray, dict[str, np.ndarray], int, int]:
+    """Decoded sentences grouped into epochs, in line order (:func:`assemble_epochs`).
+
+    Returns
+    -------
+    tuple
+        Number of epochs, time of day of each [s], the epoch of each sentence per type, the
+        number of sentences that repeat the line before them, the number of epochs joined to
+        the one before them for having its time.
+    """
+    # sentences in line order: a counting sort by line (lines are distinct and < n_lines)
+    n_lines = 1 + max((int(t["line"].max()) for t in tables.values() if t["line"].size), default=-1)
+    kind_at = np.full(n_lines, -1, dtype=np.int64)
+    tod_at = np.full(n_lines, np.nan)
+    lines_of = {k: tables[k]["line"] for k in keys}
+    repeated = np.zeros(n_lines, dtype=bool)
+    empty_at = np.zeros(n_lines, dtype=bool)
+    for code, k in enumerate(keys):
+        kind_at[lines_of[k]] = code
+        if "tod_s" in tables[k]:
+            tod_at[lines_of[k]] = tables[k]["tod_s"]
+        repeated[lines_of[k][_repeats(tables[k])]] = True
+        empty_at[lines_of[k][_empty(tables[k])]] = True
+    # a sentence that repeats the line before it verbatim (a logger writing each sentence
+    # twice) is the same measurement: it joins its original's epoch instead of starting one
+    kind_at[repeated] = -1
+    # a sentence without any value (``$IIHDT,,T`` sent twice per cycle) must not split a cycle
+    tod_e = np.empty(sum(size.values()))
+    kind0 = kind_at.copy()
+    n_ep = int(_group_kernel(kind_at, tod_at, tod_e))
+    n_same = np.zeros(1, dtype=np.int64)
+    n_ep = int(_merge_kernel(kind_at, kind0, empty_at, tod_e, n_ep, n_same))
+    tod_e = tod_e[:n_ep]
+    eid_at = np.maximum.accumulate(kind_at) if n_lines else kind_at  # line -> epoch
+
+    epoch_of: dict[str, np.ndarray] = {k: eid_at[lines_of[k]] for k in keys}
+    return n_ep, tod_e, epoch_of, int(repeated.sum()), int(n_same[0])
+
+
+def _yaw_rate(
+    rot: np.ndarray, t_s: np.ndarray, heading: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """ISO yaw rate per epoch [rad/s] and its source code (:data:`YAW_RATE_SOURCES`): the
+    receiver's ROT, else differenced from the heading (:func:`assemble_epochs`).
+    """
+    yaw = -rot * ROT_TO_RPS
+    ysrc = np.zeros(rot.size, dtype=np.int8)
+    if np.isnan(rot).any():
+        yaw_from_heading(t_s, heading, yaw, ysrc)
+    return yaw, ysrc
+
+
+def _epoch_times(tod_e: np.ndarray, day: np.ndarray) -> tuple[pd.DatetimeIndex, np.ndarray, bool]:
+    """UTC time and seconds from the first timed epoch, from each epoch's time of day and day
+    number (:func:`assemble_epochs`); without any date every UTC time is NaT.
+
+    Returns
+    -------
+    tuple
+        ``time_utc``, ``t_s`` [s] and whether the log carries a date.
+    """
+    abs_s = np.empty(tod_e.size)
+    has_date = bool(_seconds_kernel(tod_e, day, abs_s))
+    ns = np.round(abs_s * 1e9)
+    ns[np.isnan(abs_s) | (not has_date)] = np.iinfo(np.int64).min  # NaT (without a date: all)
+    time_utc = pd.DatetimeIndex(ns.astype(np.int64).view("M8[ns]")).tz_localize("UTC")
+    first = np.flatnonzero(~np.isnan(abs_s))
+    t_s = abs_s - abs_s[first[0]] if first.size else abs_s
+    return time_utc, t_s, has_date

@@ -97,6 +97,12 @@ def scan_buffer(buf, max_address, code, dpos, limit, nfields, junk, addr, sub):
     One forward pass finds the line end, the last ``*`` and the sentence start; the body is
     read again (checksum, printable bytes, commas) only when the address and the checksum's
     form are valid — binary lines stop before that.
+
+    One function of 117 lines of code on purpose (issue 44 allows a compiled kernel over 100
+    when splitting costs speed): split into inlined helpers (the line end, the address, the
+    first field, the checksum's form) it gave the same arrays on every bundled NMEA log and
+    fuzzed copies, but scanned 1 M lines (``rst39.log`` replicated, 71 MB) 5–15 % slower at
+    best of 31 alternated runs (143 → 165 ms and 172 → 181 ms; medians 4–7 %), 2026-11-27.
     """
     nb = buf.size
     i = 0

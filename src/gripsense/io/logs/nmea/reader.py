@@ -327,19 +327,8 @@ def read_nmea(
         tok.reject(lines, S.MALFORMED, [d for _, d in malformed])
     rej = np.flatnonzero(tok.outcome == REJECTED)
     bad_frames = np.flatnonzero(~rtcm.good) if rtcm is not None else np.zeros(0, dtype=np.int64)
-    if strict and rtcm is not None and bad_frames.size:
-        k = int(bad_frames[0])
-        raise InputError(
-            f"{name}: byte {rtcm.start[k]}: {frame_detail(rtcm, k)} (strict mode; drop "
-            "--strict to count such frames instead)"
-        )
-    if strict and rej.size:
-        i = int(rej[0])
-        detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i], no_checksum)[2]
-        raise InputError(
-            f"{name}:{no(i)}: {tok.names[tok.code[i]]}: {detail} "
-            "(strict mode; drop --strict to count such lines instead)"
-        )
+    if strict:
+        _stop_at_first_reject(name, data, tok, rej, rtcm, bad_frames, no_checksum, no)
     epochs, epoch_of, notes = assemble_epochs(tables)
 
     sentences: dict[str, pd.DataFrame] = {}
@@ -391,33 +380,52 @@ def read_nmea(
         epochs_without_time=notes["epochs_without_time"],
         has_date=notes["has_date"],
         notes=list(inp.notes or [])
-        + (
-            [
-                f"{notes['repeated_sentences']} sentences repeat the line before them exactly "
-                "(a logger writing each twice): each counted once"
-            ]
-            if notes.get("repeated_sentences")
-            else []
-        )
-        + (
-            [
-                "no sentence of the log carries a '*hh' checksum (its talker sends none): "
-                f"{int(sum(parsed.values()))} sentences read unverified — a line cut short "
-                "cannot be told from a whole one"
-            ]
-            if no_checksum
-            else []
-        )
-        + (
-            [
-                f"{notes['same_time_merged']} epochs had the time of the epoch before them "
-                "(several talkers reporting one instant, $GP…/$GN…/$GA…, or a logger writing "
-                "an epoch twice): joined to it, each instant counts once"
-            ]
-            if notes.get("same_time_merged")
-            else []
-        )
+        + _assembly_notes(notes, no_checksum, int(sum(parsed.values())))
         + binary_notes(n_frames, rtcm.n_ashtech if rtcm is not None else 0),
         unit="lines and frames" if n_frames else "lines",
     )
     return NmeaLog(epochs=epochs, report=report, sentences=sentences)
+
+
+def _stop_at_first_reject(name, data, tok, rej, rtcm, bad_frames, no_checksum, no) -> None:
+    """Strict mode: raise at the first bad binary frame, else at the first rejected line (its
+    number in the input, its reason and detail); nothing when there is none.
+    """
+    if rtcm is not None and bad_frames.size:
+        k = int(bad_frames[0])
+        raise InputError(
+            f"{name}: byte {rtcm.start[k]}: {frame_detail(rtcm, k)} (strict mode; drop "
+            "--strict to count such frames instead)"
+        )
+    if rej.size:
+        i = int(rej[0])
+        detail = tok.details.get(i) or classify_line(lines_at(data, [i])[i], no_checksum)[2]
+        raise InputError(
+            f"{name}:{no(i)}: {tok.names[tok.code[i]]}: {detail} "
+            "(strict mode; drop --strict to count such lines instead)"
+        )
+
+
+def _assembly_notes(notes: dict, no_checksum: bool, n_parsed: int) -> list[str]:
+    """The report's notes on how the epochs were assembled: repeated sentences counted once, a
+    log without checksums read unverified, epochs of one instant joined.
+    """
+    out = []
+    if notes.get("repeated_sentences"):
+        out.append(
+            f"{notes['repeated_sentences']} sentences repeat the line before them exactly "
+            "(a logger writing each twice): each counted once"
+        )
+    if no_checksum:
+        out.append(
+            "no sentence of the log carries a '*hh' checksum (its talker sends none): "
+            f"{n_parsed} sentences read unverified — a line cut short "
+            "cannot be told from a whole one"
+        )
+    if notes.get("same_time_merged"):
+        out.append(
+            f"{notes['same_time_merged']} epochs had the time of the epoch before them "
+            "(several talkers reporting one instant, $GP…/$GN…/$GA…, or a logger writing "
+            "an epoch twice): joined to it, each instant counts once"
+        )
+    return out
