@@ -155,8 +155,8 @@ def fit_tyre_table(
     wheel: str | None = None,
     **kwargs,
 ) -> TyreFit:
-    """Fit a table as :func:`gripsense.io.tyre_table.read_tyre_table` reads it: measured points
-    with the model's fitter of :data:`FITTERS`, a friction run's wheel table with
+    """Fit a table as :func:`gripsense.io.tyres.tyre_table.read_tyre_table` reads it: measured
+    points with the model's fitter of :data:`FITTERS`, a friction run's wheel table with
     :func:`fit_from_wheel_table`.
 
     Parameters
