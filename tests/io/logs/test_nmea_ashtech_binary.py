@@ -91,6 +91,18 @@ def test_line_numbers_are_the_files():
     assert rep.first_rejects[0].line == k + 1
 
 
+def test_junk_before_a_record_is_a_line_of_its_own():
+    """Bytes before a record on the same line (a receiver's stray byte) are rejected as a line,
+    and the record after them is still cut out and counted: two units, nothing lost."""
+    data = AC12.read_bytes()
+    a, e, kind = _records(data)[0]
+    for junk in (b"\x00", b"xy"):
+        rep = read_nmea(junk + data[a:e]).report
+        assert rep.ignored[f"Ashtech binary {kind.decode()}"] == 1
+        assert rep.rejected["not NMEA"] == 1 and sum(rep.rejected.values()) == 1
+        assert rep.total_lines == 2 and rep.balanced
+
+
 def test_damaged_record_is_one_bad_checksum_and_strict_names_it():
     data = bytearray(AC12.read_bytes())
     a, _e, _ = _records(bytes(data))[0]  # an MCA
