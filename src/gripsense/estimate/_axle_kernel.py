@@ -90,6 +90,27 @@ def _lookup(tab_f, tab_df, shape, inv_dx, x):
     return f0 + w * (tab_f[shape, i + 1] - f0), d0 + w * (tab_df[shape, i + 1] - d0)
 
 
+@njit(cache=True, nogil=True, inline="always", **_NO_RT)
+def _two_point(tab_f, tab_df, shape, inv_dx, x, hx, f, df, dfx):
+    """The curve's two-point mean over a bin's slip spread *hx* around *x* (both normalised):
+    f, f' and x f' as the means at x ± h (h = min(hx, x): slips of one sign), and the bend
+    |f'(x + hx) − f'(x − hx)| from which the caller takes the Jensen gap two points leave out
+    (docs/physics.md §15.8). Without a spread, the values at x (*f*, *df*, *dfx*). Inlined
+    into :func:`_residuals`.
+    """
+    if not hx > 0.0:
+        return f, df, dfx, 0.0
+    h2 = min(hx, x)
+    f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + h2)
+    f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, x - h2)
+    f2 = 0.5 * (f_p + f_m)
+    df2 = 0.5 * (df_p + df_m)
+    dfx2 = 0.5 * (df_p * (x + h2) + df_m * (x - h2))
+    _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
+    _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
+    return f2, df2, dfx2, abs(df_p - df_m)
+
+
 @njit(cache=True, nogil=True, **_NO_RT)
 def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_out, j_out, jd_out):
     """Residual, variance and Jacobian (globals; the bin's slip offset) of every bin (``pre``:
@@ -160,19 +181,10 @@ def _residuals(mu, th, dl, shape, tab_f, tab_df, inv_dx, b, pre, p0, r_out, v_ou
             # explained (docs/physics.md §15.8).
             f, df = _lookup(tab_f, tab_df, shape, inv_dx, x)
             dfx = df * x
-            f2, df2, dfx2 = f, df, dfx
             hx = cp * (1.0 + t * t) * b[k, 13] / (m_w * fzw)
-            if hx > 0.0:
-                h2 = min(hx, x)
-                f_p, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + h2)
-                f_m, df_m = _lookup(tab_f, tab_df, shape, inv_dx, x - h2)
-                f2 = 0.5 * (f_p + f_m)
-                df2 = 0.5 * (df_p + df_m)
-                dfx2 = 0.5 * (df_p * (x + h2) + df_m * (x - h2))
-                # the Jensen gap ½ F'' s², from f' at x ± h: zero where the curve is straight
-                _, df_p = _lookup(tab_f, tab_df, shape, inv_dx, x + hx)
-                _, df_m = _lookup(tab_f, tab_df, shape, inv_dx, max(x - hx, 0.0))
-                gap += m_w * fzw * abs(df_p - df_m) * hx * 0.25
+            f2, df2, dfx2, bend = _two_point(tab_f, tab_df, shape, inv_dx, x, hx, f, df, dfx)
+            if hx > 0.0:  # the Jensen gap ½ F'' s², from f' at x ± h (none where f is straight)
+                gap += m_w * fzw * bend * hx * 0.25
             fm += sg * m_w * fzw * f
             g_sum += cp * df * (1.0 + t * t)  # |∂F_w/∂α|
             d_lns += sg * m_w * fzw * dfx
