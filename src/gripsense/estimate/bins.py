@@ -29,6 +29,7 @@ __all__ = [
     "bin_starts",
     "force_and_linear",
     "merge_steady",
+    "on_the_curve",
 ]
 
 # bin array columns (the kernel's layout)
@@ -51,6 +52,15 @@ BIN_COLUMNS = (
 )
 FORCE_MODEL_REL = 0.04
 """Relative 1σ of a bin's force that no curve of the family reproduces (tyre-model fidelity)."""
+SPIN_SLIP_RAD = float(np.deg2rad(30.0))
+"""A bin's mean slip beyond which its axle spins [rad]: past the peak of every tyre of the
+library (the latest, a PAC89 file's, at ~28°), where the force is set by the drive's
+longitudinal slip and the car's rotation, not by the lateral curve (``docs/physics.md``
+§15.8)."""
+SWEEP_SPREAD_RAD = float(np.deg2rad(5.0))
+"""A bin's slip spread beyond which it is a spin's onset or recovery, not a point of the curve
+[rad]: a slip sweeping ±5° (1σ) within 1 s — a car rotating through it — is faster than the
+measured force (slopes over ±0.5 s) and the tyre's lag resolve."""
 
 _OUT = ("low_speed", "not_cornering", "wheel_lifted")
 _OUT_AXLE = ("low_speed", "not_cornering")  # the measured grip's samples (no wheel load needed)
@@ -71,7 +81,7 @@ class AxleBins:
     n : numpy.ndarray
         Samples per bin.
     data : numpy.ndarray
-        (n_bins, 14) in :data:`BIN_COLUMNS` order: slips [rad], loads [N], stiffnesses [N/rad],
+        (n_bins, 15) in :data:`BIN_COLUMNS` order: slips [rad], loads [N], stiffnesses [N/rad],
         axle force [N] and its white 1σ [N], slip white 1σ [rad], measured grip [-], a_y/g
         [-], static wheel load [N], road-wheel steer angle [rad] (0 on the rear axle), the
         slip's spread within the bin beyond its white noise [rad], the 1σ of the force the
@@ -386,6 +396,26 @@ def merge_steady(
         float(max(tau_s, 1e-3)),
         BIN_COLUMNS.index("force_model_sd"),
     )
+
+
+def on_the_curve(data: np.ndarray) -> np.ndarray:
+    """Which bins are points of the tyre's lateral curve: not a spinning axle's (a wheel's mean
+    slip beyond :data:`SPIN_SLIP_RAD`), nor one whose slip sweeps beyond
+    :data:`SWEEP_SPREAD_RAD` within it. Each bin on its own (the online estimator decides as
+    the batch one does, bin by bin).
+
+    Parameters
+    ----------
+    data : numpy.ndarray
+        Bins in :data:`BIN_COLUMNS` order.
+
+    Returns
+    -------
+    numpy.ndarray
+        True for a bin the tyre curve models [-].
+    """
+    slip = np.maximum(np.abs(data[:, 0]), np.abs(data[:, 1]))
+    return (slip <= SPIN_SLIP_RAD) & (data[:, 13] <= SWEEP_SPREAD_RAD)
 
 
 def force_and_linear(data: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -129,9 +129,10 @@ def reduce_groups(curves: np.ndarray, codes: np.ndarray, how: str) -> tuple[np.n
 def curve_range(
     steps: np.ndarray, grid: np.ndarray, level: float = CHI2_1_90
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The range a curve states: where its deviance, taken from its minimum, is within *level*
-    — the stretch around the minimum, its ends interpolated in log μ (as the profile's own
-    range, :func:`~gripsense.estimate.profile.profile_mu`).
+    """The range a curve states: every μ where its deviance, taken from its minimum, is within
+    *level* — from the first such point of the grid to the last, the ends interpolated in log μ
+    (as the profile's own range, :func:`~gripsense.estimate.profile.profile_mu`: a curve that
+    dips again beyond a bump keeps that μ).
 
     Parameters
     ----------
@@ -145,8 +146,8 @@ def curve_range(
     Returns
     -------
     low, high : numpy.ndarray
-        The ends [-]: the grid's first point where the curve never rises below its minimum,
-        ``inf`` where it never rises above.
+        The ends [-]: the grid's first point where the curve is within the level at the grid's
+        start, ``inf`` where it is at the grid's end.
     minimum : numpy.ndarray
         The curve's smallest deviance [-] (0 for one statement; above 0 where combined ones
         pull apart).
@@ -158,23 +159,17 @@ def curve_range(
         return e, e, e
     mn = dev.min(axis=1)
     d = dev - mn[:, None]
-    im = np.argmin(d, axis=1)
-    above = d > level
-    idx = np.arange(m)
+    inside = d <= level  # every row has one: its minimum
     lx = np.log(grid)
     rows = np.arange(n)
-    # lower: the nearest point below the minimum that is above the level
-    below = above & (idx[None, :] < im[:, None])
-    has_lo = below.any(axis=1)
-    j = np.where(has_lo, m - 1 - np.argmax(below[:, ::-1], axis=1), 0)
-    i = np.minimum(j + 1, m - 1)
-    low = np.where(has_lo, _interp(lx, d, rows, i, j, level), grid[0])
-    # upper: the nearest point above the minimum that is above the level
-    over = above & (idx[None, :] > im[:, None])
-    has_hi = over.any(axis=1)
-    j = np.where(has_hi, np.argmax(over, axis=1), m - 1)
-    i = np.maximum(j - 1, 0)
-    high = np.where(has_hi, _interp(lx, d, rows, i, j, level), np.inf)
+    # lower: the first point within the level, and the one before it (outside)
+    j = np.argmax(inside, axis=1)
+    has_lo = j > 0
+    low = np.where(has_lo, _interp(lx, d, rows, j, np.maximum(j - 1, 0), level), grid[0])
+    # upper: the last point within the level, and the one after it (outside)
+    j = m - 1 - np.argmax(inside[:, ::-1], axis=1)
+    has_hi = j < m - 1
+    high = np.where(has_hi, _interp(lx, d, rows, j, np.minimum(j + 1, m - 1), level), np.inf)
     return low, high, mn
 
 

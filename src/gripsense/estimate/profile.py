@@ -20,7 +20,7 @@ from scipy.stats import chi2
 from gripsense.config import Tyre, Vehicle
 from gripsense.constants import CHI2_1_90
 from gripsense.estimate import _axle_kernel as K
-from gripsense.estimate.bins import force_and_linear, merge_steady
+from gripsense.estimate.bins import force_and_linear, merge_steady, on_the_curve
 from gripsense.estimate.noise import NoiseModel
 from gripsense.estimate.options import WindowOptions
 from gripsense.estimate.torque import TorqueProfile
@@ -316,23 +316,32 @@ def merge_bins(
     """The points of the tyre curve that bins give: :func:`~gripsense.estimate.bins.
     merge_steady` (whose parameters and returns these are) with the options' tolerances
     (``steady_tolerance``, ``steady_slip_z``) and the priors' slip drift (its 1σ and correlation
-    time).
+    time), over the bins that are points of the tyre's curve (:func:`~gripsense.estimate.bins.
+    on_the_curve`: a spinning axle's are not).
     """
+    on = on_the_curve(data)
     return merge_steady(
-        t0, t1, n, data, o.steady_tolerance, slip_z=o.steady_slip_z, drift_sd=pri.delta,
-        tau_s=pri.tau_s,
+        t0[on], t1[on], n[on], data[on], o.steady_tolerance, slip_z=o.steady_slip_z,
+        drift_sd=pri.delta, tau_s=pri.tau_s,
     )  # fmt: skip
 
 
 def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int) -> float:
-    i = i_from
-    while 0 <= i + step < x.size:
-        j = i + step
-        if y[j] > level:
-            f = (level - y[i]) / (y[j] - y[i])
-            return float(np.exp(np.log(x[i]) + f * (np.log(x[j]) - np.log(x[i]))))
-        i = j
-    return float("inf") if step > 0 else float(x[0])
+    """The range's end on the side *step* (−1 below, +1 above) of the minimum *i_from*: the
+    outermost point of the grid whose deviance *y* is within *level*, interpolated in log μ to
+    where the deviance crosses it — every μ the data do not exclude, not only the stretch
+    around the minimum (a profile that dips again beyond a bump keeps that μ in the range,
+    ``docs/physics.md`` §15.3); ``x[0]`` or ``inf`` where the grid's own end is within it.
+    """
+    inside = np.flatnonzero(y <= level)
+    if inside.size == 0:  # not at a minimum: the stretch from i_from
+        inside = np.array([i_from])
+    j = int(inside[0]) if step < 0 else int(inside[-1])
+    i = j + step  # the first point outside
+    if not 0 <= i < x.size:
+        return float("inf") if step > 0 else float(x[0])
+    f = (level - y[j]) / (y[i] - y[j])
+    return float(np.exp(np.log(x[j]) + f * (np.log(x[i]) - np.log(x[j]))))
 
 
 def slow_correlation(t0: np.ndarray, tau_s: float) -> np.ndarray:
@@ -461,6 +470,8 @@ def profile_mu(
     fine = mu_grid(float(o.mu_min), float(o.mu_max), int(o.n_mu))
     b = np.ascontiguousarray(bins)
     n, m = b.shape[0], fine.size
+    if n == 0:  # every bin a spinning axle's (merge_bins): no point of the curve
+        return _no_curve_statement(grip_lower, m, NO_CURVE_POINT)
     nll_f, th_f, dl_f = np.empty(m), np.empty((m, K.NG)), np.zeros((m, n))
     shp_f = np.empty(m, dtype=np.int64)
     # every μ of the grid, warm-started upwards (a coarser pass lets the nuisances fall behind:
@@ -984,10 +995,23 @@ def profile_learned(
             "mu": float(np.clip(prior["mu"], lo, hi))}  # fmt: skip
 
 
+NO_CURVE_POINT = (
+    "no point of the tyre's curve: the axle spun (every bin's slip beyond 30° or sweeping)"
+)
+"""``limited_by`` of a profile none of whose bins is a point of the tyre's lateral curve."""
+
+
 def _linear_statement(grip_lower: float, m: int) -> dict:
     """:func:`profile_mu`'s answer for a window a linear tyre explains, with a consistent fit,
     where the nuisances are not wanted (:attr:`WindowOptions.nuisances`): the measured grip as
     the lower end, no upper end, no value, a flat curve of *m* grid points.
+    """
+    return _no_curve_statement(grip_lower, m, LINEAR_EXPLAINS)
+
+
+def _no_curve_statement(grip_lower: float, m: int, why: str) -> dict:
+    """The measured grip as the lower end, no upper end, no value, a flat curve of *m* grid
+    points, and *why* as ``limited_by``.
     """
     nan = float("nan")
     return {
@@ -1002,7 +1026,7 @@ def _linear_statement(grip_lower: float, m: int) -> dict:
         "camber_slip_deg_per_g": nan,
         "load_transfer_error": nan,
         "shape": "",
-        "limited_by": LINEAR_EXPLAINS,
+        "limited_by": why,
         "torque_note": "",
         "mu_deviance": bytes(m),
     }
