@@ -1,5 +1,5 @@
 """Slaloms on a slippery road: a spinning axle's bins are not points of the tyre's curve, and a
-range is every μ the profile does not exclude (``docs/physics.md`` §15.5, §15.8).
+range is every μ the profile does not exclude (``docs/physics.md`` §15.3, §15.8).
 
 Truth: gripsense's simulator with tyres the estimator does not share (a Magic Formula sports
 car, a brush-tyred SUV), driven through a 7° slalom at 60 km/h on μ 0.3 — beyond the limit: the
