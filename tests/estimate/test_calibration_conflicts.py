@@ -84,9 +84,9 @@ def _lines(text: str, pattern: str) -> list[str]:
 def test_a_declaration_the_drives_contradict_is_said_and_the_learned_value_used(drives):
     """A datasheet stiffness 30 % too stiff, stated to ±10 %: `calibrate` says in one line per axle
     that the declaration and the learned stiffness disagree, with both values and their σ and
-    which is used; `friction --calibration` says the same and uses the learned stiffness and
-    its uncertainty (not the blend of the two, which no data support). The truth tyre's
-    stiffness lies within the learned value's 2σ."""
+    which is used; `friction --calibration` (and `live`) says the same and uses the learned
+    stiffness and its uncertainty (not the blend of the two, which no data support). The truth
+    tyre's stiffness lies within the learned value's 2σ."""
     folder, old, _ = drives
     car = _car(folder, 0.30, 0.10)
     out = folder / "declared.calibration.toml"
@@ -124,6 +124,20 @@ def test_a_declaration_the_drives_contradict_is_said_and_the_learned_value_used(
         err = abs(np.log(used.cornering_stiffness_N_per_rad / _true_c(axle)))
         assert err <= 2 * np.log1p(used.stiffness_uncertainty)
     assert len(run.calibration_notes) == 2
+    # live says it too: with --calibration before it starts, from the vehicle file's own
+    # [calibration] file among its closing notes — once per axle either way
+    replay = ("live", "--replay", old[0][0], "--speed", "0", "--steer-csv", old[0][1],
+              "--receiver", RECEIVER, "--quiet")  # fmt: skip
+    named = folder / "car_named.toml"
+    named.write_text(
+        car.read_text(encoding="utf-8") + f'\n[calibration]\nfile = "{out.as_posix()}"\n',
+        encoding="utf-8",
+    )
+    for text in (invoke(*replay, "--vehicle", car, "--calibration", out),
+                 invoke(*replay, "--vehicle", named)):  # fmt: skip
+        for axle in ("front", "rear"):
+            lines = _lines(text, rf"{axle} axle: the vehicle file's cornering stiffness")
+            assert len(lines) == 1, text
 
 
 def test_an_honest_declaration_is_combined_without_a_word(drives):

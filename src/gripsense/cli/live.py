@@ -177,7 +177,10 @@ def _live(
         if calibration is not None:
             from gripsense.config.calibration import calibrated_vehicle
 
-            vehicle = calibrated_vehicle(vehicle, calibration)
+            conflicts: list[str] = []
+            vehicle = calibrated_vehicle(vehicle, calibration, conflicts)
+            for line in conflicts:  # a declaration the drives contradict, said out loud
+                say(line)
         if output is not None:  # before the source is opened: nothing is lost to a bad -o
             ins = [p for p in (replay, steer_csv) if p is not None]
             check_live_outputs(output, overwrite=overwrite, inputs=ins)

@@ -498,7 +498,12 @@ def _loop(source, ingest, est, rec, stop, *, update_s, stale_s, duration_s, disp
         "stats": stats,
         "summary": summary,
         "stopped_by": stop["why"],
-        "notes": [*est.notes, *([est.collapsed] if est.collapsed else [])],
+        # first the conflicts of the vehicle file's calibration (none if the caller applied it)
+        "notes": [
+            *est.run.calibration_notes,
+            *est.notes,
+            *([est.collapsed] if est.collapsed else []),
+        ],
         "front_axle": est.front_axle,
         "steering": est.steering_source,
     }
