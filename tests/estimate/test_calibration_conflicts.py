@@ -125,7 +125,7 @@ def test_a_declaration_the_drives_contradict_is_said_and_the_learned_value_used(
         assert err <= 2 * np.log1p(used.stiffness_uncertainty)
     assert len(run.calibration_notes) == 2
     # live says it too: with --calibration before it starts, from the vehicle file's own
-    # [calibration] file among its closing notes — once per axle either way
+    # [calibration] file among its closing notes; and the fleet — once per axle each time
     replay = ("live", "--replay", old[0][0], "--speed", "0", "--steer-csv", old[0][1],
               "--receiver", RECEIVER, "--quiet")  # fmt: skip
     named = folder / "car_named.toml"
@@ -133,8 +133,10 @@ def test_a_declaration_the_drives_contradict_is_said_and_the_learned_value_used(
         car.read_text(encoding="utf-8") + f'\n[calibration]\nfile = "{out.as_posix()}"\n',
         encoding="utf-8",
     )
+    fleet = ("fleet", old[0][0], "--workers", "1", "-o", folder / "fleet")
     for text in (invoke(*replay, "--vehicle", car, "--calibration", out),
-                 invoke(*replay, "--vehicle", named)):  # fmt: skip
+                 invoke(*replay, "--vehicle", named),
+                 invoke(*fleet, "--vehicle", named)):  # fmt: skip
         for axle in ("front", "rear"):
             lines = _lines(text, rf"{axle} axle: the vehicle file's cornering stiffness")
             assert len(lines) == 1, text

@@ -157,6 +157,8 @@ def _say_fleet(res) -> None:
         f"{st.get(STATUS_INCONSISTENT, 0)} inconsistent (a range below the measured grip: "
         f"check the vehicle file); {n_slip} slippery"
     )
+    for note in res.notes:  # a declaration a calibration contradicts, said out loud
+        say(note)
     if "calibration" in res.paths:
         say(f"calibrations: {res.paths['calibration']}")
     say(f"map: {res.paths['map']}")

@@ -24,13 +24,13 @@ import shutil
 import sys
 import tempfile
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
 
 from gripsense._signals import signals_deferred
-from gripsense.errors import InputError
+from gripsense.errors import GripsenseError, InputError
 from gripsense.fleet.aggregate import aggregate_cells, check_bucket, write_geojson
 from gripsense.fleet.mapping import write_map
 from gripsense.fleet.tasks import (
@@ -66,11 +66,15 @@ class FleetResult:
         One row per log: rows written or the problem.
     paths : dict
         Name → path of each output.
+    notes : list of str
+        One line per vehicle and axle whose calibration contradicts its vehicle file
+        (:func:`~gripsense.config.calibration.stiffness_conflict`), said as ``friction`` says it.
     """
 
     cells: pd.DataFrame
     logs: pd.DataFrame  # one row per log: rows written or the problem
     paths: dict[str, Path]
+    notes: list[str] = field(default_factory=list)
 
 
 def expand_logs(patterns: list[str]) -> list[str]:
@@ -340,12 +344,31 @@ def run_fleet(
         cells.to_parquet(tmp / "cells.parquet", index=False)
         write_geojson(cells, tmp / "cells.geojson")
         write_map(cells, tmp / "map.html", title=map_title)
+        notes = _calibration_conflicts(items, calibrations)  # its files still in tmp here
     names = ("cells.parquet", "cells.geojson", "map.html", "problems.csv", "logs.csv", "epochs")
     keys = ("cells", "geojson", "map", "problems", "logs", "epochs")
     paths = {k: outdir / v for k, v in zip(keys, names, strict=True)}
     if calibrations:
         paths["calibration"] = outdir / "calibration"
-    return FleetResult(cells=cells, logs=logs_df, paths=paths)
+    return FleetResult(cells=cells, logs=logs_df, paths=paths, notes=notes)
+
+
+def _calibration_conflicts(items: list[tuple[str, str, str]], calibrations: dict) -> list[str]:
+    """The conflicts of each vehicle file with its calibration (the run's own per vehicle id,
+    else the one the file names), one line each, prefixed by the file (and the run's
+    calibration); a pair shared by several vehicle ids is said once. A file that cannot be read
+    says nothing here: its logs' problems say it.
+    """
+    from gripsense.config.calibration import calibrated_vehicle
+
+    out: list[str] = []
+    for vfile, cal in sorted({(vf, calibrations.get(vi, "")) for _, vf, vi in items}):
+        lines: list[str] = []
+        with contextlib.suppress(GripsenseError):
+            calibrated_vehicle(vfile, cal or None, lines)
+        where = Path(vfile).name + (f" with {Path(cal).name}" if cal else "")
+        out += [f"{where}: {line}" for line in lines]
+    return out
 
 
 def _one_file_per_id(items: list[tuple[str, str, str]]) -> None:
