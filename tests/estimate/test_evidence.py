@@ -79,7 +79,7 @@ def test_a_side_the_window_does_not_state_is_flat():
     assert np.all(up[:i] == 0) and np.array_equal(up[i:], both[i:])
     lo, hi, _ = curve_range(up[None].astype(np.int32), grid)
     assert lo[0] == grid[0] and hi[0] == pytest.approx(
-        _crossing(grid, both * DEVIANCE_STEP, 2.705543454095404, i, +1)
+        _crossing(grid, both * DEVIANCE_STEP, 2.705543454095404, +1)
     )
 
 

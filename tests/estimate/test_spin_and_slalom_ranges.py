@@ -103,8 +103,7 @@ def test_a_range_holds_every_mu_its_curve_does_not_exclude(steps, level):
     grid = mu_grid(0.05, 3.0, q.size)
     dev = q * DEVIANCE_STEP
     lo_ref, hi_ref = _hull(grid, dev, level)
-    im = int(np.argmin(dev))
-    lo, hi = _crossing(grid, dev, level, im, -1), _crossing(grid, dev, level, im, +1)
+    lo, hi = _crossing(grid, dev, level, -1), _crossing(grid, dev, level, +1)
     low, high, _ = curve_range(q[None, :], grid, level)
     for a, b in ((lo, hi), (float(low[0]), float(high[0]))):
         assert a <= lo_ref + 1e-12 and b >= hi_ref - 1e-12
@@ -123,5 +122,5 @@ def test_a_bump_between_the_truth_and_the_minimum_does_not_cut_the_range():
     / 0): the range reaches down past the bump at 0.34 to the truth."""
     grid = np.array([0.24, 0.286, 0.312, 0.34, 0.372, 0.405, 0.44, 0.482])
     dev = np.array([9.79, 3.06, 1.88, 2.86, 1.0, 0.0, 2.0, 8.62])
-    lo = _crossing(grid, dev, CHI2_1_90, 5, -1)
+    lo = _crossing(grid, dev, CHI2_1_90, -1)
     assert 0.286 < lo < 0.312

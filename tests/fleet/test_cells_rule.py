@@ -95,10 +95,7 @@ def brute_force(statements: list[tuple[str, bytes]], bound: float) -> tuple[floa
         mine = [np.frombuffer(c, np.uint8) * DEVIANCE_STEP for w, c in statements if w == v]
         total += np.max(mine, axis=0)
     dev = total - total.min()
-    im = int(np.argmin(dev))
-    return max(_crossing(GRID, dev, CHI2_1_90, im, -1), bound), _crossing(
-        GRID, dev, CHI2_1_90, im, +1
-    )
+    return max(_crossing(GRID, dev, CHI2_1_90, -1), bound), _crossing(GRID, dev, CHI2_1_90, +1)
 
 
 def robust_upper(statements: list[tuple[str, bytes]]) -> float:
@@ -113,7 +110,7 @@ def robust_upper(statements: list[tuple[str, bytes]]) -> float:
         gap = np.maximum(gap, mine[-1] - (mine[-2] if len(mine) > 1 else 0.0))
     dev = total - gap
     dev = dev - dev.min()
-    return _crossing(GRID, dev, CHI2_1_90, int(np.argmin(dev)), +1)
+    return _crossing(GRID, dev, CHI2_1_90, +1)
 
 
 def test_one_window_alone_never_calls_a_road_slippery(tmp_path):

@@ -326,16 +326,14 @@ def merge_bins(
     )  # fmt: skip
 
 
-def _crossing(x: np.ndarray, y: np.ndarray, level: float, i_from: int, step: int) -> float:
-    """The range's end on the side *step* (−1 below, +1 above) of the minimum *i_from*: the
-    outermost point of the grid whose deviance *y* is within *level*, interpolated in log μ to
-    where the deviance crosses it — every μ the data do not exclude, not only the stretch
-    around the minimum (a profile that dips again beyond a bump keeps that μ in the range,
-    ``docs/physics.md`` §15.3); ``x[0]`` or ``inf`` where the grid's own end is within it.
+def _crossing(x: np.ndarray, y: np.ndarray, level: float, step: int) -> float:
+    """The range's end on the side *step* (−1 below, +1 above) of a profile whose deviance *y*
+    is taken from its minimum: the outermost point of the grid within *level*, interpolated in
+    log μ to where the deviance crosses it — every μ the data do not exclude, not only the
+    stretch around the minimum (a profile that dips again beyond a bump keeps that μ in the
+    range, ``docs/physics.md`` §15.3); ``x[0]`` or ``inf`` where the grid's own end is within it.
     """
-    inside = np.flatnonzero(y <= level)
-    if inside.size == 0:  # not at a minimum: the stretch from i_from
-        inside = np.array([i_from])
+    inside = np.flatnonzero(y <= level)  # holds the minimum (deviance 0)
     j = int(inside[0]) if step < 0 else int(inside[-1])
     i = j + step  # the first point outside
     if not 0 <= i < x.size:
@@ -498,10 +496,10 @@ def profile_mu(
     dev = 2.0 * (nll - nll.min())
     im = int(np.argmin(nll))
     mu_hat = _best_mu(mu_g, nll, im)
-    lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
-    hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
-    lo_p = _crossing(mu_g, dev, level, im, -1)
-    hi_p = _crossing(mu_g, dev, level, im, +1)
+    lo = _crossing(mu_g, dev, CHI2_1_90, -1)
+    hi = _crossing(mu_g, dev, CHI2_1_90, +1)
+    lo_p = _crossing(mu_g, dev, level, -1)
+    hi_p = _crossing(mu_g, dev, level, +1)
     n_bins = bins.shape[0]
     z = (th[im] - pri.mean) / pri.sd
     az = np.abs(z)
@@ -808,10 +806,10 @@ def _torque_range(
         return None
     im = int(np.flatnonzero(allowed)[np.argmin(nll[allowed])])
     dev = 2.0 * (nll - nll[im])
-    lo = _crossing(mu_g, dev, CHI2_1_90, im, -1)
-    hi = _crossing(mu_g, dev, CHI2_1_90, im, +1)
-    lo_p = _crossing(mu_g, dev, level, im, -1)
-    hi_p = _crossing(mu_g, dev, level, im, +1)
+    lo = _crossing(mu_g, dev, CHI2_1_90, -1)
+    hi = _crossing(mu_g, dev, CHI2_1_90, +1)
+    lo_p = _crossing(mu_g, dev, level, -1)
+    hi_p = _crossing(mu_g, dev, level, +1)
     if np.isfinite(grip_lower) and hi < grip_lower - 0.01:
         return None
     if np.isfinite(grip_lower) and hi <= (1.0 + STRAINED_REL) * grip_lower:
