@@ -350,3 +350,22 @@ def test_a_signal_inside_a_callback_from_c_is_not_lost():
     p = subprocess.run([sys.executable, "-c", _CALLBACK_RUN], capture_output=True, text=True,
                        timeout=600)  # fmt: skip
     assert (p.returncode, p.stderr.strip(), p.stdout) == (130, "error: interrupted (SIGINT)", "")
+
+
+def test_a_signal_a_library_turned_into_its_own_error_ends_as_the_signal(monkeypatch):
+    """DuckDB checks for signals while a query runs: the Interrupted that SIGINT raises there
+    comes back as its own "Query interrupted" error (a fleet interrupted during `--bucket`'s
+    check read "internal error" one time in three). A run that raised a signal ends as
+    interrupted; without one, the same error is the internal error it is."""
+    import gripsense.cli as cli
+    from gripsense.cli._app import _fail
+
+    err = RuntimeError("Query interrupted")
+    monkeypatch.setattr(cli, "_RAISED", [])
+    with pytest.raises(SystemExit) as bug:
+        _fail(err)
+    assert bug.value.code == 1
+    monkeypatch.setattr(cli, "_RAISED", [int(signal.SIGINT)])
+    with pytest.raises(cli.Interrupted) as stop:
+        _fail(err)
+    assert stop.value.signum == signal.SIGINT and stop.value.__cause__ is err

@@ -79,7 +79,24 @@ def _on_signal(signum: int, frame: FrameType | None) -> None:
         again.daemon = True
         again.start()
         return
+    _RAISED.append(signum)
     raise Interrupted(signum)  # not KeyboardInterrupt: typer turns that into a silent exit 130
+
+
+_RAISED: list[int] = []  # the signals :func:`_on_signal` raised as Interrupted in this run
+
+
+def interrupted_by() -> int | None:
+    """The signal this run raised as :class:`Interrupted`, if any. A C library that checks for
+    signals while it works catches the exception and raises its own (DuckDB: "Query
+    interrupted"): the failure that reaches the top is then the signal's, not a bug.
+
+    Returns
+    -------
+    int or None
+        The signal's number [-]; None when no signal was raised.
+    """
+    return _RAISED[-1] if _RAISED else None
 
 
 def _lost(unraisable: Any) -> None:

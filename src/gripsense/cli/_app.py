@@ -140,6 +140,11 @@ def run() -> None:
 
 def _fail(e: Exception) -> None:
     """The one place that turns any other failure into a one-line message and an exit code."""
+    from gripsense.cli import Interrupted, interrupted_by
+
+    signum = interrupted_by()
+    if signum is not None:  # a library turned the signal into its own error: the signal's
+        raise Interrupted(signum) from e
     if os.environ.get("GRIPSENSE_DEBUG"):
         raise e
     if isinstance(e, GripsenseError):
