@@ -47,7 +47,10 @@ median width (a better receiver must not say less). On the CommonRoad drives eve
 records the same drive (one vehicle file and one noise seed per drive), and the column "better
 data never say less" counts the axle-cases where a better receiver (``v100`` → ``white-0.3`` →
 ``rtk``) loses an upper end or states a range not inside the worse one's within
-:data:`BETTER_TOL` (:func:`better_says_less`). ``--receivers ideal`` adds a receiver
+:data:`BETTER_TOL` (:func:`better_says_less`); ``--draws N`` records every drive N times
+(each draw's noise shared by the receivers) and also compares each receiver's median range over
+the draws (:func:`typical_ranges`): what its data give, not one draw's luck; the other tables
+count the first draw. ``--receivers ideal`` adds a receiver
 without noise to speak of: the range it leaves is the vehicle file's declared uncertainty alone.
 
 ``--torque`` (issue "Friction at half the limit") drives the front axle to utilisation 0.3–1.0 on
@@ -82,6 +85,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import itertools
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -169,9 +173,12 @@ def jobs(
 CR_MUS = (0.3, 0.5, 0.7, 0.9, 1.0)
 
 
-def jobs_commonroad(quick: bool, receivers=("white-0.3",), model: str = "std") -> list[dict]:
+def jobs_commonroad(
+    quick: bool, receivers=("white-0.3",), model: str = "std", draws: int = 1
+) -> list[dict]:
     """CommonRoad drives (single-track ``std`` or multi-body ``mb``): steady circles at
-    utilisation 0.6–0.98 (R 40, 70 m) and the two ISO 4138 sweeps."""
+    utilisation 0.6–0.98 (R 40, 70 m) and the two ISO 4138 sweeps; each recorded *draws*
+    times by every receiver (``draw`` 0 with today's seeds, the others with their own)."""
     from gripsense.sim.drives import limit_speed
 
     out: list[dict] = []
@@ -201,7 +208,7 @@ def jobs_commonroad(quick: bool, receivers=("white-0.3",), model: str = "std") -
             # same draws), so a comparison between receivers compares their data, not two draws
             n_plan += 1
             serr, seed = float(rng.uniform(-0.1, 0.1)), n_plan
-            for rec in receivers:
+            for draw, rec in itertools.product(range(draws), receivers):
                 out.append(
                     {
                         "truth": "commonroad" if model == "std" else "commonroad-mb",
@@ -215,10 +222,15 @@ def jobs_commonroad(quick: bool, receivers=("white-0.3",), model: str = "std") -
                         "receiver": rec,
                         "cg_factor": 1.0,
                         "stiffness_error": serr,
-                        "seed": seed,
+                        "seed": seed + DRAW_SEED * draw,
+                        "draw": draw,
                     }
                 )
     return out
+
+
+DRAW_SEED = 100_000
+"""Seed step between two noise draws of one CommonRoad drive (``--draws``)."""
 
 
 def receiver_share(receiver: str) -> float:
@@ -785,10 +797,38 @@ def better_says_less(df: pd.DataFrame, tol: tuple[float, float] = BETTER_TOL) ->
     return pd.DataFrame(rows)
 
 
+def typical_ranges(df: pd.DataFrame) -> pd.DataFrame:
+    """Per drive, axle and receiver the median over the drive's noise draws (``--draws``) of
+    each end of the range (none where at least half the draws state no upper end): the range
+    a receiver's data give, not one draw's luck. The rows as they are for one draw."""
+    if "draw" not in df or df["draw"].nunique() <= 1:
+        return df
+    key = [k for k in ("truth", "tyre", "vehicle", "mu_road", "manoeuvre", "axle") if k in df]
+    return (
+        df.groupby([*key, "receiver"], sort=False)
+        .agg(mu_low=("mu_low", "median"), mu_high=("mu_high", "median"),
+             utilisation=("utilisation", "first"), mu_true=("mu_true", "first"))
+        .reset_index()
+    )  # fmt: skip
+
+
 def better_report(df: pd.DataFrame) -> None:
     """Print the three-receiver column (:func:`better_says_less`): per pair of receivers the
     axle-cases compared and those where the better one says less, the axle-cases where any
-    better receiver does, and each of them."""
+    better receiver does, and each of them — for one noise draw per drive, and with
+    ``--draws`` for each receiver's typical range (:func:`typical_ranges`)."""
+    n_draws = int(df["draw"].nunique()) if "draw" in df else 1
+    if n_draws > 1:
+        print(f"\n-- one noise draw per drive (draw 0 of {n_draws}):", end="")
+        _better_report(df[df["draw"] == 0])
+        print(f"\n-- each receiver's median range over {n_draws} noise draws per drive:", end="")
+        _better_report(typical_ranges(df))
+    else:
+        _better_report(df)
+
+
+def _better_report(df: pd.DataFrame) -> None:
+    """:func:`better_report` of one set of rows (one per drive, axle and receiver)."""
     pairs = better_says_less(df)
     if pairs.empty:
         return
@@ -908,6 +948,14 @@ def main() -> None:
         "--truth", default="gripsense", choices=("gripsense", "commonroad", "commonroad-mb")
     )
     ap.add_argument(
+        "--draws",
+        type=int,
+        default=1,
+        help="--truth commonroad*: record every drive this many times (noise draws) by every "
+        "receiver; the tables count the first, the column 'better data never say less' also "
+        "compares each receiver's median range over the draws",
+    )
+    ap.add_argument(
         "--torque",
         action="store_true",
         help="the steering-torque channel against compass-only (MF tyres, u 0.3–1)",
@@ -976,7 +1024,7 @@ def main() -> None:
         PRESETS["ideal"] = Receiver("ideal", **IDEAL)  # the workers fork with it
     if args.truth.startswith("commonroad"):
         model = "mb" if args.truth == "commonroad-mb" else "std"
-        todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")), model)
+        todo = jobs_commonroad(args.quick, tuple(args.receivers.split(",")), model, args.draws)
     else:
         todo = jobs(
             args.quick,
@@ -986,7 +1034,8 @@ def main() -> None:
             tuple(args.receivers.split(",")),
             "slippery" if args.slippery else args.kind,
         )
-    df = run_all(one, todo, args.workers, args.csv, chunksize=4)
+    df_all = run_all(one, todo, args.workers, args.csv, chunksize=4)
+    df = df_all[df_all["draw"] == 0] if "draw" in df_all else df_all  # the tables: one draw
     if args.slippery:
         fmt = {"float_format": lambda v: f"{v:.3f}"}
         print("\nslippery roads (μ 0.1–0.3) and the control (0.9)\n"
@@ -1019,7 +1068,7 @@ def main() -> None:
         print("\nper cell and receiver (u ≥ 0.8): upper end given, median width\n"
               + mono.unstack("receiver").to_string(**fmt))  # fmt: skip
     if args.truth.startswith("commonroad"):  # the drives are paired across receivers
-        better_report(df)
+        better_report(df_all)
     what = df[df["observable"] | (df["utilisation"] >= 0.8)]
     lim = what.groupby(["receiver", "limited_by"]).size().rename("axle-cases")
     print("\nwhat limits the estimate (utilisation ≥ 0.8 or a value given)\n" + lim.to_string())

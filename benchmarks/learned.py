@@ -100,11 +100,16 @@ def _drives(car: str, receiver: str):
 
 
 def one(job: dict) -> list[dict]:
+    from accuracy import physical_limit
+
     from gripsense import FrictionRun
     from gripsense.pipeline import learn_calibration
 
     car, rec = job["car"], job["receiver"]
     uv, sim = _drives(car, rec)
+    # the declared stiffness's 90 % band: what the vehicle file alone allows (accuracy.py)
+    sd = np.log1p(max(t.stiffness_uncertainty for t in uv.tyres.values()))
+    band = (float(np.exp(-1.645 * sd)), float(np.exp(1.645 * sd)))
     rows = []
     with tempfile.TemporaryDirectory(prefix="gripsense-bench-") as tmp:
         folder = Path(tmp)
@@ -134,6 +139,8 @@ def one(job: dict) -> list[dict]:
                 d = sim("circle", mu, u, seed)
                 log, steer = _write(d, folder, f"circle{seed}")
                 truth = d.axles.set_index("axle")
+                limit = {a: physical_limit(d.truth, d.settle_s, uv, a, band)[1]
+                         for a in truth.index}  # fmt: skip
                 for config, run in runs.items():
                     s = run.run_log(log, steer_csv=steer).summary.set_index("axle")
                     for axle in s.index:
@@ -146,6 +153,7 @@ def one(job: dict) -> list[dict]:
                             "grip_used_lower": float(r["grip_used_lower"]),
                             "mu": float(r["mu"]) if r["observable"] else np.nan,
                             "mu_low": float(r["mu_low"]), "mu_high": float(r["mu_high"]),
+                            "limit_high_declared": float(limit.get(axle, np.nan)),
                             "slippery": str(r.get("slippery", "")),
                             "limited_by": str(r.get("limited_by", "")),
                             "shape_learned": axle in learned_axles,
@@ -221,6 +229,12 @@ def run(cars: str, receiver: str, workers: int, csv: str | None, slippery: bool)
     hi = df[df["u_true"] >= 0.8]
     hi = hi.assign(upper=np.isfinite(hi["mu_high"]), close=(hi["mu"] - hi["mu_true"]).abs() <= 0.05)
     print(hi.groupby(["car", "config"])[["upper", "close"]].mean().round(2).to_string())
+    dec = hi[hi["config"] == "declared"]
+    can = np.isfinite(dec["limit_high_declared"])
+    print(f"\ndeclared, u ≥ 0.8: upper ends {int(dec['upper'].sum())} of {len(dec)}; the "
+          f"physical limit with the declared stiffness's 90 % band (the true operating points, "
+          f"no noise) has one on {int(can.sum())}, and the estimate on "
+          f"{int(dec['upper'][can].sum())} of those")  # fmt: skip
     members = df[df["config"] == "learned"].groupby(["car", "axle"])["members_kept"].first()
     print("\nprior-family members the sweep left possible (-1: it taught nothing):")
     print(members.to_string())
