@@ -45,9 +45,11 @@ consistent), the median width of the range over the limit's width, values, cover
 "is it slippery?" calls (right on μ ≤ 0.3 at u ≥ 0.85, wrong on μ ≥ 0.8), and per receiver the
 median width (a better receiver must not say less). On the CommonRoad drives every receiver
 records the same drive (one vehicle file and one noise seed per drive), and the column "better
-data never say less" counts the axle-cases where a better receiver (``v100`` → ``white-0.3`` →
-``rtk``) loses an upper end or states a range not inside the worse one's within
-:data:`BETTER_TOL` (:func:`better_says_less`); ``--draws N`` records every drive N times
+data never say less" counts the axle-cases where a better receiver (one no noisier in any
+component, :meth:`~gripsense.config.receiver.Receiver.at_least_as_good_as`: ``white-0.3`` and
+``rtk`` against ``v100``) loses an upper end or states a range not inside the worse one's within
+:data:`BETTER_TOL` (:func:`better_says_less`; ``rtk`` against ``white-0.3``, not ordered, is
+printed beside it); ``--draws N`` records every drive N times
 (each draw's noise shared by the receivers) and also compares each receiver's median range over
 the draws (:func:`typical_ranges`): what its data give, not one draw's luck; the other tables
 count the first draw. ``--receivers ideal`` adds a receiver
@@ -754,9 +756,10 @@ def slippery_report(df: pd.DataFrame) -> pd.DataFrame:
 
 
 RECEIVER_ORDER = ("v100", "white-0.3", "rtk")
-"""The receivers from worse to better data: each one's white heading noise, velocity and yaw-rate
-noise no larger than the one before it (``rtk``'s 0.05° slow heading error is the exception
-against ``white-0.3``, which is declared without one)."""
+"""The receivers in the order their pairs are listed (worse first where they are ordered):
+``white-0.3`` and ``rtk`` are better data than ``v100`` in every component; ``rtk`` and
+``white-0.3`` are not ordered — ``rtk``'s white noise is smaller, its 0.05° slow heading error
+larger than ``white-0.3``'s none (docs/physics.md §15.11)."""
 BETTER_TOL = (0.02, 0.05)
 """How far a better receiver's range end may lie outside the worse one's before it "says less"
 (absolute [-], relative to the worse one's end [-]): the typical change of a range's end
@@ -767,13 +770,17 @@ one time in ten by more than 23 %, and 13 of 115 upper ends were stated by one d
 
 def better_says_less(df: pd.DataFrame, tol: tuple[float, float] = BETTER_TOL) -> pd.DataFrame:
     """Per drive, axle and pair of receivers (worse, better in :data:`RECEIVER_ORDER`) recorded
-    on the same drive: whether the better receiver says less — an upper end the worse one states
+    on the same drive: whether the pair is ordered (``ordered``: the better one no noisier in any
+    component, :meth:`~gripsense.config.receiver.Receiver.at_least_as_good_as`) and whether the
+    better receiver says less — an upper end the worse one states
     is lost, or its range is not inside the worse one's within *tol* (an upper end above
     ``hi_w (1 + rel) + abs``, a lower end below ``lo_w (1 − rel) − abs``).
 
     The rows of one drive are those with the same truth, road, manoeuvre and axle (the
     CommonRoad drives are paired: one vehicle file and one noise seed per drive, every receiver).
     """
+    from gripsense.config.receiver import RECEIVERS as PRESETS
+
     a, r = tol
     key = [k for k in ("truth", "tyre", "vehicle", "mu_road", "manoeuvre", "axle") if k in df]
     rows = []
@@ -788,7 +795,9 @@ def better_says_less(df: pd.DataFrame, tol: tuple[float, float] = BETTER_TOL) ->
                 lost = bool(np.isfinite(hi_w) and not np.isfinite(hi_b))
                 higher = bool(np.isfinite(hi_w) and np.isfinite(hi_b) and hi_b > hi_w * (1 + r) + a)
                 lower = bool(float(b["mu_low"]) < float(w["mu_low"]) * (1 - r) - a)
+                ordered = PRESETS[better].at_least_as_good_as(PRESETS[worse])
                 rows.append({**dict(zip(key, k, strict=True)), "worse": worse, "better": better,
+                             "ordered": ordered,
                              "utilisation": float(w["utilisation"]), "mu_true": float(w["mu_true"]),
                              "range_worse": f"[{w['mu_low']:.3f}, {hi_w:.3f}]",
                              "range_better": f"[{b['mu_low']:.3f}, {hi_b:.3f}]",
@@ -833,21 +842,27 @@ def _better_report(df: pd.DataFrame) -> None:
     if pairs.empty:
         return
     a, r = BETTER_TOL
-    per = pairs.groupby(["worse", "better"], sort=False)[
+    per = pairs.groupby(["worse", "better", "ordered"], sort=False)[
         ["upper_lost", "upper_higher", "lower_lower", "says_less"]
     ].sum()
-    per.insert(0, "axle-cases", pairs.groupby(["worse", "better"], sort=False).size())
+    per.insert(0, "axle-cases", pairs.groupby(["worse", "better", "ordered"], sort=False).size())
     key = [c for c in pairs.columns if c not in ("worse", "better") and c in df.columns]
     key = [c for c in key if c not in ("utilisation", "mu_true")]
     n_cases = pairs.groupby(key).ngroups
-    n_less = pairs[pairs["says_less"]].groupby(key).ngroups if pairs["says_less"].any() else 0
+    less = pairs[pairs["says_less"] & pairs["ordered"]]
+    n_less = less.groupby(key).ngroups if len(less) else 0
+    loose = pairs[pairs["says_less"] & ~pairs["ordered"]]
+    n_loose = loose.groupby(key).ngroups if len(loose) else 0
     print(f"\nbetter data never say less ({', '.join(RECEIVER_ORDER)}; the same drive; a range "
-          f"end outside the worse one's by more than {a:g} + {r:.0%}):\n" + per.to_string()
-          + f"\naxle-cases where a better receiver says less: {n_less} of {n_cases}")  # fmt: skip
+          f"end outside the worse one's by more than {a:g} + {r:.0%}; ordered: the better one no "
+          "noisier in any component):\n" + per.to_string()
+          + f"\naxle-cases where a better receiver says less: {n_less} of {n_cases}"
+          + f"\n(not ordered, the second listed says less: {n_loose} of {n_cases})")  # fmt: skip
     bad = pairs[pairs["says_less"]]
     if len(bad):
-        cols = [c for c in ("mu_road", "manoeuvre", "axle", "worse", "better", "utilisation",
-                            "mu_true", "range_worse", "range_better") if c in bad]  # fmt: skip
+        cols = [c for c in ("mu_road", "manoeuvre", "axle", "worse", "better", "ordered",
+                            "utilisation", "mu_true", "range_worse", "range_better")
+                if c in bad]  # fmt: skip
         print(bad[cols].to_string(index=False, float_format=lambda v: f"{v:.3f}"))
 
 

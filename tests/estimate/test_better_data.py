@@ -56,7 +56,12 @@ def ramp_steer() -> dict:
 
 @pytest.mark.parametrize("axle", ["front", "rear"])
 def test_a_better_receiver_never_says_less(ramp_steer, axle):
+    """``white-0.3`` and ``rtk`` against ``v100`` (better in every noise component); ``rtk``
+    against ``white-0.3`` — not ordered, its slow heading error is larger (§15.11), which counts
+    on long steady windows — says no less on this ramp either."""
     r = ramp_steer
+    assert RECEIVERS["white-0.3"].at_least_as_good_as(RECEIVERS["v100"])
+    assert RECEIVERS["rtk"].at_least_as_good_as(RECEIVERS["v100"])
     for i, worse in enumerate(WORSE_TO_BETTER):
         w = r[worse].loc[axle]
         for better in WORSE_TO_BETTER[i + 1 :]:
@@ -90,19 +95,21 @@ def test_every_range_holds_the_multibody_truth(ramp_steer, rec):
 
 
 def test_a_declared_slow_heading_error_is_what_widens_rtk():
-    """Where rtk states no upper end but white-0.3 does — a steady circle at 95 % of a μ 0.7
-    road's limit, the rear at u ≈ 0.90 — the cause is the slow heading error rtk is declared
-    with (0.05°) and white-0.3 without: the same rtk recording, declared without it, bounds the
-    rear within white-0.3's range (docs/physics.md §15.11)."""
+    """Where rtk says less than white-0.3 — a steady circle at 90 % of a μ 0.7 road's limit, the
+    rear at u ≈ 0.86, its upper end beyond white-0.3's by more than a draw's change — the cause
+    is the slow heading error rtk is declared with (0.05°) and white-0.3 without: the same rtk
+    recording, declared without it, bounds the rear within white-0.3's range (docs/physics.md
+    §15.11: the two receivers are not ordered)."""
     mu, radius = 0.7, 70.0
-    plan = CR.cr_circle(limit_speed(mu, radius, 0.95), radius)
+    plan = CR.cr_circle(limit_speed(mu, radius, 0.90), radius)
     sim = CR.commonroad_result(plan, mu, model="mb")
-    kw = {"stiffness_error": -0.0618, "seed": 38}
+    kw = {"stiffness_error": 0.0759, "seed": 36}  # benchmarks/accuracy.py's drive
     white, truth = _estimate(sim, plan, "white-0.3", "white-0.3", **kw)
     rtk, _ = _estimate(sim, plan, "rtk", "rtk", **kw)
     no_slow = dataclasses.replace(RECEIVERS["rtk"], heading_slow_deg=0.0)
     rtk0, _ = _estimate(sim, plan, "rtk", no_slow, **kw)
     w, b, b0 = white.loc["rear"], rtk.loc["rear"], rtk0.loc["rear"]
-    assert np.isfinite(w.mu_high) and not np.isfinite(b.mu_high)
-    assert np.isfinite(b0.mu_high) and b0.mu_high <= w.mu_high * (1 + TOL_REL) + TOL_ABS
+    edge = w.mu_high * (1 + TOL_REL) + TOL_ABS
+    assert np.isfinite(w.mu_high) and not b.mu_high <= edge
+    assert np.isfinite(b0.mu_high) and b0.mu_high <= edge
     assert b0.mu_low <= truth.loc["rear", "mu_true"] <= b0.mu_high

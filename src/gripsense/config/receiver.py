@@ -132,6 +132,34 @@ class Receiver:
         v = RECEIVER.read(TomlReader({table: t}, source), t, table)
         return cls(**{**v, "name": str(v["name"] or Path(source).stem)})
 
+    def at_least_as_good_as(self, other: Receiver) -> bool:
+        """Whether this receiver's data are at least as good as *other*'s in every component the
+        estimators use: white and slow heading error, velocity and yaw-rate noise each no larger,
+        and, where both have a slow heading error, the same correlation time.
+
+        Two receivers need not be ordered: a precise compass with a slow heading error is not
+        better data than a noisier one without, on a steady window, where the white noise
+        averages and the slow error does not (``rtk`` against ``white-0.3``, docs/physics.md
+        §15.11).
+
+        Parameters
+        ----------
+        other : Receiver
+            The receiver compared with.
+
+        Returns
+        -------
+        bool
+            True where no noise component is larger than *other*'s.
+        """
+        if self.heading_slow_deg > 0 and other.heading_slow_deg > 0:
+            if self.heading_slow_tau_s != other.heading_slow_tau_s:
+                return False
+        return all(getattr(self, k) <= getattr(other, k) for k in _NOISE_COMPONENTS)
+
+
+_NOISE_COMPONENTS = ("heading_white_deg", "heading_slow_deg", "velocity_mps", "yaw_rate_dps")
+
 
 RECEIVERS = {
     "v100": Receiver("v100", 0.3, 0.4, 0.05, 0.3),

@@ -403,12 +403,15 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     """Whether a linear tyre explains the bins within their 90 % noise (:func:`~gripsense.
     physics.friction_limit.linear_explains`): per bin the force per load, the declared linear
     prediction, and a tolerance from the force's noise and model fidelity and the slip's white
-    noise, offset and drift (their 90 % edges added: the slip's offset and drift are the
-    receiver's declared slow heading error, so a receiver declared with one is given more room
-    here than one declared without: ``docs/physics.md`` §15.11). The white parts, independent
-    from bin to bin, are taken at the edge all the bins stay within together (:func:`_joint_z`):
-    at each bin's own 90 % edge one bin of many lands outside by chance, and a noisier recording
-    read as a bend more often (§15.8).
+    noise, offset and drift (the slip's offset and drift are the receiver's declared slow
+    heading error, so a receiver declared with one is given more room here than one declared
+    without: ``docs/physics.md`` §15.11). The white parts, independent from bin to bin, are
+    taken at the edge all the bins stay within together (:func:`_joint_z`): at each bin's own
+    90 % edge one bin of many lands outside by chance, and a noisier recording read as a bend
+    more often (§15.8). A bin's force and slip errors combine in quadrature where its slip did
+    not move beyond its noise — the force from speed and yaw rate, the slip from heading and
+    course, independent — and add where it did: in a transient the force and the slip are not
+    simultaneous, and a timing error moves both along the curve.
     """
     if bins.shape[0] == 0:
         return False
@@ -420,7 +423,10 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     y, k = np.abs(y), np.abs(k)
     c_sum = bins[:, 4] + bins[:, 5]
     slip_sd = np.sqrt((w * bins[:, 8]) ** 2 + pri.sd[5] ** 2 + pri.delta**2)
-    tol = z * (np.hypot(w * bins[:, 7], bins[:, 14]) / fz + c_sum / fz * slip_sd)
+    force_part = np.hypot(w * bins[:, 7], bins[:, 14]) / fz
+    slip_part = c_sum / fz * slip_sd
+    steady = bins[:, 13] <= bins[:, 8]  # the slip's spread within the bin beyond its noise
+    tol = z * np.where(steady, np.hypot(force_part, slip_part), force_part + slip_part)
     band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
     return linear_explains(y, k, band, tol)
 
