@@ -769,12 +769,13 @@ one time in ten by more than 23 %, and 13 of 115 upper ends were stated by one d
 
 
 def better_says_less(df: pd.DataFrame, tol: tuple[float, float] = BETTER_TOL) -> pd.DataFrame:
-    """Per drive, axle and pair of receivers (worse, better in :data:`RECEIVER_ORDER`) recorded
-    on the same drive: whether the pair is ordered (``ordered``: the better one no noisier in any
-    component, :meth:`~gripsense.config.receiver.Receiver.at_least_as_good_as`) and whether the
-    better receiver says less — an upper end the worse one states
-    is lost, or its range is not inside the worse one's within *tol* (an upper end above
-    ``hi_w (1 + rel) + abs``, a lower end below ``lo_w (1 − rel) − abs``).
+    """Per drive, axle and pair of receivers (``worse`` listed first, ``better`` second, in
+    :data:`RECEIVER_ORDER`; for a pair that is not ordered the names are only the listing
+    order) recorded on the same drive: whether the pair is ordered (``ordered``: the better one
+    no noisier in any component, :meth:`~gripsense.config.receiver.Receiver.
+    at_least_as_good_as`) and whether the better receiver says less — an upper end the worse
+    one states is lost, or its range is not inside the worse one's within *tol* (an upper end
+    above ``hi_w (1 + rel) + abs``, a lower end below ``lo_w (1 − rel) − abs``).
 
     The rows of one drive are those with the same truth, road, manoeuvre and axle (the
     CommonRoad drives are paired: one vehicle file and one noise seed per drive, every receiver).

@@ -150,7 +150,8 @@ class Receiver:
         Returns
         -------
         bool
-            True where no noise component is larger than *other*'s.
+            True where no noise component is larger than *other*'s (and, where both have a
+            slow heading error, its correlation time is the same).
         """
         if self.heading_slow_deg > 0 and other.heading_slow_deg > 0:
             if self.heading_slow_tau_s != other.heading_slow_tau_s:

@@ -408,10 +408,12 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     without: ``docs/physics.md`` §15.11). The white parts, independent from bin to bin, are
     taken at the edge all the bins stay within together (:func:`_joint_z`): at each bin's own
     90 % edge one bin of many lands outside by chance, and a noisier recording read as a bend
-    more often (§15.8). A bin's force and slip errors combine in quadrature where its slip did
-    not move beyond its noise — the force from speed and yaw rate, the slip from heading and
-    course, independent — and add where it did: in a transient the force and the slip are not
-    simultaneous, and a timing error moves both along the curve.
+    more often (§15.8). The bin's errors are nearly independent of one another and combine in
+    quadrature, as the likelihood's bin variance combines them: the force's (from the speed,
+    the yaw rate and the velocity's rate of turn), the slip's (heading and course), and in a
+    transient the timing's — force and slip ~0.1 s apart, which moves a linear tyre's force by
+    its stiffness times :data:`~gripsense.estimate._axle_kernel.TIMING_SPREAD` of the bin's slip
+    spread (a white part: it changes with each bin's slip rate).
     """
     if bins.shape[0] == 0:
         return False
@@ -425,8 +427,9 @@ def _linear_explains(bins: np.ndarray, pri: Priors) -> bool:
     slip_sd = np.sqrt((w * bins[:, 8]) ** 2 + pri.sd[5] ** 2 + pri.delta**2)
     force_part = np.hypot(w * bins[:, 7], bins[:, 14]) / fz
     slip_part = c_sum / fz * slip_sd
-    steady = bins[:, 13] <= bins[:, 8]  # the slip's spread within the bin beyond its noise
-    tol = z * np.where(steady, np.hypot(force_part, slip_part), force_part + slip_part)
+    # column 13: the slip's spread within the bin; the timing error varies from bin to bin
+    timing_part = c_sum / fz * w * K.TIMING_SPREAD * bins[:, 13]
+    tol = z * np.sqrt(force_part**2 + slip_part**2 + timing_part**2)
     band = (float(np.exp(-z * pri.sd[0])), float(np.exp(z * pri.sd[0])))
     return linear_explains(y, k, band, tol)
 
