@@ -243,6 +243,15 @@ def receiver_share(receiver: str) -> float:
     return float(np.deg2rad(1.645 * np.hypot(PRESETS[receiver].heading_slow_deg, 0.05)))
 
 
+def declared_band(vehicle) -> tuple[float, float]:
+    """The declared stiffness's 90 % band around the declared value [-]: what the vehicle file
+    alone allows (its tyres' largest ``stiffness_uncertainty``, log-normal)."""
+    from gripsense.constants import Z90
+
+    sd = np.log1p(max(t.stiffness_uncertainty for t in vehicle.tyres.values()))
+    return float(np.exp(-Z90 * sd)), float(np.exp(Z90 * sd))
+
+
 def physical_limit(
     truth: pd.DataFrame, settle_s: float, vehicle, axle: str, band, slip_offset: float = 0.0
 ) -> tuple:
@@ -351,9 +360,7 @@ def one(job: dict) -> list[dict]:
     res = run.run(ep, steer_rad=steer)
     wall = time.perf_counter() - t0
     truth = d.axles.set_index("axle")
-    # the declared stiffness's 90 % band (around the declared value)
-    u_c = max(t.stiffness_uncertainty for t in uv.tyres.values())
-    band = (np.exp(-1.645 * np.log1p(u_c)), np.exp(1.645 * np.log1p(u_c)))
+    band = declared_band(uv)
     rows = []
     for s in res.summary.to_dict("records"):
         ax = s["axle"]

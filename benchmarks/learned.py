@@ -100,16 +100,14 @@ def _drives(car: str, receiver: str):
 
 
 def one(job: dict) -> list[dict]:
-    from accuracy import physical_limit
+    from accuracy import declared_band, physical_limit
 
     from gripsense import FrictionRun
     from gripsense.pipeline import learn_calibration
 
     car, rec = job["car"], job["receiver"]
     uv, sim = _drives(car, rec)
-    # the declared stiffness's 90 % band: what the vehicle file alone allows (accuracy.py)
-    sd = np.log1p(max(t.stiffness_uncertainty for t in uv.tyres.values()))
-    band = (float(np.exp(-1.645 * sd)), float(np.exp(1.645 * sd)))
+    band = declared_band(uv)
     rows = []
     with tempfile.TemporaryDirectory(prefix="gripsense-bench-") as tmp:
         folder = Path(tmp)
